@@ -1,0 +1,80 @@
+// qsp/io.h: strict, exact mesh readers and writers (OBJ, OFF by qsp's own parser; PLY via OpenMesh).
+// The only stage that knows about files. Uses only qsp/mesh.h.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "qsp/mesh.h"
+
+namespace qsp {
+
+enum class MeshFormat : std::uint8_t { kObj, kOff, kPly, kQsp, kUnknown };
+
+// Reader limits (Error kLimit beyond them). Vertex ids are uint32 below kInvalid; build_adjacency
+// numbers up to 8 half-edges per face (4 interior + at most 4 exterior) in uint32.
+inline constexpr std::uint64_t kMaxVertices = 0xFFFFFFFEu;
+inline constexpr std::uint64_t kMaxFaces = (std::uint64_t{1} << 29) - 1;
+
+// Format from a path's extension (case-insensitive); kUnknown if none matches.
+MeshFormat format_from_path(std::string_view path);
+
+// What a reader saw besides positions and quads. qsp stores none of it yet; the CLI refuses input
+// that has any unless the user asks to drop it (`--positions-only`), so nothing is lost silently.
+struct ReadReport {
+  std::uint64_t texcoords = 0;       // `vt` lines
+  std::uint64_t normals = 0;         // `vn` lines
+  std::uint64_t face_attribute_refs = 0; // faces written v/vt, v//vn or v/vt/vn
+  std::uint64_t groups = 0;          // `g` and `o` lines
+  std::uint64_t materials = 0;       // `usemtl` and `mtllib` lines
+  std::uint64_t smoothing = 0;       // `s` lines
+  std::uint64_t tags = 0;            // OpenSubdiv `t` lines (creases, corners, ...)
+  std::uint64_t vertex_colors = 0;   // colours after x y z on `v` lines, or PLY/OFF colour properties
+  std::uint64_t face_colors = 0;     // OFF colour after a face's indices, PLY face colour properties
+  std::uint64_t parameter_vertices = 0; // OBJ `vp` lines
+  std::uint64_t other_properties = 0;   // PLY vertex/face properties qsp does not know (one per element)
+  std::vector<std::uint32_t> face_line; // per face: 1-based line it starts on (0 if not from text)
+
+  bool has_extra_data() const {
+    return texcoords || normals || face_attribute_refs || groups || materials || smoothing || tags ||
+           vertex_colors || face_colors || parameter_vertices || other_properties;
+  }
+  // "12 texture coordinates, 3 groups", empty if nothing extra.
+  std::string describe_extra_data() const;
+};
+
+// Parse OBJ text. `source` names the input in messages ("file.obj:12: ..."). Accepts v/vt/vn face
+// syntax, negative (relative) indices, comments, o/g/s/usemtl/mtllib/t lines, CRLF, trailing
+// whitespace. Refuses (Error with source:line): non-quad faces (count + first examples), index 0 or
+// out of range, a face repeating a vertex, malformed numbers, NaN/inf coordinates, unknown statements.
+// Positions are float32 exactly as `std::from_chars` rounds the decimal text. Safe on untrusted input.
+QuadMesh read_obj(std::string_view text, std::string_view source, ReadReport* report = nullptr);
+
+// Parse OFF text (faces may span several lines; optional colours are reported). Same guarantees.
+QuadMesh read_off(std::string_view text, std::string_view source, ReadReport* report = nullptr);
+
+// Read PLY through OpenMesh, then check OpenMesh did not silently rewrite anything (vertex count,
+// face count and every face's corners must match the file); refuses with kNonManifold otherwise.
+QuadMesh read_ply_file(const std::string& path, ReadReport* report = nullptr);
+
+// Read a mesh file by extension (`-` = standard input, needs `format`). Throws Error(kIo) when the
+// file cannot be read, kUnsupported for an unknown extension.
+QuadMesh read_mesh_file(const std::string& path, ReadReport* report = nullptr,
+                        MeshFormat format = MeshFormat::kUnknown);
+
+// Write OBJ/OFF text. Floats use the shortest text that reads back to the same float
+// (std::to_chars), so read(write(m)) == m bit for bit.
+std::string write_obj(const QuadMesh& mesh);
+std::string write_off(const QuadMesh& mesh);
+
+// Read a whole file (or stdin for "-") into memory. Throws Error(kIo) with the path and reason.
+std::string read_file_bytes(const std::string& path);
+
+// Write bytes atomically: to a temporary file in the target's folder, fsync, then rename over the
+// target. Refuses (kIo) to replace an existing file unless `overwrite`; "-" writes stdout. On any
+// failure the temporary file is removed and Error(kIo) says why (e.g. "No space left on device").
+void write_file_atomic(const std::string& path, std::string_view bytes, bool overwrite);
+
+}  // namespace qsp

@@ -1,0 +1,297 @@
+// File access, format dispatch and the OBJ/OFF writers. The parsers are in io_text.cpp (OBJ, OFF)
+// and io_ply.cpp (PLY through OpenMesh).
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <string_view>
+
+#include "qsp/error.h"
+#include "qsp/io.h"
+#include "qsp/mesh.h"
+
+namespace qsp {
+namespace {
+
+[[noreturn]] void fail_io(const std::string& path, const std::string& what) {
+  throw Error(ErrorCode::kIo, path + ": " + what);
+}
+[[noreturn]] void fail_errno(const std::string& path, const std::string& what, int err) {
+  if (err == 0) fail_io(path, what);
+  fail_io(path, what.empty() ? std::strerror(err) : what + ": " + std::strerror(err));
+}
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
+  return out;
+}
+
+// Checks what every writer relies on, so a written file always reads back.
+void check_writable(const QuadMesh& mesh, const char* what) {
+  if (mesh.positions.size() % 3 != 0 || mesh.quads.size() % 4 != 0) {
+    throw Error(ErrorCode::kInternal, std::string(what) + ": positions or quads have a partial entry");
+  }
+  if (mesh.vertex_count() > kMaxVertices || mesh.face_count() > kMaxFaces) {
+    throw Error(ErrorCode::kLimit, std::string(what) + ": mesh exceeds qsp's vertex or face limit");
+  }
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    if (!std::isfinite(mesh.positions[i])) {
+      throw Error(ErrorCode::kBadNumber,
+                  std::string(what) + ": vertex " + std::to_string(i / 3) + " has a non-finite coordinate");
+    }
+  }
+  const std::size_t v = mesh.vertex_count();
+  for (std::size_t i = 0; i < mesh.quads.size(); ++i) {
+    if (mesh.quads[i] >= v) {
+      throw Error(ErrorCode::kBadIndex, std::string(what) + ": face " + std::to_string(i / 4) + " refers to vertex " +
+                                            std::to_string(mesh.quads[i]) + " of " + std::to_string(v));
+    }
+  }
+}
+
+// Appends with std::to_chars into a growing buffer (no locale, no iostreams).
+class TextWriter {
+ public:
+  explicit TextWriter(std::size_t expected) { out_.reserve(expected); }
+  void text(std::string_view s) { out_.append(s); }
+  void number(float f) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, f);  // shortest round-trip form
+    out_.append(buf, r.ptr);
+  }
+  void number(std::uint64_t n) {
+    char buf[24];
+    const auto r = std::to_chars(buf, buf + sizeof buf, n);
+    out_.append(buf, r.ptr);
+  }
+  void ch(char c) { out_.push_back(c); }
+  std::string take() { return std::move(out_); }
+
+ private:
+  std::string out_;
+};
+
+void write_positions(TextWriter& w, const QuadMesh& mesh, std::string_view prefix) {
+  for (std::size_t i = 0; i < mesh.positions.size(); i += 3) {
+    w.text(prefix);
+    w.number(mesh.positions[i]);
+    w.ch(' ');
+    w.number(mesh.positions[i + 1]);
+    w.ch(' ');
+    w.number(mesh.positions[i + 2]);
+    w.ch('\n');
+  }
+}
+
+std::size_t expected_text_size(const QuadMesh& mesh) {
+  return mesh.positions.size() * 14 + mesh.quads.size() * 9 + 64;
+}
+
+bool write_all(int fd, std::string_view bytes, int* err) {
+  while (!bytes.empty()) {
+    const ssize_t n = ::write(fd, bytes.data(), bytes.size());
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      *err = errno;
+      return false;
+    }
+    bytes.remove_prefix(static_cast<std::size_t>(n));
+  }
+  return true;
+}
+
+}  // namespace
+
+MeshFormat format_from_path(std::string_view path) {
+  const std::size_t slash = path.find_last_of('/');
+  const std::string_view name = slash == std::string_view::npos ? path : path.substr(slash + 1);
+  const std::size_t dot = name.find_last_of('.');
+  if (dot == std::string_view::npos || dot == 0) return MeshFormat::kUnknown;
+  const std::string ext = lower(name.substr(dot + 1));
+  if (ext == "obj") return MeshFormat::kObj;
+  if (ext == "off") return MeshFormat::kOff;
+  if (ext == "ply") return MeshFormat::kPly;
+  if (ext == "qsp") return MeshFormat::kQsp;
+  return MeshFormat::kUnknown;
+}
+
+std::string ReadReport::describe_extra_data() const {
+  std::string out;
+  const auto item = [&out](std::uint64_t n, const char* one, const char* many) {
+    if (n == 0) return;
+    if (!out.empty()) out += ", ";
+    out += std::to_string(n) + " " + (n == 1 ? one : many);
+  };
+  item(texcoords, "texture coordinate", "texture coordinates");
+  item(normals, "normal", "normals");
+  item(face_attribute_refs, "face with texture/normal indices", "faces with texture/normal indices");
+  item(groups, "group/object name", "group/object names");
+  item(materials, "material statement", "material statements");
+  item(smoothing, "smoothing group statement", "smoothing group statements");
+  item(tags, "subdivision tag", "subdivision tags");
+  item(vertex_colors, "vertex colour (or w)", "vertex colours (or w)");
+  item(face_colors, "face colour", "face colours");
+  item(parameter_vertices, "parameter-space vertex", "parameter-space vertices");
+  item(other_properties, "other PLY property value", "other PLY property values");
+  return out;
+}
+
+std::string write_obj(const QuadMesh& mesh) {
+  check_writable(mesh, "write_obj");
+  TextWriter w(expected_text_size(mesh));
+  write_positions(w, mesh, "v ");
+  for (std::size_t i = 0; i < mesh.quads.size(); i += 4) {
+    w.text("f ");
+    for (int c = 0; c < 4; ++c) {
+      if (c) w.ch(' ');
+      w.number(std::uint64_t{mesh.quads[i + c]} + 1);
+    }
+    w.ch('\n');
+  }
+  return w.take();
+}
+
+std::string write_off(const QuadMesh& mesh) {
+  check_writable(mesh, "write_off");
+  TextWriter w(expected_text_size(mesh));
+  w.text("OFF\n");
+  w.number(std::uint64_t{mesh.vertex_count()});
+  w.ch(' ');
+  w.number(std::uint64_t{mesh.face_count()});
+  w.text(" 0\n");
+  write_positions(w, mesh, "");
+  for (std::size_t i = 0; i < mesh.quads.size(); i += 4) {
+    w.ch('4');
+    for (int c = 0; c < 4; ++c) {
+      w.ch(' ');
+      w.number(std::uint64_t{mesh.quads[i + c]});
+    }
+    w.ch('\n');
+  }
+  return w.take();
+}
+
+std::string read_file_bytes(const std::string& path) {
+  const bool is_stdin = path == "-";
+  const int fd = is_stdin ? STDIN_FILENO : ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) fail_errno(path, "", errno);
+  std::string bytes;
+  struct stat st {};
+  if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
+    bytes.reserve(static_cast<std::size_t>(st.st_size));
+  }
+  // Read until EOF rather than trusting st_size: pipes and growing files have none.
+  constexpr std::size_t kChunk = 1 << 20;
+  std::size_t used = 0;
+  for (;;) {
+    if (bytes.size() < used + kChunk) bytes.resize(std::max(bytes.capacity(), used + kChunk));
+    const ssize_t n = ::read(fd, bytes.data() + used, bytes.size() - used);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const int err = errno;
+      if (!is_stdin) ::close(fd);
+      fail_errno(is_stdin ? "-" : path, "", err);
+    }
+    if (n == 0) break;
+    used += static_cast<std::size_t>(n);
+  }
+  if (!is_stdin) ::close(fd);
+  bytes.resize(used);
+  return bytes;
+}
+
+QuadMesh read_mesh_file(const std::string& path, ReadReport* report, MeshFormat format) {
+  if (format == MeshFormat::kUnknown) format = format_from_path(path);
+  switch (format) {
+    case MeshFormat::kObj: {
+      const std::string bytes = read_file_bytes(path);
+      return read_obj(bytes, path, report);
+    }
+    case MeshFormat::kOff: {
+      const std::string bytes = read_file_bytes(path);
+      return read_off(bytes, path, report);
+    }
+    case MeshFormat::kPly:
+      return read_ply_file(path, report);
+    case MeshFormat::kQsp:
+      throw Error(ErrorCode::kUnsupported, path + ": a .qsp file is compressed data, not a mesh to read here");
+    case MeshFormat::kUnknown:
+      break;
+  }
+  throw Error(ErrorCode::kUnsupported,
+              path + (path == "-" ? ": give the format of standard input (obj, off or ply)"
+                                  : ": unknown mesh format (expected .obj, .off or .ply)"));
+}
+
+void write_file_atomic(const std::string& path, std::string_view bytes, bool overwrite) {
+  int err = 0;
+  if (path == "-") {
+    if (!write_all(STDOUT_FILENO, bytes, &err)) fail_errno("-", "cannot write standard output", err);
+    return;
+  }
+  if (path.empty()) fail_io(path, "empty output path");
+  struct stat st {};
+  if (!overwrite && ::lstat(path.c_str(), &st) == 0) {
+    fail_io(path, "already exists (refusing to overwrite it)");
+  }
+  const std::size_t slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+  const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+  std::string temp = (dir == "/" ? "" : dir) + "/." + name + ".tmp.XXXXXX";
+  const int fd = ::mkstemp(temp.data());
+  if (fd < 0) fail_errno(path, "cannot create a temporary file in " + dir, errno);
+
+  const auto fail_and_remove = [&](const std::string& what, int e) {
+    ::unlink(temp.c_str());
+    fail_errno(path, what, e);
+  };
+  // mkstemp makes the file 0600; give the result the permissions an ordinary create would.
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  if (::fchmod(fd, 0666 & ~mask) != 0) {
+    err = errno;
+    ::close(fd);
+    fail_and_remove("cannot set permissions", err);
+  }
+  if (!write_all(fd, bytes, &err)) {
+    ::close(fd);
+    fail_and_remove("cannot write", err);
+  }
+  if (::fsync(fd) != 0) {
+    err = errno;
+    ::close(fd);
+    fail_and_remove("cannot flush to disk", err);
+  }
+  if (::close(fd) != 0) fail_and_remove("cannot close", errno);
+
+  if (overwrite) {
+    if (::rename(temp.c_str(), path.c_str()) != 0) fail_and_remove("cannot rename into place", errno);
+  } else {
+    // Atomic no-replace; the lstat above is only the early, friendly check.
+    if (::renameat2(AT_FDCWD, temp.c_str(), AT_FDCWD, path.c_str(), RENAME_NOREPLACE) != 0) {
+      err = errno;
+      if (err == EEXIST) fail_and_remove("already exists (refusing to overwrite it)", 0);
+      if (err != EINVAL && err != ENOSYS) fail_and_remove("cannot rename into place", err);
+      // Filesystem without RENAME_NOREPLACE: fall back to check-then-rename.
+      if (::lstat(path.c_str(), &st) == 0) fail_and_remove("already exists (refusing to overwrite it)", 0);
+      if (::rename(temp.c_str(), path.c_str()) != 0) fail_and_remove("cannot rename into place", errno);
+    }
+  }
+  // Make the rename itself durable.
+  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+}
+
+}  // namespace qsp

@@ -1,0 +1,679 @@
+// OBJ and OFF readers: strict single-pass parsers over an in-memory buffer. No iostreams, no
+// per-line allocation; numbers go through std::from_chars so floats round exactly as it rounds.
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+#include "qsp/error.h"
+#include "qsp/io.h"
+#include "qsp/mesh.h"
+
+namespace qsp {
+namespace {
+
+// Printable, bounded rendering of untrusted text for messages.
+std::string quote_token(std::string_view token) {
+  constexpr std::size_t kMaxShown = 40;
+  std::string out = "'";
+  for (std::size_t i = 0; i < token.size() && i < kMaxShown; ++i) {
+    const unsigned char c = static_cast<unsigned char>(token[i]);
+    if (c >= 0x20 && c < 0x7f && c != '\'') {
+      out += static_cast<char>(c);
+    } else {
+      static constexpr char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  if (token.size() > kMaxShown) out += "...";
+  out += "'";
+  return out;
+}
+
+std::string plural(std::uint64_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+std::string corners_name(std::uint64_t n) {
+  if (n == 3) return "triangle";
+  if (n == 0) return "no vertices";
+  return plural(n, "vertex", "vertices");
+}
+
+// Faces that are not quads: counted all the way through so the message can say how many.
+struct NonQuads {
+  std::uint64_t count = 0;
+  std::uint64_t first_line = 0;
+  std::string examples;  // "line 10: triangle, line 12: 5 vertices, ..."
+
+  void add(std::uint64_t line, std::uint64_t corners) {
+    if (count < 3) {
+      if (count == 0) first_line = line;
+      if (!examples.empty()) examples += ", ";
+      examples += "line " + std::to_string(line) + ": " + corners_name(corners);
+    }
+    ++count;
+  }
+  void throw_if_any(std::string_view source) const {
+    if (count == 0) return;
+    std::string msg = std::string(source) + ":" + std::to_string(first_line) + ": ";
+    if (count == 1) {
+      msg += "1 face is not a quad (" + examples + ")";
+    } else {
+      msg += std::to_string(count) + " faces are not quads (first: " + examples + (count > 3 ? ", ..." : "") + ")";
+    }
+    msg += "; qsp stores quad meshes only and never triangulates or drops faces";
+    throw Error(ErrorCode::kNotQuad, msg);
+  }
+};
+
+inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+
+// Cursor over the text with line tracking. Blanks are spaces, tabs, CR and backslash-newline
+// continuations; a statement ends at '\n', '#' or the end of the text.
+class Scanner {
+ public:
+  Scanner(std::string_view text, std::string_view source)
+      : p_(text.data()), end_(text.data() + text.size()), source_(source) {
+    // A UTF-8 byte order mark is not content.
+    if (text.size() >= 3 && std::memcmp(p_, "\xEF\xBB\xBF", 3) == 0) p_ += 3;
+  }
+
+  const char* pos() const { return p_; }
+  const char* end() const { return end_; }
+  std::uint64_t line() const { return line_; }
+  bool done() const { return p_ == end_; }
+  std::size_t remaining() const { return static_cast<std::size_t>(end_ - p_); }
+
+  void skip_blank() {
+    for (;;) {
+      while (p_ < end_ && is_blank(*p_)) ++p_;
+      if (p_ < end_ && *p_ == '\\' && continuation_at(p_)) {
+        skip_continuation();
+        continue;
+      }
+      return;
+    }
+  }
+  // True at the end of a statement (after skip_blank).
+  bool at_eol() const { return p_ == end_ || *p_ == '\n' || *p_ == '#'; }
+
+  // Consumes the end of a statement: optional comment, then the newline.
+  void finish_line() {
+    if (p_ < end_ && *p_ == '#') skip_comment();
+    if (p_ < end_) {
+      ++p_;  // the '\n'
+      ++line_;
+    }
+  }
+  // Skips a comment up to and including its newline; a backslash does not continue a comment.
+  void skip_comment() {
+    const void* nl = std::memchr(p_, '\n', remaining());
+    p_ = nl ? static_cast<const char*>(nl) : end_;
+  }
+  // Skips the rest of a statement whose content qsp only counts (honours continuations).
+  void skip_statement() {
+    for (;;) {
+      skip_blank();
+      if (at_eol()) return;
+      while (p_ < end_ && !is_blank(*p_) && *p_ != '\n' && *p_ != '\\') ++p_;
+      if (p_ < end_ && *p_ == '\\' && !continuation_at(p_)) ++p_;
+    }
+  }
+  // Next blank-delimited word (keyword); empty at the end of the statement.
+  std::string_view word() {
+    const char* s = p_;
+    while (p_ < end_ && !is_blank(*p_) && *p_ != '\n') ++p_;
+    return {s, static_cast<std::size_t>(p_ - s)};
+  }
+  // The token starting at `s`, for messages.
+  std::string_view token_at(const char* s) const {
+    const char* e = s;
+    while (e < end_ && !is_blank(*e) && *e != '\n') ++e;
+    return {s, static_cast<std::size_t>(e - s)};
+  }
+  bool token_ends_at(const char* s) const {
+    return s == end_ || is_blank(*s) || *s == '\n' || (*s == '\\' && continuation_at(s));
+  }
+
+  [[noreturn]] void fail(ErrorCode code, std::uint64_t line, const std::string& what) const {
+    throw Error(code, std::string(source_) + ":" + std::to_string(line) + ": " + what);
+  }
+  [[noreturn]] void fail(ErrorCode code, const std::string& what) const { fail(code, line_, what); }
+
+  // A finite float32 number token, exactly as std::from_chars rounds it.
+  float number(const char* context) {
+    const char* s = skip_plus();
+    float value = 0.0f;
+    const auto [ptr, ec] = std::from_chars(s, end_, value);
+    if (ec == std::errc::invalid_argument || !token_ends_at(ptr) || (s != p_ && *s == '-')) {
+      fail(ErrorCode::kParse, "malformed number " + quote_token(token_at(p_)) + " in " + context);
+    }
+    if (ec == std::errc::result_out_of_range) {
+      fail(ErrorCode::kBadNumber, "number " + quote_token(token_at(p_)) + " in " + context +
+                                      " is outside the float32 range (it does not round to a finite "
+                                      "nonzero float)");
+    }
+    if (!std::isfinite(value)) {
+      fail(ErrorCode::kBadNumber, "number " + quote_token(token_at(p_)) + " in " + context +
+                                      " is not finite (NaN and infinity are not valid mesh data)");
+    }
+    p_ = ptr;
+    return value;
+  }
+
+  // An integer token, ending where `stop` or a token boundary says. Returns false on overflow
+  // (the caller reports the range); throws on malformed text.
+  bool integer(std::int64_t& value, const char* context, bool allow_slash) {
+    const char* s = skip_plus();
+    const auto [ptr, ec] = std::from_chars(s, end_, value);
+    const bool ends = token_ends_at(ptr) || (allow_slash && ptr < end_ && *ptr == '/');
+    if (ec == std::errc::invalid_argument || !ends || (s != p_ && *s == '-')) {
+      fail(ErrorCode::kParse, "malformed integer " + quote_token(token_at(token_start_)) + " in " + context);
+    }
+    p_ = ptr;
+    return ec != std::errc::result_out_of_range;
+  }
+  void mark_token() { token_start_ = p_; }
+  const char* token_start() const { return token_start_; }
+  void advance() { ++p_; }
+  char peek() const { return p_ < end_ ? *p_ : '\0'; }
+
+ private:
+  // from_chars refuses a leading '+', which some writers emit; a following '-' stays malformed.
+  const char* skip_plus() const { return p_ + 1 < end_ && *p_ == '+' ? p_ + 1 : p_; }
+  bool continuation_at(const char* s) const {
+    ++s;
+    while (s < end_ && is_blank(*s)) ++s;
+    return s == end_ || *s == '\n';
+  }
+  void skip_continuation() {
+    ++p_;
+    while (p_ < end_ && is_blank(*p_)) ++p_;
+    if (p_ < end_) {
+      ++p_;
+      ++line_;
+    }
+  }
+
+  const char* p_;
+  const char* end_;
+  const char* token_start_ = nullptr;
+  std::uint64_t line_ = 1;
+  std::string_view source_;
+};
+
+std::uint32_t clamp_line(std::uint64_t line) {
+  return static_cast<std::uint32_t>(std::min<std::uint64_t>(line, 0xFFFFFFFFu));
+}
+
+// Index of the first repeated corner pair of a quad, or -1.
+int repeated_corner(const std::uint32_t* q, int* other) {
+  for (int i = 0; i < 4; ++i) {
+    for (int j = i + 1; j < 4; ++j) {
+      if (q[i] == q[j]) {
+        *other = j;
+        return i;
+      }
+    }
+  }
+  return -1;
+}
+
+// Numbers on the rest of a statement (validated, not kept).
+std::uint64_t skip_numbers(Scanner& in, const char* context) {
+  std::uint64_t n = 0;
+  for (;;) {
+    in.skip_blank();
+    if (in.at_eol()) return n;
+    (void)in.number(context);
+    ++n;
+  }
+}
+
+// ----------------------------------------------------------------------------------------------
+// OBJ
+
+class ObjReader {
+ public:
+  ObjReader(std::string_view text, std::string_view source, ReadReport& report)
+      : in_(text, source), source_(source), report_(report) {}
+
+  QuadMesh run() {
+    while (!in_.done()) {
+      in_.skip_blank();
+      if (in_.at_eol()) {
+        in_.finish_line();
+        continue;
+      }
+      statement();
+      in_.skip_blank();
+      if (!in_.at_eol()) {
+        in_.fail(ErrorCode::kParse, "unexpected " + quote_token(in_.token_at(in_.pos())) + " at the end of a `" +
+                                        std::string(keyword_) + "` statement");
+      }
+      in_.finish_line();
+    }
+    non_quads_.throw_if_any(source_);
+    check_forward_indices();
+    return std::move(mesh_);
+  }
+
+ private:
+  void statement() {
+    const std::uint64_t line = in_.line();
+    keyword_ = in_.word();
+    const std::string_view k = keyword_;
+    if (k == "v") return vertex();
+    if (k == "f") return face(line);
+    if (k == "vt") return count_numbers(report_.texcoords, 1, 3, "`vt` statement");
+    if (k == "vn") return count_numbers(report_.normals, 3, 3, "`vn` statement");
+    if (k == "vp") return count_numbers(report_.parameter_vertices, 1, 3, "`vp` statement");
+    if (k == "g" || k == "o") return count_statement(report_.groups);
+    if (k == "s") return count_statement(report_.smoothing);
+    if (k == "usemtl" || k == "mtllib" || k == "usemap" || k == "maplib") return count_statement(report_.materials);
+    if (k == "t") return count_statement(report_.tags);  // OpenSubdiv tags: `t crease 2/1/0 1 2 4.0`
+    if (k == "l" || k == "p") {
+      in_.fail(ErrorCode::kUnsupported, line,
+               std::string("`") + std::string(k) + "` (" + (k == "l" ? "polyline" : "point") +
+                   ") elements are not supported; qsp stores quad meshes only");
+    }
+    static constexpr std::string_view kFreeForm[] = {
+        "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv", "sp",
+        "end",    "con", "mg",   "bevel", "c_interp", "d_interp", "lod", "shadow_obj", "trace_obj", "ctech",
+        "stech"};
+    if (std::find(std::begin(kFreeForm), std::end(kFreeForm), k) != std::end(kFreeForm)) {
+      in_.fail(ErrorCode::kUnsupported, line,
+               "`" + std::string(k) + "` (free-form geometry or display attribute) is not supported; qsp "
+               "stores quad meshes only");
+    }
+    in_.fail(ErrorCode::kParse, line, "unknown statement " + quote_token(k));
+  }
+
+  void vertex() {
+    float xyz[3];
+    for (int i = 0; i < 3; ++i) {
+      in_.skip_blank();
+      if (in_.at_eol()) {
+        in_.fail(ErrorCode::kParse, "`v` needs 3 coordinates, found " + std::to_string(i));
+      }
+      xyz[i] = in_.number("`v` statement");
+    }
+    if (vertex_count_ >= kMaxVertices) {
+      in_.fail(ErrorCode::kLimit, "more than " + std::to_string(kMaxVertices) + " vertices");
+    }
+    mesh_.positions.insert(mesh_.positions.end(), xyz, xyz + 3);
+    ++vertex_count_;
+    in_.skip_blank();
+    if (in_.at_eol()) return;
+    // Optional w, or r g b (some exporters write x y z r g b, a few x y z w r g b / r g b a).
+    const std::uint64_t extra = skip_numbers(in_, "`v` statement");
+    if (extra != 1 && extra != 3 && extra != 4) {
+      in_.fail(ErrorCode::kParse, "`v` has " + std::to_string(3 + extra) +
+                                      " numbers; expected x y z, optionally followed by w or r g b");
+    }
+    ++report_.vertex_colors;
+  }
+
+  void face(std::uint64_t line) {
+    std::uint32_t q[4];
+    std::uint64_t corners = 0;
+    bool attributes = false;
+    for (;;) {
+      in_.skip_blank();
+      if (in_.at_eol()) break;
+      in_.mark_token();
+      std::int64_t v = 0;
+      const bool in_range = in_.integer(v, "`f` statement", true);
+      if (in_.peek() == '/') {  // v/vt, v//vn or v/vt/vn
+        attributes = true;
+        in_.advance();
+        std::int64_t ignored = 0;
+        if (in_.peek() != '/') attribute_index(ignored, "texture coordinate");
+        if (in_.peek() == '/') {
+          in_.advance();
+          attribute_index(ignored, "normal");
+        }
+        if (!in_.token_ends_at(in_.pos())) {
+          in_.fail(ErrorCode::kParse, "malformed vertex reference " + quote_token(in_.token_at(in_.token_start())));
+        }
+      }
+      const std::uint32_t index = resolve(v, in_range);
+      if (corners < 4) q[corners] = index;
+      ++corners;
+    }
+    if (attributes) ++report_.face_attribute_refs;
+    if (corners != 4) {
+      non_quads_.add(line, corners);
+      return;
+    }
+    int other = 0;
+    const int first = repeated_corner(q, &other);
+    if (first >= 0) {
+      in_.fail(ErrorCode::kDegenerateFace, line,
+               "face repeats vertex " + std::to_string(std::uint64_t{q[first]} + 1) + " (corners " +
+                   std::to_string(first + 1) + " and " + std::to_string(other + 1) +
+                   "); a quad needs 4 distinct vertices");
+    }
+    if (face_count_ >= kMaxFaces) in_.fail(ErrorCode::kLimit, "more than " + std::to_string(kMaxFaces) + " faces");
+    ++face_count_;
+    mesh_.quads.insert(mesh_.quads.end(), q, q + 4);
+    report_.face_line.push_back(clamp_line(line));
+  }
+
+  // vt/vn indices are checked for syntax only: qsp keeps neither.
+  void attribute_index(std::int64_t& value, const char* what) {
+    if (!in_.integer(value, "`f` statement", true) || value == 0) {
+      in_.fail(ErrorCode::kParse, std::string("invalid ") + what + " index in " +
+                                      quote_token(in_.token_at(in_.token_start())));
+    }
+  }
+
+  // OBJ index (1-based, or negative = relative to the vertices so far) to 0-based. Positive
+  // indices may refer to vertices defined later; they are range-checked at the end.
+  std::uint32_t resolve(std::int64_t v, bool in_range) {
+    const auto token = [&] { return quote_token(in_.token_at(in_.token_start())); };
+    if (v == 0 && in_range) {
+      in_.fail(ErrorCode::kBadIndex, "vertex index 0 in " + token() + " is invalid (OBJ indices start at 1)");
+    }
+    if (v < 0 || !in_range) {
+      if (!in_range || -(v + 1) >= static_cast<std::int64_t>(vertex_count_)) {
+        in_.fail(ErrorCode::kBadIndex, "vertex index " + token() + " is out of range (" +
+                                           plural(vertex_count_, "vertex", "vertices") +
+                                           " defined before this line)");
+      }
+      return static_cast<std::uint32_t>(static_cast<std::int64_t>(vertex_count_) + v);
+    }
+    if (static_cast<std::uint64_t>(v) > kMaxVertices) {
+      in_.fail(ErrorCode::kBadIndex, "vertex index " + token() + " is out of range (more than " +
+                                         std::to_string(kMaxVertices) + " vertices is beyond qsp's limit)");
+    }
+    const auto index = static_cast<std::uint32_t>(v - 1);
+    max_index_ = std::max(max_index_, index);
+    return index;
+  }
+
+  void check_forward_indices() {
+    if (face_count_ == 0 || max_index_ < vertex_count_) return;
+    for (std::size_t f = 0; f < face_count_; ++f) {
+      for (int i = 0; i < 4; ++i) {
+        const std::uint32_t index = mesh_.quads[4 * f + i];
+        if (index >= vertex_count_) {
+          in_.fail(ErrorCode::kBadIndex, report_.face_line[f],
+                   "vertex index " + std::to_string(std::uint64_t{index} + 1) + " is out of range (the file has " +
+                       plural(vertex_count_, "vertex", "vertices") + ")");
+        }
+      }
+    }
+  }
+
+  void count_numbers(std::uint64_t& counter, std::uint64_t min, std::uint64_t max, const char* context) {
+    const std::uint64_t n = skip_numbers(in_, context);
+    if (n < min || n > max) {
+      std::string want = min == max ? std::to_string(min) : std::to_string(min) + " to " + std::to_string(max);
+      in_.fail(ErrorCode::kParse, std::string(context) + " has " + std::to_string(n) + " numbers, expected " + want);
+    }
+    ++counter;
+  }
+  void count_statement(std::uint64_t& counter) {
+    in_.skip_statement();
+    ++counter;
+  }
+
+  Scanner in_;
+  std::string_view source_;
+  ReadReport& report_;
+  QuadMesh mesh_;
+  std::string_view keyword_;
+  std::uint64_t vertex_count_ = 0;
+  std::uint64_t face_count_ = 0;
+  std::uint32_t max_index_ = 0;
+  NonQuads non_quads_;
+};
+
+// ----------------------------------------------------------------------------------------------
+// OFF
+
+class OffReader {
+ public:
+  OffReader(std::string_view text, std::string_view source, ReadReport& report)
+      : in_(text, source), source_(source), report_(report) {}
+
+  QuadMesh run() {
+    header();
+    vertices();
+    faces();
+    // Only blanks and comments may follow the last face.
+    skip_empty();
+    if (!in_.done()) {
+      in_.fail(ErrorCode::kParse, "unexpected " + quote_token(in_.token_at(in_.pos())) + " after the last face (the "
+                                      "header declares " + plural(face_count_, "face", "faces") + ")");
+    }
+    non_quads_.throw_if_any(source_);
+    return std::move(mesh_);
+  }
+
+ private:
+  // Skips blank lines and comment lines (and blanks at the current position).
+  void skip_empty() {
+    for (;;) {
+      in_.skip_blank();
+      if (in_.done() || !in_.at_eol()) return;
+      in_.finish_line();
+    }
+  }
+
+  void expect_eol(const char* what) {
+    in_.skip_blank();
+    if (!in_.at_eol()) {
+      in_.fail(ErrorCode::kParse, "unexpected " + quote_token(in_.token_at(in_.pos())) + " after " + what);
+    }
+    in_.finish_line();
+  }
+
+  std::uint64_t count(const char* what) {
+    in_.skip_blank();
+    if (in_.at_eol()) in_.fail(ErrorCode::kParse, std::string("OFF counts line is missing the ") + what);
+    in_.mark_token();
+    std::int64_t v = 0;
+    const bool ok = in_.integer(v, "the OFF counts line", false);
+    if (v < 0) in_.fail(ErrorCode::kParse, std::string("negative ") + what + " in the OFF counts line");
+    if (!ok) in_.fail(ErrorCode::kLimit, std::string(what) + " " + quote_token(in_.token_at(in_.token_start())) +
+                                             " is beyond qsp's limits");
+    return static_cast<std::uint64_t>(v);
+  }
+
+  void header() {
+    skip_empty();
+    if (in_.done()) in_.fail(ErrorCode::kParse, "empty file (expected an OFF header)");
+    const std::uint64_t header_line = in_.line();
+    std::string_view key = in_.word();
+    std::string_view k = key;
+    if (k.size() >= 2 && k.substr(0, 2) == "ST") has_texcoords_ = true, k.remove_prefix(2);
+    if (!k.empty() && k[0] == 'C') has_colors_ = true, k.remove_prefix(1);
+    if (!k.empty() && k[0] == 'N') has_normals_ = true, k.remove_prefix(1);
+    if (k == "4OFF" || k == "nOFF" || k == "4nOFF") {
+      in_.fail(ErrorCode::kUnsupported, "OFF variant " + quote_token(key) +
+                                            " (homogeneous or n-dimensional) is not supported");
+    }
+    if (k != "OFF") {
+      in_.fail(ErrorCode::kParse, header_line, "expected an OFF header (OFF, COFF, NOFF, STOFF, ...), found " +
+                                                   quote_token(key));
+    }
+    in_.skip_blank();
+    if (!in_.at_eol()) {
+      if (in_.token_at(in_.pos()) == "BINARY") {
+        in_.fail(ErrorCode::kUnsupported, "binary OFF is not supported");
+      }
+      // Some writers put the counts on the header line.
+    } else {
+      in_.finish_line();
+      skip_empty();
+      if (in_.done()) in_.fail(ErrorCode::kParse, "file ends before the OFF counts line");
+    }
+    counts_line_ = in_.line();
+    vertex_count_ = count("vertex count");
+    face_count_ = count("face count");
+    in_.skip_blank();
+    if (!in_.at_eol()) (void)count("edge count");  // often 0 or wrong; not checked
+    expect_eol("the OFF counts (vertices faces edges)");
+
+    // Refuse counts the text cannot hold before allocating anything for them.
+    if (vertex_count_ > kMaxVertices) {
+      in_.fail(ErrorCode::kLimit, counts_line_, "header declares " + std::to_string(vertex_count_) +
+                                                    " vertices; qsp's limit is " + std::to_string(kMaxVertices));
+    }
+    if (face_count_ > kMaxFaces) {
+      in_.fail(ErrorCode::kLimit, counts_line_, "header declares " + std::to_string(face_count_) +
+                                                    " faces; qsp's limit is " + std::to_string(kMaxFaces));
+    }
+    // Smallest possible entries: "0 0 0\n" per vertex, "0\n" per face.
+    const std::uint64_t need = 6 * vertex_count_ + 2 * face_count_;
+    if (need > in_.remaining()) {
+      in_.fail(ErrorCode::kParse, counts_line_,
+               "header declares " + plural(vertex_count_, "vertex", "vertices") + " and " +
+                   plural(face_count_, "face", "faces") + " but only " + std::to_string(in_.remaining()) +
+                   " bytes follow (truncated file or wrong counts)");
+    }
+    mesh_.positions.reserve(3 * vertex_count_);
+    mesh_.quads.reserve(4 * face_count_);
+    report_.face_line.reserve(face_count_);
+  }
+
+  std::string counts_hint() const {
+    return "; does the header (line " + std::to_string(counts_line_) + ": " +
+           plural(vertex_count_, "vertex", "vertices") + ", " + plural(face_count_, "face", "faces") +
+           ") match the file?";
+  }
+
+  // One vertex per line: x y z [normal] [colour] [texture coordinates].
+  void vertices() {
+    const std::uint64_t base = 3 + (has_normals_ ? 3 : 0) + (has_colors_ ? 3 : 0) + (has_texcoords_ ? 2 : 0);
+    const std::uint64_t most = base + (has_colors_ ? 1 : 0);  // RGB or RGBA
+    for (std::uint64_t v = 0; v < vertex_count_; ++v) {
+      skip_empty();
+      if (in_.done()) {
+        in_.fail(ErrorCode::kParse, "file ends after " + std::to_string(v) + " of " +
+                                        plural(vertex_count_, "vertex", "vertices") + " (truncated)" + counts_hint());
+      }
+      float xyz[3];
+      std::uint64_t n = 0;
+      for (; n < 3; ++n) {
+        in_.skip_blank();
+        if (in_.at_eol()) break;
+        xyz[n] = in_.number("an OFF vertex");
+      }
+      if (n == 3) n += skip_numbers(in_, "an OFF vertex");
+      if (n < base || n > most) {
+        const std::string want =
+            base == most ? std::to_string(base) : std::to_string(base) + " or " + std::to_string(most);
+        in_.fail(ErrorCode::kParse, "vertex " + std::to_string(v) + " has " + plural(n, "number", "numbers") +
+                                        ", expected " + want + counts_hint());
+      }
+      mesh_.positions.insert(mesh_.positions.end(), xyz, xyz + 3);
+      if (has_normals_) ++report_.normals;
+      if (has_colors_) ++report_.vertex_colors;
+      if (has_texcoords_) ++report_.texcoords;
+      in_.finish_line();
+    }
+  }
+
+  // Faces are token streams: "n i1 ... in [colour]", possibly over several lines; a colour is what
+  // remains on the line of the last index.
+  void faces() {
+    for (std::uint64_t f = 0; f < face_count_; ++f) {
+      skip_empty();
+      if (in_.done()) {
+        in_.fail(ErrorCode::kParse, "file ends after " + std::to_string(f) + " of " +
+                                        plural(face_count_, "face", "faces") + " (truncated)" + counts_hint());
+      }
+      const std::uint64_t line = in_.line();
+      in_.mark_token();
+      std::int64_t n = 0;
+      const char* start = in_.pos();
+      const std::string_view first = in_.token_at(start);
+      if (first.find_first_of(".eE") != std::string_view::npos) {
+        in_.fail(ErrorCode::kParse, "expected a face (vertex count, then indices), found " + quote_token(first) +
+                                        counts_hint());
+      }
+      if (!in_.integer(n, "an OFF face", false) || n < 0 || static_cast<std::uint64_t>(n) > in_.remaining()) {
+        in_.fail(ErrorCode::kParse, "face vertex count " + quote_token(first) + " is invalid" + counts_hint());
+      }
+      std::uint32_t q[4];
+      for (std::int64_t i = 0; i < n; ++i) {
+        skip_empty();
+        if (in_.done()) {
+          in_.fail(ErrorCode::kParse, line, "file ends inside face " + std::to_string(f) + " (" +
+                                                std::to_string(i) + " of " + std::to_string(n) + " indices)");
+        }
+        in_.mark_token();
+        std::int64_t index = 0;
+        const bool ok = in_.integer(index, "an OFF face", false);
+        if (!ok || index < 0 || static_cast<std::uint64_t>(index) >= vertex_count_) {
+          in_.fail(ErrorCode::kBadIndex, "vertex index " + quote_token(in_.token_at(in_.token_start())) +
+                                             " is out of range (the file has " +
+                                             plural(vertex_count_, "vertex", "vertices") + ", numbered from 0)");
+        }
+        if (i < 4) q[i] = static_cast<std::uint32_t>(index);
+      }
+      in_.skip_blank();
+      if (!in_.at_eol()) {
+        const std::uint64_t c = skip_numbers(in_, "an OFF face colour");
+        if (c != 1 && c != 3 && c != 4) {
+          in_.fail(ErrorCode::kParse, "face " + std::to_string(f) + " has " + plural(c, "number", "numbers") +
+                                          " after its indices; expected a colour (1, 3 or 4 numbers)" +
+                                          counts_hint());
+        }
+        ++report_.face_colors;
+      }
+      in_.finish_line();
+      if (n != 4) {
+        non_quads_.add(line, static_cast<std::uint64_t>(n));
+        continue;
+      }
+      int other = 0;
+      const int dup = repeated_corner(q, &other);
+      if (dup >= 0) {
+        in_.fail(ErrorCode::kDegenerateFace, line,
+                 "face repeats vertex " + std::to_string(q[dup]) + " (corners " + std::to_string(dup + 1) + " and " +
+                     std::to_string(other + 1) + "); a quad needs 4 distinct vertices");
+      }
+      mesh_.quads.insert(mesh_.quads.end(), q, q + 4);
+      report_.face_line.push_back(clamp_line(line));
+    }
+  }
+
+ private:
+  Scanner in_;
+  std::string_view source_;
+  ReadReport& report_;
+  QuadMesh mesh_;
+  NonQuads non_quads_;
+  bool has_normals_ = false, has_colors_ = false, has_texcoords_ = false;
+  std::uint64_t vertex_count_ = 0, face_count_ = 0, counts_line_ = 0;
+};
+
+}  // namespace
+
+QuadMesh read_obj(std::string_view text, std::string_view source, ReadReport* report) {
+  ReadReport local;
+  ReadReport& r = report ? *report : local;
+  r = ReadReport{};
+  return ObjReader(text, source, r).run();
+}
+
+QuadMesh read_off(std::string_view text, std::string_view source, ReadReport* report) {
+  ReadReport local;
+  ReadReport& r = report ? *report : local;
+  r = ReadReport{};
+  return OffReader(text, source, r).run();
+}
+
+}  // namespace qsp
