@@ -1,0 +1,57 @@
+// qsp/canonical.h: canonical labelling and traversal of schematic partitions (§6).
+// Two meshes get equal codes exactly when they are isomorphic with orientation.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "qsp/mesh.h"
+#include "qsp/partition.h"
+
+namespace qsp {
+
+// The connectivity of one component as a canonical traversal from its canonical root dart.
+// Darts are labelled in discovery order, edges in pairs (2e, 2e+1 = twins, so twins cost nothing);
+// darts are visited in label order and each says where its `next` goes. Decodable on its own.
+struct TopologyCode {
+  ComponentKind kind = ComponentKind::kUnstructured;
+  std::uint32_t a = 0, b = 0, twist = 0;   // kAnnulus / kTorus sizes (see ComponentPartition)
+  // Per dart in label order: 0 = next is a new edge (labelled now: next gets 2E, its twin 2E+1),
+  // k > 0 = next is the k-th (1-based, by label) dart that has no predecessor yet.
+  std::vector<std::uint32_t> next_ref;
+  std::vector<std::uint32_t> edge_length;  // per edge in label order
+  std::vector<std::uint8_t> corner;        // per dart in label order: origin is a corner of its face
+};
+
+bool operator==(const TopologyCode& x, const TopologyCode& y);
+// Strict weak order used to sort components canonically (kind, sizes, then the streams).
+bool operator<(const TopologyCode& x, const TopologyCode& y);
+
+struct CanonicalComponent {
+  TopologyCode code;
+  ComponentPartition part;  // relabelled in canonical order; still linked to the input mesh
+  LayoutMap map;            // grid_layout(part) vertex/face -> input mesh vertex/face
+  std::uint32_t automorphisms = 1;  // orientation-preserving self-isomorphisms found (root ties)
+};
+
+struct CanonicalMesh {
+  std::vector<CanonicalComponent> components;  // in canonical order
+  std::vector<std::uint32_t> unreferenced;     // input vertices in no face, in input order
+};
+
+// Canonical form of a partitioned mesh. Components are ordered by code, equal codes by positions;
+// within a component, roots that tie on topology are chosen between by positions (lexicographic on
+// the float bits in layout order), so the result depends only on the mesh up to isomorphism plus
+// its positions. Never compares all flags pairwise: dart colours are refined first.
+CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition);
+
+// Rebuilds the component a code describes, in canonical numbering (not linked to any mesh).
+// Throws Error(kFormat) if the code is not a valid schematic partition. Safe on untrusted input.
+ComponentPartition partition_from_code(const TopologyCode& code);
+
+// 64-bit hash of the canonical codes of all components (in canonical order) and the number of
+// unreferenced vertices: equal for isomorphic meshes; different ones collide with probability ~2^-64.
+std::uint64_t topology_fingerprint(const CanonicalMesh& mesh);
+
+}  // namespace qsp

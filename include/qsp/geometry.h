@@ -1,0 +1,39 @@
+// qsp/geometry.h: position coding along patch grids (used by the codec).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "qsp/partition.h"
+
+namespace qsp {
+
+struct GeometryOptions {
+  // 0 = lossless (float32 bit-exact). 1..30 = uniform grid over the bounding box's largest extent.
+  std::uint32_t quantize_bits = 0;
+};
+
+// Encodes positions (3 floats per vertex, in coding order) using, for each vertex, the grid stencil of
+// already-coded neighbours. Lossless mode is bit-exact for every float, NaN payloads and -0 included;
+// it detects decimal-grid data (e.g. every coordinate written with 4 decimals) and codes its integers.
+// Returns self-delimiting bytes (see format-spec/qsp_format.md, "Geometry section").
+std::string encode_geometry(std::span<const float> positions,
+                            std::span<const GridLayout::Stencil> stencil, const GeometryOptions& options);
+
+// Inverse of encode_geometry for `vertex_count` vertices and the same stencils. Throws Error(kFormat)
+// on any inconsistency; never reads outside `bytes`. Safe on untrusted input.
+std::vector<float> decode_geometry(std::string_view bytes, std::span<const GridLayout::Stencil> stencil,
+                                   std::uint32_t vertex_count);
+
+// Largest absolute coordinate error a quantized encoding introduced: 0 when bit-identical, +inf if a
+// NaN or infinity differs. Throws Error(kInternal) if the sizes differ.
+double max_geometry_error(std::span<const float> original, std::span<const float> decoded);
+
+// The float a decimal-grid integer stands for: the binary32 nearest to n / 10^k, ties to even (what
+// std::from_chars gives for the decimal text). |n| < 2^40, 0 <= k <= 9. Exposed for tests and tools.
+float decimal_grid_value(std::int64_t n, int k);
+
+}  // namespace qsp

@@ -1,0 +1,116 @@
+// qsp/partition.h: the motorcycle graph (paper §5) and the schematic partition it induces (§4).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "qsp/mesh.h"
+
+namespace qsp {
+
+// The edges traced by the particles of §5. One particle starts on every non-boundary edge at an
+// extraordinary vertex, moving outward; all move in lockstep, one edge per step. A particle stops when
+// it reaches a vertex reached at an earlier step (extraordinary vertices count as reached at step 0),
+// reaches a boundary vertex, meets another head-on, or arrives together with two or three others.
+// Exactly two arriving perpendicularly at a fresh vertex: let F be the face whose corner at the vertex
+// lies between the two incoming tracks; the particle arriving along F's own half-edge continues.
+struct MotorcycleGraph {
+  std::vector<std::uint32_t> traced;  // one half-edge per traced edge, in the direction it was travelled
+  std::uint32_t particles = 0;        // particles started
+  std::uint32_t steps = 0;            // lockstep rounds until the last particle stopped
+};
+
+// Traces the particles from `extraordinary` (any order, no duplicates) over `adj`. Time and memory are
+// proportional to the traced edges (hash tables, no per-vertex arrays): the sublinear path of §5.
+// The result depends only on connectivity and orientation, not on vertex or face numbering.
+MotorcycleGraph trace_motorcycles(const Adjacency& adj, std::span<const std::uint32_t> extraordinary);
+
+// What a connected component is, once cut. Components with no extraordinary vertex are structured
+// (Lemma 2): a disk is one patch; an annulus or torus has no schematic vertex and is stored by its sizes.
+enum class ComponentKind : std::uint8_t { kUnstructured = 0, kDisk = 1, kAnnulus = 2, kTorus = 3 };
+
+// A schematic partition (§4) as a winged-edge structure stored by darts. Edge e has darts 2e and
+// 2e+1, running opposite ways (twin = d ^ 1); a dart's face lies on its left, so walking `dart_next`
+// goes counter-clockwise around a face. The wings of edge e are dart_next/dart_prev of its two darts.
+// Faces are patches (four corners, an (a,b)-grid) or holes (no corners, one per mesh boundary loop).
+struct Schematic {
+  std::uint32_t vertex_count = 0;
+  std::vector<std::uint32_t> dart_vertex;  // per dart: the schematic vertex it leaves
+  std::vector<std::uint32_t> dart_next;    // per dart: next dart around its face
+  std::vector<std::uint32_t> dart_prev;    // per dart: previous dart around its face
+  std::vector<std::uint32_t> dart_face;    // per dart: the face on its left
+  std::vector<std::uint8_t> dart_corner;   // per dart: 1 if its origin is a corner of its face
+  std::vector<std::uint32_t> edge_length;  // per edge: mesh edges along the path (>= 1)
+  std::vector<std::uint32_t> face_dart;    // per face: a dart of it; for a patch, one leaving a corner
+  std::vector<std::uint8_t> face_hole;     // per face: 1 for a hole, 0 for a patch
+
+  // Link to the mesh it was built from (empty when decoded from bytes).
+  std::vector<std::uint32_t> vertex_mesh;    // per schematic vertex: its mesh vertex
+  std::vector<std::uint32_t> dart_halfedge;  // per dart: the first mesh half-edge of its path
+
+  std::uint32_t edge_count() const { return static_cast<std::uint32_t>(edge_length.size()); }
+  std::uint32_t dart_count() const { return static_cast<std::uint32_t>(dart_vertex.size()); }
+  std::uint32_t face_count() const { return static_cast<std::uint32_t>(face_dart.size()); }
+  std::uint32_t patch_count() const;
+};
+
+// Grid sizes of patch `face`: a along the side leaving face_dart[face], b along the next side.
+struct PatchSize {
+  std::uint32_t a = 0, b = 0;
+};
+PatchSize patch_size(const Schematic& s, std::uint32_t face);
+
+// One connected component, cut by its motorcycle graph.
+struct ComponentPartition {
+  ComponentKind kind = ComponentKind::kUnstructured;
+  std::uint32_t component = 0;  // component id in Adjacency::face_component
+  std::uint32_t extraordinary = 0;
+  Schematic schematic;          // kUnstructured and kDisk
+  // kAnnulus: a = edges around, b = rows; kTorus: the lattice {(a,0),(twist,b)}, 0 <= twist < a.
+  std::uint32_t a = 0, b = 0, twist = 0;
+  // kAnnulus/kTorus: the mesh half-edge at grid origin, running along +x with cell (0,0) on its left.
+  std::uint32_t anchor_halfedge = kInvalid;
+};
+
+struct Partition {
+  std::vector<ComponentPartition> components;  // in Adjacency component order
+  std::vector<std::uint32_t> unreferenced;     // vertices in no face, increasing
+};
+
+// Motorcycle-graph partition of every component (§4-§5). Throws Error(kInternal) if a patch fails to
+// be a grid (it never returns a wrong partition). Needs a valid Adjacency (build_adjacency).
+Partition partition_motorcycle(const Adjacency& adj);
+
+// Checks every condition of §4's definition of a schematic partition, and — when the schematic is
+// linked to `adj` — that its patches tile the component exactly once as (a,b)-grids. Returns an empty
+// string when valid, otherwise what is wrong.
+std::string validate(const ComponentPartition& part, const Adjacency* adj = nullptr);
+
+// The mesh a component partition stands for, numbered canonically from the schematic alone:
+// schematic vertices in order, then each edge's inner vertices (from dart 2e's origin), then each
+// patch's inner vertices row by row from its face_dart corner; faces patch by patch, row by row,
+// each starting at its lower-left grid corner. This is what the decoder emits.
+struct GridLayout {
+  std::uint32_t vertex_count = 0;
+  std::vector<std::uint32_t> quads;  // 4 per face
+  // Per vertex: grid neighbours already numbered before it, for geometry prediction (kInvalid if none):
+  // w = previous along its row/edge, ww = the one before that, s = below, sw = below-left.
+  struct Stencil {
+    std::uint32_t w = kInvalid, ww = kInvalid, s = kInvalid, sw = kInvalid;
+  };
+  std::vector<Stencil> stencil;
+};
+GridLayout grid_layout(const ComponentPartition& part);
+
+// For a partition linked to a mesh: layout vertex -> mesh vertex, layout face -> mesh face and the
+// rotation r such that layout corner c is mesh corner (c + r) % 4.
+struct LayoutMap {
+  std::vector<std::uint32_t> vertex;
+  std::vector<std::uint32_t> face;
+  std::vector<std::uint8_t> rotation;
+};
+LayoutMap layout_to_mesh(const ComponentPartition& part, const Adjacency& adj);
+
+}  // namespace qsp

@@ -1,0 +1,307 @@
+// From a schematic to the mesh it stands for (grid_layout), the link back to the input mesh
+// (layout_to_mesh), and the checks of §4's definition (validate).
+#include <algorithm>
+#include <string>
+
+#include "qsp/error.h"
+#include "qsp/partition.h"
+
+namespace qsp {
+namespace {
+
+std::uint32_t right_of(const Adjacency& adj, std::uint32_t h) { return adj.next(adj.twin[adj.next(h)]); }
+std::uint32_t up_of(const Adjacency& adj, std::uint32_t h) { return adj.twin[adj.next(adj.next(h))]; }
+
+// Grid points of one patch in layout numbering: P(i, j), 0 <= i <= a, 0 <= j <= b.
+struct PatchGrid {
+  std::uint32_t a = 0, b = 0;
+  std::vector<std::uint32_t> ring;  // boundary points counter-clockwise from corner (0,0)
+  std::uint32_t interior_base = 0;  // first id of the (a-1)(b-1) inner points, row by row
+  std::uint32_t at(std::uint32_t i, std::uint32_t j) const {
+    if (j == 0) return ring[i];
+    if (i == a) return ring[a + j];
+    if (j == b) return ring[2 * a + b - i];
+    if (i == 0) return ring[2 * a + 2 * b - j];
+    return interior_base + (j - 1) * (a - 1) + (i - 1);
+  }
+};
+
+// Numbering of a general schematic's vertices: X, then edge-inner, then patch-inner points.
+struct Numbering {
+  std::vector<std::uint32_t> edge_base;   // per edge: id of its first inner point
+  std::vector<PatchGrid> patches;         // per face (empty for holes)
+  std::uint32_t vertex_count = 0;
+};
+
+// Returns an empty string, or why the schematic cannot be laid out.
+std::string number_schematic(const Schematic& s, Numbering& n) {
+  std::uint64_t next = s.vertex_count;
+  n.edge_base.resize(s.edge_count());
+  for (std::uint32_t e = 0; e < s.edge_count(); ++e) {
+    n.edge_base[e] = static_cast<std::uint32_t>(next);
+    next += s.edge_length[e] - 1;
+  }
+  n.patches.assign(s.face_count(), {});
+  for (std::uint32_t f = 0; f < s.face_count(); ++f) {
+    if (s.face_hole[f]) continue;
+    PatchGrid& g = n.patches[f];
+    const PatchSize size = patch_size(s, f);
+    g.a = size.a;
+    g.b = size.b;
+    g.ring.reserve(2ull * (g.a + g.b));
+    std::uint32_t d = s.face_dart[f];
+    do {
+      const std::uint32_t e = d >> 1, len = s.edge_length[e];
+      g.ring.push_back(s.dart_vertex[d]);
+      for (std::uint32_t k = 1; k < len; ++k)
+        g.ring.push_back(n.edge_base[e] + ((d & 1) ? len - 1 - k : k - 1));
+      d = s.dart_next[d];
+    } while (d != s.face_dart[f]);
+    if (g.ring.size() != 2ull * (g.a + g.b)) return "patch " + std::to_string(f) + " has unequal opposite sides";
+    g.interior_base = static_cast<std::uint32_t>(next);
+    next += static_cast<std::uint64_t>(g.a - 1) * (g.b - 1);
+    if (next > 0xFFFFFFF0u) return "too many vertices";
+  }
+  n.vertex_count = static_cast<std::uint32_t>(next);
+  return {};
+}
+
+// Visits every cell of the layout with its layout corner ids and (when adj given) the mesh half-edge
+// at its bottom; returns false from `visit` to stop.
+template <class Visit>
+void for_each_cell(const ComponentPartition& part, const Numbering* n, const Adjacency* adj, Visit&& visit) {
+  std::uint32_t c[4];
+  if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus) {
+    const std::uint32_t a = part.a, b = part.b;
+    auto P = [&](std::uint32_t x, std::uint32_t y) -> std::uint32_t {
+      x %= a;
+      if (part.kind == ComponentKind::kTorus && y == b) return (x + part.twist) % a;
+      return y * a + x;
+    };
+    std::uint32_t row = adj ? part.anchor_halfedge : kInvalid;
+    for (std::uint32_t y = 0; y < b; ++y) {
+      std::uint32_t h = row;
+      for (std::uint32_t x = 0; x < a; ++x) {
+        c[0] = P(x, y), c[1] = P(x + 1, y), c[2] = P(x + 1, y + 1), c[3] = P(x, y + 1);
+        if (!visit(c, h)) return;
+        if (adj) h = right_of(*adj, h);
+      }
+      if (adj) row = up_of(*adj, row);
+    }
+    return;
+  }
+  const Schematic& s = part.schematic;
+  for (std::uint32_t f = 0; f < s.face_count(); ++f) {
+    if (s.face_hole[f]) continue;
+    const PatchGrid& g = n->patches[f];
+    std::uint32_t row = adj ? s.dart_halfedge[s.face_dart[f]] : kInvalid;
+    for (std::uint32_t j = 0; j < g.b; ++j) {
+      std::uint32_t h = row;
+      for (std::uint32_t i = 0; i < g.a; ++i) {
+        c[0] = g.at(i, j), c[1] = g.at(i + 1, j), c[2] = g.at(i + 1, j + 1), c[3] = g.at(i, j + 1);
+        if (!visit(c, h)) return;
+        if (adj && i + 1 < g.a) h = right_of(*adj, h);
+      }
+      if (adj && j + 1 < g.b) row = up_of(*adj, row);
+    }
+  }
+}
+
+std::uint32_t layout_vertex_count(const ComponentPartition& part, const Numbering& n) {
+  if (part.kind == ComponentKind::kAnnulus) return part.a * (part.b + 1);
+  if (part.kind == ComponentKind::kTorus) return part.a * part.b;
+  return n.vertex_count;
+}
+
+// Layout -> mesh correspondence; returns why it fails, or empty.
+std::string link(const ComponentPartition& part, const Adjacency& adj, LayoutMap& map) {
+  Numbering n;
+  if (part.kind == ComponentKind::kUnstructured || part.kind == ComponentKind::kDisk) {
+    std::string why = number_schematic(part.schematic, n);
+    if (!why.empty()) return why;
+  }
+  map.vertex.assign(layout_vertex_count(part, n), kInvalid);
+  map.face.clear();
+  map.rotation.clear();
+  std::string why;
+  for_each_cell(part, &n, &adj, [&](const std::uint32_t* c, std::uint32_t h) {
+    const std::uint32_t f = adj.face(h);
+    if (f == kInvalid || adj.face_component[f] != part.component) {
+      why = "grid walk leaves the component";
+      return false;
+    }
+    map.face.push_back(f);
+    map.rotation.push_back(static_cast<std::uint8_t>(h & 3));
+    for (std::uint32_t k = 0; k < 4; ++k) {
+      const std::uint32_t mv = adj.origin[(h & ~3u) | ((h + k) & 3u)];
+      std::uint32_t& slot = map.vertex[c[k]];
+      if (slot == kInvalid) {
+        slot = mv;
+      } else if (slot != mv) {
+        why = "grid point maps to two mesh vertices (mesh vertices " + std::to_string(slot) + " and " +
+              std::to_string(mv) + ")";
+        return false;
+      }
+    }
+    return true;
+  });
+  return why;
+}
+
+}  // namespace
+
+GridLayout grid_layout(const ComponentPartition& part) {
+  GridLayout out;
+  Numbering n;
+  const bool general = part.kind == ComponentKind::kUnstructured || part.kind == ComponentKind::kDisk;
+  if (general) {
+    std::string why = number_schematic(part.schematic, n);
+    if (!why.empty()) throw Error(ErrorCode::kFormat, "schematic: " + why);
+  }
+  out.vertex_count = layout_vertex_count(part, n);
+  out.stencil.assign(out.vertex_count, {});
+  for_each_cell(part, &n, nullptr, [&](const std::uint32_t* c, std::uint32_t) {
+    out.quads.insert(out.quads.end(), c, c + 4);
+    return true;
+  });
+  auto& st = out.stencil;
+  if (!general) {
+    const std::uint32_t a = part.a, rows = out.vertex_count / std::max(a, 1u);
+    for (std::uint32_t y = 0; y < rows; ++y)
+      for (std::uint32_t x = 0; x < a; ++x) {
+        auto& t = st[y * a + x];
+        if (x >= 1) t.w = y * a + x - 1;
+        if (x >= 2) t.ww = y * a + x - 2;
+        if (y >= 1) t.s = (y - 1) * a + x;
+        if (x >= 1 && y >= 1) t.sw = (y - 1) * a + x - 1;
+      }
+    return out;
+  }
+  const Schematic& s = part.schematic;
+  // X vertices: predicted from a schematic neighbour numbered earlier, else the previous one.
+  for (std::uint32_t d = 0; d < s.dart_count(); ++d) {
+    const std::uint32_t v = s.dart_vertex[d], u = s.dart_vertex[d ^ 1];
+    if (u < v && (st[v].w == kInvalid || u > st[v].w)) st[v].w = u;
+  }
+  for (std::uint32_t v = 1; v < s.vertex_count; ++v)
+    if (st[v].w == kInvalid) st[v].w = v - 1;
+  // Edge-inner points: along the edge from dart 2e's origin.
+  for (std::uint32_t e = 0; e < s.edge_count(); ++e) {
+    const std::uint32_t len = s.edge_length[e], base = n.edge_base[e], u = s.dart_vertex[2 * e];
+    for (std::uint32_t k = 1; k < len; ++k) {
+      auto& t = st[base + k - 1];
+      t.w = k == 1 ? u : base + k - 2;
+      t.ww = k == 1 ? kInvalid : (k == 2 ? u : base + k - 3);
+    }
+  }
+  // Patch-inner points: all boundary points are numbered before them.
+  for (std::uint32_t f = 0; f < s.face_count(); ++f) {
+    if (s.face_hole[f]) continue;
+    const PatchGrid& g = n.patches[f];
+    for (std::uint32_t j = 1; j < g.b; ++j)
+      for (std::uint32_t i = 1; i < g.a; ++i) {
+        auto& t = st[g.at(i, j)];
+        t.w = g.at(i - 1, j);
+        t.ww = i >= 2 ? g.at(i - 2, j) : kInvalid;
+        t.s = g.at(i, j - 1);
+        t.sw = g.at(i - 1, j - 1);
+      }
+  }
+  return out;
+}
+
+LayoutMap layout_to_mesh(const ComponentPartition& part, const Adjacency& adj) {
+  LayoutMap map;
+  std::string why = link(part, adj, map);
+  if (!why.empty()) throw Error(ErrorCode::kInternal, "layout: " + why);
+  return map;
+}
+
+std::string validate(const ComponentPartition& part, const Adjacency* adj) {
+  auto fail = [](const std::string& s) { return s; };
+  if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus) {
+    if (part.a < 3 || part.b < 1) return fail("structured component too small");
+    if (part.kind == ComponentKind::kTorus && (part.b < 3 || part.twist >= part.a)) return fail("bad torus sizes");
+  } else {
+    const Schematic& s = part.schematic;
+    const std::uint32_t nd = s.dart_count();
+    if (nd == 0 || nd % 2) return fail("schematic has no edges or an odd number of darts");
+    if (s.edge_count() * 2 != nd || s.dart_next.size() != nd || s.dart_prev.size() != nd ||
+        s.dart_face.size() != nd || s.dart_corner.size() != nd || s.face_hole.size() != s.face_count())
+      return fail("schematic arrays disagree in size");
+    for (std::uint32_t e = 0; e < s.edge_count(); ++e)
+      if (s.edge_length[e] == 0) return fail("edge " + std::to_string(e) + " has length 0");
+    std::vector<std::uint32_t> degree(s.vertex_count, 0), vertex_corners(s.vertex_count, 0);
+    for (std::uint32_t d = 0; d < nd; ++d) {
+      if (s.dart_next[d] >= nd || s.dart_prev[s.dart_next[d]] != d) return fail("next/prev disagree");
+      if (s.dart_vertex[d] >= s.vertex_count || s.dart_face[d] >= s.face_count()) return fail("bad dart ids");
+      if (s.dart_vertex[s.dart_next[d ^ 1]] != s.dart_vertex[d]) return fail("vertex rotation broken");
+      if (s.dart_face[s.dart_next[d]] != s.dart_face[d]) return fail("face cycle broken");
+      ++degree[s.dart_vertex[d]];
+      vertex_corners[s.dart_vertex[d]] += s.dart_corner[d];
+    }
+    for (std::uint32_t v = 0; v < s.vertex_count; ++v) {
+      if (degree[v] < 2) return fail("vertex " + std::to_string(v) + " has fewer than two edges");
+      if (degree[v] == 2 && vertex_corners[v] == 0)
+        return fail("vertex " + std::to_string(v) + " has two edges and no corner");
+    }
+    // Faces: cycles of next; each a disk (a cycle in a combinatorial map); 0 or 4 corners.
+    std::vector<std::uint32_t> seen(s.face_count(), 0);
+    for (std::uint32_t f = 0; f < s.face_count(); ++f) {
+      const std::uint32_t d0 = s.face_dart[f];
+      if (d0 >= nd || s.dart_face[d0] != f) return fail("face_dart of face " + std::to_string(f) + " is not in it");
+      std::uint32_t corners = 0, len = 0, d = d0;
+      do {
+        corners += s.dart_corner[d];
+        ++len;
+        d = s.dart_next[d];
+      } while (d != d0 && len <= nd);
+      seen[f] = len;
+      if (s.face_hole[f] ? corners != 0 : corners != 4)
+        return fail("face " + std::to_string(f) + " has " + std::to_string(corners) + " corners");
+      if (!s.face_hole[f]) {
+        if (!s.dart_corner[d0]) return fail("patch " + std::to_string(f) + " does not start at a corner");
+        // Four sides; opposite sides of equal length.
+        std::uint64_t side[4] = {0, 0, 0, 0};
+        int k = -1;
+        d = d0;
+        do {
+          if (s.dart_corner[d]) ++k;
+          side[k] += s.edge_length[d >> 1];
+          d = s.dart_next[d];
+        } while (d != d0);
+        if (side[0] != side[2] || side[1] != side[3])
+          return fail("patch " + std::to_string(f) + " has sides " + std::to_string(side[0]) + "," +
+                      std::to_string(side[1]) + "," + std::to_string(side[2]) + "," + std::to_string(side[3]));
+      }
+    }
+    std::uint64_t total = 0;
+    for (std::uint32_t f = 0; f < s.face_count(); ++f) total += seen[f];
+    if (total != nd) return fail("darts belong to no listed face");
+    for (std::uint32_t e = 0; e < s.edge_count(); ++e)
+      if (s.face_hole[s.dart_face[2 * e]] && s.face_hole[s.dart_face[2 * e + 1]])
+        return fail("edge " + std::to_string(e) + " lies between two holes");
+  }
+  if (!adj) return {};
+  // Exact tiling: the layout maps one-to-one onto the component's vertices and faces.
+  LayoutMap map;
+  std::string why = link(part, *adj, map);
+  if (!why.empty()) return why;
+  std::vector<std::uint8_t> face_seen(adj->face_count, 0);
+  std::uint32_t comp_faces = 0;
+  for (std::uint32_t f = 0; f < adj->face_count; ++f) comp_faces += adj->face_component[f] == part.component;
+  for (std::uint32_t f : map.face) {
+    if (face_seen[f]) return fail("face " + std::to_string(f) + " lies in two patches");
+    face_seen[f] = 1;
+  }
+  if (map.face.size() != comp_faces) return fail("patches do not cover the component");
+  std::vector<std::uint8_t> vertex_seen(adj->vertex_count, 0);
+  for (std::uint32_t v : map.vertex) {
+    if (v == kInvalid) return fail("a grid point has no mesh vertex");
+    if (vertex_seen[v]) return fail("mesh vertex " + std::to_string(v) + " appears twice in the layout");
+    vertex_seen[v] = 1;
+  }
+  return {};
+}
+
+}  // namespace qsp

@@ -1,0 +1,307 @@
+// Cutting each component along its motorcycle graph into patches, and the schematic partition (§4).
+#include "qsp/partition.h"
+
+#include <algorithm>
+#include <string>
+
+#include "qsp/error.h"
+
+namespace qsp {
+namespace {
+
+[[noreturn]] void internal(const std::string& what) {
+  throw Error(ErrorCode::kInternal, "partition: " + what + " (please report this mesh)");
+}
+
+// Straight ahead through the valence-4 vertex at h's head, and one row up, in grid terms:
+// for the bottom half-edge h of cell (i,j), right(h) is the bottom of (i+1,j), up(h) of (i,j+1).
+std::uint32_t right_of(const Adjacency& adj, std::uint32_t h) { return adj.next(adj.twin[adj.next(h)]); }
+std::uint32_t up_of(const Adjacency& adj, std::uint32_t h) { return adj.twin[adj.next(adj.next(h))]; }
+
+// Structured annulus or torus component: find sizes from an anchor half-edge.
+void structured_closed(const Adjacency& adj, ComponentPartition& part, std::uint32_t anchor,
+                       std::uint32_t faces) {
+  part.anchor_halfedge = anchor;
+  std::uint32_t a = 0, h = anchor;
+  do {
+    ++a;
+    h = right_of(adj, h);
+    if (a > faces) internal("structured component row does not close");
+  } while (h != anchor);
+  if (faces % a != 0) internal("structured component is not a whole number of rows");
+  part.a = a;
+  part.b = faces / a;
+  if (part.kind == ComponentKind::kTorus) {
+    h = anchor;
+    for (std::uint32_t j = 0; j < part.b; ++j) h = up_of(adj, h);
+    std::uint32_t t = 0, g = anchor;
+    while (g != h) {
+      g = right_of(adj, g);
+      if (++t >= a) internal("torus rows do not line up");
+    }
+    part.twist = t;
+  }
+}
+
+}  // namespace
+
+std::uint32_t Schematic::patch_count() const {
+  return static_cast<std::uint32_t>(std::count(face_hole.begin(), face_hole.end(), 0));
+}
+
+PatchSize patch_size(const Schematic& s, std::uint32_t face) {
+  PatchSize size;
+  std::uint32_t side = 0, d = s.face_dart[face];
+  do {
+    if (side == 0) size.a += s.edge_length[d >> 1];
+    if (side == 1) size.b += s.edge_length[d >> 1];
+    d = s.dart_next[d];
+    if (s.dart_corner[d]) ++side;
+  } while (d != s.face_dart[face] && side < 2);
+  return size;
+}
+
+Partition partition_motorcycle(const Adjacency& adj) {
+  Partition out;
+  for (std::uint32_t v = 0; v < adj.vertex_count; ++v)
+    if (adj.valence[v] == 0) out.unreferenced.push_back(v);
+  const std::uint32_t nh = adj.halfedge_count(), nf = adj.face_count;
+  const std::vector<std::uint32_t> xv = extraordinary_vertices(adj);
+  const MotorcycleGraph graph = trace_motorcycles(adj, xv);
+
+  // cut: the half-edge lies on a track or on the boundary.
+  std::vector<std::uint8_t> cut(nh, 0);
+  for (std::uint32_t h = 4 * nf; h < nh; ++h) cut[h] = cut[adj.twin[h]] = 1;
+  for (std::uint32_t h : graph.traced) cut[h] = cut[adj.twin[h]] = 1;
+
+  // Regions: faces connected across uncut edges.
+  std::vector<std::uint32_t> region(nf, kInvalid), region_first_face;
+  {
+    std::vector<std::uint32_t> stack;
+    for (std::uint32_t f0 = 0; f0 < nf; ++f0) {
+      if (region[f0] != kInvalid) continue;
+      const std::uint32_t r = static_cast<std::uint32_t>(region_first_face.size());
+      region_first_face.push_back(f0);
+      region[f0] = r;
+      stack.push_back(f0);
+      while (!stack.empty()) {
+        const std::uint32_t f = stack.back();
+        stack.pop_back();
+        for (std::uint32_t i = 0; i < 4; ++i) {
+          const std::uint32_t h = 4 * f + i;
+          if (cut[h]) continue;
+          const std::uint32_t g = adj.face(adj.twin[h]);
+          if (region[g] == kInvalid) {
+            region[g] = r;
+            stack.push_back(g);
+          }
+        }
+      }
+    }
+  }
+
+  // Per component: counts that decide its kind.
+  const std::uint32_t nc = adj.component_count;
+  std::vector<std::uint32_t> comp_faces(nc, 0), comp_x(nc, 0), comp_boundary(nc, 0), comp_corners(nc, 0);
+  for (std::uint32_t f = 0; f < nf; ++f) ++comp_faces[adj.face_component[f]];
+  auto comp_of_vertex = [&](std::uint32_t v) {
+    const std::uint32_t h = adj.vertex_halfedge[v];
+    return adj.face_component[adj.is_exterior(h) ? adj.face(adj.twin[h]) : adj.face(h)];
+  };
+  for (std::uint32_t v : xv) ++comp_x[comp_of_vertex(v)];
+  for (std::uint32_t h = 4 * nf; h < nh; ++h) {
+    const std::uint32_t c = adj.face_component[adj.face(adj.twin[h])];
+    ++comp_boundary[c];
+    if (adj.valence[adj.origin[h]] == 2) ++comp_corners[c];
+  }
+
+  out.components.resize(nc);
+  for (std::uint32_t c = 0; c < nc; ++c) {
+    out.components[c].component = c;
+    out.components[c].extraordinary = comp_x[c];
+    if (comp_x[c] == 0 && comp_corners[c] == 0) {
+      // Structured without corners: torus (closed) or annulus (Lemma 2). Anchor: first face's first
+      // half-edge for a torus; for an annulus a boundary half-edge, found below.
+      out.components[c].kind = comp_boundary[c] == 0 ? ComponentKind::kTorus : ComponentKind::kAnnulus;
+    } else if (comp_x[c] == 0) {
+      if (comp_corners[c] != 4) internal("structured component with " + std::to_string(comp_corners[c]) + " corners");
+      out.components[c].kind = ComponentKind::kDisk;
+    }
+  }
+  {
+    std::vector<std::uint8_t> anchored(nc, 0);
+    for (std::uint32_t f = 0; f < nf; ++f) {
+      const std::uint32_t c = adj.face_component[f];
+      auto& part = out.components[c];
+      if (anchored[c]) continue;
+      if (part.kind == ComponentKind::kTorus) {
+        anchored[c] = 1;
+        structured_closed(adj, part, 4 * f, comp_faces[c]);
+      } else if (part.kind == ComponentKind::kAnnulus) {
+        for (std::uint32_t i = 0; i < 4; ++i)
+          if (adj.is_exterior(adj.twin[4 * f + i])) {
+            anchored[c] = 1;
+            structured_closed(adj, part, 4 * f + i, comp_faces[c]);
+            break;
+          }
+      }
+    }
+  }
+
+  // Schematic vertices X: nonzero deficiency in the mesh, or a corner of some patch.
+  // corner_here[h]: origin(h) is a corner of the region on h's left (h a cut interior half-edge).
+  auto general = [&](std::uint32_t c) {
+    const auto k = out.components[c].kind;
+    return k == ComponentKind::kUnstructured || k == ComponentKind::kDisk;
+  };
+  std::vector<std::uint8_t> corner_here(nh, 0);
+  std::vector<std::uint8_t> is_x(adj.vertex_count, 0);
+  for (std::uint32_t v = 0; v < adj.vertex_count; ++v)
+    if (adj.valence[v] != 0 && adj.deficiency(v) != 0) is_x[v] = 1;
+  // next_cut[h]: the cut half-edge after h around the face or region on h's left.
+  std::vector<std::uint32_t> next_cut(nh, kInvalid);
+  for (std::uint32_t h = 0; h < nh; ++h) {
+    if (!cut[h]) continue;
+    if (adj.is_exterior(h)) {
+      next_cut[h] = adj.next(h);
+      continue;
+    }
+    if (!general(adj.face_component[h >> 2])) continue;
+    std::uint32_t g = adj.next(h), faces = 1;
+    while (!cut[g]) {
+      g = adj.next(adj.twin[g]);
+      if (++faces > adj.valence[adj.origin[g]]) internal("region boundary walk does not close");
+    }
+    next_cut[h] = g;
+    if (faces == 1) {
+      corner_here[g] = 1;
+      is_x[adj.origin[g]] = 1;
+    } else if (faces > 2) {
+      internal("vertex " + std::to_string(adj.origin[g]) + " has negative deficiency in its patch");
+    }
+  }
+
+  // Darts: maximal runs of cut half-edges between X vertices along each face/region loop.
+  std::vector<std::uint32_t> dart_at(nh, kInvalid);  // first half-edge of a run -> dart
+  for (std::uint32_t c = 0; c < nc; ++c) (void)c;
+  struct Run {
+    std::uint32_t first, last, length, comp;
+  };
+  std::vector<Run> runs;
+  for (std::uint32_t h = 0; h < nh; ++h) {
+    if (next_cut[h] == kInvalid || !is_x[adj.origin[h]]) continue;
+    const std::uint32_t comp = adj.face_component[adj.is_exterior(h) ? adj.face(adj.twin[h]) : adj.face(h)];
+    if (!general(comp)) continue;
+    std::uint32_t g = h, len = 1;
+    while (!is_x[adj.dest(g)]) {
+      g = next_cut[g];
+      if (++len > nh) internal("schematic edge does not end");
+    }
+    dart_at[h] = static_cast<std::uint32_t>(runs.size());
+    runs.push_back({h, g, len, comp});
+  }
+  // Group runs by component and number them per component: twins become darts 2e, 2e+1.
+  std::vector<std::vector<std::uint32_t>> comp_runs(nc);
+  for (std::uint32_t r = 0; r < runs.size(); ++r) comp_runs[runs[r].comp].push_back(r);
+  std::vector<std::uint32_t> run_dart(runs.size(), kInvalid);
+  std::vector<std::uint32_t> local_region(region_first_face.size(), kInvalid);
+  for (std::uint32_t c = 0; c < nc; ++c) {
+    auto& part = out.components[c];
+    if (!general(c)) continue;
+    Schematic& s = part.schematic;
+    std::uint32_t nd = 0;
+    for (std::uint32_t r : comp_runs[c]) {
+      if (run_dart[r] != kInvalid) continue;
+      const std::uint32_t t = dart_at[adj.twin[runs[r].last]];
+      if (t == kInvalid || runs[t].length != runs[r].length || adj.twin[runs[t].last] != runs[r].first)
+        internal("the two sides of a schematic edge disagree");
+      if (t == r) internal("schematic edge is its own twin");
+      run_dart[r] = nd++;
+      run_dart[t] = nd++;
+      s.edge_length.push_back(runs[r].length);
+    }
+    s.dart_vertex.assign(nd, kInvalid);
+    s.dart_next.assign(nd, kInvalid);
+    s.dart_prev.assign(nd, kInvalid);
+    s.dart_face.assign(nd, kInvalid);
+    s.dart_corner.assign(nd, 0);
+    s.dart_halfedge.assign(nd, kInvalid);
+    // Vertices numbered by first appearance; faces: regions and holes by first dart.
+    std::vector<std::uint32_t> hole_of_first;  // hole faces keyed by visiting order
+    for (std::uint32_t r : comp_runs[c]) {
+      const std::uint32_t d = run_dart[r];
+      s.dart_halfedge[d] = runs[r].first;
+      s.dart_corner[d] = corner_here[runs[r].first];
+      const std::uint32_t nxt = dart_at[next_cut[runs[r].last]];
+      if (nxt == kInvalid) internal("schematic face boundary breaks");
+      s.dart_next[d] = run_dart[nxt];
+      s.dart_prev[run_dart[nxt]] = d;
+    }
+    // Vertex ids.
+    {
+      std::vector<std::uint32_t> order;
+      for (std::uint32_t d = 0; d < nd; ++d) {
+        if (s.dart_vertex[d] != kInvalid) continue;
+        const std::uint32_t id = s.vertex_count++;
+        s.vertex_mesh.push_back(adj.origin[s.dart_halfedge[d]]);
+        // Darts leaving the same vertex: rotate d -> next(twin(d)) (clockwise around the vertex).
+        std::uint32_t e = d, guard = 0;
+        do {
+          s.dart_vertex[e] = id;
+          e = s.dart_next[e ^ 1];
+          if (++guard > nd) internal("schematic vertex rotation does not close");
+        } while (e != d);
+      }
+    }
+    // Face ids: regions keep one id per region; each hole loop is its own face.
+    std::vector<std::uint32_t> used_regions;
+    for (std::uint32_t d = 0; d < nd; ++d) {
+      if (s.dart_face[d] != kInvalid) continue;
+      const std::uint32_t h = s.dart_halfedge[d];
+      const std::uint32_t id = s.face_count();
+      const bool hole = adj.is_exterior(h);
+      if (!hole) {
+        const std::uint32_t r = region[h >> 2];
+        if (local_region[r] != kInvalid)
+          internal("patch has more than one boundary loop (an annulus inside an unstructured component)");
+        local_region[r] = id;
+        used_regions.push_back(r);
+      }
+      s.face_hole.push_back(hole ? 1 : 0);
+      s.face_dart.push_back(kInvalid);
+      std::uint32_t e = d, corners = 0, guard = 0;
+      do {
+        s.dart_face[e] = id;
+        if (s.dart_corner[e]) {
+          ++corners;
+          if (s.face_dart[id] == kInvalid) s.face_dart[id] = e;
+        }
+        e = s.dart_next[e];
+        if (++guard > nd) internal("schematic face does not close");
+      } while (e != d);
+      if (hole) {
+        s.face_dart[id] = d;
+      } else if (corners != 4) {
+        internal("patch with " + std::to_string(corners) + " corners");
+      }
+    }
+    for (std::uint32_t r : used_regions) local_region[r] = kInvalid;
+  }
+  // Every face must belong to a patch that made it into a schematic (regions without any X vertex on
+  // their boundary inside an unstructured component would be lost otherwise).
+  {
+    std::vector<std::uint8_t> seen(region_first_face.size(), 0);
+    for (const auto& part : out.components)
+      for (std::uint32_t d = 0; d < part.schematic.dart_count(); ++d) {
+        const std::uint32_t h = part.schematic.dart_halfedge[d];
+        if (!adj.is_exterior(h)) seen[region[h >> 2]] = 1;
+      }
+    for (std::uint32_t r = 0; r < seen.size(); ++r)
+      if (!seen[r] && general(adj.face_component[region_first_face[r]]))
+        internal("a patch has no schematic vertex on its boundary (face " +
+                 std::to_string(region_first_face[r]) + ")");
+  }
+  return out;
+}
+
+}  // namespace qsp

@@ -1,0 +1,156 @@
+// `qsp stats FILE...`: the paper's Table-1 row per file (mesh counts, schematic counts, ratios).
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "qsp/error.h"
+#include "qsp/io.h"
+#include "qsp/mesh.h"
+#include "qsp/partition.h"
+
+namespace qsp::cli {
+namespace {
+
+struct StatsOptions {
+  std::vector<std::string> files;
+  bool json = false;
+  bool verbose = false;
+};
+
+struct Row {
+  std::string file;
+  std::uint64_t vertices = 0, edges = 0, faces = 0, components = 0, extraordinary = 0, unreferenced = 0;
+  std::uint64_t sx = 0, se = 0, patches = 0;
+  struct Comp {
+    const char* kind;
+    std::uint64_t vertices, edges, faces, extraordinary, sx, se, patches;
+    std::int64_t euler;
+  };
+  std::vector<Comp> comps;
+};
+
+const char* kind_name(ComponentKind k) {
+  switch (k) {
+    case ComponentKind::kUnstructured: return "unstructured";
+    case ComponentKind::kDisk: return "disk";
+    case ComponentKind::kAnnulus: return "annulus";
+    case ComponentKind::kTorus: return "torus";
+  }
+  return "?";
+}
+
+Row mesh_row(const std::string& file) {
+  const QuadMesh mesh = read_mesh_file(file);
+  const Adjacency adj = build_adjacency(mesh);
+  const Partition part = partition_motorcycle(adj);
+  const auto info = component_info(adj);
+  Row r;
+  r.file = file;
+  r.vertices = mesh.vertex_count();
+  r.faces = mesh.face_count();
+  r.components = adj.component_count;
+  r.unreferenced = part.unreferenced.size();
+  for (std::uint32_t c = 0; c < adj.component_count; ++c) {
+    const auto& p = part.components[c];
+    const bool closed = p.kind == ComponentKind::kAnnulus || p.kind == ComponentKind::kTorus;
+    Row::Comp k{kind_name(p.kind), info[c].vertices, info[c].edges, info[c].faces, info[c].extraordinary,
+                closed ? 0 : p.schematic.vertex_count, closed ? 0 : p.schematic.edge_count(),
+                closed ? 1 : p.schematic.patch_count(), info[c].euler()};
+    r.edges += k.edges;
+    r.extraordinary += k.extraordinary;
+    r.sx += k.sx;
+    r.se += k.se;
+    r.patches += k.patches;
+    r.comps.push_back(k);
+  }
+  return r;
+}
+
+double pct(std::uint64_t a, std::uint64_t b) { return b ? 100.0 * double(a) / double(b) : 0.0; }
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+void print_json(const std::vector<Row>& rows, bool verbose) {
+  if (rows.size() > 1) std::printf("[\n");
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
+    std::printf(
+        "{\"file\": %s, \"mesh\": {\"vertices\": %llu, \"edges\": %llu, \"faces\": %llu, \"components\": %llu, "
+        "\"extraordinary\": %llu, \"unreferenced\": %llu}, \"schematic\": {\"vertices\": %llu, \"edges\": %llu, "
+        "\"patches\": %llu}, \"relative\": {\"vertices\": %.4f, \"edges\": %.4f}",
+        json_string(r.file).c_str(), (unsigned long long)r.vertices, (unsigned long long)r.edges,
+        (unsigned long long)r.faces, (unsigned long long)r.components, (unsigned long long)r.extraordinary,
+        (unsigned long long)r.unreferenced, (unsigned long long)r.sx, (unsigned long long)r.se,
+        (unsigned long long)r.patches, pct(r.sx, r.vertices), pct(r.se, r.edges));
+    if (verbose) {
+      std::printf(", \"components\": [");
+      for (std::size_t c = 0; c < r.comps.size(); ++c) {
+        const auto& k = r.comps[c];
+        std::printf("%s{\"kind\": \"%s\", \"vertices\": %llu, \"edges\": %llu, \"faces\": %llu, \"euler\": %lld, "
+                    "\"extraordinary\": %llu, \"schematic\": {\"vertices\": %llu, \"edges\": %llu, \"patches\": %llu}}",
+                    c ? ", " : "", k.kind, (unsigned long long)k.vertices, (unsigned long long)k.edges,
+                    (unsigned long long)k.faces, (long long)k.euler, (unsigned long long)k.extraordinary,
+                    (unsigned long long)k.sx, (unsigned long long)k.se, (unsigned long long)k.patches);
+      }
+      std::printf("]");
+    }
+    std::printf("}%s\n", i + 1 < rows.size() ? "," : "");
+  }
+  if (rows.size() > 1) std::printf("]\n");
+}
+
+void print_table(const std::vector<Row>& rows, bool verbose) {
+  std::printf("%-32s %9s %9s %9s %6s | %7s %7s %7s | %7s %7s\n", "model", "V", "E", "F", "xord", "sch.V", "sch.E",
+              "patches", "V%", "E%");
+  for (const Row& r : rows) {
+    std::printf("%-32s %9llu %9llu %9llu %6llu | %7llu %7llu %7llu | %6.2f%% %6.2f%%\n", r.file.c_str(),
+                (unsigned long long)r.vertices, (unsigned long long)r.edges, (unsigned long long)r.faces,
+                (unsigned long long)r.extraordinary, (unsigned long long)r.sx, (unsigned long long)r.se,
+                (unsigned long long)r.patches, pct(r.sx, r.vertices), pct(r.se, r.edges));
+    if (!verbose) continue;
+    for (std::size_t c = 0; c < r.comps.size(); ++c) {
+      const auto& k = r.comps[c];
+      std::printf("  component %-4zu %-12s %9llu %9llu %9llu %6llu | %7llu %7llu %7llu | chi %lld\n", c, k.kind,
+                  (unsigned long long)k.vertices, (unsigned long long)k.edges, (unsigned long long)k.faces,
+                  (unsigned long long)k.extraordinary, (unsigned long long)k.sx, (unsigned long long)k.se,
+                  (unsigned long long)k.patches, (long long)k.euler);
+    }
+  }
+}
+
+}  // namespace
+
+void register_stats(CLI::App& app, int& exit_code) {
+  auto opt = std::make_shared<StatsOptions>();
+  CLI::App* cmd = app.add_subcommand("stats", "Print the paper's Table-1 row (mesh vs schematic partition) per file");
+  cmd->add_option("files", opt->files, "Mesh files (.obj .off .ply)")->required();
+  cmd->add_flag("--json", opt->json, "One JSON object per file (an array for several files)");
+  cmd->add_flag("--verbose", opt->verbose, "Add a per-component breakdown");
+  cmd->callback([opt, &exit_code] {
+    std::vector<Row> rows;
+    for (const auto& f : opt->files) rows.push_back(mesh_row(f));
+    if (opt->json)
+      print_json(rows, opt->verbose);
+    else
+      print_table(rows, opt->verbose);
+    exit_code = 0;
+  });
+}
+
+}  // namespace qsp::cli

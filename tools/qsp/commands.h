@@ -1,0 +1,14 @@
+// tools/qsp/commands.h: one register function per subcommand (one file each), bound to an options struct.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace qsp::cli {
+
+// Each adds its subcommand to `app`; the callback runs the command and returns its exit code
+// through `exit_code` (0 ok; errors are thrown as qsp::Error and mapped in main.cpp).
+void register_stats(CLI::App& app, int& exit_code);
+void register_compress(CLI::App& app, int& exit_code);
+void register_decompress(CLI::App& app, int& exit_code);
+
+}  // namespace qsp::cli
