@@ -1,0 +1,327 @@
+// Geometry coder: bit-exact round trips, decimal grids, quantization bounds, hostile bytes.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "qsp/error.h"
+#include "qsp/geometry.h"
+
+namespace {
+
+using qsp::GridLayout;
+using qsp::kInvalid;
+
+// One a x b grid numbered row by row, like a patch's inner vertices in grid_layout.
+std::vector<GridLayout::Stencil> grid_stencil(std::uint32_t a, std::uint32_t b) {
+  std::vector<GridLayout::Stencil> st(static_cast<std::size_t>(a) * b);
+  for (std::uint32_t r = 0; r < b; ++r) {
+    for (std::uint32_t c = 0; c < a; ++c) {
+      GridLayout::Stencil& s = st[r * a + c];
+      const std::uint32_t i = r * a + c;
+      if (c > 0) s.w = i - 1;
+      if (c > 1) s.ww = i - 2;
+      if (r > 0) s.s = i - a;
+      if (r > 0 && c > 0) s.sw = i - a - 1;
+    }
+  }
+  return st;
+}
+
+float parse(const std::string& text) {
+  float f = 0;
+  std::from_chars(text.data(), text.data() + text.size(), f);
+  return f;
+}
+
+// A smooth surface written with `decimals` decimals, as an OBJ exporter would.
+std::vector<float> smooth_positions(std::uint32_t a, std::uint32_t b, int decimals) {
+  std::vector<float> p;
+  char buf[64];
+  for (std::uint32_t r = 0; r < b; ++r) {
+    for (std::uint32_t c = 0; c < a; ++c) {
+      const double u = c / 10.0, v = r / 10.0;
+      for (double x : {u + 0.1 * std::sin(v), v - 0.05 * u * u, 0.3 * std::sin(u) * std::cos(v) - 0.2}) {
+        std::snprintf(buf, sizeof buf, "%.*f", decimals, x);
+        p.push_back(parse(buf));
+      }
+    }
+  }
+  return p;
+}
+
+bool bit_equal(const std::vector<float>& x, const std::vector<float>& y) {
+  if (x.size() != y.size()) return false;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (std::bit_cast<std::uint32_t>(x[i]) != std::bit_cast<std::uint32_t>(y[i])) return false;
+  }
+  return true;
+}
+
+std::vector<float> round_trip(const std::vector<float>& pos, const std::vector<GridLayout::Stencil>& st,
+                              std::uint32_t bits = 0, std::size_t* size = nullptr) {
+  const std::string bytes = qsp::encode_geometry(pos, st, {bits});
+  if (size) *size = bytes.size();
+  return qsp::decode_geometry(bytes, st, static_cast<std::uint32_t>(st.size()));
+}
+
+TEST(Geometry, EmptyAndSingleVertex) {
+  std::vector<GridLayout::Stencil> none;
+  EXPECT_TRUE(round_trip({}, none).empty());
+  EXPECT_TRUE(round_trip({}, none, 12).empty());
+  const std::vector<float> one = {1.5f, -0.0f, 3e-42f};
+  EXPECT_TRUE(bit_equal(round_trip(one, grid_stencil(1, 1)), one));
+  const std::vector<float> q = round_trip(one, grid_stencil(1, 1), 8);
+  EXPECT_LE(qsp::max_geometry_error(one, q), 1e-6);
+}
+
+TEST(Geometry, DecimalGridIsExactAndSmall) {
+  const auto st = grid_stencil(40, 30);
+  for (int decimals : {0, 1, 4, 6}) {
+    const auto pos = smooth_positions(40, 30, decimals);
+    std::size_t size = 0;
+    EXPECT_TRUE(bit_equal(round_trip(pos, st, 0, &size), pos)) << decimals;
+    if (decimals == 4) {
+      EXPECT_LT(size * 8.0 / 1200, 12.0);  // raw floats would be 96 bits
+    }
+  }
+}
+
+TEST(Geometry, DecimalGridBeatsFloatBits) {
+  // Same surface, 4 decimals vs the float nearest to the real value: the former must be cheaper.
+  const auto st = grid_stencil(40, 30);
+  const auto dec = smooth_positions(40, 30, 4);
+  std::vector<float> exact;
+  for (std::uint32_t r = 0; r < 30; ++r)
+    for (std::uint32_t c = 0; c < 40; ++c) {
+      const double u = c / 10.0, v = r / 10.0;
+      exact.push_back(static_cast<float>(u + 0.1 * std::sin(v)));
+      exact.push_back(static_cast<float>(v - 0.05 * u * u));
+      exact.push_back(static_cast<float>(0.3 * std::sin(u) * std::cos(v) - 0.2));
+    }
+  std::size_t dec_size = 0, exact_size = 0;
+  EXPECT_TRUE(bit_equal(round_trip(dec, st, 0, &dec_size), dec));
+  EXPECT_TRUE(bit_equal(round_trip(exact, st, 0, &exact_size), exact));
+  EXPECT_LT(dec_size, exact_size);
+}
+
+TEST(Geometry, DecimalGridWithExceptions) {
+  // A few -0, NaN, inf and off-grid values must not push the whole axis out of decimal mode.
+  const auto st = grid_stencil(30, 30);
+  auto pos = smooth_positions(30, 30, 4);
+  std::size_t clean = 0;
+  round_trip(pos, st, 0, &clean);
+  pos[3] = -0.0f;
+  pos[100] = std::bit_cast<float>(0x7FC01234u);
+  pos[200] = std::numeric_limits<float>::infinity();
+  pos[301] = 0.123456789f;
+  std::size_t size = 0;
+  EXPECT_TRUE(bit_equal(round_trip(pos, st, 0, &size), pos));
+  EXPECT_LT(size, clean + 4 * 12);  // about the raw float bits of each
+}
+
+TEST(Geometry, DecimalGridValueMatchesFromChars) {
+  std::mt19937_64 rng(7);
+  for (int k = 0; k <= 9; ++k) {
+    for (int t = 0; t < 20000; ++t) {
+      // Mix small and large magnitudes; large odd integers hit binary32 midpoints.
+      const int bits = 1 + static_cast<int>(rng() % 40);
+      std::int64_t n = static_cast<std::int64_t>(rng() & ((std::uint64_t{1} << bits) - 1));
+      if (rng() & 1) n = -n;
+      const std::string text = std::to_string(n) + "e-" + std::to_string(k);
+      EXPECT_EQ(std::bit_cast<std::uint32_t>(qsp::decimal_grid_value(n, k)),
+                std::bit_cast<std::uint32_t>(parse(text)))
+          << text;
+    }
+  }
+  // Exact midpoints: 2^24 + 1 lies halfway between two floats; ties go to even.
+  for (std::int64_t n : {16777217ll, 16777219ll, 33554434ll, 33554438ll, -16777217ll}) {
+    EXPECT_EQ(qsp::decimal_grid_value(n, 0), parse(std::to_string(n)));
+    EXPECT_EQ(qsp::decimal_grid_value(n * 10, 1), parse(std::to_string(n)));
+  }
+  EXPECT_THROW(qsp::decimal_grid_value(std::int64_t{1} << 40, 0), qsp::Error);
+  EXPECT_THROW(qsp::decimal_grid_value(1, 10), qsp::Error);
+}
+
+TEST(Geometry, RandomBitsAndSpecialValuesAreBitExact) {
+  std::mt19937 rng(1);
+  const auto st = grid_stencil(17, 13);
+  std::vector<float> pos(st.size() * 3);
+  for (float& f : pos) f = std::bit_cast<float>(static_cast<std::uint32_t>(rng()));
+  const std::vector<std::uint32_t> special = {
+      0x00000000u, 0x80000000u, 0x00000001u, 0x80000001u, 0x007FFFFFu, 0x807FFFFFu, 0x00800000u,
+      0x7F7FFFFFu, 0xFF7FFFFFu, 0x7F800000u, 0xFF800000u, 0x7FC00000u, 0xFFC00000u, 0x7F800001u,
+      0x7FBFFFFFu, 0xFFFFFFFFu, 0x3F800000u, 0xBF800000u};
+  for (std::size_t i = 0; i < special.size(); ++i) pos[5 * i] = std::bit_cast<float>(special[i]);
+  EXPECT_TRUE(bit_equal(round_trip(pos, st), pos));
+  // All specials on one smooth row so predictions straddle them.
+  auto smooth = smooth_positions(17, 13, 7);
+  for (std::size_t i = 0; i < special.size(); ++i) smooth[3 * (i + 17)] = std::bit_cast<float>(special[i]);
+  EXPECT_TRUE(bit_equal(round_trip(smooth, st), smooth));
+}
+
+TEST(Geometry, FloatModeOnNoisyData) {
+  // Smooth values plus float-level noise: no decimal grid fits, so float bits are coded.
+  std::mt19937 rng(3);
+  const auto st = grid_stencil(50, 40);
+  std::vector<float> pos;
+  std::uniform_real_distribution<double> noise(-1e-3, 1e-3);
+  for (std::uint32_t r = 0; r < 40; ++r)
+    for (std::uint32_t c = 0; c < 50; ++c) {
+      pos.push_back(static_cast<float>(c * 0.01 + noise(rng)));
+      pos.push_back(static_cast<float>(100 + r * 0.01 + noise(rng)));
+      pos.push_back(static_cast<float>(-1e-5 * c * r + noise(rng) * 1e-3));
+    }
+  std::size_t size = 0;
+  EXPECT_TRUE(bit_equal(round_trip(pos, st, 0, &size), pos));
+  EXPECT_LT(size, pos.size() * 4);
+}
+
+TEST(Geometry, NoStencilAtAll) {
+  // Vertices with no grid neighbours (schematic corners) predict from the previous vertex.
+  std::vector<GridLayout::Stencil> st(500);
+  const auto pos = smooth_positions(25, 20, 4);
+  EXPECT_TRUE(bit_equal(round_trip(pos, st), pos));
+  const auto q = round_trip(pos, st, 16);
+  EXPECT_LT(qsp::max_geometry_error(pos, q), 1e-4);
+}
+
+TEST(Geometry, QuantizationErrorBound) {
+  const auto st = grid_stencil(30, 20);
+  auto pos = smooth_positions(30, 20, 6);
+  pos[7] = -1e-30f;
+  double extent = 0;
+  for (int a = 0; a < 3; ++a) {
+    float lo = pos[a], hi = pos[a];
+    for (std::size_t i = a; i < pos.size(); i += 3) lo = std::min(lo, pos[i]), hi = std::max(hi, pos[i]);
+    extent = std::max(extent, double{hi} - lo);
+  }
+  for (std::uint32_t bits = 1; bits <= 30; ++bits) {
+    const auto q = round_trip(pos, st, bits);
+    ASSERT_EQ(q.size(), pos.size());
+    const double step = extent / ((std::uint64_t{1} << bits) - 1);
+    // Half a step (rounded up to 23 bits) plus the final rounding to float.
+    EXPECT_LE(qsp::max_geometry_error(pos, q), 0.5 * step * (1 + 1e-6) + 4e-7) << bits;
+    for (float f : q) EXPECT_TRUE(std::isfinite(f));
+  }
+}
+
+TEST(Geometry, QuantizationExtremes) {
+  const auto st = grid_stencil(3, 1);
+  const float big = std::numeric_limits<float>::max();
+  const std::vector<float> pos = {-big, 0, 1, big, -0.0f, 1, 0, 1e-45f, 1};
+  for (std::uint32_t bits : {1u, 2u, 14u, 30u}) {
+    const auto q = round_trip(pos, st, bits);
+    for (float f : q) EXPECT_TRUE(std::isfinite(f)) << bits;
+  }
+  const std::vector<float> flat(30, 2.5f);
+  EXPECT_TRUE(bit_equal(round_trip(flat, grid_stencil(5, 2), 10), flat));
+  std::vector<float> nan = flat;
+  nan[4] = std::nanf("");
+  try {
+    qsp::encode_geometry(nan, grid_stencil(5, 2), {10});
+    FAIL() << "NaN quantized";
+  } catch (const qsp::Error& e) {
+    EXPECT_EQ(e.code(), qsp::ErrorCode::kBadNumber);
+  }
+}
+
+TEST(Geometry, CallerMistakesAreInternalErrors) {
+  const auto st = grid_stencil(2, 2);
+  const std::vector<float> pos(12, 1.0f);
+  EXPECT_THROW(qsp::encode_geometry(std::vector<float>(11, 1.0f), st, {}), qsp::Error);
+  EXPECT_THROW(qsp::encode_geometry(pos, grid_stencil(3, 1), {}), qsp::Error);
+  EXPECT_THROW(qsp::encode_geometry(pos, st, {31}), qsp::Error);
+  auto bad = st;
+  bad[1].w = 1;  // refers to itself
+  EXPECT_THROW(qsp::encode_geometry(pos, bad, {}), qsp::Error);
+  const std::vector<float> other(12, 2.0f);
+  EXPECT_EQ(qsp::max_geometry_error(pos, pos), 0.0);
+  EXPECT_EQ(qsp::max_geometry_error(pos, other), 1.0);
+  EXPECT_THROW(qsp::max_geometry_error(pos, std::vector<float>(3)), qsp::Error);
+}
+
+void expect_format_error(std::string_view bytes, const std::vector<GridLayout::Stencil>& st,
+                         std::uint32_t count) {
+  try {
+    qsp::decode_geometry(bytes, st, count);
+    ADD_FAILURE() << "accepted " << bytes.size() << " bytes";
+  } catch (const qsp::Error& e) {
+    EXPECT_EQ(e.code(), qsp::ErrorCode::kFormat) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind("geometry: ", 0), 0u) << e.what();
+  }
+}
+
+std::vector<std::string> sample_encodings(const std::vector<GridLayout::Stencil>& st) {
+  auto dec = smooth_positions(6, 5, 4);
+  dec[4] = -0.0f;  // one exception
+  std::vector<float> raw = smooth_positions(6, 5, 4);
+  for (std::size_t i = 0; i < raw.size(); ++i) raw[i] = std::nextafter(raw[i], 10.0f) * (i % 2 ? 1 : -1);
+  return {qsp::encode_geometry(dec, st, {}), qsp::encode_geometry(raw, st, {}),
+          qsp::encode_geometry(dec, st, {12})};
+}
+
+TEST(Geometry, EveryTruncationIsRefused) {
+  const auto st = grid_stencil(6, 5);
+  for (const std::string& bytes : sample_encodings(st)) {
+    for (std::size_t n = 0; n < bytes.size(); ++n) expect_format_error(bytes.substr(0, n), st, 30);
+    expect_format_error(bytes + '\0', st, 30);
+    expect_format_error(bytes, grid_stencil(29, 1), 29);
+  }
+}
+
+TEST(Geometry, BitFlipsNeverCrash) {
+  const auto st = grid_stencil(6, 5);
+  for (const std::string& bytes : sample_encodings(st)) {
+    for (std::size_t bit = 0; bit < bytes.size() * 8; ++bit) {
+      std::string b = bytes;
+      b[bit / 8] = static_cast<char>(b[bit / 8] ^ (1 << (bit % 8)));
+      try {
+        EXPECT_EQ(qsp::decode_geometry(b, st, 30).size(), 90u);
+      } catch (const qsp::Error& e) {
+        EXPECT_EQ(e.code(), qsp::ErrorCode::kFormat);
+      }
+    }
+  }
+}
+
+TEST(Geometry, RandomGarbageNeverCrashes) {
+  std::mt19937 rng(11);
+  const auto st = grid_stencil(8, 8);
+  for (int t = 0; t < 3000; ++t) {
+    std::string b(rng() % 64, '\0');
+    for (char& c : b) c = static_cast<char>(rng());
+    if (b.size() > 3 && t % 2) {  // plausible header so the payload gets decoded
+      b[0] = 1;
+      b[1] = 64;
+      b[2] = static_cast<char>(rng() % 31);
+    }
+    try {
+      qsp::decode_geometry(b, st, 64);
+    } catch (const qsp::Error& e) {
+      EXPECT_EQ(e.code(), qsp::ErrorCode::kFormat);
+    }
+  }
+}
+
+TEST(Geometry, HugeCountsAreRefusedBeforeAllocating) {
+  const auto st = grid_stencil(4, 4);
+  // Header with a decimal axis claiming 2^40 exceptions in a few bytes.
+  std::string b = {1, 16, 0, 5};
+  for (int i = 0; i < 5; ++i) b.push_back(static_cast<char>(0xFF));
+  b.push_back(0x1F);
+  expect_format_error(b, st, 16);
+  // Payload size far beyond the bytes.
+  std::string c = {1, 16, 0, 0, 0, 0};
+  for (int i = 0; i < 8; ++i) c.push_back(static_cast<char>(0xFF));
+  c.push_back(0x01);
+  expect_format_error(c, st, 16);
+}
+
+}  // namespace
