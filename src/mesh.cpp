@@ -9,7 +9,9 @@
 namespace qsp {
 namespace {
 
-[[noreturn]] void fail(ErrorCode code, const std::string& message) { throw Error(code, message); }
+[[noreturn]] void fail(ErrorCode code, const std::string& message, std::int64_t face = -1) {
+  throw Error(code, message, face);
+}
 
 std::string face_str(std::uint32_t f) { return "face " + std::to_string(f); }
 
@@ -32,11 +34,12 @@ Adjacency build_adjacency(const QuadMesh& mesh) {
     for (int i = 0; i < 4; ++i) {
       if (q[4 * f + i] >= nv)
         fail(ErrorCode::kBadIndex, face_str(f) + ": vertex index " + std::to_string(q[4 * f + i]) +
-                                       " out of range (" + std::to_string(nv) + " vertices)");
+                                       " out of range (" + std::to_string(nv) + " vertices)",
+             f);
       for (int j = 0; j < i; ++j)
         if (q[4 * f + i] == q[4 * f + j])
           fail(ErrorCode::kDegenerateFace,
-               face_str(f) + ": vertex " + std::to_string(q[4 * f + i]) + " appears twice");
+               face_str(f) + ": vertex " + std::to_string(q[4 * f + i]) + " appears twice", f);
     }
   }
 
@@ -70,14 +73,16 @@ Adjacency build_adjacency(const QuadMesh& mesh) {
           fail(ErrorCode::kOrientation, face_str(it[0] / 4) + " and " + face_str(it[1] / 4) +
                                             " traverse edge " + std::to_string(v) + "-" +
                                             std::to_string(hi(*it)) +
-                                            " in the same direction (inconsistent orientation)");
+                                            " in the same direction (inconsistent orientation)",
+               it[1] / 4);
         adj.twin[it[0]] = it[1];
         adj.twin[it[1]] = it[0];
       } else {
         fail(ErrorCode::kNonManifold, "non-manifold edge " + std::to_string(v) + "-" +
                                           std::to_string(hi(*it)) + " has " + std::to_string(n) +
                                           " faces (first: " + face_str(it[0] / 4) + ", " +
-                                          face_str(it[1] / 4) + ", " + face_str(it[2] / 4) + ")");
+                                          face_str(it[1] / 4) + ", " + face_str(it[2] / 4) + ")",
+             it[2] / 4);
       }
       it = run;
     }
@@ -101,7 +106,7 @@ Adjacency build_adjacency(const QuadMesh& mesh) {
     adj.origin[x] = v;
     if (adj.boundary[v])
       fail(ErrorCode::kNonManifold,
-           "non-manifold vertex " + std::to_string(v) + ": its faces form more than one fan");
+           "non-manifold vertex " + std::to_string(v) + ": its faces form more than one fan", h / 4);
     adj.boundary[v] = 1;
     adj.vertex_halfedge[v] = x;
   }
@@ -126,7 +131,8 @@ Adjacency build_adjacency(const QuadMesh& mesh) {
     } while (h != h0 && n <= outgoing[v]);
     if (n != outgoing[v])
       fail(ErrorCode::kNonManifold,
-           "non-manifold vertex " + std::to_string(v) + ": its faces form more than one fan");
+           "non-manifold vertex " + std::to_string(v) + ": its faces form more than one fan",
+           adj.face(h0) != kInvalid ? adj.face(h0) : adj.face(adj.twin[h0]));
     adj.valence[v] = n;
   }
 

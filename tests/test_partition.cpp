@@ -9,6 +9,7 @@
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/partition.h"
+#include "support/corpus.h"
 #include "support/mesh_gen.h"
 
 namespace qsp {
@@ -90,6 +91,90 @@ TEST(Partition, RefinedCubeHasSixSquarePatches) {
     EXPECT_EQ(k.patches, 6u);
     for (auto s : k.sizes) EXPECT_EQ(s, std::make_pair(std::uint32_t(n), std::uint32_t(n)));
   }
+}
+
+using testing::corpus;
+
+// Traced edges as sorted pairs of vertex ids mapped through `to_original`.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> traced_pairs(const Adjacency& adj,
+                                                                  const std::vector<std::uint32_t>* to_original) {
+  const MotorcycleGraph g = trace_motorcycles(adj, extraordinary_vertices(adj));
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+  for (std::uint32_t h : g.traced) {
+    std::uint32_t u = adj.origin[h], v = adj.dest(h);
+    if (to_original) u = (*to_original)[u], v = (*to_original)[v];
+    out.emplace_back(std::min(u, v), std::max(u, v));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Bounds of Theorem 1, generalised to components with boundary (README, "Bounds"): with P particles,
+// n_b extraordinary boundary vertices and c boundary corners,
+//   V <= n + c + P,   E <= 2P + n_b + c,   4 * patches <= 3P + n_b + c;
+// on closed components P = 4n - 4chi and these are exactly 5n - 4chi, 8n - 8chi, 3n - 3chi.
+void check_bounds(const Adjacency& adj, const Partition& p) {
+  const auto info = component_info(adj);
+  std::vector<std::int64_t> particles(adj.component_count, 0), nb(adj.component_count, 0), corners(adj.component_count, 0);
+  for (std::uint32_t v = 0; v < adj.vertex_count; ++v) {
+    if (adj.valence[v] == 0) continue;
+    const std::uint32_t h = adj.vertex_halfedge[v];
+    const std::uint32_t c = adj.face_component[adj.is_exterior(h) ? adj.face(adj.twin[h]) : adj.face(h)];
+    if (adj.extraordinary(v)) {
+      particles[c] += adj.boundary[v] ? adj.valence[v] - 2 : adj.valence[v];
+      nb[c] += adj.boundary[v];
+    } else if (adj.boundary[v] && adj.valence[v] == 2) {
+      ++corners[c];
+    }
+  }
+  for (const auto& part : p.components) {
+    const std::uint32_t c = part.component;
+    // Lemma 1 per component.
+    EXPECT_EQ(info[c].deficiency_sum, 4 * info[c].euler()) << "Lemma 1, component " << c;
+    if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus) {
+      EXPECT_EQ(info[c].euler(), 0);
+      continue;
+    }
+    const Schematic& s = part.schematic;
+    const std::int64_t P = particles[c], n = info[c].extraordinary;
+    EXPECT_LE(s.vertex_count, n + corners[c] + P);
+    EXPECT_LE(s.edge_count(), 2 * P + nb[c] + corners[c]);
+    EXPECT_LE(4 * s.patch_count(), 3 * P + nb[c] + corners[c]);
+    if (info[c].boundary_edges == 0) {
+      EXPECT_EQ(P, 4 * n - 4 * info[c].euler());
+      EXPECT_LE(s.vertex_count, 5 * n - 4 * info[c].euler());
+      EXPECT_LE(s.edge_count(), 8 * n - 8 * info[c].euler());
+      EXPECT_LE(s.patch_count(), 3 * n - 3 * info[c].euler());
+    }
+  }
+}
+
+TEST(Corpus, EveryValidMeshPartitionsIntoGridsWithinBounds) {
+  int partitioned = 0, refused = 0;
+  for (const auto& path : corpus()) {
+    SCOPED_TRACE(path.string());
+    QuadMesh m;
+    Adjacency adj;
+    try {
+      m = load(path);
+      adj = build_adjacency(m);
+    } catch (const Error& e) {
+      EXPECT_NE(e.code(), ErrorCode::kInternal) << e.what();
+      ++refused;
+      continue;
+    }
+    Partition p;
+    ASSERT_NO_THROW(p = checked_partition(m, adj));
+    check_bounds(adj, p);
+    // Invariance: a shuffled copy traces exactly the same edges of the original.
+    std::vector<std::uint32_t> to_original;
+    const QuadMesh s = testing::shuffled(m, 7, &to_original);
+    const Adjacency sadj = build_adjacency(s);
+    EXPECT_EQ(traced_pairs(adj, nullptr), traced_pairs(sadj, &to_original));
+    ++partitioned;
+  }
+  std::printf("partitioned %d meshes, refused %d\n", partitioned, refused);
+  EXPECT_GT(partitioned, 0);
 }
 
 }  // namespace

@@ -28,11 +28,15 @@ enum class ErrorCode : std::uint8_t {
 // What went wrong, where. `what()` is the full human message, already carrying the location.
 class Error : public std::runtime_error {
  public:
-  Error(ErrorCode code, const std::string& message) : std::runtime_error(message), code_(code) {}
+  Error(ErrorCode code, const std::string& message, std::int64_t face = -1)
+      : std::runtime_error(message), code_(code), face_(face) {}
   ErrorCode code() const noexcept { return code_; }
+  // The 0-based face the problem was found at, or -1; lets a caller holding line numbers say file:line.
+  std::int64_t face() const noexcept { return face_; }
 
  private:
   ErrorCode code_;
+  std::int64_t face_;
 };
 
 // Short stable name of a code ("parse", "non-manifold", ...), for messages and JSON.

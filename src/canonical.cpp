@@ -1,0 +1,481 @@
+// Canonical labelling of schematic partitions (§6): colour refinement picks few candidate root darts,
+// a full traversal decides among them, positions break ties left by symmetry.
+#include "qsp/canonical.h"
+
+#include <xxhash.h>
+
+#include <algorithm>
+#include <cstring>
+#include <numeric>
+#include <string>
+#include <tuple>
+
+#include "qsp/error.h"
+
+namespace qsp {
+namespace {
+
+[[noreturn]] void bad_code(const std::string& what) { throw Error(ErrorCode::kFormat, "topology: " + what); }
+
+// Order-statistics over labels 0..n-1 ("which open darts are there, and what is the k-th").
+class Fenwick {
+ public:
+  explicit Fenwick(std::size_t n) : tree_(n + 1, 0), log_(1) {
+    while ((std::size_t{1} << log_) <= n) ++log_;
+  }
+  void add(std::size_t i, int delta) {
+    for (++i; i < tree_.size(); i += i & (~i + 1)) tree_[i] += delta;
+  }
+  // Number of set labels < i.
+  std::uint32_t prefix(std::size_t i) const {
+    std::uint32_t s = 0;
+    for (; i > 0; i -= i & (~i + 1)) s += tree_[i];
+    return s;
+  }
+  // Label of the k-th set element (1-based); n if none.
+  std::size_t find(std::uint32_t k) const {
+    std::size_t pos = 0;
+    for (int b = log_; b >= 0; --b) {
+      const std::size_t nxt = pos + (std::size_t{1} << b);
+      if (nxt < tree_.size() && static_cast<std::uint32_t>(tree_[nxt]) < k) {
+        pos = nxt;
+        k -= tree_[nxt];
+      }
+    }
+    return pos;  // 0-based label
+  }
+
+ private:
+  std::vector<std::int32_t> tree_;
+  int log_;
+};
+
+// Darts in canonical label order from `root`, and the code of that traversal.
+void traverse(const Schematic& s, std::uint32_t root, std::vector<std::uint32_t>& order, TopologyCode& code) {
+  const std::uint32_t nd = s.dart_count();
+  std::vector<std::uint32_t> label(nd, kInvalid);
+  order.clear();
+  order.reserve(nd);
+  code.next_ref.clear();
+  code.edge_length.clear();
+  code.corner.clear();
+  Fenwick open(nd);
+  auto assign = [&](std::uint32_t d) {
+    for (std::uint32_t x : {d, d ^ 1}) {
+      label[x] = static_cast<std::uint32_t>(order.size());
+      order.push_back(x);
+      open.add(label[x], 1);
+    }
+    code.edge_length.push_back(s.edge_length[d >> 1]);
+  };
+  assign(root);
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const std::uint32_t d = order[i], n = s.dart_next[d];
+    if (label[n] == kInvalid) {
+      assign(n);
+      code.next_ref.push_back(0);
+    } else {
+      code.next_ref.push_back(1 + open.prefix(label[n]));
+    }
+    open.add(label[n], -1);
+    code.corner.push_back(s.dart_corner[d]);
+  }
+}
+
+// Everything but the mesh link, numbered from the dart order alone: vertices and faces by first
+// appearance, a patch's face_dart its first corner dart. The decoder uses this same function.
+Schematic schematic_from_next(std::vector<std::uint32_t> next, std::vector<std::uint8_t> corner,
+                              std::vector<std::uint32_t> lengths) {
+  Schematic s;
+  const std::uint32_t nd = static_cast<std::uint32_t>(next.size());
+  s.dart_next = std::move(next);
+  s.dart_corner = std::move(corner);
+  s.edge_length = std::move(lengths);
+  s.dart_prev.assign(nd, kInvalid);
+  for (std::uint32_t d = 0; d < nd; ++d) {
+    if (s.dart_next[d] >= nd || s.dart_prev[s.dart_next[d]] != kInvalid) bad_code("next is not a permutation");
+    s.dart_prev[s.dart_next[d]] = d;
+  }
+  s.dart_vertex.assign(nd, kInvalid);
+  s.dart_face.assign(nd, kInvalid);
+  for (std::uint32_t d = 0; d < nd; ++d) {
+    if (s.dart_vertex[d] == kInvalid) {
+      const std::uint32_t id = s.vertex_count++;
+      std::uint32_t e = d;
+      do {
+        s.dart_vertex[e] = id;
+        e = s.dart_next[e ^ 1];
+      } while (e != d);
+    }
+    if (s.dart_face[d] == kInvalid) {
+      const std::uint32_t id = s.face_count();
+      s.face_dart.push_back(kInvalid);
+      std::uint32_t e = d, first_corner = kInvalid;
+      do {
+        s.dart_face[e] = id;
+        if (s.dart_corner[e] && e < first_corner) first_corner = e;
+        e = s.dart_next[e];
+      } while (e != d);
+      s.face_hole.push_back(first_corner == kInvalid ? 1 : 0);
+      s.face_dart[id] = first_corner == kInvalid ? d : first_corner;
+    }
+  }
+  return s;
+}
+
+int compare_codes(const TopologyCode& x, const TopologyCode& y) {
+  auto cmp = [](const auto& a, const auto& b) {
+    return std::lexicographical_compare_three_way(a.begin(), a.end(), b.begin(), b.end());
+  };
+  auto t = std::make_tuple(x.kind, x.a, x.b, x.twist) <=> std::make_tuple(y.kind, y.a, y.b, y.twist);
+  if (t == 0) t = x.next_ref.size() <=> y.next_ref.size();
+  if (t == 0) t = cmp(x.next_ref, y.next_ref);
+  if (t == 0) t = cmp(x.edge_length, y.edge_length);
+  if (t == 0) t = cmp(x.corner, y.corner);
+  return t < 0 ? -1 : (t > 0 ? 1 : 0);
+}
+
+// Lexicographic comparison of positions (as float bits) along two vertex sequences.
+int compare_positions(const QuadMesh& mesh, const std::vector<std::uint32_t>& x, const std::vector<std::uint32_t>& y) {
+  const std::size_t n = std::min(x.size(), y.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (x[i] == y[i]) continue;
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t a, b;
+      std::memcpy(&a, &mesh.positions[3 * std::size_t(x[i]) + k], 4);
+      std::memcpy(&b, &mesh.positions[3 * std::size_t(y[i]) + k], 4);
+      if (a != b) return a < b ? -1 : 1;
+    }
+  }
+  return x.size() < y.size() ? -1 : (x.size() > y.size() ? 1 : 0);
+}
+
+std::uint64_t mix(std::uint64_t h, std::uint64_t v) {
+  h ^= v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+  h *= 0xFF51AFD7ED558CCDull;
+  return h ^ (h >> 33);
+}
+
+// Colour refinement on darts: colours depend only on the labelled map, never on numbering.
+std::vector<std::uint64_t> refine(const Schematic& s) {
+  const std::uint32_t nd = s.dart_count();
+  std::vector<std::uint32_t> face_len(s.face_count(), 0), vertex_deg(s.vertex_count, 0);
+  for (std::uint32_t d = 0; d < nd; ++d) {
+    ++face_len[s.dart_face[d]];
+    ++vertex_deg[s.dart_vertex[d]];
+  }
+  std::vector<std::uint64_t> c(nd), tmp(nd), sorted;
+  for (std::uint32_t d = 0; d < nd; ++d) {
+    std::uint64_t h = mix(s.edge_length[d >> 1], s.dart_corner[d]);
+    h = mix(h, s.dart_corner[d ^ 1]);
+    h = mix(h, s.face_hole[s.dart_face[d]]);
+    h = mix(h, face_len[s.dart_face[d]]);
+    c[d] = mix(h, vertex_deg[s.dart_vertex[d]]);
+  }
+  auto classes = [&](const std::vector<std::uint64_t>& col) {
+    sorted = col;
+    std::sort(sorted.begin(), sorted.end());
+    return std::unique(sorted.begin(), sorted.end()) - sorted.begin();
+  };
+  auto n = classes(c);
+  for (int round = 0; round < 64 && n < static_cast<std::ptrdiff_t>(nd); ++round) {
+    for (std::uint32_t d = 0; d < nd; ++d)
+      tmp[d] = mix(mix(mix(c[d], c[s.dart_next[d]]), c[s.dart_prev[d]]), c[d ^ 1]);
+    const auto m = classes(tmp);
+    c.swap(tmp);
+    if (m == n) break;
+    n = m;
+  }
+  return c;
+}
+
+CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj, const ComponentPartition& part) {
+  const Schematic& s = part.schematic;
+  const std::uint32_t nd = s.dart_count();
+  const std::vector<std::uint64_t> colour = refine(s);
+  // Candidate roots: the smallest colour class (ties: smallest colour value).
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> by_colour(nd);
+  for (std::uint32_t d = 0; d < nd; ++d) by_colour[d] = {colour[d], d};
+  std::sort(by_colour.begin(), by_colour.end());
+  std::uint64_t best_colour = 0;
+  std::size_t best_size = SIZE_MAX;
+  for (std::size_t i = 0; i < nd;) {
+    std::size_t j = i;
+    while (j < nd && by_colour[j].first == by_colour[i].first) ++j;
+    if (j - i < best_size) {
+      best_size = j - i;
+      best_colour = by_colour[i].first;
+    }
+    i = j;
+  }
+  std::vector<std::uint32_t> candidates;
+  for (auto [col, d] : by_colour)
+    if (col == best_colour) candidates.push_back(d);
+
+  CanonicalComponent out;
+  std::vector<std::uint32_t> order, best_order;
+  std::vector<std::uint32_t> tied;  // roots whose code equals the best
+  TopologyCode code;
+  for (std::uint32_t root : candidates) {
+    traverse(s, root, order, code);
+    const int c = tied.empty() ? -1 : compare_codes(code, out.code);
+    if (c < 0) {
+      out.code = code;
+      tied.assign(1, root);
+    } else if (c == 0) {
+      tied.push_back(root);
+    }
+  }
+  out.automorphisms = static_cast<std::uint32_t>(tied.size());
+  out.code.kind = part.kind;
+
+  // Build the relabelled component for a root; with several tied roots keep the one whose layout
+  // lists the smallest positions (schematic vertices come first, so this is usually decided early).
+  auto relabel = [&](std::uint32_t root) {
+    traverse(s, root, order, code);
+    std::vector<std::uint32_t> label(nd);
+    for (std::uint32_t i = 0; i < nd; ++i) label[order[i]] = i;
+    std::vector<std::uint32_t> next(nd), lengths(nd / 2);
+    std::vector<std::uint8_t> corner(nd);
+    for (std::uint32_t i = 0; i < nd; ++i) {
+      next[i] = label[s.dart_next[order[i]]];
+      corner[i] = s.dart_corner[order[i]];
+    }
+    for (std::uint32_t e = 0; e < nd / 2; ++e) lengths[e] = s.edge_length[order[2 * e] >> 1];
+    ComponentPartition p = part;
+    p.schematic = schematic_from_next(std::move(next), std::move(corner), std::move(lengths));
+    p.schematic.dart_halfedge.resize(nd);
+    p.schematic.vertex_mesh.assign(p.schematic.vertex_count, kInvalid);
+    for (std::uint32_t i = 0; i < nd; ++i) {
+      p.schematic.dart_halfedge[i] = s.dart_halfedge[order[i]];
+      p.schematic.vertex_mesh[p.schematic.dart_vertex[i]] = s.vertex_mesh[s.dart_vertex[order[i]]];
+    }
+    return p;
+  };
+  out.part = relabel(tied[0]);
+  if (tied.size() > 1) {
+    out.map = layout_to_mesh(out.part, adj);
+    for (std::size_t t = 1; t < tied.size(); ++t) {
+      ComponentPartition p = relabel(tied[t]);
+      if (compare_positions(mesh, p.schematic.vertex_mesh, out.part.schematic.vertex_mesh) > 0) continue;
+      LayoutMap m = layout_to_mesh(p, adj);
+      if (compare_positions(mesh, m.vertex, out.map.vertex) < 0) {
+        out.part = std::move(p);
+        out.map = std::move(m);
+      }
+    }
+  } else {
+    out.map = layout_to_mesh(out.part, adj);
+  }
+  return out;
+}
+
+// Annulus and torus: sizes are fixed by topology (torus: the smallest of the lattice's forms);
+// the anchor is chosen by positions among all anchors giving those sizes.
+CanonicalComponent canonical_structured(const QuadMesh& mesh, const Adjacency& adj, const ComponentPartition& part) {
+  auto right = [&](std::uint32_t h) { return adj.next(adj.twin[adj.next(h)]); };
+  auto up = [&](std::uint32_t h) { return adj.twin[adj.next(adj.next(h))]; };
+  // Torus sizes from an anchor, as in partition.cpp.
+  auto sizes = [&](std::uint32_t anchor, std::uint32_t faces) {
+    std::uint32_t a = 0, h = anchor;
+    do {
+      ++a;
+      h = right(h);
+    } while (h != anchor);
+    const std::uint32_t b = faces / a;
+    h = anchor;
+    for (std::uint32_t j = 0; j < b; ++j) h = up(h);
+    std::uint32_t t = 0;
+    for (std::uint32_t g = anchor; g != h; g = right(g)) ++t;
+    return std::make_tuple(a, b, t);
+  };
+  std::vector<std::uint32_t> anchors;
+  const std::uint32_t faces = part.a * part.b;
+  ComponentPartition base = part;
+  if (part.kind == ComponentKind::kAnnulus) {
+    // Every boundary half-edge of the component: both loops, every start.
+    for (std::uint32_t h = 4 * adj.face_count; h < adj.halfedge_count(); ++h) {
+      const std::uint32_t g = adj.twin[h];
+      if (adj.face_component[adj.face(g)] == part.component) anchors.push_back(g);
+    }
+  } else {
+    // Orient every face like the anchor (its "bottom" half-edge), then try the four rotations.
+    std::vector<std::uint32_t> bottom(adj.face_count, kInvalid), stack{part.anchor_halfedge};
+    bottom[part.anchor_halfedge >> 2] = part.anchor_halfedge;
+    auto prev = [&](std::uint32_t h) { return adj.next(adj.next(adj.next(h))); };
+    while (!stack.empty()) {
+      const std::uint32_t b = stack.back();
+      stack.pop_back();
+      for (std::uint32_t g : {right(b), up(b), prev(adj.twin[prev(b)]), adj.next(adj.next(adj.twin[b]))}) {
+        if (bottom[g >> 2] == kInvalid) {
+          bottom[g >> 2] = g;
+          stack.push_back(g);
+        }
+      }
+    }
+    std::tuple<std::uint32_t, std::uint32_t, std::uint32_t> best{~0u, ~0u, ~0u};
+    std::uint8_t good[4] = {0, 0, 0, 0};
+    const std::uint32_t a0 = part.anchor_halfedge;
+    for (std::uint32_t q = 0; q < 4; ++q) {
+      const auto z = sizes((a0 & ~3u) | ((a0 + q) & 3u), faces);
+      if (z < best) {
+        best = z;
+        std::fill(good, good + 4, 0);
+      }
+      if (z == best) good[q] = 1;
+    }
+    std::tie(base.a, base.b, base.twist) = best;
+    for (std::uint32_t f = 0; f < adj.face_count; ++f)
+      if (bottom[f] != kInvalid)
+        for (std::uint32_t q = 0; q < 4; ++q)
+          if (good[q]) anchors.push_back((bottom[f] & ~3u) | ((bottom[f] + q) & 3u));
+  }
+  // Smallest first position, then full comparison among those.
+  CanonicalComponent out;
+  out.code.kind = part.kind;
+  std::uint32_t best_anchor = kInvalid;
+  std::uint32_t ties = 0;
+  auto less_pos = [&](std::uint32_t v, std::uint32_t w) {
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t x, y;
+      std::memcpy(&x, &mesh.positions[3 * std::size_t(v) + k], 4);
+      std::memcpy(&y, &mesh.positions[3 * std::size_t(w) + k], 4);
+      if (x != y) return x < y ? -1 : 1;
+    }
+    return 0;
+  };
+  std::vector<std::uint32_t> first;
+  for (std::uint32_t h : anchors) {
+    const int c = first.empty() ? -1 : less_pos(adj.origin[h], adj.origin[first[0]]);
+    if (c < 0) first.assign(1, h);
+    else if (c == 0) first.push_back(h);
+  }
+  for (std::uint32_t h : first) {
+    ComponentPartition p = base;
+    p.anchor_halfedge = h;
+    if (p.kind == ComponentKind::kAnnulus) {
+      // a = this loop's length (equal for both loops of a structured annulus).
+      std::uint32_t a = 0, g = h;
+      do {
+        ++a;
+        g = right(g);
+      } while (g != h);
+      p.a = a;
+      p.b = faces / a;
+    }
+    LayoutMap m = layout_to_mesh(p, adj);
+    const int c = best_anchor == kInvalid ? -1 : compare_positions(mesh, m.vertex, out.map.vertex);
+    if (c < 0) {
+      best_anchor = h;
+      out.part = std::move(p);
+      out.map = std::move(m);
+      ties = 1;
+    } else if (c == 0) {
+      ++ties;
+    }
+  }
+  out.code.a = out.part.a;
+  out.code.b = out.part.b;
+  out.code.twist = out.part.kind == ComponentKind::kTorus ? out.part.twist : 0;
+  out.automorphisms = ties;
+  return out;
+}
+
+}  // namespace
+
+bool operator==(const TopologyCode& x, const TopologyCode& y) { return compare_codes(x, y) == 0; }
+bool operator<(const TopologyCode& x, const TopologyCode& y) { return compare_codes(x, y) < 0; }
+
+CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition) {
+  CanonicalMesh out;
+  for (const auto& part : partition.components) {
+    if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus)
+      out.components.push_back(canonical_structured(mesh, adj, part));
+    else
+      out.components.push_back(canonical_general(mesh, adj, part));
+  }
+  std::vector<std::uint32_t> idx(out.components.size());
+  std::iota(idx.begin(), idx.end(), 0);
+  std::sort(idx.begin(), idx.end(), [&](std::uint32_t x, std::uint32_t y) {
+    const int c = compare_codes(out.components[x].code, out.components[y].code);
+    if (c != 0) return c < 0;
+    const int p = compare_positions(mesh, out.components[x].map.vertex, out.components[y].map.vertex);
+    return p != 0 ? p < 0 : x < y;
+  });
+  std::vector<CanonicalComponent> sorted;
+  sorted.reserve(idx.size());
+  for (std::uint32_t i : idx) sorted.push_back(std::move(out.components[i]));
+  out.components = std::move(sorted);
+  out.unreferenced = partition.unreferenced;
+  return out;
+}
+
+ComponentPartition partition_from_code(const TopologyCode& code) {
+  ComponentPartition p;
+  p.kind = code.kind;
+  if (code.kind == ComponentKind::kAnnulus || code.kind == ComponentKind::kTorus) {
+    if (!code.next_ref.empty() || !code.edge_length.empty() || !code.corner.empty())
+      bad_code("structured component carries schematic streams");
+    p.a = code.a;
+    p.b = code.b;
+    p.twist = code.twist;
+    const std::string why = validate(p);
+    if (!why.empty()) bad_code(why);
+    if (static_cast<std::uint64_t>(p.a) * (p.b + 1) > 0xFFFFFFF0u) bad_code("structured component too large");
+    return p;
+  }
+  if (code.kind != ComponentKind::kUnstructured && code.kind != ComponentKind::kDisk) bad_code("unknown component kind");
+  const std::size_t nd = code.next_ref.size();
+  if (nd < 2 || nd % 2 || code.corner.size() != nd || code.edge_length.size() * 2 != nd)
+    bad_code("stream sizes disagree");
+  std::vector<std::uint32_t> next(nd, kInvalid);
+  Fenwick open(nd);
+  std::size_t labelled = 2, open_count = 2;
+  open.add(0, 1);
+  open.add(1, 1);
+  for (std::size_t i = 0; i < nd; ++i) {
+    if (i >= labelled) bad_code("traversal ends before its streams do");
+    const std::uint32_t ref = code.next_ref[i];
+    std::size_t target;
+    if (ref == 0) {
+      if (labelled + 2 > nd) bad_code("more edges than declared");
+      target = labelled;
+      open.add(labelled, 1);
+      open.add(labelled + 1, 1);
+      labelled += 2;
+      open_count += 2;
+    } else {
+      if (ref > open_count) bad_code("reference to a dart that is not open");
+      target = open.find(ref);
+    }
+    open.add(target, -1);
+    --open_count;
+    next[i] = static_cast<std::uint32_t>(target);
+  }
+  if (labelled != nd || open_count != 0) bad_code("traversal does not close");
+  p.schematic = schematic_from_next(std::move(next), code.corner, code.edge_length);
+  const std::string why = validate(p);
+  if (!why.empty()) bad_code(why);
+  return p;
+}
+
+std::uint64_t topology_fingerprint(const CanonicalMesh& mesh) {
+  XXH3_state_t* st = XXH3_createState();
+  XXH3_64bits_reset(st);
+  auto put = [&](const void* p, std::size_t n) { XXH3_64bits_update(st, p, n); };
+  const std::uint64_t head[2] = {mesh.components.size(), mesh.unreferenced.size()};
+  put(head, sizeof head);
+  for (const auto& c : mesh.components) {
+    const std::uint32_t h[5] = {static_cast<std::uint32_t>(c.code.kind), c.code.a, c.code.b, c.code.twist,
+                                static_cast<std::uint32_t>(c.code.next_ref.size())};
+    put(h, sizeof h);
+    put(c.code.next_ref.data(), c.code.next_ref.size() * 4);
+    put(c.code.edge_length.data(), c.code.edge_length.size() * 4);
+    put(c.code.corner.data(), c.code.corner.size());
+  }
+  const std::uint64_t out = XXH3_64bits_digest(st);
+  XXH3_freeState(st);
+  return out;
+}
+
+}  // namespace qsp
