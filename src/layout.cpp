@@ -220,8 +220,9 @@ LayoutMap layout_to_mesh(const ComponentPartition& part, const Adjacency& adj) {
 std::string validate(const ComponentPartition& part, const Adjacency* adj) {
   auto fail = [](const std::string& s) { return s; };
   if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus) {
-    if (part.a < 3 || part.b < 1) return fail("structured component too small");
-    if (part.kind == ComponentKind::kTorus && (part.b < 3 || part.twist >= part.a)) return fail("bad torus sizes");
+    // Whether the sizes give a manifold mesh is left to build_adjacency on the result.
+    if (part.a < 1 || part.b < 1) return fail("structured component has an empty side");
+    if (part.kind == ComponentKind::kTorus ? part.twist >= part.a : part.twist != 0) return fail("bad twist");
   } else {
     const Schematic& s = part.schematic;
     const std::uint32_t nd = s.dart_count();

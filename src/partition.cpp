@@ -62,17 +62,23 @@ PatchSize patch_size(const Schematic& s, std::uint32_t face) {
 }
 
 Partition partition_motorcycle(const Adjacency& adj) {
+  return partition_from_cuts(adj, trace_motorcycles(adj, extraordinary_vertices(adj)).traced);
+}
+
+Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_t> cuts) {
   Partition out;
   for (std::uint32_t v = 0; v < adj.vertex_count; ++v)
     if (adj.valence[v] == 0) out.unreferenced.push_back(v);
   const std::uint32_t nh = adj.halfedge_count(), nf = adj.face_count;
   const std::vector<std::uint32_t> xv = extraordinary_vertices(adj);
-  const MotorcycleGraph graph = trace_motorcycles(adj, xv);
 
   // cut: the half-edge lies on a track or on the boundary.
   std::vector<std::uint8_t> cut(nh, 0);
   for (std::uint32_t h = 4 * nf; h < nh; ++h) cut[h] = cut[adj.twin[h]] = 1;
-  for (std::uint32_t h : graph.traced) cut[h] = cut[adj.twin[h]] = 1;
+  for (std::uint32_t h : cuts) {
+    if (h >= nh) internal("cut half-edge out of range");
+    cut[h] = cut[adj.twin[h]] = 1;
+  }
 
   // Regions: faces connected across uncut edges.
   std::vector<std::uint32_t> region(nf, kInvalid), region_first_face;
@@ -183,7 +189,6 @@ Partition partition_motorcycle(const Adjacency& adj) {
 
   // Darts: maximal runs of cut half-edges between X vertices along each face/region loop.
   std::vector<std::uint32_t> dart_at(nh, kInvalid);  // first half-edge of a run -> dart
-  for (std::uint32_t c = 0; c < nc; ++c) (void)c;
   struct Run {
     std::uint32_t first, last, length, comp;
   };
@@ -300,6 +305,11 @@ Partition partition_motorcycle(const Adjacency& adj) {
       if (!seen[r] && general(adj.face_component[region_first_face[r]]))
         internal("a patch has no schematic vertex on its boundary (face " +
                  std::to_string(region_first_face[r]) + ")");
+  }
+  // Never hand out a wrong partition: every patch must be a grid and the patches must tile.
+  for (const auto& part : out.components) {
+    const std::string why = validate(part, &adj);
+    if (!why.empty()) internal("component " + std::to_string(part.component) + ": " + why);
   }
   return out;
 }

@@ -83,6 +83,12 @@ struct Partition {
 // be a grid (it never returns a wrong partition). Needs a valid Adjacency (build_adjacency).
 Partition partition_motorcycle(const Adjacency& adj);
 
+// Partition along any set of cut edges (each given by either of its half-edges; boundary edges are
+// always cut), e.g. a smaller partition than the motorcycle graph's. Throws Error(kInternal) naming
+// the problem if a region is not an (a,b)-grid whose boundary is cut at schematic vertices: a cut set
+// must leave every extraordinary vertex with no two consecutive uncut edges, and no region an annulus.
+Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_t> cuts);
+
 // Checks every condition of §4's definition of a schematic partition, and — when the schematic is
 // linked to `adj` — that its patches tile the component exactly once as (a,b)-grids. Returns an empty
 // string when valid, otherwise what is wrong.
