@@ -80,6 +80,63 @@ TEST(KnownAnswers, SharedHandWorkedCases) {
   }
 }
 
+// Worked by hand (README, "Motorcycle graph"): the L's concave corner sends one particle down and one
+// left, both to the boundary. In the staircase the particle going south from (2,4) and the one going
+// west from (4,2) reach (2,2) together at step 2; the face between their tracks is the cell north-east
+// of (2,2), whose own half-edge into (2,2) comes from the north, so the south-going one continues.
+TEST(Partition, HandCheckedPolyominoes) {
+  struct Case {
+    QuadMesh mesh;
+    std::uint32_t x, e;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> sizes;
+  };
+  const std::vector<Case> cases = {
+      {testing::polyomino({"###...", "###...", "###...", "######", "######", "######"}), 8, 10, {{3, 3}, {3, 3}, {3, 3}}},
+      {testing::polyomino({"##....", "##....", "####..", "####..", "######", "######"}), 12, 16,
+       {{2, 2}, {2, 2}, {2, 2}, {2, 2}, {2, 4}}},
+      {testing::grid(5, 3), 4, 4, {{3, 5}}},
+  };
+  for (const auto& c : cases) {
+    const Adjacency adj = build_adjacency(c.mesh);
+    const Counts k = counts(checked_partition(c.mesh, adj));
+    EXPECT_EQ(k.x, c.x);
+    EXPECT_EQ(k.e, c.e);
+    EXPECT_EQ(k.sizes, c.sizes);
+  }
+  // The staircase's continuing particle reaches the boundary at (2,0): the edge (2,0)-(2,1) is traced.
+  const QuadMesh stairs = cases[1].mesh;
+  const Adjacency adj = build_adjacency(stairs);
+  bool found = false;
+  for (std::uint32_t h : trace_motorcycles(adj, extraordinary_vertices(adj)).traced) {
+    const float* p = &stairs.positions[3 * adj.origin[h]];
+    const float* q = &stairs.positions[3 * adj.dest(h)];
+    if (p[0] == 2 && q[0] == 2 && std::min(p[1], q[1]) == 0) found = true;
+  }
+  EXPECT_TRUE(found);
+}
+
+TEST(Partition, StructuredComponentsAreOnePatch) {
+  struct Case {
+    QuadMesh mesh;
+    ComponentKind kind;
+    std::uint32_t a, b;
+  };
+  const std::vector<Case> cases = {{testing::periodic(9, 6, true, 2), ComponentKind::kTorus, 9, 6},
+                                   {testing::periodic(7, 4, true, 0), ComponentKind::kTorus, 7, 4},
+                                   {testing::periodic(12, 3, false, 0), ComponentKind::kAnnulus, 12, 3},
+                                   {testing::grid(4, 4), ComponentKind::kDisk, 0, 0}};
+  for (const auto& c : cases) {
+    const Adjacency adj = build_adjacency(c.mesh);
+    const Partition p = checked_partition(c.mesh, adj);
+    ASSERT_EQ(p.components.size(), 1u);
+    EXPECT_EQ(p.components[0].kind, c.kind);
+    if (c.a) {
+      EXPECT_EQ(p.components[0].a * p.components[0].b, c.a * c.b);
+    }
+    EXPECT_EQ(counts(p).patches, 1u);
+  }
+}
+
 TEST(Partition, RefinedCubeHasSixSquarePatches) {
   for (int n : {1, 2, 3, 4, 7, 8}) {
     SCOPED_TRACE(n);
