@@ -181,6 +181,23 @@ class Scanner {
     p_ = ptr;
     return ec != std::errc::result_out_of_range;
   }
+  // Sign and magnitude of an index token. from_chars on uint32 covers every index qsp can hold
+  // and is cheaper than a wide type; returns false when the magnitude does not fit.
+  bool index(std::uint32_t& magnitude, bool& negative, const char* context, bool allow_slash) {
+    const char* s = p_;
+    negative = false;
+    if (s < end_ && (*s == '-' || *s == '+')) {
+      negative = *s == '-';
+      ++s;
+    }
+    const auto [ptr, ec] = std::from_chars(s, end_, magnitude);
+    const bool ends = token_ends_at(ptr) || (allow_slash && ptr < end_ && *ptr == '/');
+    if (ec == std::errc::invalid_argument || !ends) {
+      fail(ErrorCode::kParse, "malformed integer " + quote_token(token_at(token_start_)) + " in " + context);
+    }
+    p_ = ptr;
+    return ec != std::errc::result_out_of_range;
+  }
   void mark_token() { token_start_ = p_; }
   const char* token_start() const { return token_start_; }
   void advance() { ++p_; }
@@ -269,8 +286,8 @@ class ObjReader {
  private:
   void statement() {
     const std::uint64_t line = in_.line();
-    keyword_ = in_.word();
-    const std::string_view k = keyword_;
+    const std::string_view k = in_.word();
+    keyword_ = k;
     if (k == "v") return vertex();
     if (k == "f") return face(line);
     if (k == "vt") return count_numbers(report_.texcoords, 1, 3, "`vt` statement");
@@ -330,22 +347,22 @@ class ObjReader {
       in_.skip_blank();
       if (in_.at_eol()) break;
       in_.mark_token();
-      std::int64_t v = 0;
-      const bool in_range = in_.integer(v, "`f` statement", true);
+      std::uint32_t magnitude = 0;
+      bool negative = false;
+      const bool in_range = in_.index(magnitude, negative, "`f` statement", true);
       if (in_.peek() == '/') {  // v/vt, v//vn or v/vt/vn
         attributes = true;
         in_.advance();
-        std::int64_t ignored = 0;
-        if (in_.peek() != '/') attribute_index(ignored, "texture coordinate");
+        if (in_.peek() != '/') attribute_index("texture coordinate");
         if (in_.peek() == '/') {
           in_.advance();
-          attribute_index(ignored, "normal");
+          attribute_index("normal");
         }
         if (!in_.token_ends_at(in_.pos())) {
           in_.fail(ErrorCode::kParse, "malformed vertex reference " + quote_token(in_.token_at(in_.token_start())));
         }
       }
-      const std::uint32_t index = resolve(v, in_range);
+      const std::uint32_t index = resolve(magnitude, negative, in_range);
       if (corners < 4) q[corners] = index;
       ++corners;
     }
@@ -369,8 +386,10 @@ class ObjReader {
   }
 
   // vt/vn indices are checked for syntax only: qsp keeps neither.
-  void attribute_index(std::int64_t& value, const char* what) {
-    if (!in_.integer(value, "`f` statement", true) || value == 0) {
+  void attribute_index(const char* what) {
+    std::uint32_t magnitude = 0;
+    bool negative = false;
+    if (!in_.index(magnitude, negative, "`f` statement", true) || magnitude == 0) {
       in_.fail(ErrorCode::kParse, std::string("invalid ") + what + " index in " +
                                       quote_token(in_.token_at(in_.token_start())));
     }
@@ -378,24 +397,24 @@ class ObjReader {
 
   // OBJ index (1-based, or negative = relative to the vertices so far) to 0-based. Positive
   // indices may refer to vertices defined later; they are range-checked at the end.
-  std::uint32_t resolve(std::int64_t v, bool in_range) {
+  std::uint32_t resolve(std::uint32_t magnitude, bool negative, bool in_range) {
     const auto token = [&] { return quote_token(in_.token_at(in_.token_start())); };
-    if (v == 0 && in_range) {
+    if (magnitude == 0 && in_range) {
       in_.fail(ErrorCode::kBadIndex, "vertex index 0 in " + token() + " is invalid (OBJ indices start at 1)");
     }
-    if (v < 0 || !in_range) {
-      if (!in_range || -(v + 1) >= static_cast<std::int64_t>(vertex_count_)) {
+    if (negative) {
+      if (!in_range || magnitude > vertex_count_) {
         in_.fail(ErrorCode::kBadIndex, "vertex index " + token() + " is out of range (" +
                                            plural(vertex_count_, "vertex", "vertices") +
                                            " defined before this line)");
       }
-      return static_cast<std::uint32_t>(static_cast<std::int64_t>(vertex_count_) + v);
+      return static_cast<std::uint32_t>(vertex_count_ - magnitude);
     }
-    if (static_cast<std::uint64_t>(v) > kMaxVertices) {
-      in_.fail(ErrorCode::kBadIndex, "vertex index " + token() + " is out of range (more than " +
-                                         std::to_string(kMaxVertices) + " vertices is beyond qsp's limit)");
+    if (!in_range || magnitude > kMaxVertices) {
+      in_.fail(ErrorCode::kBadIndex, "vertex index " + token() + " is out of range (beyond qsp's limit of " +
+                                         std::to_string(kMaxVertices) + " vertices)");
     }
-    const auto index = static_cast<std::uint32_t>(v - 1);
+    const std::uint32_t index = magnitude - 1;
     max_index_ = std::max(max_index_, index);
     return index;
   }
@@ -614,14 +633,15 @@ class OffReader {
                                                 std::to_string(i) + " of " + std::to_string(n) + " indices)");
         }
         in_.mark_token();
-        std::int64_t index = 0;
-        const bool ok = in_.integer(index, "an OFF face", false);
-        if (!ok || index < 0 || static_cast<std::uint64_t>(index) >= vertex_count_) {
+        std::uint32_t index = 0;
+        bool negative = false;
+        const bool ok = in_.index(index, negative, "an OFF face", false);
+        if (!ok || (negative && index != 0) || index >= vertex_count_) {
           in_.fail(ErrorCode::kBadIndex, "vertex index " + quote_token(in_.token_at(in_.token_start())) +
                                              " is out of range (the file has " +
                                              plural(vertex_count_, "vertex", "vertices") + ", numbered from 0)");
         }
-        if (i < 4) q[i] = static_cast<std::uint32_t>(index);
+        if (i < 4) q[i] = index;
       }
       in_.skip_blank();
       if (!in_.at_eol()) {

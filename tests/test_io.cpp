@@ -1,0 +1,676 @@
+// Tests for qsp/io.h: strict OBJ/OFF/PLY reading, exact round trips, atomic writes, and every file in
+// testdata/invalid/ being refused with the code and location its .expect sidecar names.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "qsp/error.h"
+#include "qsp/io.h"
+#include "qsp/mesh.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::uint32_t bits(float f) {
+  std::uint32_t b;
+  std::memcpy(&b, &f, 4);
+  return b;
+}
+
+// Runs `fn`, expecting qsp::Error with `code`; returns its message.
+template <typename Fn>
+std::string expect_error(Fn&& fn, qsp::ErrorCode code) {
+  try {
+    fn();
+  } catch (const qsp::Error& e) {
+    EXPECT_EQ(qsp::error_name(e.code()), std::string(qsp::error_name(code))) << e.what();
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "expected qsp::Error, got std::exception: " << e.what();
+    return {};
+  }
+  ADD_FAILURE() << "expected qsp::Error(" << qsp::error_name(code) << "), nothing thrown";
+  return {};
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void spit(const fs::path& p, const std::string& bytes) {
+  std::ofstream out(p, std::ios::binary);
+  out << bytes;
+}
+
+// A scratch directory removed at the end of the test.
+class TempDir {
+ public:
+  TempDir() {
+    std::string tmpl = (fs::temp_directory_path() / "qsp_test_io.XXXXXX").string();
+    path_ = ::mkdtemp(tmpl.data());
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+std::vector<std::uint32_t> quads(const qsp::QuadMesh& m) { return m.quads; }
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// OBJ acceptance
+
+TEST(ReadObj, PlainQuadsAndUnreferencedVertex) {
+  const std::string text =
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 5 5 5\n"
+      "f 1 2 3 4\n";
+  qsp::ReadReport r;
+  const qsp::QuadMesh m = qsp::read_obj(text, "t.obj", &r);
+  EXPECT_EQ(m.vertex_count(), 5u);  // unreferenced vertex kept
+  ASSERT_EQ(m.face_count(), 1u);
+  EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{0, 1, 2, 3}));
+  EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{6}));
+  EXPECT_FALSE(r.has_extra_data());
+  EXPECT_EQ(r.describe_extra_data(), "");
+}
+
+TEST(ReadObj, FloatsRoundExactlyAsFromChars) {
+  const char* tokens[] = {"0.1", "-0", "1e-45", "3.4028235e38", "16777217", "+2.5", ".5", "1.", "-1.17549435e-38"};
+  for (const char* t : tokens) {
+    const std::string text = std::string("v ") + t + " 0 0\n";
+    const qsp::QuadMesh m = qsp::read_obj(text, "t.obj");
+    const char* s = t[0] == '+' ? t + 1 : t;
+    float want = 0;
+    std::from_chars(s, s + std::strlen(s), want);
+    EXPECT_EQ(bits(m.positions[0]), bits(want)) << t;
+  }
+}
+
+TEST(ReadObj, AttributeSyntaxNegativeIndicesAndExtras) {
+  const std::string text =
+      "# header comment\n"
+      "mtllib a.mtl\n"
+      "o thing\n"
+      "v 0 0 0 1\n"           // w
+      "v 1 0 0 0.5 0.5 0.5\n"  // colour
+      "v 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+      "vt 0 0\nvt 1 0\nvt 1 1 0\n"
+      "vn 0 0 1\n"
+      "vp 0.5\n"
+      "g group1\n"
+      "usemtl red\n"
+      "s 1\n"
+      "f 1/1 2/2 3/3 4/1\n"
+      "f 2//1 5//1 6//1 3//1\n"
+      "f -5/1/1 -4/2/1 -1/3/1 -3/1/1\n"  // relative: 2 5 6 3... resolved against 6 vertices
+      "s off\n"
+      "t crease 2/1/0 1 2 4.0\n"
+      "t interpolateboundary 1/0/0 1\n";
+  qsp::ReadReport r;
+  const qsp::QuadMesh m = qsp::read_obj(text, "t.obj", &r);
+  ASSERT_EQ(m.face_count(), 3u);
+  EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{0, 1, 2, 3, 1, 4, 5, 2, 1, 2, 5, 3}));
+  EXPECT_EQ(r.texcoords, 3u);
+  EXPECT_EQ(r.normals, 1u);
+  EXPECT_EQ(r.parameter_vertices, 1u);
+  EXPECT_EQ(r.face_attribute_refs, 3u);
+  EXPECT_EQ(r.groups, 2u);
+  EXPECT_EQ(r.materials, 2u);
+  EXPECT_EQ(r.smoothing, 2u);
+  EXPECT_EQ(r.tags, 2u);
+  EXPECT_EQ(r.vertex_colors, 2u);
+  EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{18, 19, 20}));
+  EXPECT_TRUE(r.has_extra_data());
+  EXPECT_EQ(r.describe_extra_data(),
+            "3 texture coordinates, 1 normal, 3 faces with texture/normal indices, 2 group/object names, "
+            "2 material statements, 2 smoothing group statements, 2 subdivision tags, 2 vertex colours (or w), "
+            "1 parameter-space vertex");
+}
+
+TEST(ReadObj, CrlfTabsTrailingSpaceContinuationBomForwardRefs) {
+  const std::string text =
+      "\xEF\xBB\xBF# BOM, CRLF, tabs\r\n"
+      "f 1 2 3 4\r\n"  // forward references: vertices come later
+      "v\t0 0 0   \r\n"
+      "\r\n"
+      "   v 1 0 0\t\r\n"
+      "v 1 1 0 # trailing comment\r\n"
+      "v 0 1 0\r\n"
+      "v 2 0 0\nv 2 1 0\n"
+      "f 2 5 \\\r\n"
+      "   6 3\r\n"
+      "f 2 5 6 3\\\n"  // continuation right after a token, joined with an empty line
+      "\n"
+      "f 1 2 3 4";  // no final newline
+  qsp::ReadReport r;
+  const qsp::QuadMesh m = qsp::read_obj(text, "t.obj", &r);
+  EXPECT_EQ(m.vertex_count(), 6u);
+  EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{0, 1, 2, 3, 1, 4, 5, 2, 1, 4, 5, 2, 0, 1, 2, 3}));
+  EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{2, 10, 12, 14}));
+  EXPECT_EQ(m.positions[3], 1.0f);
+}
+
+TEST(ReadObj, ContinuationJoinsLinesAndKeepsLineNumbers) {
+  const std::string text =
+      "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+      "f 1 2 \\\n"
+      "  3 4\n"
+      "f 4 \\\r\n 3 \\\n 2 1\n"
+      "x_after";  // line 10: must be reported there
+  const std::string msg = expect_error([&] { qsp::read_obj(text, "t.obj"); }, qsp::ErrorCode::kParse);
+  EXPECT_NE(msg.find("t.obj:10: unknown statement 'x_after'"), std::string::npos) << msg;
+  qsp::ReadReport r;
+  const qsp::QuadMesh m = qsp::read_obj(text.substr(0, text.size() - 7), "t.obj", &r);
+  EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{0, 1, 2, 3, 3, 2, 1, 0}));
+  EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{5, 7}));
+}
+
+TEST(ReadObj, EmptyAndCommentOnlyInputs) {
+  EXPECT_EQ(qsp::read_obj("", "t.obj").vertex_count(), 0u);
+  EXPECT_EQ(qsp::read_obj("# nothing\n\n   \n", "t.obj").face_count(), 0u);
+}
+
+TEST(ReadObj, NonQuadMessageCountsAllAndShowsThree) {
+  std::string text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 2 2\n";
+  for (int i = 0; i < 32; ++i) text += "f 1 2 3\n";
+  const std::string msg = expect_error([&] { qsp::read_obj(text, "x.obj"); }, qsp::ErrorCode::kNotQuad);
+  EXPECT_EQ(msg.rfind("x.obj:6: 32 faces are not quads (first: line 6: triangle, line 7: triangle, line 8: "
+                      "triangle, ...); qsp stores quad meshes only and never triangulates or drops faces",
+                      0),
+            0u)
+      << msg;
+}
+
+TEST(ReadObj, HostileInputNeverCrashes) {
+  // Random bytes drawn from OBJ's alphabet: every outcome is a mesh or a qsp::Error.
+  std::mt19937 rng(12345);
+  const std::string alphabet = "vf t#/\\-+.0123456789e\n\r\tnaix";
+  for (int round = 0; round < 3000; ++round) {
+    std::string text;
+    const int len = static_cast<int>(rng() % 80);
+    for (int i = 0; i < len; ++i) text += alphabet[rng() % alphabet.size()];
+    for (auto reader : {&qsp::read_obj, &qsp::read_off}) {
+      try {
+        (void)reader(text, "fuzz", nullptr);
+      } catch (const qsp::Error&) {
+      }
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// OFF acceptance
+
+TEST(ReadOff, MultiLineFacesColoursAndComments) {
+  const std::string text =
+      "# leading comment\n"
+      "OFF\n"
+      "# counts next\n"
+      "5 3 0\n"
+      "0 0 0\n1 0 0\n1 1 0\n0 1 0\n\n2 2 2  # trailing comment\n"
+      "4 0 1\n2\n3\n"           // face over three lines
+      "4 1 4 2 0 255 0 0\n"     // face colour (RGB)
+      "4\n3 2\n4 1 0.5 0.5 0.5 1\n";  // colour (RGBA) on the last index line
+  qsp::ReadReport r;
+  const qsp::QuadMesh m = qsp::read_off(text, "t.off", &r);
+  EXPECT_EQ(m.vertex_count(), 5u);
+  EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{0, 1, 2, 3, 1, 4, 2, 0, 3, 2, 4, 1}));
+  EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{11, 14, 15}));
+  EXPECT_EQ(r.face_colors, 2u);
+}
+
+TEST(ReadOff, CountsOnHeaderLineAndVariants) {
+  qsp::ReadReport r;
+  qsp::QuadMesh m = qsp::read_off("OFF 4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n", "t.off", &r);
+  EXPECT_EQ(m.face_count(), 1u);
+  m = qsp::read_off("COFF\r\n4 1\r\n0 0 0 1 0 0 1\r\n1 0 0 1 0 0 1\r\n1 1 0 1 0 0 1\r\n0 1 0 1 0 0\r\n4 0 1 2 3\r\n",
+                    "t.off", &r);
+  EXPECT_EQ(r.vertex_colors, 4u);
+  m = qsp::read_off("NOFF\n4 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n1 1 0 0 0 1\n0 1 0 0 0 1\n4 0 1 2 3\n", "t.off", &r);
+  EXPECT_EQ(r.normals, 4u);
+  EXPECT_EQ(m.positions[3], 1.0f);
+}
+
+TEST(ReadOff, SharedIglMultiLineFile) {
+  const fs::path p = fs::path(QSP_SHARED_DIR) / "meshes" / "igl_inspired_mesh_quads_conjugate.off";
+  if (!fs::exists(p)) GTEST_SKIP() << p << " not present";
+  const qsp::QuadMesh m = qsp::read_mesh_file(p.string());
+  EXPECT_EQ(m.vertex_count(), 1749u);
+  EXPECT_EQ(m.face_count(), 1633u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Round trips
+
+namespace {
+
+qsp::QuadMesh random_mesh(std::mt19937& rng, std::size_t vertices, std::size_t faces) {
+  qsp::QuadMesh m;
+  const float specials[] = {0.0f,
+                            -0.0f,
+                            1.0f,
+                            std::numeric_limits<float>::denorm_min(),
+                            -std::numeric_limits<float>::denorm_min(),
+                            std::numeric_limits<float>::min(),
+                            std::nextafter(std::numeric_limits<float>::min(), 0.0f),  // largest subnormal
+                            std::numeric_limits<float>::max(),
+                            -std::numeric_limits<float>::max(),
+                            16777216.0f,
+                            0.1f,
+                            1e-30f};
+  for (float f : specials) m.positions.push_back(f);
+  while (m.positions.size() < 3 * vertices) {
+    const std::uint32_t b = static_cast<std::uint32_t>(rng());
+    float f;
+    std::memcpy(&f, &b, 4);
+    if (std::isfinite(f)) m.positions.push_back(f);  // any finite bit pattern, subnormals included
+  }
+  m.positions.resize(3 * vertices);
+  for (std::size_t f = 0; f < faces; ++f) {
+    std::uint32_t q[4];
+    for (int i = 0; i < 4; ++i) {
+      bool fresh;
+      do {
+        q[i] = static_cast<std::uint32_t>(rng() % vertices);
+        fresh = true;
+        for (int j = 0; j < i; ++j) fresh = fresh && q[j] != q[i];
+      } while (!fresh);
+      m.quads.push_back(q[i]);
+    }
+  }
+  return m;
+}
+
+void expect_bit_exact(const qsp::QuadMesh& a, const qsp::QuadMesh& b) {
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  for (std::size_t i = 0; i < a.positions.size(); ++i) {
+    ASSERT_EQ(bits(a.positions[i]), bits(b.positions[i])) << "coordinate " << i << " = " << a.positions[i];
+  }
+  EXPECT_EQ(a.quads, b.quads);
+}
+
+}  // namespace
+
+TEST(RoundTrip, ObjIsBitExactOnRandomFloats) {
+  std::mt19937 rng(7);
+  for (int round = 0; round < 5; ++round) {
+    const qsp::QuadMesh m = random_mesh(rng, 5000, 3000);
+    const std::string text = qsp::write_obj(m);
+    qsp::ReadReport r;
+    expect_bit_exact(m, qsp::read_obj(text, "rt.obj", &r));
+    EXPECT_FALSE(r.has_extra_data());
+  }
+}
+
+TEST(RoundTrip, OffIsBitExactOnRandomFloats) {
+  std::mt19937 rng(8);
+  const qsp::QuadMesh m = random_mesh(rng, 4000, 2000);
+  expect_bit_exact(m, qsp::read_off(qsp::write_off(m), "rt.off"));
+}
+
+TEST(RoundTrip, WriterFormat) {
+  qsp::QuadMesh m;
+  m.positions = {0.0f, 0.5f, -1.0f, 1.0f, 0.1f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f, 8.0f};
+  m.quads = {0, 1, 2, 3};
+  EXPECT_EQ(qsp::write_obj(m), "v 0 0.5 -1\nv 1 0.1 2\nv 3 4 5\nv 6 7 8\nf 1 2 3 4\n");
+  EXPECT_EQ(qsp::write_off(m), "OFF\n4 1 0\n0 0.5 -1\n1 0.1 2\n3 4 5\n6 7 8\n4 0 1 2 3\n");
+}
+
+TEST(RoundTrip, WritersRefuseWhatWouldNotReadBack) {
+  qsp::QuadMesh m;
+  m.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0};
+  m.quads = {0, 1, 2, 3};
+  expect_error([&] { qsp::write_obj(m); }, qsp::ErrorCode::kBadIndex);
+  m.positions.insert(m.positions.end(), {std::nanf(""), 0, 0});
+  expect_error([&] { qsp::write_off(m); }, qsp::ErrorCode::kBadNumber);
+}
+
+// ---------------------------------------------------------------------------------------------
+// PLY
+
+namespace {
+
+std::string ply_ascii(const std::string& vertex_props, const std::string& vertices, int vcount,
+                      const std::string& faces, int fcount, const std::string& face_props = "") {
+  return "ply\nformat ascii 1.0\ncomment test\nelement vertex " + std::to_string(vcount) + "\n" + vertex_props +
+         "element face " + std::to_string(fcount) + "\nproperty list uchar int vertex_indices\n" + face_props +
+         "end_header\n" + vertices + faces;
+}
+
+}  // namespace
+
+TEST(ReadPly, AsciiKeepsFileCornerOrder) {
+  TempDir dir;
+  const fs::path p = dir.path() / "a.ply";
+  spit(p, ply_ascii("property float x\nproperty float y\nproperty float z\n",
+                    "0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n2 1 0.1\n", 6, "4 2 3 0 1\n4 4 5 2 1\n", 2));
+  qsp::ReadReport r;
+  const qsp::QuadMesh m = qsp::read_mesh_file(p.string(), &r);
+  EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{2, 3, 0, 1, 4, 5, 2, 1}));
+  EXPECT_EQ(bits(m.positions[17]), bits(0.1f));
+  EXPECT_FALSE(r.has_extra_data());
+}
+
+TEST(ReadPly, BinaryLittleEndianDoublesAndColours) {
+  TempDir dir;
+  const fs::path p = dir.path() / "b.ply";
+  std::string bytes =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
+      "property double z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  const double v[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0.25}};
+  for (const auto& row : v) {
+    bytes.append(reinterpret_cast<const char*>(row), sizeof row);
+    bytes.append("\x01\x02\x03", 3);
+  }
+  bytes.push_back(4);
+  const std::int32_t f[4] = {1, 2, 3, 0};
+  bytes.append(reinterpret_cast<const char*>(f), sizeof f);
+  spit(p, bytes);
+  qsp::ReadReport r;
+  const qsp::QuadMesh m = qsp::read_ply_file(p.string(), &r);
+  EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{1, 2, 3, 0}));
+  EXPECT_EQ(m.positions[11], 0.25f);
+  EXPECT_EQ(r.vertex_colors, 4u);
+}
+
+TEST(ReadPly, MatchesObjOnSharedMesh) {
+  // PLY written from an OBJ must read back to the same faces, corner order included.
+  const fs::path src = fs::path(QSP_SHARED_DIR) / "meshes" / "igl_horse_quad.obj";
+  if (!fs::exists(src)) GTEST_SKIP() << src << " not present";
+  const qsp::QuadMesh obj = qsp::read_mesh_file(src.string());
+  std::string verts, faces;
+  for (std::size_t i = 0; i < obj.positions.size(); i += 3) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%.9g %.9g %.9g\n", obj.positions[i], obj.positions[i + 1], obj.positions[i + 2]);
+    verts += buf;
+  }
+  for (std::size_t i = 0; i < obj.quads.size(); i += 4) {
+    faces += "4 " + std::to_string(obj.quads[i]) + " " + std::to_string(obj.quads[i + 1]) + " " +
+             std::to_string(obj.quads[i + 2]) + " " + std::to_string(obj.quads[i + 3]) + "\n";
+  }
+  TempDir dir;
+  const fs::path p = dir.path() / "horse.ply";
+  spit(p, ply_ascii("property float x\nproperty float y\nproperty float z\n", verts,
+                    static_cast<int>(obj.vertex_count()), faces, static_cast<int>(obj.face_count())));
+  const qsp::QuadMesh ply = qsp::read_mesh_file(p.string());
+  expect_bit_exact(obj, ply);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Invalid files: each NAME.{obj,off,ply} has NAME.expect with `code=` and `message=` lines.
+
+TEST(InvalidFiles, EachIsRefusedWithExpectedCodeAndLocation) {
+  const fs::path dir = fs::path(QSP_TESTDATA_DIR) / "invalid";
+  ASSERT_TRUE(fs::is_directory(dir)) << dir;
+  int checked = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const fs::path p = entry.path();
+    const std::string ext = p.extension().string();
+    if (ext != ".obj" && ext != ".off" && ext != ".ply") continue;  // .qsp etc. belong to other suites
+    SCOPED_TRACE(p.filename().string());
+    fs::path expect_path = p;
+    expect_path.replace_extension(".expect");
+    ASSERT_TRUE(fs::exists(expect_path)) << "missing sidecar " << expect_path;
+    std::map<std::string, std::string> expect;
+    std::istringstream lines(slurp(expect_path));
+    for (std::string line; std::getline(lines, line);) {
+      const auto eq = line.find('=');
+      if (eq != std::string::npos) expect[line.substr(0, eq)] = line.substr(eq + 1);
+    }
+    ASSERT_TRUE(expect.count("code") && expect.count("message")) << expect_path;
+    try {
+      (void)qsp::read_mesh_file(p.string());
+      ADD_FAILURE() << p << " was accepted";
+    } catch (const qsp::Error& e) {
+      EXPECT_EQ(qsp::error_name(e.code()), expect["code"]) << e.what();
+      EXPECT_NE(std::string(e.what()).find(expect["message"]), std::string::npos)
+          << "message: " << e.what() << "\nexpected to contain: " << expect["message"];
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << p << " threw a non-qsp exception: " << e.what();
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 40);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shared real-world meshes
+
+namespace {
+
+struct ManifestRow {
+  std::uint64_t v = 0, f = 0, degenerate = 0;
+  bool all_quad = false;
+};
+
+// name -> row, from a MANIFEST.tsv whose first line names the columns.
+std::map<std::string, ManifestRow> read_manifest(const fs::path& p) {
+  std::map<std::string, ManifestRow> rows;
+  std::istringstream in(slurp(p));
+  std::string line;
+  std::vector<std::string> header;
+  const auto split = [](const std::string& s) {
+    std::vector<std::string> out;
+    std::string cell;
+    std::istringstream cells(s);
+    while (std::getline(cells, cell, '\t')) out.push_back(cell);
+    return out;
+  };
+  if (!std::getline(in, line)) return rows;
+  header = split(line);
+  const auto col = [&](const std::string& name) {
+    for (std::size_t i = 0; i < header.size(); ++i) {
+      if (header[i] == name) return static_cast<int>(i);
+    }
+    return -1;
+  };
+  const int name = col("name") >= 0 ? col("name") : col("file");
+  const int v = col("V"), f = col("F"), q = col("all_quad"), d = col("degenerate_faces");
+  if (name < 0 || v < 0 || f < 0 || q < 0) return rows;
+  while (std::getline(in, line)) {
+    const auto c = split(line);
+    if (static_cast<int>(c.size()) <= std::max({name, v, f, q, d})) continue;
+    ManifestRow r;
+    r.v = std::stoull(c[v]);
+    r.f = std::stoull(c[f]);
+    r.all_quad = c[q] == "True";
+    r.degenerate = d >= 0 ? std::stoull(c[d]) : 0;
+    rows[c[name]] = r;
+  }
+  return rows;
+}
+
+}  // namespace
+
+TEST(SharedMeshes, EveryFileIsReadOrRefusedAndQuadCountsMatchManifest) {
+  const fs::path root = fs::path(QSP_SHARED_DIR) / "meshes";
+  if (!fs::is_directory(root)) GTEST_SKIP() << root << " not present";
+  int read = 0, refused = 0, matched = 0;
+  for (const fs::path& dir : {root, root / "osd_shapes"}) {
+    if (!fs::is_directory(dir)) continue;
+    const auto manifest = read_manifest(dir / "MANIFEST.tsv");
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      const fs::path p = entry.path();
+      const std::string ext = p.extension().string();
+      if (ext != ".obj" && ext != ".off") continue;
+      SCOPED_TRACE(p.string());
+      const auto row = manifest.find(p.filename().string());
+      try {
+        const qsp::QuadMesh m = qsp::read_mesh_file(p.string());
+        ++read;
+        if (row != manifest.end()) {
+          EXPECT_TRUE(row->second.all_quad);
+          EXPECT_EQ(m.vertex_count(), row->second.v);
+          EXPECT_EQ(m.face_count(), row->second.f);
+          ++matched;
+        }
+      } catch (const qsp::Error& e) {
+        ++refused;
+        // all_quad files are refused only for faces repeating a vertex.
+        if (row != manifest.end() && row->second.all_quad) {
+          EXPECT_GT(row->second.degenerate, 0u) << e.what();
+          EXPECT_EQ(e.code(), qsp::ErrorCode::kDegenerateFace) << e.what();
+        } else if (row != manifest.end()) {
+          EXPECT_TRUE(e.code() == qsp::ErrorCode::kNotQuad || e.code() == qsp::ErrorCode::kDegenerateFace)
+              << e.what();
+        }
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << "non-qsp exception: " << e.what();
+      }
+    }
+  }
+  EXPECT_GT(read, 0);
+  EXPECT_GT(matched, 50);
+  RecordProperty("read", read);
+  RecordProperty("refused", refused);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Files, formats, atomic writes
+
+TEST(Files, FormatFromPath) {
+  EXPECT_EQ(qsp::format_from_path("a/b/Mesh.OBJ"), qsp::MeshFormat::kObj);
+  EXPECT_EQ(qsp::format_from_path("x.off"), qsp::MeshFormat::kOff);
+  EXPECT_EQ(qsp::format_from_path("x.Ply"), qsp::MeshFormat::kPly);
+  EXPECT_EQ(qsp::format_from_path("x.qsp"), qsp::MeshFormat::kQsp);
+  EXPECT_EQ(qsp::format_from_path("x.stl"), qsp::MeshFormat::kUnknown);
+  EXPECT_EQ(qsp::format_from_path("dir.obj/noext"), qsp::MeshFormat::kUnknown);
+  EXPECT_EQ(qsp::format_from_path(".obj"), qsp::MeshFormat::kUnknown);
+  EXPECT_EQ(qsp::format_from_path("-"), qsp::MeshFormat::kUnknown);
+}
+
+TEST(Files, ReadErrorsNameThePath) {
+  TempDir dir;
+  const std::string missing = (dir.path() / "missing.obj").string();
+  std::string msg = expect_error([&] { qsp::read_file_bytes(missing); }, qsp::ErrorCode::kIo);
+  EXPECT_NE(msg.find(missing + ": No such file or directory"), std::string::npos) << msg;
+  msg = expect_error([&] { qsp::read_file_bytes(dir.path().string()); }, qsp::ErrorCode::kIo);
+  EXPECT_NE(msg.find("Is a directory"), std::string::npos) << msg;
+  expect_error([&] { qsp::read_mesh_file(missing); }, qsp::ErrorCode::kIo);
+  expect_error([&] { qsp::read_mesh_file((dir.path() / "x.stl").string()); }, qsp::ErrorCode::kUnsupported);
+  expect_error([&] { qsp::read_mesh_file("-"); }, qsp::ErrorCode::kUnsupported);
+  expect_error([&] { qsp::read_mesh_file((dir.path() / "x.qsp").string()); }, qsp::ErrorCode::kUnsupported);
+}
+
+TEST(Files, ReadFileBytesIsExact) {
+  TempDir dir;
+  std::string bytes(3 << 20, '\0');
+  for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<char>(i * 131 + 7);
+  spit(dir.path() / "big.bin", bytes);
+  EXPECT_EQ(qsp::read_file_bytes((dir.path() / "big.bin").string()), bytes);
+  spit(dir.path() / "empty.obj", "");
+  EXPECT_EQ(qsp::read_file_bytes((dir.path() / "empty.obj").string()), "");
+}
+
+TEST(Files, AtomicWriteCreatesRefusesAndOverwrites) {
+  TempDir dir;
+  const fs::path p = dir.path() / "out.obj";
+  qsp::write_file_atomic(p.string(), "first", false);
+  EXPECT_EQ(slurp(p), "first");
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  EXPECT_EQ(fs::status(p).permissions(), static_cast<fs::perms>(0666 & ~mask));
+
+  const std::string msg =
+      expect_error([&] { qsp::write_file_atomic(p.string(), "second", false); }, qsp::ErrorCode::kIo);
+  EXPECT_NE(msg.find(p.string() + ": already exists"), std::string::npos) << msg;
+  EXPECT_EQ(slurp(p), "first");
+
+  qsp::write_file_atomic(p.string(), "third", true);
+  EXPECT_EQ(slurp(p), "third");
+  qsp::write_file_atomic(p.string(), "", true);
+  EXPECT_EQ(slurp(p), "");
+  // Relative path in the current directory.
+  const fs::path cwd = fs::current_path();
+  fs::current_path(dir.path());
+  qsp::write_file_atomic("rel.off", "rel", false);
+  fs::current_path(cwd);
+  EXPECT_EQ(slurp(dir.path() / "rel.off"), "rel");
+  // No temporary files left behind.
+  for (const auto& e : fs::directory_iterator(dir.path())) {
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+  }
+}
+
+TEST(Files, AtomicWriteFailuresAreIoErrorsAndLeaveNothing) {
+  TempDir dir;
+  const std::string no_dir = (dir.path() / "no" / "such" / "dir" / "x.obj").string();
+  std::string msg = expect_error([&] { qsp::write_file_atomic(no_dir, "x", false); }, qsp::ErrorCode::kIo);
+  EXPECT_NE(msg.find(no_dir + ": cannot create a temporary file"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("No such file or directory"), std::string::npos) << msg;
+
+  spit(dir.path() / "plain", "not a directory");
+  const std::string under_file = (dir.path() / "plain" / "x.obj").string();
+  msg = expect_error([&] { qsp::write_file_atomic(under_file, "x", true); }, qsp::ErrorCode::kIo);
+  EXPECT_NE(msg.find("Not a directory"), std::string::npos) << msg;
+
+  // Target is a directory: rename cannot replace it; the temporary file must be gone.
+  fs::create_directory(dir.path() / "adir");
+  msg = expect_error([&] { qsp::write_file_atomic((dir.path() / "adir").string(), "x", true); },
+                     qsp::ErrorCode::kIo);
+  EXPECT_NE(msg.find("cannot rename into place"), std::string::npos) << msg;
+  for (const auto& e : fs::directory_iterator(dir.path())) {
+    EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+  }
+}
+
+TEST(Files, StdoutWriteToFullDeviceFails) {
+  const int full = ::open("/dev/full", O_WRONLY | O_CLOEXEC);
+  if (full < 0) GTEST_SKIP() << "/dev/full not available";
+  std::fflush(stdout);
+  const int saved = ::dup(STDOUT_FILENO);
+  ASSERT_GE(saved, 0);
+  ::dup2(full, STDOUT_FILENO);
+  std::string msg;
+  try {
+    qsp::write_file_atomic("-", "data that cannot be written", false);
+  } catch (const qsp::Error& e) {
+    msg = e.what();
+    EXPECT_EQ(e.code(), qsp::ErrorCode::kIo);
+  }
+  ::dup2(saved, STDOUT_FILENO);
+  ::close(saved);
+  ::close(full);
+  EXPECT_NE(msg.find("-: cannot write standard output: No space left on device"), std::string::npos) << msg;
+}
+
+TEST(Files, ReadMeshFileRoundTripThroughDisk) {
+  std::mt19937 rng(99);
+  const qsp::QuadMesh m = random_mesh(rng, 300, 200);
+  TempDir dir;
+  qsp::write_file_atomic((dir.path() / "m.obj").string(), qsp::write_obj(m), false);
+  qsp::write_file_atomic((dir.path() / "m.off").string(), qsp::write_off(m), false);
+  expect_bit_exact(m, qsp::read_mesh_file((dir.path() / "m.obj").string()));
+  expect_bit_exact(m, qsp::read_mesh_file((dir.path() / "m.off").string()));
+  qsp::ReadReport r;
+  r.tags = 5;  // readers start from a clean report
+  (void)qsp::read_mesh_file((dir.path() / "m.obj").string(), &r);
+  EXPECT_EQ(r.tags, 0u);
+  EXPECT_EQ(r.face_line.size(), 200u);
+}
