@@ -184,16 +184,16 @@ std::string read_file_bytes(const std::string& path) {
   const bool is_stdin = path == "-";
   const int fd = is_stdin ? STDIN_FILENO : ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) fail_errno(path, "", errno);
+  // Size the buffer from fstat (+1 so the read that sees EOF needs no regrowth), but read until
+  // EOF rather than trusting it: pipes have no size and files can grow.
   std::string bytes;
   struct stat st {};
-  if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
-    bytes.reserve(static_cast<std::size_t>(st.st_size));
-  }
-  // Read until EOF rather than trusting st_size: pipes and growing files have none.
   constexpr std::size_t kChunk = 1 << 20;
+  const bool sized = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0;
+  bytes.resize(sized ? static_cast<std::size_t>(st.st_size) + 1 : kChunk);
   std::size_t used = 0;
   for (;;) {
-    if (bytes.size() < used + kChunk) bytes.resize(std::max(bytes.capacity(), used + kChunk));
+    if (used == bytes.size()) bytes.resize(2 * bytes.size());
     const ssize_t n = ::read(fd, bytes.data() + used, bytes.size() - used);
     if (n < 0) {
       if (errno == EINTR) continue;
@@ -246,7 +246,8 @@ void write_file_atomic(const std::string& path, std::string_view bytes, bool ove
   const std::size_t slash = path.find_last_of('/');
   const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
   const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
-  std::string temp = (dir == "/" ? "" : dir) + "/." + name + ".tmp.XXXXXX";
+  // Hidden, and short enough for NAME_MAX whatever the target's name length.
+  std::string temp = (dir == "/" ? "" : dir) + "/." + name.substr(0, 200) + ".tmp.XXXXXX";
   const int fd = ::mkstemp(temp.data());
   if (fd < 0) fail_errno(path, "cannot create a temporary file in " + dir, errno);
 

@@ -674,3 +674,25 @@ TEST(Files, ReadMeshFileRoundTripThroughDisk) {
   EXPECT_EQ(r.tags, 0u);
   EXPECT_EQ(r.face_line.size(), 200u);
 }
+
+TEST(Files, StandardInputIsReadToEof) {
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  const std::string text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+  ASSERT_EQ(::write(fds[1], text.data(), text.size()), static_cast<ssize_t>(text.size()));
+  ::close(fds[1]);
+  const int saved = ::dup(STDIN_FILENO);
+  ::dup2(fds[0], STDIN_FILENO);
+  ::close(fds[0]);
+  qsp::QuadMesh m;
+  std::string error;
+  try {
+    m = qsp::read_mesh_file("-", nullptr, qsp::MeshFormat::kObj);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  ::dup2(saved, STDIN_FILENO);
+  ::close(saved);
+  EXPECT_EQ(error, "");
+  EXPECT_EQ(m.face_count(), 1u);
+}
