@@ -15,6 +15,7 @@
 #include <limits>
 #include <memory>
 
+#include "qsp/entropy.h"
 #include "qsp/error.h"
 
 namespace qsp {
@@ -81,246 +82,203 @@ class Reader {
 };
 
 // ---------------------------------------------------------------------------------------------
-// Binary range coder (LZMA style carry handling) with adaptive probabilities.
-
-// P(bit = 0) in 1/65536 units, mixed from a fast and a slow estimate: quick to learn on small
-// meshes, precise on large ones.
-struct Prob {
-  std::uint16_t fast = 32768, slow = 32768;
-  std::uint32_t p0() const { return (std::uint32_t{fast} + slow) >> 1; }
-  void update(int bit) {
-    if (bit) {
-      fast -= fast >> 4;
-      slow -= slow >> 7;
-    } else {
-      fast += (65536 - fast) >> 4;
-      slow += (65536 - slow) >> 7;
-    }
-  }
-};
-
-class RangeEncoder {
- public:
-  void bit(Prob& p, int b) {
-    const std::uint32_t bound = (range_ >> 16) * p.p0();
-    if (b) {
-      low_ += bound;
-      range_ -= bound;
-    } else {
-      range_ = bound;
-    }
-    p.update(b);
-    normalize();
-  }
-  void direct(std::uint64_t v, int n) {  // n raw bits, most significant first
-    for (int i = n - 1; i >= 0; --i) {
-      range_ >>= 1;
-      if ((v >> i) & 1) low_ += range_;
-      normalize();
-    }
-  }
-  std::string finish() {
-    for (int i = 0; i < 5; ++i) shift_low();
-    return std::move(out_);
-  }
-
- private:
-  void normalize() {
-    while (range_ < (1u << 24)) {
-      range_ <<= 8;
-      shift_low();
-    }
-  }
-  void shift_low() {
-    if (static_cast<std::uint32_t>(low_) < 0xFF000000u || (low_ >> 32) != 0) {
-      const auto carry = static_cast<std::uint8_t>(low_ >> 32);
-      std::uint8_t temp = cache_;
-      do {
-        out_.push_back(static_cast<char>(static_cast<std::uint8_t>(temp + carry)));
-        temp = 0xFF;
-      } while (--cache_size_ != 0);
-      cache_ = static_cast<std::uint8_t>(low_ >> 24);
-    }
-    ++cache_size_;
-    low_ = (low_ & 0x00FFFFFFu) << 8;
-  }
-
-  std::uint64_t low_ = 0;
-  std::uint32_t range_ = 0xFFFFFFFFu;
-  std::uint8_t cache_ = 0;
-  std::uint64_t cache_size_ = 1;
-  std::string out_;
-};
-
-// Reads past the end as zero bytes but remembers it: a valid stream never does, so finish() refuses.
-class RangeDecoder {
- public:
-  explicit RangeDecoder(std::string_view bytes) : bytes_(bytes) {
-    if (next() != 0) fail("range coder stream must start with a zero byte");
-    for (int i = 0; i < 4; ++i) code_ = (code_ << 8) | next();
-  }
-  int bit(Prob& p) {
-    const std::uint32_t bound = (range_ >> 16) * p.p0();
-    int b;
-    if (code_ < bound) {
-      range_ = bound;
-      b = 0;
-    } else {
-      code_ -= bound;
-      range_ -= bound;
-      b = 1;
-    }
-    p.update(b);
-    normalize();
-    return b;
-  }
-  std::uint64_t direct(int n) {
-    std::uint64_t v = 0;
-    for (int i = 0; i < n; ++i) {
-      range_ >>= 1;
-      int b = 0;
-      if (code_ >= range_) {
-        code_ -= range_;
-        b = 1;
-      }
-      v = (v << 1) | static_cast<std::uint64_t>(b);
-      normalize();
-    }
-    return v;
-  }
-  // The encoder flushes exactly the bytes the decoder reads: anything else is corruption.
-  void finish() const {
-    if (pos_ != bytes_.size()) fail("range coder stream length mismatch");
-  }
-  bool overrun() const { return pos_ > bytes_.size(); }
-
- private:
-  std::uint32_t next() {
-    const std::uint32_t b = pos_ < bytes_.size() ? static_cast<std::uint8_t>(bytes_[pos_]) : 0;
-    ++pos_;
-    return b;
-  }
-  void normalize() {
-    while (range_ < (1u << 24)) {
-      range_ <<= 8;
-      code_ = (code_ << 8) | next();
-    }
-  }
-
-  std::string_view bytes_;
-  std::size_t pos_ = 0;
-  std::uint32_t range_ = 0xFFFFFFFFu;
-  std::uint32_t code_ = 0;
-};
-
-// ---------------------------------------------------------------------------------------------
 // Residual model: zigzag value u, coded as its bit length L (6-bit binary tree) and then the bits
 // below the leading one (the first two with adaptive contexts, the rest raw).
 
-constexpr int kKinds = 5;        // predictor kinds, see Predictor
-constexpr int kBuckets = 24;     // neighbourhood magnitude classes
-constexpr int kMaxLength = 63;   // a 6-bit tree
-constexpr int kModelledBits = 2; // mantissa bits with their own contexts
+constexpr int kKinds = 5;         // predictor kinds, see Kind
+constexpr int kBuckets = 24;      // neighbourhood magnitude classes
+constexpr int kModelledBits = 2;  // mantissa bits with their own contexts
 
 struct ResidualModel {
-  std::vector<Prob> length;  // [axis][kind][bucket][node 1..63]
-  std::vector<Prob> mantissa;  // [axis][L][node 1..3]
+  std::vector<BitModel> length;    // [axis][kind][bucket][node 1..63]
+  std::vector<BitModel> mantissa;  // [axis][L][node 1..3]
   ResidualModel() : length(3 * kKinds * kBuckets * 64), mantissa(3 * 64 * 4) {}
 
-  static std::size_t length_ctx(int axis, int kind, int bucket) {
-    return ((static_cast<std::size_t>(axis) * kKinds + kind) * kBuckets + bucket) * 64;
+  BitModel* length_tree(int axis, int kind, int bucket) {
+    return &length[((static_cast<std::size_t>(axis) * kKinds + kind) * kBuckets + bucket) * 64];
   }
+  BitModel* mantissa_tree(int axis, int len) { return &mantissa[(static_cast<std::size_t>(axis) * 64 + len) * 4]; }
 
   void encode(RangeEncoder& rc, std::uint64_t u, int axis, int kind, int bucket) {
     const int len = std::bit_width(u);
-    Prob* tree = &length[length_ctx(axis, kind, bucket)];
+    BitModel* tree = length_tree(axis, kind, bucket);
     for (int i = 5, node = 1; i >= 0; --i) {
-      const int b = (len >> i) & 1;
-      rc.bit(tree[node], b);
-      node = 2 * node + b;
+      const unsigned b = (len >> i) & 1;
+      rc.encode_bit(tree[node], b);
+      node = 2 * node + static_cast<int>(b);
     }
     if (len <= 1) return;
-    Prob* m = &mantissa[(static_cast<std::size_t>(axis) * 64 + len) * 4];
-    const int rest = len - 1;
-    const int modelled = std::min(rest, kModelledBits);
+    BitModel* m = mantissa_tree(axis, len);
+    const int rest = len - 1, modelled = std::min(rest, kModelledBits);
     for (int i = 0, node = 1; i < modelled; ++i) {
-      const int b = static_cast<int>((u >> (rest - 1 - i)) & 1);
-      rc.bit(m[node], b);
-      node = 2 * node + b;
+      const unsigned b = (u >> (rest - 1 - i)) & 1;
+      rc.encode_bit(m[node], b);
+      node = 2 * node + static_cast<int>(b);
     }
-    rc.direct(u, rest - modelled);
+    const int raw = rest - modelled;  // up to 40: two calls of at most 20 bits
+    if (raw > 20) rc.encode_raw(static_cast<std::uint32_t>((u >> 20) & ((1u << (raw - 20)) - 1)), raw - 20);
+    rc.encode_raw(static_cast<std::uint32_t>(u & ((1u << std::min(raw, 20)) - 1)), std::min(raw, 20));
   }
 
-  // Returns the length through `len` so the caller can keep it as context.
-  std::uint64_t decode(RangeDecoder& rc, int axis, int kind, int bucket, int max_len, int& len) {
-    Prob* tree = &length[length_ctx(axis, kind, bucket)];
+  std::uint64_t decode(RangeDecoder& rc, int axis, int kind, int bucket, int max_len) {
+    BitModel* tree = length_tree(axis, kind, bucket);
     int node = 1;
-    for (int i = 0; i < 6; ++i) node = 2 * node + rc.bit(tree[node]);
-    len = node - 64;
-    if (len > max_len) fail("residual longer than the mode allows");
+    for (int i = 0; i < 6; ++i) node = 2 * node + static_cast<int>(rc.decode_bit(tree[node]));
+    const int len = node - 64;
+    if (len > max_len) fail("residual longer than its mode allows");
     if (len <= 1) return static_cast<std::uint64_t>(len);
-    Prob* m = &mantissa[(static_cast<std::size_t>(axis) * 64 + len) * 4];
-    const int rest = len - 1;
-    const int modelled = std::min(rest, kModelledBits);
+    BitModel* m = mantissa_tree(axis, len);
+    const int rest = len - 1, modelled = std::min(rest, kModelledBits);
     std::uint64_t u = 1;
     for (int i = 0, n = 1; i < modelled; ++i) {
-      const int b = rc.bit(m[n]);
-      n = 2 * n + b;
-      u = (u << 1) | static_cast<std::uint64_t>(b);
+      const unsigned b = rc.decode_bit(m[n]);
+      n = 2 * n + static_cast<int>(b);
+      u = (u << 1) | b;
     }
     const int raw = rest - modelled;
-    return (u << raw) | rc.direct(raw);
+    if (raw > 20) u = (u << (raw - 20)) | rc.decode_raw(raw - 20);
+    return (u << std::min(raw, 20)) | rc.decode_raw(std::min(raw, 20));
   }
 };
 
-std::uint64_t zigzag(std::int64_t r) {
+std::uint64_t zigzag64(std::int64_t r) {
   return (static_cast<std::uint64_t>(r) << 1) ^ static_cast<std::uint64_t>(r >> 63);
 }
-std::int64_t unzigzag(std::uint64_t u) {
+std::int64_t unzigzag64(std::uint64_t u) {
   return static_cast<std::int64_t>(u >> 1) ^ -static_cast<std::int64_t>(u & 1);
 }
 
 // ---------------------------------------------------------------------------------------------
-// Prediction. The kind only depends on the stencil, so both sides agree without signalling it.
+// Prediction. Everything here depends only on the stencils, so both sides agree without signalling.
 
 enum Kind : std::uint8_t { kNone = 0, kWest = 1, kLinear = 2, kParallelogram = 3, kSouth = 4 };
 
-struct Predictor {
-  Kind kind = kNone;
-  std::uint32_t a = kInvalid, b = kInvalid, c = kInvalid;  // operands, see predictor_for
+// A vertex's coded neighbours on its grid, (column, row) offsets from it: w (-1,0), ww (-2,0),
+// s (0,-1), sw (-1,-1), and derived from other stencils: se (1,-1), ss (0,-2), sww (-2,-1), ssw (-1,-2).
+struct Hood {
+  std::uint32_t w, ww, s, sw, se = kInvalid, ss = kInvalid, sww = kInvalid, ssw = kInvalid;
+  Kind kind;
 };
 
-Predictor predictor_for(std::span<const GridLayout::Stencil> stencil, std::uint32_t i) {
-  const GridLayout::Stencil& s = stencil[i];
-  if (s.w != kInvalid && s.s != kInvalid && s.sw != kInvalid) return {kParallelogram, s.w, s.s, s.sw};
-  if (s.w != kInvalid && s.ww != kInvalid) return {kLinear, s.w, s.ww, kInvalid};
-  if (s.w != kInvalid) return {kWest, s.w, kInvalid, kInvalid};
-  if (s.s != kInvalid) return {kSouth, s.s, kInvalid, kInvalid};
-  return {kNone, i == 0 ? kInvalid : i - 1, kInvalid, kInvalid};
+std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st) {
+  const auto n = static_cast<std::uint32_t>(st.size());
+  auto full = [&](std::uint32_t j) { return st[j].w != kInvalid && st[j].s != kInvalid && st[j].sw != kInvalid; };
+  // east[x]: the vertex whose w is x and whose s is east of x's s, i.e. x's right neighbour in a grid row.
+  std::vector<std::uint32_t> east(n, kInvalid);
+  for (std::uint32_t y = 0; y < n; ++y)
+    if (full(y)) east[st[y].w] = y;
+  std::vector<Hood> h(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const GridLayout::Stencil& s = st[i];
+    Hood& x = h[i];
+    x.w = s.w, x.ww = s.ww, x.s = s.s, x.sw = s.sw;
+    if (full(i)) {
+      x.kind = kParallelogram;
+      const std::uint32_t e = east[i];
+      if (e != kInvalid && st[e].sw == s.s && st[e].s < i) x.se = st[e].s;
+      x.ss = st[s.s].s;
+      if (full(s.s)) {
+        if (st[s.s].sw == st[s.sw].s) x.ssw = st[s.sw].s;
+        if (st[s.s].ww != kInvalid && st[s.s].ww == st[s.sw].w) x.sww = st[s.sw].w;
+      }
+    } else if (s.w != kInvalid) {
+      x.kind = s.ww != kInvalid ? kLinear : kWest;
+    } else if (s.s != kInvalid) {
+      x.kind = kSouth;
+    } else {
+      x.kind = kNone;
+      x.w = i == 0 ? kInvalid : i - 1;  // the previous vertex stands in for w
+    }
+  }
+  return h;
+}
+
+// Integer predictors. Blending them helps most where a coarse mesh bends (spot, blub): the
+// parallelogram alone misses curvature, the quadratic ones overshoot on noise.
+constexpr int kCandidates = 8;
+constexpr std::uint32_t kNoError = 0xFFFFFFFFu;
+
+// Which candidates vertex hood x has all neighbours for (bit k = candidate k).
+unsigned candidate_mask(const Hood& x) {
+  const bool w = x.w != kInvalid, ww = x.ww != kInvalid, s = x.s != kInvalid, sw = x.sw != kInvalid;
+  const bool se = x.se != kInvalid, ss = x.ss != kInvalid, sww = x.sww != kInvalid, ssw = x.ssw != kInvalid;
+  return (w && s && sw) << 0 | (w && ww) << 1 | (w && ww && s && sw && se) << 2 | (s && ss) << 3 |
+         (w && ww && s && sw && sww) << 4 | (w && s && sw && ss && ssw) << 5 | w << 6 | (w && se && sw) << 7;
+}
+
+// Candidate k for vertex hood x on one axis (values v); its neighbours must exist (candidate_mask).
+std::int64_t candidate(const Hood& x, const std::int64_t* v, int k) {
+  switch (k) {
+    case 0: return v[x.w] + v[x.s] - v[x.sw];                 // parallelogram
+    case 1: return 2 * v[x.w] - v[x.ww];                      // linear along the row
+    case 2: return 2 * v[x.w] - v[x.ww] - 2 * v[x.s] + v[x.sw] + v[x.se];  // exact on quadratics
+    case 3: return 2 * v[x.s] - v[x.ss];                      // linear along the column
+    case 4: return 2 * v[x.w] - v[x.ww] + v[x.s] - 2 * v[x.sw] + v[x.sww];  // parallelogram of row steps
+    case 5: return 2 * v[x.s] - v[x.ss] + v[x.w] - 2 * v[x.sw] + v[x.ssw];  // ... of column steps
+    case 6: return v[x.w];                                    // west
+    case 7: return v[x.w] + ((v[x.se] - v[x.sw]) >> 1);       // west + central difference below
+  }
+  return 0;
+}
+
+std::int64_t floor_div(std::int64_t a, std::int64_t b) {  // b > 0
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+
+// Weights of the candidates at a parallelogram vertex: the inverse square of each one's mean error
+// at the coded neighbours w, s, sw, se (integer axes summed). 0 for a missing candidate. <= 2^30.
+void blend_weights(const Hood& x, unsigned mask, const std::uint32_t* errors,
+                   std::array<std::int64_t, kCandidates>& weight) {
+  const std::array<std::uint32_t, 4> near = {x.w, x.s, x.sw, x.se};
+  for (int k = 0; k < kCandidates; ++k) {
+    if (!((mask >> k) & 1)) continue;
+    std::uint64_t sum = 0, cnt = 0;
+    for (std::uint32_t j : near) {
+      if (j == kInvalid || errors[std::size_t{j} * kCandidates + k] == kNoError) continue;
+      sum += errors[std::size_t{j} * kCandidates + k];
+      ++cnt;
+    }
+    if (cnt == 0) sum = 1000000, cnt = 1;
+    const auto w = static_cast<std::int64_t>((std::uint64_t{1} << 15) * cnt / (2 * sum + cnt));
+    weight[k] = w * w;
+  }
+}
+
+// The weighted mean of the available candidates p[k] (mask bit k), as an offset from the
+// parallelogram p[0] (clamped to +-2^28 so the sums cannot overflow), rounded half up. Integer only,
+// so exactly reproducible.
+std::int64_t blend(const std::array<std::int64_t, kCandidates>& p, unsigned mask,
+                   const std::array<std::int64_t, kCandidates>& weight) {
+  std::int64_t num = 0, den = 0;
+  for (int k = 0; k < kCandidates; ++k) {
+    if (!((mask >> k) & 1)) continue;
+    num += weight[k] * std::clamp<std::int64_t>(p[k] - p[0], -(1 << 28), 1 << 28);
+    den += weight[k];
+  }
+  return den == 0 ? p[0] : p[0] + floor_div(2 * num + den, 2 * den);
 }
 
 // The magnitude class coding vertex i: the mean residual length of its w and s neighbours.
-int bucket_for(const std::vector<std::uint8_t>& lengths, const GridLayout::Stencil& s, std::uint32_t i) {
-  int v;
-  if (s.w != kInvalid && s.s != kInvalid) {
-    v = (lengths[s.w] + lengths[s.s] + 1) >> 1;
-  } else if (s.w != kInvalid) {
-    v = lengths[s.w];
-  } else if (s.s != kInvalid) {
-    v = lengths[s.s];
-  } else {
-    v = i == 0 ? 0 : lengths[i - 1];
+int bucket_for(const std::uint8_t* lengths, const Hood& x) {
+  int v = 0;
+  if (x.w != kInvalid && x.s != kInvalid) {
+    v = (lengths[x.w] + lengths[x.s] + 1) >> 1;
+  } else if (x.w != kInvalid) {
+    v = lengths[x.w];
+  } else if (x.s != kInvalid) {
+    v = lengths[x.s];
   }
   return std::min(v, kBuckets - 1);
 }
 
-std::int64_t predict_int(const std::int64_t* v, const Predictor& p) {
-  switch (p.kind) {
-    case kParallelogram: return v[p.a] + v[p.b] - v[p.c];
-    case kLinear: return 2 * v[p.a] - v[p.b];
-    case kWest:
-    case kSouth: return v[p.a];
-    case kNone: return p.a == kInvalid ? 0 : v[p.a];
+// The fixed predictor of kinds other than kParallelogram, and of float axes.
+std::int64_t predict_fixed(const Hood& x, const std::int64_t* v) {
+  switch (x.kind) {
+    case kParallelogram: return v[x.w] + v[x.s] - v[x.sw];
+    case kLinear: return 2 * v[x.w] - v[x.ww];
+    case kWest: return v[x.w];
+    case kSouth: return v[x.s];
+    case kNone: return x.w == kInvalid ? 0 : v[x.w];
   }
   return 0;
 }
@@ -330,24 +288,21 @@ std::uint32_t float_image(float f) {
   const std::uint32_t u = std::bit_cast<std::uint32_t>(f);
   return u ^ ((u >> 31) ? 0xFFFFFFFFu : 0x80000000u);
 }
-float image_float(std::uint32_t m) {
-  return std::bit_cast<float>(m ^ ((m >> 31) ? 0x80000000u : 0xFFFFFFFFu));
-}
+float image_float(std::uint32_t m) { return std::bit_cast<float>(m ^ ((m >> 31) ? 0x80000000u : 0xFFFFFFFFu)); }
 
-// Float-mode prediction: computed in binary64, rounded once to binary32; if that is not finite (an
-// operand is NaN/inf or the sum overflows) the first operand's own bits predict.
-std::uint32_t predict_float(const float* f, const Predictor& p) {
+// Float-axis prediction: additions in binary64 (no products, so no FMA contraction can change it),
+// rounded once to binary32; if that is not finite (a NaN/inf operand or overflow), w's own bits.
+std::uint32_t predict_float(const Hood& x, const float* f) {
   double d;
-  switch (p.kind) {
-    case kParallelogram: d = (double{f[p.a]} + double{f[p.b]}) - double{f[p.c]}; break;
-    case kLinear: d = (double{f[p.a]} + double{f[p.a]}) - double{f[p.b]}; break;
-    case kWest:
-    case kSouth: return float_image(f[p.a]);
-    case kNone: return p.a == kInvalid ? float_image(0.0f) : float_image(f[p.a]);
-    default: d = 0;
+  switch (x.kind) {
+    case kParallelogram: d = (double{f[x.w]} + double{f[x.s]}) - double{f[x.sw]}; break;
+    case kLinear: d = (double{f[x.w]} + double{f[x.w]}) - double{f[x.ww]}; break;
+    case kWest: return float_image(f[x.w]);
+    case kSouth: return float_image(f[x.s]);
+    default: return x.w == kInvalid ? float_image(0.0f) : float_image(f[x.w]);
   }
   const float r = static_cast<float>(d);
-  return std::isfinite(r) ? float_image(r) : float_image(f[p.a]);
+  return std::isfinite(r) ? float_image(r) : float_image(f[x.w]);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -467,14 +422,6 @@ AxisPlan plan_axis(std::span<const float> pos, int axis) {
   return plan;
 }
 
-// Integer stand-in for a finite exception coordinate, so its neighbours still predict well.
-// (Non-finite ones take their own prediction: residual zero.)
-std::int64_t exception_integer(float x, int k) {
-  const double scaled = static_cast<double>(x) * kPow10[k];
-  const double lim = static_cast<double>(kDecimalLimit - 1);
-  return std::llround(std::clamp(scaled, -lim, lim));
-}
-
 std::int64_t clamp_decimal(std::int64_t p) { return std::clamp(p, -(kDecimalLimit - 1), kDecimalLimit - 1); }
 
 // Quantization grid. step has at most 23 significant bits so q * step (q < 2^30) is exact in binary64.
@@ -483,6 +430,14 @@ struct Grid {
   double step = 0;
   float value(int axis, std::int64_t q) const {
     return static_cast<float>(static_cast<double>(origin[axis]) + static_cast<double>(q) * step);
+  }
+  // Nearest grid integer, clamped to the grid, and never one that decodes to infinity.
+  std::int64_t quantize(int axis, float x, std::uint32_t bits) const {
+    if (step == 0) return 0;
+    const double top = static_cast<double>((std::uint64_t{1} << bits) - 1);
+    auto q = static_cast<std::int64_t>(std::clamp(std::nearbyint((double{x} - origin[axis]) / step), 0.0, top));
+    while (q > 0 && !std::isfinite(value(axis, q))) --q;
+    return q;
   }
 };
 
@@ -514,94 +469,201 @@ Grid make_grid(std::span<const float> pos, std::uint32_t bits) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Coding loop, shared by encoder and decoder so the two cannot drift apart.
 
 constexpr std::uint8_t kFormatTag = 1;  // first byte: geometry coding revision
 
-std::string encode_with(std::span<const float> pos, std::span<const GridLayout::Stencil> stencil,
-                        std::uint32_t bits, const std::array<AxisPlan, 3>& plans, const Grid& grid) {
-  const std::uint32_t count = static_cast<std::uint32_t>(pos.size() / 3);
-  std::string out;
-  put_u8(out, kFormatTag);
-  put_varint(out, count);
-  put_u8(out, static_cast<std::uint8_t>(bits));
-  if (bits) {
-    for (float o : grid.origin) put_le(out, std::bit_cast<std::uint32_t>(o), 4);
-    put_le(out, std::bit_cast<std::uint64_t>(grid.step), 8);
-  } else {
-    for (const AxisPlan& plan : plans) {
-      put_u8(out, plan.mode);
-      if (plan.mode == kFloatBits) continue;
-      put_varint(out, plan.exceptions.size());
-      std::uint32_t prev = 0;
-      for (std::size_t e = 0; e < plan.exceptions.size(); ++e) {
-        const Exception& x = plan.exceptions[e];
-        put_varint(out, e == 0 ? x.vertex : x.vertex - prev - 1);
-        put_le(out, std::bit_cast<std::uint32_t>(x.value), 4);
-        prev = x.vertex;
+struct Header {
+  std::uint32_t bits = 0;  // 0 lossless, else quantized
+  std::array<AxisPlan, 3> plans;
+  Grid grid;
+  bool integer_axis(int a) const { return bits != 0 || plans[a].mode != kFloatBits; }
+  int max_length(int a) const {
+    return bits ? static_cast<int>(bits) : plans[a].mode == kFloatBits ? kFloatMaxLength : kDecimalMaxLength;
+  }
+};
+
+// Encoder: `ints` holds each integer axis's integers (decimal exceptions are set to their
+// prediction here) and `floats` each float axis's floats. Decoder: both are filled, and `out` gets the floats.
+template <bool kEncode>
+void code_vertices(const Header& h, const std::vector<Hood>& hood,
+                   std::array<std::vector<std::int64_t>, 3>& ints, std::array<std::vector<float>, 3>& floats,
+                   RangeEncoder* enc, RangeDecoder* dec, std::vector<float>* out) {
+  const auto count = static_cast<std::uint32_t>(hood.size());
+  const bool any_int = h.integer_axis(0) || h.integer_axis(1) || h.integer_axis(2);
+  std::vector<std::uint32_t> errors(any_int ? std::size_t{count} * kCandidates : 0, kNoError);
+  std::array<std::vector<std::uint8_t>, 3> lengths;
+  for (auto& l : lengths) l.assign(count, 0);
+  std::array<std::size_t, 3> next_exception{};
+  const std::int64_t qmax = h.bits ? static_cast<std::int64_t>((std::uint64_t{1} << h.bits) - 1) : 0;
+  auto model = std::make_unique<ResidualModel>();
+  std::array<std::int64_t, kCandidates> weight{};
+  std::array<std::array<std::int64_t, kCandidates>, 3> cand{};
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const Hood& x = hood[i];
+    const unsigned mask = any_int ? candidate_mask(x) : 0;
+    const bool blended = any_int && x.kind == kParallelogram;
+    if (blended) blend_weights(x, mask, errors.data(), weight);
+    for (int a = 0; a < 3; ++a) {
+      if (!h.integer_axis(a)) continue;
+      for (int k = 0; k < kCandidates; ++k)
+        if ((mask >> k) & 1) cand[a][k] = candidate(x, ints[a].data(), k);
+    }
+    for (int a = 0; a < 3; ++a) {
+      const int bucket = bucket_for(lengths[a].data(), x);
+      std::uint64_t u = 0;
+      if (h.integer_axis(a)) {
+        std::int64_t* v = ints[a].data();
+        std::int64_t pred = blended ? blend(cand[a], mask, weight) : predict_fixed(x, v);
+        if (h.bits) {
+          pred = std::clamp<std::int64_t>(pred, 0, qmax);
+          // Residual modulo 2^bits, taken in [-2^(bits-1), 2^(bits-1)).
+          if constexpr (kEncode) {
+            std::int64_t r = (v[i] - pred) & qmax;
+            if (r > qmax / 2) r -= qmax + 1;
+            u = zigzag64(r);
+          } else {
+            u = model->decode(*dec, a, x.kind, bucket, h.max_length(a));
+            v[i] = (pred + unzigzag64(u)) & qmax;
+            (*out)[3 * std::size_t{i} + a] = h.grid.value(a, v[i]);
+          }
+        } else {
+          pred = clamp_decimal(pred);
+          const std::vector<Exception>& ex = h.plans[a].exceptions;
+          std::size_t& e = next_exception[a];
+          const bool exception = e < ex.size() && ex[e].vertex == i;
+          if constexpr (kEncode) {
+            if (exception) v[i] = pred;  // its float is stored aside: residual zero keeps neighbours smooth
+            u = zigzag64(v[i] - pred);
+          } else {
+            u = model->decode(*dec, a, x.kind, bucket, h.max_length(a));
+            v[i] = pred + unzigzag64(u);
+            if (v[i] <= -kDecimalLimit || v[i] >= kDecimalLimit) fail("decimal integer out of range");
+            (*out)[3 * std::size_t{i} + a] = exception ? ex[e].value : decimal_float(v[i], h.plans[a].mode - 1);
+          }
+          if (exception) ++e;
+        }
+      } else {
+        float* f = floats[a].data();
+        const std::int64_t pred = predict_float(x, f);
+        if constexpr (kEncode) {
+          u = zigzag64(static_cast<std::int64_t>(float_image(f[i])) - pred);
+        } else {
+          u = model->decode(*dec, a, x.kind, bucket, h.max_length(a));
+          const std::int64_t m = pred + unzigzag64(u);
+          if (m < 0 || m > 0xFFFFFFFFll) fail("float residual out of range");
+          f[i] = image_float(static_cast<std::uint32_t>(m));
+          (*out)[3 * std::size_t{i} + a] = f[i];
+        }
       }
+      if constexpr (kEncode) model->encode(*enc, u, a, x.kind, bucket);
+      lengths[a][i] = static_cast<std::uint8_t>(std::bit_width(u));
+    }
+    if (!any_int) continue;
+    for (int k = 0; k < kCandidates; ++k) {
+      std::uint32_t& slot = errors[std::size_t{i} * kCandidates + k];
+      if (!((mask >> k) & 1)) continue;  // stays kNoError
+      std::uint64_t err = 0;
+      for (int a = 0; a < 3; ++a)
+        if (h.integer_axis(a)) err += static_cast<std::uint64_t>(std::min<std::int64_t>(std::abs(ints[a][i] - cand[a][k]), kNoError));
+      slot = static_cast<std::uint32_t>(std::min<std::uint64_t>(err, kNoError - 1));
     }
   }
+}
 
-  // Integer values per axis (decimal n, quantized q); float mode reads the floats themselves.
+void write_header(std::string& out, const Header& h, std::uint32_t count) {
+  put_u8(out, kFormatTag);
+  put_varint(out, count);
+  put_u8(out, static_cast<std::uint8_t>(h.bits));
+  if (h.bits) {
+    for (float o : h.grid.origin) put_le(out, std::bit_cast<std::uint32_t>(o), 4);
+    put_le(out, std::bit_cast<std::uint64_t>(h.grid.step), 8);
+    return;
+  }
+  for (const AxisPlan& plan : h.plans) {
+    put_u8(out, plan.mode);
+    if (plan.mode == kFloatBits) continue;
+    put_varint(out, plan.exceptions.size());
+    std::uint32_t prev = 0;
+    for (std::size_t e = 0; e < plan.exceptions.size(); ++e) {
+      const Exception& x = plan.exceptions[e];
+      put_varint(out, e == 0 ? x.vertex : x.vertex - prev - 1);
+      put_le(out, std::bit_cast<std::uint32_t>(x.value), 4);
+      prev = x.vertex;
+    }
+  }
+}
+
+Header read_header(Reader& in, std::uint32_t count) {
+  Header h;
+  if (in.u8("truncated header") != kFormatTag) fail("unknown geometry coding revision");
+  if (in.varint("truncated vertex count") != count) fail("vertex count does not match the mesh");
+  h.bits = in.u8("truncated header");
+  if (h.bits > 30) fail("quantization bits out of range");
+  if (h.bits) {
+    for (float& o : h.grid.origin) {
+      o = std::bit_cast<float>(static_cast<std::uint32_t>(in.le(4, "truncated grid origin")));
+      if (!std::isfinite(o)) fail("grid origin not finite");
+    }
+    h.grid.step = std::bit_cast<double>(in.le(8, "truncated grid step"));
+    if (!std::isfinite(h.grid.step) || std::signbit(h.grid.step) ||
+        (std::bit_cast<std::uint64_t>(h.grid.step) & kStepLowMask)) {
+      fail("invalid grid step");
+    }
+    return h;
+  }
+  for (AxisPlan& plan : h.plans) {
+    plan.mode = in.u8("truncated axis mode");
+    if (plan.mode > 1 + kMaxDecimals) fail("unknown axis mode");
+    if (plan.mode == kFloatBits) continue;
+    const std::uint64_t n = in.varint("truncated exception count");
+    if (n > count || n > in.left() / 5) fail("exception count exceeds the data");
+    plan.exceptions.resize(n);
+    std::uint64_t prev = 0;
+    for (std::uint64_t e = 0; e < n; ++e) {
+      const std::uint64_t gap = in.varint("truncated exception");
+      const std::uint64_t v = e == 0 ? gap : prev + 1 + gap;
+      if (gap >= count || v >= count) fail("exception vertex out of range");
+      plan.exceptions[e].vertex = static_cast<std::uint32_t>(v);
+      plan.exceptions[e].value = std::bit_cast<float>(static_cast<std::uint32_t>(in.le(4, "truncated exception")));
+      prev = v;
+    }
+  }
+  return h;
+}
+
+std::string encode_with(std::span<const float> pos, const std::vector<Hood>& hood, const Header& h) {
+  const auto count = static_cast<std::uint32_t>(hood.size());
   std::array<std::vector<std::int64_t>, 3> ints;
   std::array<std::vector<float>, 3> floats;
   for (int a = 0; a < 3; ++a) {
-    const int mode = plans[a].mode;
-    if (!bits && mode == kFloatBits) {
+    if (!h.integer_axis(a)) {
       floats[a].resize(count);
-      for (std::uint32_t i = 0; i < count; ++i) floats[a][i] = pos[3 * i + a];
+      for (std::uint32_t i = 0; i < count; ++i) floats[a][i] = pos[3 * std::size_t{i} + a];
       continue;
     }
     ints[a].resize(count);
+    const std::vector<Exception>& ex = h.plans[a].exceptions;
     std::size_t e = 0;
     for (std::uint32_t i = 0; i < count; ++i) {
-      const float x = pos[3 * i + a];
+      const float x = pos[3 * std::size_t{i} + a];
       std::int64_t v = 0;
-      if (bits) {
-        const double top = static_cast<double>((std::uint64_t{1} << bits) - 1);
-        v = grid.step > 0 ? static_cast<std::int64_t>(std::clamp(
-                                std::nearbyint((static_cast<double>(x) - grid.origin[a]) / grid.step), 0.0, top))
-                          : 0;
-        while (v > 0 && !std::isfinite(grid.value(a, v))) --v;  // stay inside float range
-      } else if (e < plans[a].exceptions.size() && plans[a].exceptions[e].vertex == i) {
-        v = std::isfinite(x) ? exception_integer(x, mode - 1) : 0;  // set when predicted
-        ++e;
+      if (h.bits) {
+        v = h.grid.quantize(a, x, h.bits);
+      } else if (e < ex.size() && ex[e].vertex == i) {
+        ++e;  // set to its prediction while coding
       } else {
-        decimal_of(x, mode - 1, v);
+        decimal_of(x, h.plans[a].mode - 1, v);
       }
       ints[a][i] = v;
     }
   }
-
-  RangeEncoder rc;
-  auto model = std::make_unique<ResidualModel>();
-  std::array<std::vector<std::uint8_t>, 3> lengths;
-  for (auto& l : lengths) l.assign(count, 0);
-  const std::uint64_t qmask = bits ? (std::uint64_t{1} << bits) - 1 : 0;
-  for (std::uint32_t i = 0; i < count; ++i) {
-    const Predictor p = predictor_for(stencil, i);
-    for (int a = 0; a < 3; ++a) {
-      std::uint64_t u;
-      if (bits) {
-        const std::int64_t pred = std::clamp<std::int64_t>(predict_int(ints[a].data(), p), 0, qmask);
-        // Residual modulo 2^bits, taken in [-2^(bits-1), 2^(bits-1)).
-        std::uint64_t r = static_cast<std::uint64_t>(ints[a][i] - pred) & qmask;
-        std::int64_t sr = static_cast<std::int64_t>(r);
-        if (r >> (bits - 1)) sr -= static_cast<std::int64_t>(qmask) + 1;
-        u = zigzag(sr);
-      } else if (plans[a].mode == kFloatBits) {
-        const std::int64_t pred = predict_float(floats[a].data(), p);
-        u = zigzag(static_cast<std::int64_t>(float_image(floats[a][i])) - pred);
-      } else {
-        const std::int64_t pred = clamp_decimal(predict_int(ints[a].data(), p));
-        if (!std::isfinite(pos[3 * static_cast<std::size_t>(i) + a])) ints[a][i] = pred;
-        u = zigzag(ints[a][i] - pred);
-      }
-      model->encode(rc, u, a, p.kind, bucket_for(lengths[a], stencil[i], i));
-      lengths[a][i] = static_cast<std::uint8_t>(std::bit_width(u));
-    }
-  }
-  const std::string payload = rc.finish();
+  std::string out;
+  write_header(out, h, count);
+  std::string payload;
+  RangeEncoder rc(payload);
+  code_vertices<true>(h, hood, ints, floats, &rc, nullptr, nullptr);
+  rc.finish();
   put_varint(out, payload.size());
   out += payload;
   return out;
@@ -617,16 +679,18 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
   }
   if (options.quantize_bits > 30) throw Error(ErrorCode::kInternal, "geometry: quantize_bits must be 0..30");
   check_stencil(stencil, positions.size() / 3);
-  std::array<AxisPlan, 3> plans;
+  const std::vector<Hood> hood = neighbourhoods(stencil);
+  Header h;
   if (options.quantize_bits) {
-    return encode_with(positions, stencil, options.quantize_bits, plans,
-                       make_grid(positions, options.quantize_bits));
+    h.bits = options.quantize_bits;
+    h.grid = make_grid(positions, h.bits);
+    return encode_with(positions, hood, h);
   }
-  for (int a = 0; a < 3; ++a) plans[a] = plan_axis(positions, a);
-  std::string best = encode_with(positions, stencil, 0, plans, {});
+  for (int a = 0; a < 3; ++a) h.plans[a] = plan_axis(positions, a);
+  std::string best = encode_with(positions, hood, h);
   // The decimal estimate is a heuristic: never do worse than plain float bits.
-  if (std::any_of(plans.begin(), plans.end(), [](const AxisPlan& p) { return p.mode != kFloatBits; })) {
-    std::string plain = encode_with(positions, stencil, 0, {}, {});
+  if (std::any_of(h.plans.begin(), h.plans.end(), [](const AxisPlan& p) { return p.mode != kFloatBits; })) {
+    std::string plain = encode_with(positions, hood, Header{});
     if (plain.size() < best.size()) best = std::move(plain);
   }
   return best;
@@ -636,97 +700,16 @@ std::vector<float> decode_geometry(std::string_view bytes, std::span<const GridL
                                    std::uint32_t vertex_count) {
   check_stencil(stencil, vertex_count);
   Reader in(bytes);
-  if (in.u8("truncated header") != kFormatTag) fail("unknown geometry coding revision");
-  if (in.varint("truncated vertex count") != vertex_count) fail("vertex count mismatch");
-  const std::uint32_t bits = in.u8("truncated header");
-  if (bits > 30) fail("quantization bits out of range");
-  const std::uint32_t count = vertex_count;
-
-  Grid grid;
-  std::array<AxisPlan, 3> plans;
-  if (bits) {
-    for (float& o : grid.origin) {
-      o = std::bit_cast<float>(static_cast<std::uint32_t>(in.le(4, "truncated grid origin")));
-      if (!std::isfinite(o)) fail("grid origin not finite");
-    }
-    grid.step = std::bit_cast<double>(in.le(8, "truncated grid step"));
-    if (!(grid.step >= 0) || !std::isfinite(grid.step) || std::signbit(grid.step) ||
-        (std::bit_cast<std::uint64_t>(grid.step) & kStepLowMask)) {
-      fail("invalid grid step");
-    }
-  } else {
-    for (AxisPlan& plan : plans) {
-      plan.mode = in.u8("truncated axis mode");
-      if (plan.mode > 1 + kMaxDecimals) fail("unknown axis mode");
-      if (plan.mode == kFloatBits) continue;
-      const std::uint64_t n = in.varint("truncated exception count");
-      if (n > count || n > in.left() / 5) fail("exception count exceeds data");
-      plan.exceptions.resize(n);
-      std::uint64_t prev = 0;
-      for (std::uint64_t e = 0; e < n; ++e) {
-        const std::uint64_t gap = in.varint("truncated exception");
-        const std::uint64_t v = e == 0 ? gap : prev + 1 + gap;
-        if (gap >= count || v >= count) fail("exception vertex out of range");
-        plan.exceptions[e].vertex = static_cast<std::uint32_t>(v);
-        plan.exceptions[e].value = std::bit_cast<float>(static_cast<std::uint32_t>(in.le(4, "truncated exception")));
-        prev = v;
-      }
-    }
-  }
+  const Header h = read_header(in, vertex_count);
   const std::uint64_t payload_size = in.varint("truncated payload size");
   if (payload_size != in.left()) fail("payload size does not match the section");
-  RangeDecoder rc(in.take(payload_size, "truncated payload"));
-
-  std::vector<float> out(static_cast<std::size_t>(count) * 3);
+  RangeDecoder rc(in.take(payload_size, "truncated payload"), 0, "geometry: payload");
+  const std::vector<Hood> hood = neighbourhoods(stencil);
   std::array<std::vector<std::int64_t>, 3> ints;
   std::array<std::vector<float>, 3> floats;
-  std::array<std::vector<std::uint8_t>, 3> lengths;
-  std::array<std::size_t, 3> next_exception{};
-  for (int a = 0; a < 3; ++a) {
-    if (!bits && plans[a].mode == kFloatBits) {
-      floats[a].resize(count);
-    } else {
-      ints[a].resize(count);
-    }
-    lengths[a].assign(count, 0);
-  }
-  auto model = std::make_unique<ResidualModel>();
-  const std::uint64_t qmask = bits ? (std::uint64_t{1} << bits) - 1 : 0;
-  for (std::uint32_t i = 0; i < count; ++i) {
-    const Predictor p = predictor_for(stencil, i);
-    for (int a = 0; a < 3; ++a) {
-      const int max_len = bits ? static_cast<int>(bits)
-                               : (plans[a].mode == kFloatBits ? kFloatMaxLength : kDecimalMaxLength);
-      int len = 0;
-      const std::uint64_t u = model->decode(rc, a, p.kind, bucket_for(lengths[a], stencil[i], i), max_len, len);
-      lengths[a][i] = static_cast<std::uint8_t>(len);
-      const std::int64_t r = unzigzag(u);
-      float x;
-      if (bits) {
-        const std::int64_t pred = std::clamp<std::int64_t>(predict_int(ints[a].data(), p), 0, qmask);
-        const std::int64_t q = static_cast<std::int64_t>(static_cast<std::uint64_t>(pred + r) & qmask);
-        ints[a][i] = q;
-        x = grid.value(a, q);
-      } else if (plans[a].mode == kFloatBits) {
-        const std::int64_t m = static_cast<std::int64_t>(predict_float(floats[a].data(), p)) + r;
-        if (m < 0 || m > 0xFFFFFFFFll) fail("float residual out of range");
-        x = image_float(static_cast<std::uint32_t>(m));
-        floats[a][i] = x;
-      } else {
-        const std::int64_t n = clamp_decimal(predict_int(ints[a].data(), p)) + r;
-        if (n <= -kDecimalLimit || n >= kDecimalLimit) fail("decimal integer out of range");
-        ints[a][i] = n;
-        std::size_t& e = next_exception[a];
-        if (e < plans[a].exceptions.size() && plans[a].exceptions[e].vertex == i) {
-          x = plans[a].exceptions[e++].value;
-        } else {
-          x = decimal_float(n, plans[a].mode - 1);
-        }
-      }
-      out[3 * static_cast<std::size_t>(i) + a] = x;
-    }
-    if (rc.overrun()) fail("truncated payload");
-  }
+  for (int a = 0; a < 3; ++a) (h.integer_axis(a) ? ints[a].resize(vertex_count) : floats[a].resize(vertex_count));
+  std::vector<float> out(std::size_t{vertex_count} * 3);
+  code_vertices<false>(h, hood, ints, floats, nullptr, &rc, &out);
   rc.finish();
   return out;
 }
