@@ -50,39 +50,44 @@ Adjacency build_adjacency(const QuadMesh& mesh) {
   auto hi = [&](std::uint32_t h) { return std::max(q[h], q[(h & ~3u) | ((h + 1) & 3u)]); };
   for (std::uint32_t h = 0; h < nh; ++h) ++start[lo(h) + 1];
   for (std::uint32_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<std::uint32_t> bucket(nh);
+  // Entries: (larger endpoint << 32 | half-edge), so the small per-vertex sorts compare plain integers.
+  std::vector<std::uint64_t> bucket(nh);
   {
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::uint32_t h = 0; h < nh; ++h) bucket[fill[lo(h)]++] = h;
+    for (std::uint32_t h = 0; h < nh; ++h) bucket[fill[lo(h)]++] = (std::uint64_t{hi(h)} << 32) | h;
   }
   adj.twin.assign(nh, kInvalid);
   std::vector<std::uint32_t> boundary_he;  // interior half-edges without a twin
   for (std::uint32_t v = 0; v < nv; ++v) {
-    auto b = bucket.begin() + start[v], e = bucket.begin() + start[v + 1];
-    std::sort(b, e, [&](std::uint32_t x, std::uint32_t y) {
-      return hi(x) != hi(y) ? hi(x) < hi(y) : x < y;
-    });
+    const auto b = bucket.begin() + start[v], e = bucket.begin() + start[v + 1];
+    if (e - b <= 8) {
+      for (auto i = b + 1; i < e; ++i)  // insertion sort: buckets are tiny
+        for (auto j = i; j > b && *(j - 1) > *j; --j) std::swap(*(j - 1), *j);
+    } else {
+      std::sort(b, e);
+    }
     for (auto it = b; it != e;) {
       auto run = it;
-      while (run != e && hi(*run) == hi(*it)) ++run;
+      while (run != e && (*run >> 32) == (*it >> 32)) ++run;
       const auto n = run - it;
+      const std::uint32_t h0 = static_cast<std::uint32_t>(*it), other = static_cast<std::uint32_t>(*it >> 32);
       if (n == 1) {
-        boundary_he.push_back(*it);
+        boundary_he.push_back(h0);
       } else if (n == 2) {
-        if (q[it[0]] == q[it[1]])
-          fail(ErrorCode::kOrientation, face_str(it[0] / 4) + " and " + face_str(it[1] / 4) +
-                                            " traverse edge " + std::to_string(v) + "-" +
-                                            std::to_string(hi(*it)) +
+        const std::uint32_t h1 = static_cast<std::uint32_t>(it[1]);
+        if (q[h0] == q[h1])
+          fail(ErrorCode::kOrientation, face_str(h0 / 4) + " and " + face_str(h1 / 4) + " traverse edge " +
+                                            std::to_string(v) + "-" + std::to_string(other) +
                                             " in the same direction (inconsistent orientation)",
-               it[1] / 4);
-        adj.twin[it[0]] = it[1];
-        adj.twin[it[1]] = it[0];
+               h1 / 4);
+        adj.twin[h0] = h1;
+        adj.twin[h1] = h0;
       } else {
-        fail(ErrorCode::kNonManifold, "non-manifold edge " + std::to_string(v) + "-" +
-                                          std::to_string(hi(*it)) + " has " + std::to_string(n) +
-                                          " faces (first: " + face_str(it[0] / 4) + ", " +
-                                          face_str(it[1] / 4) + ", " + face_str(it[2] / 4) + ")",
-             it[2] / 4);
+        fail(ErrorCode::kNonManifold, "non-manifold edge " + std::to_string(v) + "-" + std::to_string(other) +
+                                          " has " + std::to_string(n) + " faces (first: " + face_str(h0 / 4) +
+                                          ", " + face_str(static_cast<std::uint32_t>(it[1]) / 4) + ", " +
+                                          face_str(static_cast<std::uint32_t>(it[2]) / 4) + ")",
+             static_cast<std::uint32_t>(it[2]) / 4);
       }
       it = run;
     }

@@ -40,7 +40,8 @@ struct Adjacency {
   std::uint32_t next(std::uint32_t h) const {
     return h < 4 * face_count ? (h & ~3u) | ((h + 1) & 3u) : exterior_next[h - 4 * face_count];
   }
-  std::uint32_t dest(std::uint32_t h) const { return origin[twin[h]]; }
+  // Inside a face the next corner is in the same cache line: no twin lookup needed.
+  std::uint32_t dest(std::uint32_t h) const { return h < 4 * face_count ? origin[next(h)] : origin[twin[h]]; }
   std::uint32_t face(std::uint32_t h) const { return h < 4 * face_count ? h >> 2 : kInvalid; }
   // Next outgoing half-edge around origin(h), turning clockwise seen from outside.
   std::uint32_t rotate(std::uint32_t h) const { return next(twin[h]); }

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "load.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
@@ -41,8 +42,9 @@ const char* kind_name(ComponentKind k) {
 }
 
 Row mesh_row(const std::string& file) {
-  const QuadMesh mesh = read_mesh_file(file);
-  const Adjacency adj = build_adjacency(mesh);
+  const LoadedMesh loaded = load_mesh(file);
+  const QuadMesh& mesh = loaded.mesh;
+  const Adjacency& adj = loaded.adjacency;
   const Partition part = partition_motorcycle(adj);
   const auto info = component_info(adj);
   Row r;
