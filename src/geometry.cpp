@@ -89,26 +89,27 @@ constexpr int kKinds = 5;         // predictor kinds, see Kind
 constexpr int kBuckets = 24;      // neighbourhood magnitude classes
 constexpr int kModelledBits = 2;  // mantissa bits with their own contexts
 
+// The three axes share contexts: on small meshes, learning three times faster beats separate models.
 struct ResidualModel {
-  std::vector<BitModel> length;    // [axis][kind][bucket][node 1..63]
-  std::vector<BitModel> mantissa;  // [axis][L][node 1..3]
-  ResidualModel() : length(3 * kKinds * kBuckets * 64), mantissa(3 * 64 * 4) {}
+  std::vector<BitModel> length;    // [kind][bucket][node 1..63]
+  std::vector<BitModel> mantissa;  // [L][node 1..3]
+  ResidualModel() : length(kKinds * kBuckets * 64), mantissa(64 * 4) {}
 
-  BitModel* length_tree(int axis, int kind, int bucket) {
-    return &length[((static_cast<std::size_t>(axis) * kKinds + kind) * kBuckets + bucket) * 64];
+  BitModel* length_tree(int kind, int bucket) {
+    return &length[(static_cast<std::size_t>(kind) * kBuckets + bucket) * 64];
   }
-  BitModel* mantissa_tree(int axis, int len) { return &mantissa[(static_cast<std::size_t>(axis) * 64 + len) * 4]; }
+  BitModel* mantissa_tree(int len) { return &mantissa[static_cast<std::size_t>(len) * 4]; }
 
-  void encode(RangeEncoder& rc, std::uint64_t u, int axis, int kind, int bucket) {
+  void encode(RangeEncoder& rc, std::uint64_t u, int kind, int bucket) {
     const int len = std::bit_width(u);
-    BitModel* tree = length_tree(axis, kind, bucket);
+    BitModel* tree = length_tree(kind, bucket);
     for (int i = 5, node = 1; i >= 0; --i) {
       const unsigned b = (len >> i) & 1;
       rc.encode_bit(tree[node], b);
       node = 2 * node + static_cast<int>(b);
     }
     if (len <= 1) return;
-    BitModel* m = mantissa_tree(axis, len);
+    BitModel* m = mantissa_tree(len);
     const int rest = len - 1, modelled = std::min(rest, kModelledBits);
     for (int i = 0, node = 1; i < modelled; ++i) {
       const unsigned b = (u >> (rest - 1 - i)) & 1;
@@ -120,14 +121,14 @@ struct ResidualModel {
     rc.encode_raw(static_cast<std::uint32_t>(u & ((1u << std::min(raw, 20)) - 1)), std::min(raw, 20));
   }
 
-  std::uint64_t decode(RangeDecoder& rc, int axis, int kind, int bucket, int max_len) {
-    BitModel* tree = length_tree(axis, kind, bucket);
+  std::uint64_t decode(RangeDecoder& rc, int kind, int bucket, int max_len) {
+    BitModel* tree = length_tree(kind, bucket);
     int node = 1;
     for (int i = 0; i < 6; ++i) node = 2 * node + static_cast<int>(rc.decode_bit(tree[node]));
     const int len = node - 64;
     if (len > max_len) fail("residual longer than its mode allows");
     if (len <= 1) return static_cast<std::uint64_t>(len);
-    BitModel* m = mantissa_tree(axis, len);
+    BitModel* m = mantissa_tree(len);
     const int rest = len - 1, modelled = std::min(rest, kModelledBits);
     std::uint64_t u = 1;
     for (int i = 0, n = 1; i < modelled; ++i) {
@@ -171,7 +172,10 @@ std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st) {
   for (std::uint32_t i = 0; i < n; ++i) {
     const GridLayout::Stencil& s = st[i];
     Hood& x = h[i];
-    x.w = s.w, x.ww = s.ww, x.s = s.s, x.sw = s.sw;
+    // ww and sw only count next to a w (and sw next to an s): a stencil cannot have holes.
+    x.w = s.w, x.s = s.s;
+    x.ww = s.w != kInvalid ? s.ww : kInvalid;
+    x.sw = s.w != kInvalid && s.s != kInvalid ? s.sw : kInvalid;
     if (full(i)) {
       x.kind = kParallelogram;
       const std::uint32_t e = east[i];
@@ -227,9 +231,11 @@ std::int64_t floor_div(std::int64_t a, std::int64_t b) {  // b > 0
 
 // Weights of the candidates at a parallelogram vertex: the inverse square of each one's mean error
 // at the coded neighbours w, s, sw, se (integer axes summed). 0 for a missing candidate. <= 2^30.
-void blend_weights(const Hood& x, unsigned mask, const std::uint32_t* errors,
-                   std::array<std::int64_t, kCandidates>& weight) {
+// Returns the magnitude class of the best candidate's mean error: bit_width(floor(4 * mean + 2)).
+int blend_weights(const Hood& x, unsigned mask, const std::uint32_t* errors,
+                  std::array<std::int64_t, kCandidates>& weight) {
   const std::array<std::uint32_t, 4> near = {x.w, x.s, x.sw, x.se};
+  std::uint64_t best = ~std::uint64_t{0};
   for (int k = 0; k < kCandidates; ++k) {
     if (!((mask >> k) & 1)) continue;
     std::uint64_t sum = 0, cnt = 0;
@@ -241,7 +247,9 @@ void blend_weights(const Hood& x, unsigned mask, const std::uint32_t* errors,
     if (cnt == 0) sum = 1000000, cnt = 1;
     const auto w = static_cast<std::int64_t>((std::uint64_t{1} << 15) * cnt / (2 * sum + cnt));
     weight[k] = w * w;
+    best = std::min(best, (4 * sum + 2 * cnt) / cnt);
   }
+  return std::bit_width(best);
 }
 
 // The weighted mean of the available candidates p[k] (mask bit k), as an offset from the
@@ -503,14 +511,16 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
     const Hood& x = hood[i];
     const unsigned mask = any_int ? candidate_mask(x) : 0;
     const bool blended = any_int && x.kind == kParallelogram;
-    if (blended) blend_weights(x, mask, errors.data(), weight);
+    const int blend_class = blended ? blend_weights(x, mask, errors.data(), weight) : 0;
     for (int a = 0; a < 3; ++a) {
       if (!h.integer_axis(a)) continue;
       for (int k = 0; k < kCandidates; ++k)
         if ((mask >> k) & 1) cand[a][k] = candidate(x, ints[a].data(), k);
     }
     for (int a = 0; a < 3; ++a) {
-      const int bucket = bucket_for(lengths[a].data(), x);
+      // Magnitude class: neighbours' residual lengths, averaged with the blend's expected error.
+      int bucket = bucket_for(lengths[a].data(), x);
+      if (blended) bucket = std::min(kBuckets - 1, (bucket + blend_class + 1) >> 1);
       std::uint64_t u = 0;
       if (h.integer_axis(a)) {
         std::int64_t* v = ints[a].data();
@@ -523,7 +533,7 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
             if (r > qmax / 2) r -= qmax + 1;
             u = zigzag64(r);
           } else {
-            u = model->decode(*dec, a, x.kind, bucket, h.max_length(a));
+            u = model->decode(*dec, x.kind, bucket, h.max_length(a));
             v[i] = (pred + unzigzag64(u)) & qmax;
             (*out)[3 * std::size_t{i} + a] = h.grid.value(a, v[i]);
           }
@@ -536,7 +546,7 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
             if (exception) v[i] = pred;  // its float is stored aside: residual zero keeps neighbours smooth
             u = zigzag64(v[i] - pred);
           } else {
-            u = model->decode(*dec, a, x.kind, bucket, h.max_length(a));
+            u = model->decode(*dec, x.kind, bucket, h.max_length(a));
             v[i] = pred + unzigzag64(u);
             if (v[i] <= -kDecimalLimit || v[i] >= kDecimalLimit) fail("decimal integer out of range");
             (*out)[3 * std::size_t{i} + a] = exception ? ex[e].value : decimal_float(v[i], h.plans[a].mode - 1);
@@ -549,14 +559,14 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
         if constexpr (kEncode) {
           u = zigzag64(static_cast<std::int64_t>(float_image(f[i])) - pred);
         } else {
-          u = model->decode(*dec, a, x.kind, bucket, h.max_length(a));
+          u = model->decode(*dec, x.kind, bucket, h.max_length(a));
           const std::int64_t m = pred + unzigzag64(u);
           if (m < 0 || m > 0xFFFFFFFFll) fail("float residual out of range");
           f[i] = image_float(static_cast<std::uint32_t>(m));
           (*out)[3 * std::size_t{i} + a] = f[i];
         }
       }
-      if constexpr (kEncode) model->encode(*enc, u, a, x.kind, bucket);
+      if constexpr (kEncode) model->encode(*enc, u, x.kind, bucket);
       lengths[a][i] = static_cast<std::uint8_t>(std::bit_width(u));
     }
     if (!any_int) continue;

@@ -183,6 +183,30 @@ TEST(Geometry, FloatModeOnNoisyData) {
   EXPECT_LT(size, pos.size() * 4);
 }
 
+TEST(Geometry, MixedAxisModes) {
+  // x on a 4-decimal grid, y plain floats, z on a 2-decimal grid: integer and float axes together.
+  std::mt19937 rng(5);
+  const auto st = grid_stencil(20, 20);
+  auto pos = smooth_positions(20, 20, 4);
+  for (std::size_t i = 1; i < pos.size(); i += 3) pos[i] = pos[i] + std::ldexp(static_cast<float>(rng() % 1000), -30);
+  for (std::size_t i = 2; i < pos.size(); i += 3) pos[i] = parse(std::to_string(static_cast<int>(rng() % 300)) + "e-2");
+  EXPECT_TRUE(bit_equal(round_trip(pos, st), pos));
+  // Header: tag 1, varint 400, lossless, then per axis mode (+ exception count for decimal axes).
+  const std::string b = qsp::encode_geometry(pos, st, {});
+  EXPECT_EQ(b.substr(0, 9), std::string("\x01\x90\x03\x00\x05\x00\x00\x03\x00", 9));
+}
+
+TEST(Geometry, PartialStencils) {
+  // Columns without w (south only), rows without s, and stencils with ww/sw but no w.
+  auto st = grid_stencil(9, 7);
+  for (std::size_t i = 0; i < st.size(); i += 4) st[i].w = kInvalid;
+  for (std::size_t i = 0; i < st.size(); i += 5) st[i].sw = kInvalid;
+  const auto pos = smooth_positions(9, 7, 3);
+  EXPECT_TRUE(bit_equal(round_trip(pos, st), pos));
+  const auto q = round_trip(pos, st, 20);
+  EXPECT_LT(qsp::max_geometry_error(pos, q), 1e-5);
+}
+
 TEST(Geometry, NoStencilAtAll) {
   // Vertices with no grid neighbours (schematic corners) predict from the previous vertex.
   std::vector<GridLayout::Stencil> st(500);
