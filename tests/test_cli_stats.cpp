@@ -34,7 +34,7 @@ TEST(CliStats, TableRowMatchesLibrary) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   // 8 extraordinary vertices, 8 schematic vertices, 12 edges, 6 patches.
   EXPECT_NE(r.out.find("98"), std::string::npos) << r.out;  // V = 6*16 + 2 = 98
-  EXPECT_NE(r.out.find("8       12       6"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("|       8      12       6 |"), std::string::npos) << r.out;
 }
 
 TEST(CliStats, JsonHasTheDocumentedFields) {

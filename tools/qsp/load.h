@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
 
