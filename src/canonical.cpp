@@ -189,8 +189,9 @@ std::vector<std::uint64_t> refine(const Schematic& s) {
   return c;
 }
 
-CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj, const ComponentPartition& part) {
-  const Schematic& s = part.schematic;
+// Roots whose traversal code is the smallest: the canonical root and its images under every
+// orientation-preserving automorphism (one automorphism per root: a map is fixed by one dart's image).
+std::vector<std::uint32_t> tied_roots(const Schematic& s, TopologyCode& best) {
   const std::uint32_t nd = s.dart_count();
   const std::vector<std::uint64_t> colour = refine(s);
   // Candidate roots: the smallest colour class (ties: smallest colour value).
@@ -212,51 +213,63 @@ CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
   for (auto [col, d] : by_colour)
     if (col == best_colour) candidates.push_back(d);
 
-  CanonicalComponent out;
-  std::vector<std::uint32_t> order, best_order;
+  std::vector<std::uint32_t> order;
   std::vector<std::uint32_t> tied;  // roots whose code equals the best
   TopologyCode code;
+  code.kind = best.kind;
   for (std::uint32_t root : candidates) {
     traverse(s, root, order, code);
-    const int c = tied.empty() ? -1 : compare_codes(code, out.code);
+    const int c = tied.empty() ? -1 : compare_codes(code, best);
     if (c < 0) {
-      out.code = code;
+      best = code;
       tied.assign(1, root);
     } else if (c == 0) {
       tied.push_back(root);
     }
   }
-  out.automorphisms = static_cast<std::uint32_t>(tied.size());
+  return tied;
+}
+
+// `part` relabelled in the traversal order from `root`, still linked to the mesh.
+ComponentPartition relabel(const ComponentPartition& part, std::uint32_t root) {
+  const Schematic& s = part.schematic;
+  const std::uint32_t nd = s.dart_count();
+  std::vector<std::uint32_t> order;
+  TopologyCode code;
+  traverse(s, root, order, code);
+  std::vector<std::uint32_t> label(nd);
+  for (std::uint32_t i = 0; i < nd; ++i) label[order[i]] = i;
+  std::vector<std::uint32_t> next(nd), lengths(nd / 2);
+  std::vector<std::uint8_t> corner(nd);
+  for (std::uint32_t i = 0; i < nd; ++i) {
+    next[i] = label[s.dart_next[order[i]]];
+    corner[i] = s.dart_corner[order[i]];
+  }
+  for (std::uint32_t e = 0; e < nd / 2; ++e) lengths[e] = s.edge_length[order[2 * e] >> 1];
+  ComponentPartition p = part;
+  p.schematic = schematic_from_next(std::move(next), std::move(corner), std::move(lengths));
+  p.schematic.dart_halfedge.resize(nd);
+  p.schematic.vertex_mesh.assign(p.schematic.vertex_count, kInvalid);
+  for (std::uint32_t i = 0; i < nd; ++i) {
+    p.schematic.dart_halfedge[i] = s.dart_halfedge[order[i]];
+    p.schematic.vertex_mesh[p.schematic.dart_vertex[i]] = s.vertex_mesh[s.dart_vertex[order[i]]];
+  }
+  return p;
+}
+
+CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj, const ComponentPartition& part) {
+  CanonicalComponent out;
   out.code.kind = part.kind;
+  const std::vector<std::uint32_t> tied = tied_roots(part.schematic, out.code);
+  out.automorphisms = static_cast<std::uint32_t>(tied.size());
 
   // Build the relabelled component for a root; with several tied roots keep the one whose layout
   // lists the smallest positions (schematic vertices come first, so this is usually decided early).
-  auto relabel = [&](std::uint32_t root) {
-    traverse(s, root, order, code);
-    std::vector<std::uint32_t> label(nd);
-    for (std::uint32_t i = 0; i < nd; ++i) label[order[i]] = i;
-    std::vector<std::uint32_t> next(nd), lengths(nd / 2);
-    std::vector<std::uint8_t> corner(nd);
-    for (std::uint32_t i = 0; i < nd; ++i) {
-      next[i] = label[s.dart_next[order[i]]];
-      corner[i] = s.dart_corner[order[i]];
-    }
-    for (std::uint32_t e = 0; e < nd / 2; ++e) lengths[e] = s.edge_length[order[2 * e] >> 1];
-    ComponentPartition p = part;
-    p.schematic = schematic_from_next(std::move(next), std::move(corner), std::move(lengths));
-    p.schematic.dart_halfedge.resize(nd);
-    p.schematic.vertex_mesh.assign(p.schematic.vertex_count, kInvalid);
-    for (std::uint32_t i = 0; i < nd; ++i) {
-      p.schematic.dart_halfedge[i] = s.dart_halfedge[order[i]];
-      p.schematic.vertex_mesh[p.schematic.dart_vertex[i]] = s.vertex_mesh[s.dart_vertex[order[i]]];
-    }
-    return p;
-  };
-  out.part = relabel(tied[0]);
+  out.part = relabel(part, tied[0]);
   if (tied.size() > 1) {
     out.map = layout_to_mesh(out.part, adj);
     for (std::size_t t = 1; t < tied.size(); ++t) {
-      ComponentPartition p = relabel(tied[t]);
+      ComponentPartition p = relabel(part, tied[t]);
       if (compare_positions(mesh, p.schematic.vertex_mesh, out.part.schematic.vertex_mesh) > 0) continue;
       LayoutMap m = layout_to_mesh(p, adj);
       if (compare_positions(mesh, m.vertex, out.map.vertex) < 0) {
@@ -270,9 +283,10 @@ CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
   return out;
 }
 
-// Annulus and torus: sizes are fixed by topology (torus: the smallest of the lattice's forms);
-// the anchor is chosen by positions among all anchors giving those sizes.
-CanonicalComponent canonical_structured(const QuadMesh& mesh, const Adjacency& adj, const ComponentPartition& part) {
+// Every anchor half-edge that gives `part` (an annulus or torus) its canonical sizes, which are set in
+// `base` (torus: the smallest of the lattice's forms). One anchor per orientation-preserving automorphism.
+std::vector<std::uint32_t> structured_anchors(const Adjacency& adj, const ComponentPartition& part,
+                                              ComponentPartition& base) {
   auto right = [&](std::uint32_t h) { return adj.next(adj.twin[adj.next(h)]); };
   auto up = [&](std::uint32_t h) { return adj.twin[adj.next(adj.next(h))]; };
   // Torus sizes from an anchor, as in partition.cpp.
@@ -291,7 +305,7 @@ CanonicalComponent canonical_structured(const QuadMesh& mesh, const Adjacency& a
   };
   std::vector<std::uint32_t> anchors;
   const std::uint32_t faces = part.a * part.b;
-  ComponentPartition base = part;
+  base = part;
   if (part.kind == ComponentKind::kAnnulus) {
     // Every boundary half-edge of the component: both loops, every start.
     for (std::uint32_t h = 4 * adj.face_count; h < adj.halfedge_count(); ++h) {
@@ -330,6 +344,32 @@ CanonicalComponent canonical_structured(const QuadMesh& mesh, const Adjacency& a
         for (std::uint32_t q = 0; q < 4; ++q)
           if (good[q]) anchors.push_back((bottom[f] & ~3u) | ((bottom[f] + q) & 3u));
   }
+  return anchors;
+}
+
+// `base` (from structured_anchors) anchored at `h`.
+ComponentPartition at_anchor(const Adjacency& adj, const ComponentPartition& base, std::uint32_t h) {
+  ComponentPartition p = base;
+  p.anchor_halfedge = h;
+  if (p.kind == ComponentKind::kAnnulus) {
+    // a = this loop's length (equal for both loops of a structured annulus).
+    const std::uint32_t faces = base.a * base.b;
+    std::uint32_t a = 0, g = h;
+    do {
+      ++a;
+      g = adj.next(adj.twin[adj.next(g)]);
+    } while (g != h);
+    p.a = a;
+    p.b = faces / a;
+  }
+  return p;
+}
+
+// Annulus and torus: sizes are fixed by topology (torus: the smallest of the lattice's forms);
+// the anchor is chosen by positions among all anchors giving those sizes.
+CanonicalComponent canonical_structured(const QuadMesh& mesh, const Adjacency& adj, const ComponentPartition& part) {
+  ComponentPartition base;
+  const std::vector<std::uint32_t> anchors = structured_anchors(adj, part, base);
   // Smallest first position, then full comparison among those.
   CanonicalComponent out;
   out.code.kind = part.kind;
@@ -351,18 +391,7 @@ CanonicalComponent canonical_structured(const QuadMesh& mesh, const Adjacency& a
     else if (c == 0) first.push_back(h);
   }
   for (std::uint32_t h : first) {
-    ComponentPartition p = base;
-    p.anchor_halfedge = h;
-    if (p.kind == ComponentKind::kAnnulus) {
-      // a = this loop's length (equal for both loops of a structured annulus).
-      std::uint32_t a = 0, g = h;
-      do {
-        ++a;
-        g = right(g);
-      } while (g != h);
-      p.a = a;
-      p.b = faces / a;
-    }
+    ComponentPartition p = at_anchor(adj, base, h);
     LayoutMap m = layout_to_mesh(p, adj);
     const int c = best_anchor == kInvalid ? -1 : compare_positions(mesh, m.vertex, out.map.vertex);
     if (c < 0) {
@@ -408,6 +437,22 @@ CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Par
   out.components = std::move(sorted);
   out.unreferenced = partition.unreferenced;
   return out;
+}
+
+std::vector<std::uint32_t> canonical_starts(const Adjacency& adj, const CanonicalComponent& comp) {
+  if (comp.part.kind == ComponentKind::kAnnulus || comp.part.kind == ComponentKind::kTorus) {
+    ComponentPartition base;
+    return structured_anchors(adj, comp.part, base);
+  }
+  TopologyCode best;
+  best.kind = comp.code.kind;
+  return tied_roots(comp.part.schematic, best);
+}
+
+ComponentPartition canonical_from_start(const Adjacency& adj, const CanonicalComponent& comp, std::uint32_t start) {
+  if (comp.part.kind == ComponentKind::kAnnulus || comp.part.kind == ComponentKind::kTorus)
+    return at_anchor(adj, comp.part, start);
+  return relabel(comp.part, start);
 }
 
 ComponentPartition partition_from_code(const TopologyCode& code) {

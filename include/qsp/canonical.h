@@ -46,6 +46,18 @@ struct CanonicalMesh {
 // its positions. Never compares all flags pairwise: dart colours are refined first.
 CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition);
 
+// The starts of a canonical traversal that all give `comp.code`: one per orientation-preserving
+// automorphism of the component, so their number is its topological symmetry count. General
+// components: darts of comp.part.schematic (0, the canonical root, among them); annulus/torus: anchor
+// half-edges of the mesh. (comp.automorphisms counts, for tori and annuli, only the anchors whose
+// positions tie.) `adj` is the adjacency comp was built from. Cost: a few schematic traversals, or
+// O(component faces) for a torus.
+std::vector<std::uint32_t> canonical_starts(const Adjacency& adj, const CanonicalComponent& comp);
+
+// comp.part with its traversal started at `start` (one of canonical_starts): same code, same layout,
+// linked to the mesh through another automorphism. layout_to_mesh(result, adj) gives its LayoutMap.
+ComponentPartition canonical_from_start(const Adjacency& adj, const CanonicalComponent& comp, std::uint32_t start);
+
 // Rebuilds the component a code describes, in canonical numbering (not linked to any mesh).
 // Throws Error(kFormat) if the code is not a valid schematic partition. Safe on untrusted input.
 ComponentPartition partition_from_code(const TopologyCode& code);
