@@ -1,11 +1,15 @@
-// PLY through OpenMesh. OpenMesh "repairs" input silently (duplicates vertices at non-manifold
-// spots, drops or splits faces) and still reports success, so qsp parses the header itself and
-// refuses any result whose counts or face sizes differ from what the file declares.
-#include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+// PLY reader (ASCII, binary little and big endian), qsp's own. OpenMesh was the first plan, but
+// its reader silently rewrites input (duplicates vertices at non-manifold spots, drops faces that
+// repeat a vertex or have bad indices) while reporting success, prints to stderr, and cannot read
+// some valid layouts (int16 coordinates). Reading the file ourselves gives exact positions, the
+// file's faces corner for corner, and located errors; manifoldness is checked by build_adjacency
+// as for OBJ/OFF. tests/test_io.cpp compares this reader with OpenMesh on files both can read.
+#include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
-#include <sstream>
+#include <cstring>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -17,10 +21,42 @@
 namespace qsp {
 namespace {
 
+enum class PlyType : std::uint8_t { kNone, kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };
+
+PlyType parse_type(std::string_view t) {
+  if (t == "char" || t == "int8") return PlyType::kInt8;
+  if (t == "uchar" || t == "uint8") return PlyType::kUint8;
+  if (t == "short" || t == "int16") return PlyType::kInt16;
+  if (t == "ushort" || t == "uint16") return PlyType::kUint16;
+  if (t == "int" || t == "int32") return PlyType::kInt32;
+  if (t == "uint" || t == "uint32") return PlyType::kUint32;
+  if (t == "float" || t == "float32") return PlyType::kFloat32;
+  if (t == "double" || t == "float64") return PlyType::kFloat64;
+  return PlyType::kNone;
+}
+
+int type_size(PlyType t) {
+  switch (t) {
+    case PlyType::kInt8:
+    case PlyType::kUint8: return 1;
+    case PlyType::kInt16:
+    case PlyType::kUint16: return 2;
+    case PlyType::kInt32:
+    case PlyType::kUint32:
+    case PlyType::kFloat32: return 4;
+    case PlyType::kFloat64: return 8;
+    case PlyType::kNone: break;
+  }
+  return 0;
+}
+
+bool is_float_type(PlyType t) { return t == PlyType::kFloat32 || t == PlyType::kFloat64; }
+
 struct PlyProperty {
   std::string name;
-  int size = 0;        // bytes of one value (the count's size for a list)
-  bool list = false;
+  PlyType type = PlyType::kNone;        // value type (of the entries, for a list)
+  PlyType count_type = PlyType::kNone;  // list length type; kNone for a scalar
+  bool list() const { return count_type != PlyType::kNone; }
 };
 
 struct PlyElement {
@@ -29,27 +65,20 @@ struct PlyElement {
   std::uint64_t header_line = 0;
   std::vector<PlyProperty> properties;
 
-  bool has(std::string_view n) const {
-    for (const auto& p : properties) {
-      if (p.name == n) return true;
+  int find(std::string_view n) const {
+    for (std::size_t i = 0; i < properties.size(); ++i) {
+      if (properties[i].name == n) return static_cast<int>(i);
     }
-    return false;
+    return -1;
   }
 };
 
 struct PlyHeader {
-  bool ascii = false;
+  enum class Format : std::uint8_t { kAscii, kLittle, kBig } format = Format::kAscii;
   std::size_t data_offset = 0;  // first byte after end_header's newline
+  std::uint64_t header_lines = 0;
   std::vector<PlyElement> elements;
 };
-
-int type_size(std::string_view t) {
-  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
-  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-  if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
-  if (t == "double" || t == "float64") return 8;
-  return 0;
-}
 
 std::vector<std::string_view> split_words(std::string_view line) {
   std::vector<std::string_view> words;
@@ -61,6 +90,12 @@ std::vector<std::string_view> split_words(std::string_view line) {
     if (i > s) words.push_back(line.substr(s, i - s));
   }
   return words;
+}
+
+std::string shown(std::string_view s) {
+  std::string out;
+  for (char c : s.substr(0, 40)) out += (c >= 0x20 && c < 0x7f) ? c : '?';
+  return out;
 }
 
 [[noreturn]] void fail_at(ErrorCode code, const std::string& path, std::uint64_t line, const std::string& what) {
@@ -87,14 +122,17 @@ PlyHeader parse_header(std::string_view bytes, const std::string& path) {
       if (w.size() != 1 || w[0] != "ply") fail_at(ErrorCode::kParse, path, 1, "not a PLY file (no 'ply' magic line)");
       continue;
     }
-    if (w.empty()) continue;
-    if (w[0] == "comment" || w[0] == "obj_info") continue;
+    if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
     if (w[0] == "format") {
       if (w.size() != 3 || w[2] != "1.0") fail_at(ErrorCode::kParse, path, line_no, "malformed PLY format line");
       if (w[1] == "ascii") {
-        h.ascii = true;
-      } else if (w[1] != "binary_little_endian" && w[1] != "binary_big_endian") {
-        fail_at(ErrorCode::kParse, path, line_no, "unknown PLY format '" + std::string(w[1].substr(0, 40)) + "'");
+        h.format = PlyHeader::Format::kAscii;
+      } else if (w[1] == "binary_little_endian") {
+        h.format = PlyHeader::Format::kLittle;
+      } else if (w[1] == "binary_big_endian") {
+        h.format = PlyHeader::Format::kBig;
+      } else {
+        fail_at(ErrorCode::kParse, path, line_no, "unknown PLY format '" + shown(w[1]) + "'");
       }
       have_format = true;
     } else if (w[0] == "element") {
@@ -104,31 +142,32 @@ PlyHeader parse_header(std::string_view bytes, const std::string& path) {
       e.header_line = line_no;
       const auto r = std::from_chars(w[2].data(), w[2].data() + w[2].size(), e.count);
       if (r.ec != std::errc() || r.ptr != w[2].data() + w[2].size()) {
-        fail_at(ErrorCode::kParse, path, line_no, "malformed PLY element count '" + std::string(w[2].substr(0, 40)) + "'");
+        fail_at(ErrorCode::kParse, path, line_no, "malformed PLY element count '" + shown(w[2]) + "'");
       }
       h.elements.push_back(std::move(e));
     } else if (w[0] == "property") {
       if (h.elements.empty()) fail_at(ErrorCode::kParse, path, line_no, "PLY property before any element");
       PlyProperty p;
       if (w.size() == 5 && w[1] == "list") {
-        p.list = true;
-        p.size = type_size(w[2]);
-        if (type_size(w[3]) == 0) p.size = 0;
+        p.count_type = parse_type(w[2]);
+        p.type = parse_type(w[3]);
         p.name = std::string(w[4]);
+        if (p.count_type == PlyType::kNone || is_float_type(p.count_type)) p.type = PlyType::kNone;
       } else if (w.size() == 3) {
-        p.size = type_size(w[1]);
+        p.type = parse_type(w[1]);
         p.name = std::string(w[2]);
       }
-      if (p.size == 0) fail_at(ErrorCode::kParse, path, line_no, "malformed PLY property line");
+      if (p.type == PlyType::kNone) fail_at(ErrorCode::kParse, path, line_no, "malformed PLY property line");
       h.elements.back().properties.push_back(std::move(p));
     } else if (w[0] == "end_header") {
       break;
     } else {
-      fail_at(ErrorCode::kParse, path, line_no, "unknown PLY header line '" + std::string(w[0].substr(0, 40)) + "'");
+      fail_at(ErrorCode::kParse, path, line_no, "unknown PLY header line '" + shown(w[0]) + "'");
     }
   }
   if (!have_format) fail_at(ErrorCode::kParse, path, 2, "PLY header has no format line");
   h.data_offset = pos;
+  h.header_lines = line_no;
   return h;
 }
 
@@ -141,73 +180,260 @@ bool is_texcoord(std::string_view n) {
 }
 bool is_normal(std::string_view n) { return n == "nx" || n == "ny" || n == "nz"; }
 
-// Counts what qsp will not store, and checks the declared counts fit the data that follows.
-void check_header(const PlyHeader& h, std::string_view bytes, const std::string& path, ReadReport& r,
-                  std::uint64_t* vertices, std::uint64_t* faces) {
+// What the header promises: counted extras, checked limits, and counts the data can hold.
+struct PlyLayout {
   const PlyElement* vertex = nullptr;
   const PlyElement* face = nullptr;
+  int x = -1, y = -1, z = -1, indices = -1;
+};
+
+PlyLayout check_header(const PlyHeader& h, std::string_view bytes, const std::string& path, ReadReport& r) {
+  PlyLayout l;
+  const std::uint64_t available = bytes.size() - h.data_offset;
   std::uint64_t min_bytes = 0;
   for (const auto& e : h.elements) {
+    // Smallest encoding of one element: a 1-character token and a separator per value in ASCII.
     std::uint64_t per = 0;
-    for (const auto& p : e.properties) per += h.ascii ? 2 : static_cast<std::uint64_t>(p.size);
-    if (e.count > (std::uint64_t{1} << 40) || (per && e.count > (bytes.size() - h.data_offset) / per)) {
+    for (const auto& p : e.properties) {
+      per += h.format == PlyHeader::Format::kAscii ? 2 : type_size(p.list() ? p.count_type : p.type);
+    }
+    if (per && e.count > available / per) {
       fail_at(ErrorCode::kParse, path, e.header_line,
-              "PLY header declares " + std::to_string(e.count) + " " + e.name + " elements but only " +
-                  std::to_string(bytes.size() - h.data_offset) + " bytes of data follow (truncated file?)");
+              "PLY header declares " + std::to_string(e.count) + " " + shown(e.name) + " elements but only " +
+                  std::to_string(available) + " bytes of data follow (truncated file?)");
     }
     min_bytes += e.count * per;
-    if (e.name == "vertex") {
-      vertex = &e;
-    } else if (e.name == "face") {
-      face = &e;
+    if (e.name == "vertex" && !l.vertex) {
+      l.vertex = &e;
+    } else if (e.name == "face" && !l.face) {
+      l.face = &e;
     } else if (e.count > 0) {
       fail_at(ErrorCode::kUnsupported, path, e.header_line,
-              "PLY element '" + e.name.substr(0, 40) + "' is not supported; qsp stores quad meshes only");
+              "PLY element '" + shown(e.name) + "' is not supported; qsp stores quad meshes only");
     }
   }
-  if (min_bytes > bytes.size() - h.data_offset) {
-    fail_at(ErrorCode::kParse, path, h.elements.empty() ? 1 : h.elements.back().header_line,
-            "PLY header declares more data than the file holds (truncated file?)");
+  if (min_bytes > available) {
+    fail_at(ErrorCode::kParse, path, h.header_lines, "PLY header declares more data than the file holds (truncated?)");
   }
-  if (!vertex || !vertex->has("x") || !vertex->has("y") || !vertex->has("z")) {
-    fail_at(ErrorCode::kParse, path, vertex ? vertex->header_line : 1, "PLY file has no vertex element with x, y, z");
+  if (!l.vertex) fail_at(ErrorCode::kParse, path, h.header_lines, "PLY file has no vertex element");
+  l.x = l.vertex->find("x");
+  l.y = l.vertex->find("y");
+  l.z = l.vertex->find("z");
+  if (l.x < 0 || l.y < 0 || l.z < 0 || l.vertex->properties[l.x].list() || l.vertex->properties[l.y].list() ||
+      l.vertex->properties[l.z].list()) {
+    fail_at(ErrorCode::kParse, path, l.vertex->header_line, "PLY vertex element needs scalar x, y and z properties");
   }
-  if (vertex->count > kMaxVertices) {
-    fail_at(ErrorCode::kLimit, path, vertex->header_line,
-            std::to_string(vertex->count) + " vertices; qsp's limit is " + std::to_string(kMaxVertices));
+  if (l.vertex->count > kMaxVertices) {
+    fail_at(ErrorCode::kLimit, path, l.vertex->header_line,
+            std::to_string(l.vertex->count) + " vertices; qsp's limit is " + std::to_string(kMaxVertices));
   }
   bool normals = false, colors = false, texcoords = false, other = false;
-  for (const auto& p : vertex->properties) {
+  for (const auto& p : l.vertex->properties) {
     if (p.name == "x" || p.name == "y" || p.name == "z") continue;
     (is_normal(p.name) ? normals : is_color(p.name) ? colors : is_texcoord(p.name) ? texcoords : other) = true;
   }
-  if (normals) r.normals += vertex->count;
-  if (colors) r.vertex_colors += vertex->count;
-  if (texcoords) r.texcoords += vertex->count;
-  if (other) r.other_properties += vertex->count;
-  *vertices = vertex->count;
-  *faces = 0;
-  if (!face) return;
-  if (!face->has("vertex_indices") && !face->has("vertex_index")) {
-    fail_at(ErrorCode::kParse, path, face->header_line, "PLY face element has no vertex_indices list");
+  if (normals) r.normals += l.vertex->count;
+  if (colors) r.vertex_colors += l.vertex->count;
+  if (texcoords) r.texcoords += l.vertex->count;
+  if (other) r.other_properties += l.vertex->count;
+  if (!l.face) return l;
+  l.indices = l.face->find("vertex_indices");
+  if (l.indices < 0) l.indices = l.face->find("vertex_index");
+  if (l.indices < 0 || !l.face->properties[l.indices].list() || is_float_type(l.face->properties[l.indices].type)) {
+    fail_at(ErrorCode::kParse, path, l.face->header_line, "PLY face element has no integer vertex_indices list");
   }
-  if (face->count > kMaxFaces) {
-    fail_at(ErrorCode::kLimit, path, face->header_line,
-            std::to_string(face->count) + " faces; qsp's limit is " + std::to_string(kMaxFaces));
+  if (l.face->count > kMaxFaces) {
+    fail_at(ErrorCode::kLimit, path, l.face->header_line,
+            std::to_string(l.face->count) + " faces; qsp's limit is " + std::to_string(kMaxFaces));
   }
   bool fcolors = false, fattr = false;
   other = false;
-  for (const auto& p : face->properties) {
-    if (p.name == "vertex_indices" || p.name == "vertex_index") continue;
-    (is_color(p.name) ? fcolors : is_texcoord(p.name) ? fattr : other) = true;
+  for (int i = 0; i < static_cast<int>(l.face->properties.size()); ++i) {
+    if (i == l.indices) continue;
+    const std::string& n = l.face->properties[i].name;
+    (is_color(n) ? fcolors : is_texcoord(n) ? fattr : other) = true;
   }
-  if (fcolors) r.face_colors += face->count;
-  if (fattr) r.face_attribute_refs += face->count;
-  if (other) r.other_properties += face->count;
-  *faces = face->count;
+  if (fcolors) r.face_colors += l.face->count;
+  if (fattr) r.face_attribute_refs += l.face->count;
+  if (other) r.other_properties += l.face->count;
+  return l;
 }
 
-using PlyMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
+// Reads the data section value by value. Positions keep float32 values bit for bit; ASCII text
+// goes through std::from_chars<float> like OBJ/OFF; float64 values round to nearest float32.
+class PlyData {
+ public:
+  PlyData(const PlyHeader& h, std::string_view bytes, const std::string& path)
+      : format_(h.format), begin_(bytes.data()), p_(bytes.data() + h.data_offset), end_(bytes.data() + bytes.size()),
+        line_(h.header_lines + 1), path_(path) {}
+
+  std::uint64_t line() const { return line_; }
+  bool ascii() const { return format_ == PlyHeader::Format::kAscii; }
+
+  // Where we are, for messages: a line in ASCII, a byte offset in binary.
+  [[noreturn]] void fail(ErrorCode code, const std::string& what) const {
+    if (ascii()) fail_at(code, path_, line_, what);
+    throw Error(code, path_ + ": byte " + std::to_string(p_ - begin_) + ": " + what);
+  }
+
+  // Starts an element: ASCII elements sit on their own line.
+  void begin_element() {
+    if (!ascii()) return;
+    skip_blank_lines();
+  }
+  void end_element(const char* what, std::uint64_t index) {
+    if (!ascii()) return;
+    skip_spaces();
+    if (p_ < end_ && *p_ != '\n') {
+      fail(ErrorCode::kParse, "unexpected '" + shown(token()) + "' after " + what + " " + std::to_string(index) +
+                                  " (more values than the header declares)");
+    }
+  }
+  // Only blank space may follow the last element.
+  void finish() {
+    if (ascii()) {
+      skip_blank_lines();
+      if (p_ == end_) return;
+    } else if (p_ == end_) {
+      return;
+    }
+    fail(ErrorCode::kParse, "unexpected data after the last element (" + std::to_string(end_ - p_) + " bytes)");
+  }
+
+  float coordinate(PlyType t, const char* what, std::uint64_t index) {
+    float f = 0.0f;
+    if (ascii()) {
+      const std::string_view tok = next_token(what, index);
+      const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), f);
+      if (ec == std::errc::invalid_argument || ptr != tok.data() + tok.size()) {
+        fail(ErrorCode::kParse, std::string("malformed number '") + shown(tok) + "' in " + what + " " +
+                                    std::to_string(index));
+      }
+      if (ec == std::errc::result_out_of_range) {
+        fail(ErrorCode::kBadNumber, "number '" + shown(tok) + "' in " + what + " " + std::to_string(index) +
+                                        " is outside the float32 range");
+      }
+    } else if (t == PlyType::kFloat32) {
+      f = std::bit_cast<float>(static_cast<std::uint32_t>(raw(4, what, index)));
+    } else if (t == PlyType::kFloat64) {
+      const double d = std::bit_cast<double>(raw(8, what, index));
+      if (std::isfinite(d) && std::fabs(d) > static_cast<double>(std::numeric_limits<float>::max())) {
+        fail(ErrorCode::kBadNumber, std::string(what) + " " + std::to_string(index) +
+                                        " has a coordinate outside the float32 range");
+      }
+      f = static_cast<float>(d);
+    } else {
+      f = static_cast<float>(integer(t, what, index));
+    }
+    if (!std::isfinite(f)) {
+      fail(ErrorCode::kBadNumber, std::string(what) + " " + std::to_string(index) +
+                                      " has a non-finite coordinate (NaN and infinity are not valid mesh data)");
+    }
+    return f;
+  }
+
+  std::int64_t integer(PlyType t, const char* what, std::uint64_t index) {
+    if (ascii()) {
+      const std::string_view tok = next_token(what, index);
+      std::int64_t v = 0;
+      const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+      if (ec != std::errc() || ptr != tok.data() + tok.size()) {
+        fail(ErrorCode::kParse, std::string("malformed integer '") + shown(tok) + "' in " + what + " " +
+                                    std::to_string(index));
+      }
+      return v;
+    }
+    const std::uint64_t b = raw(type_size(t), what, index);
+    switch (t) {
+      case PlyType::kInt8: return static_cast<std::int8_t>(b);
+      case PlyType::kUint8: return static_cast<std::uint8_t>(b);
+      case PlyType::kInt16: return static_cast<std::int16_t>(b);
+      case PlyType::kUint16: return static_cast<std::uint16_t>(b);
+      case PlyType::kInt32: return static_cast<std::int32_t>(b);
+      case PlyType::kUint32: return static_cast<std::uint32_t>(b);
+      default: break;
+    }
+    fail(ErrorCode::kParse, std::string("expected an integer in ") + what + " " + std::to_string(index));
+  }
+
+  // Any value of a property qsp does not keep; checked for syntax only.
+  void skip(const PlyProperty& p, const char* what, std::uint64_t index) {
+    const std::uint64_t n = p.list() ? length(p.count_type, what, index) : 1;
+    for (std::uint64_t i = 0; i < n; ++i) {
+      if (ascii()) {
+        const std::string_view tok = next_token(what, index);
+        double d = 0;
+        const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), d);
+        if (ec == std::errc::invalid_argument || ptr != tok.data() + tok.size()) {
+          fail(ErrorCode::kParse, std::string("malformed number '") + shown(tok) + "' in " + what + " " +
+                                      std::to_string(index));
+        }
+      } else {
+        (void)raw(type_size(p.type), what, index);
+      }
+    }
+  }
+
+  std::uint64_t length(PlyType t, const char* what, std::uint64_t index) {
+    const std::int64_t n = integer(t, what, index);
+    // Every entry takes at least one byte, so a longer list cannot be in the file.
+    if (n < 0 || static_cast<std::uint64_t>(n) > static_cast<std::uint64_t>(end_ - p_)) {
+      fail(ErrorCode::kParse, "invalid list length " + std::to_string(n) + " in " + what + " " + std::to_string(index));
+    }
+    return static_cast<std::uint64_t>(n);
+  }
+
+ private:
+  std::uint64_t raw(int size, const char* what, std::uint64_t index) {
+    if (end_ - p_ < size) {
+      fail(ErrorCode::kParse, std::string("file ends inside ") + what + " " + std::to_string(index) + " (truncated)");
+    }
+    std::uint64_t v = 0;
+    for (int i = 0; i < size; ++i) {
+      const std::uint64_t byte = static_cast<unsigned char>(p_[i]);
+      v |= format_ == PlyHeader::Format::kLittle ? byte << (8 * i) : byte << (8 * (size - 1 - i));
+    }
+    p_ += size;
+    return v;
+  }
+  void skip_spaces() {
+    while (p_ < end_ && (*p_ == ' ' || *p_ == '\t' || *p_ == '\r')) ++p_;
+  }
+  void skip_blank_lines() {
+    for (;;) {
+      skip_spaces();
+      if (p_ < end_ && *p_ == '\n') {
+        ++p_;
+        ++line_;
+        continue;
+      }
+      return;
+    }
+  }
+  std::string_view token() const {
+    const char* e = p_;
+    while (e < end_ && *e != ' ' && *e != '\t' && *e != '\r' && *e != '\n') ++e;
+    return {p_, static_cast<std::size_t>(e - p_)};
+  }
+  // Next ASCII value on the current element's line.
+  std::string_view next_token(const char* what, std::uint64_t index) {
+    skip_spaces();
+    if (p_ == end_ || *p_ == '\n') {
+      fail(ErrorCode::kParse, std::string(p_ == end_ ? "file ends inside " : "too few values in ") + what + " " +
+                                  std::to_string(index) + (p_ == end_ ? " (truncated)" : ""));
+    }
+    const std::string_view tok = token();
+    p_ += tok.size();
+    return tok;
+  }
+
+  PlyHeader::Format format_;
+  const char* begin_;
+  const char* p_;
+  const char* end_;
+  std::uint64_t line_;
+  const std::string& path_;
+};
 
 }  // namespace
 
@@ -217,71 +443,75 @@ QuadMesh read_ply_file(const std::string& path, ReadReport* report) {
   r = ReadReport{};
   const std::string bytes = read_file_bytes(path);
   const PlyHeader header = parse_header(bytes, path);
-  std::uint64_t vertices = 0, faces = 0;
-  check_header(header, bytes, path, r, &vertices, &faces);
+  const PlyLayout layout = check_header(header, bytes, path, r);
 
-  PlyMesh om;
-  OpenMesh::IO::Options options;  // positions only: qsp keeps nothing else
-  std::istringstream stream(bytes, std::ios::in | std::ios::binary);
-  // OpenMesh reports its repairs on stderr; qsp's own message below says what matters.
-  ::omerr().disable();
-  const bool ok = OpenMesh::IO::read_mesh(om, stream, ".ply", options);
-  ::omerr().enable();
-  if (!ok) throw Error(ErrorCode::kParse, path + ": OpenMesh could not read this PLY file (malformed data?)");
-
-  if (om.n_vertices() != vertices) {
-    throw Error(ErrorCode::kNonManifold,
-                path + ": the header declares " + std::to_string(vertices) + " vertices but OpenMesh produced " +
-                    std::to_string(om.n_vertices()) +
-                    " (it duplicates vertices where faces meet non-manifoldly); refusing a rewritten mesh");
-  }
-  if (om.n_faces() != faces) {
-    throw Error(ErrorCode::kNonManifold,
-                path + ": the header declares " + std::to_string(faces) + " faces but OpenMesh kept " +
-                    std::to_string(om.n_faces()) +
-                    " (it drops non-manifold or degenerate faces, e.g. ones repeating a vertex); refusing a "
-                    "rewritten mesh");
-  }
   QuadMesh mesh;
-  mesh.positions.reserve(3 * vertices);
-  for (const auto vh : om.vertices()) {
-    const auto& p = om.point(vh);
-    mesh.positions.insert(mesh.positions.end(), {p[0], p[1], p[2]});
-  }
-  std::uint64_t non_quads = 0;
+  PlyData in(header, bytes, path);
+  std::uint64_t non_quads = 0, first_non_quad_line = 0;
   std::string examples;
-  mesh.quads.reserve(4 * faces);
-  for (const auto fh : om.faces()) {
-    // OpenMesh's add_face keeps the corner order and gives the face the halfedge from the last
-    // corner to the first, so walking to_vertex from it yields the file's corners from the first
-    // (tests/test_io.cpp checks this against the file).
-    const auto h0 = om.halfedge_handle(fh);
-    std::uint32_t q[4];
-    std::size_t n = 0;
-    auto h = h0;
-    do {
-      if (n < 4) q[n] = static_cast<std::uint32_t>(om.to_vertex_handle(h).idx());
-      ++n;
-      h = om.next_halfedge_handle(h);
-    } while (h != h0 && n <= 1024);
-    if (n != 4) {
-      if (non_quads < 3) {
-        if (!examples.empty()) examples += ", ";
-        examples += "face " + std::to_string(fh.idx()) + ": " +
-                    (n == 3 ? std::string("triangle") : std::to_string(n) + " vertices");
-      }
-      ++non_quads;
-      continue;
+  for (const auto& e : header.elements) {
+    const bool is_vertex = &e == layout.vertex, is_face = &e == layout.face;
+    const char* what = is_vertex ? "vertex" : is_face ? "face" : "element";
+    if (is_vertex) mesh.positions.resize(3 * e.count);
+    if (is_face) {
+      mesh.quads.reserve(4 * e.count);
+      if (in.ascii()) r.face_line.reserve(e.count);
     }
-    mesh.quads.insert(mesh.quads.end(), q, q + 4);
+    for (std::uint64_t i = 0; i < e.count; ++i) {
+      in.begin_element();
+      const std::uint64_t line = in.line();
+      for (int k = 0; k < static_cast<int>(e.properties.size()); ++k) {
+        const PlyProperty& p = e.properties[k];
+        if (is_vertex && (k == layout.x || k == layout.y || k == layout.z)) {
+          mesh.positions[3 * i + (k == layout.x ? 0 : k == layout.y ? 1 : 2)] = in.coordinate(p.type, what, i);
+        } else if (is_face && k == layout.indices) {
+          const std::uint64_t n = in.length(p.count_type, what, i);
+          std::uint32_t q[4];
+          for (std::uint64_t c = 0; c < n; ++c) {
+            const std::int64_t v = in.integer(p.type, what, i);
+            if (v < 0 || static_cast<std::uint64_t>(v) >= layout.vertex->count) {
+              in.fail(ErrorCode::kBadIndex, "face " + std::to_string(i) + " refers to vertex " + std::to_string(v) +
+                                                " (the file has " + std::to_string(layout.vertex->count) +
+                                                " vertices, numbered from 0)");
+            }
+            if (c < 4) q[c] = static_cast<std::uint32_t>(v);
+          }
+          if (n != 4) {
+            if (non_quads < 3) {
+              if (non_quads == 0) first_non_quad_line = line;
+              if (!examples.empty()) examples += ", ";
+              examples += "face " + std::to_string(i) + ": " +
+                          (n == 3 ? std::string("triangle") : std::to_string(n) + " vertices");
+            }
+            ++non_quads;
+            continue;
+          }
+          for (int a = 0; a < 4; ++a) {
+            for (int b = a + 1; b < 4; ++b) {
+              if (q[a] == q[b]) {
+                in.fail(ErrorCode::kDegenerateFace, "face " + std::to_string(i) + " repeats vertex " +
+                                                        std::to_string(q[a]) + "; a quad needs 4 distinct vertices");
+              }
+            }
+          }
+          mesh.quads.insert(mesh.quads.end(), q, q + 4);
+          if (in.ascii()) r.face_line.push_back(static_cast<std::uint32_t>(std::min<std::uint64_t>(line, 0xFFFFFFFFu)));
+        } else {
+          in.skip(p, what, i);
+        }
+      }
+      in.end_element(what, i);
+    }
   }
+  in.finish();
   if (non_quads) {
-    throw Error(ErrorCode::kNotQuad, path + ": " + std::to_string(non_quads) +
+    const std::string where = in.ascii() ? path + ":" + std::to_string(first_non_quad_line) + ": " : path + ": ";
+    throw Error(ErrorCode::kNotQuad, where + std::to_string(non_quads) +
                                          (non_quads == 1 ? " face is not a quad (" : " faces are not quads (first: ") +
                                          examples + (non_quads > 3 ? ", ..." : "") +
                                          "); qsp stores quad meshes only and never triangulates or drops faces");
   }
-  r.face_line.assign(faces, 0);  // binary or not, PLY faces have no reliable line
+  if (!in.ascii()) r.face_line.assign(mesh.face_count(), 0);  // binary faces have no line
   return mesh;
 }
 

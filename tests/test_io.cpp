@@ -19,6 +19,9 @@
 #include <string>
 #include <vector>
 
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
@@ -399,27 +402,153 @@ TEST(ReadPly, BinaryLittleEndianDoublesAndColours) {
   EXPECT_EQ(r.vertex_colors, 4u);
 }
 
-TEST(ReadPly, MatchesObjOnSharedMesh) {
-  // PLY written from an OBJ must read back to the same faces, corner order included.
+TEST(ReadPly, BinaryBigEndianIntCoordinatesAndUnknownProperties) {
+  TempDir dir;
+  const fs::path p = dir.path() / "be.ply";
+  std::string bytes =
+      "ply\nformat binary_big_endian 1.0\nobj_info made by hand\nelement vertex 4\nproperty short x\n"
+      "property short y\nproperty short z\nproperty float quality\nelement face 1\n"
+      "property list uchar uint vertex_indices\nend_header\n";
+  const int v[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, -7}};
+  for (const auto& row : v) {
+    for (int c : row) {
+      bytes.push_back(static_cast<char>((c >> 8) & 0xff));
+      bytes.push_back(static_cast<char>(c & 0xff));
+    }
+    bytes.append("\x3f\x80\x00\x00", 4);  // 1.0f
+  }
+  bytes.push_back(4);
+  for (int c : {3, 0, 1, 2}) bytes.append({0, 0, 0, static_cast<char>(c)});
+  spit(p, bytes);
+  qsp::ReadReport r;
+  const qsp::QuadMesh m = qsp::read_ply_file(p.string(), &r);
+  EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{3, 0, 1, 2}));
+  EXPECT_EQ(m.positions[11], -7.0f);
+  EXPECT_EQ(r.other_properties, 4u);
+  EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{0}));
+}
+
+TEST(ReadPly, AsciiFaceLinesAndExactFloats) {
+  TempDir dir;
+  const fs::path p = dir.path() / "lines.ply";
+  spit(p, ply_ascii("property double x\nproperty double y\nproperty double z\n",
+                    "0.1 0 0\n1 0 0\r\n1 1 0\n0 1 0\n2 0 0\n2 1 1e-45\n", 6, "\n4 0 1 2 3\n4 1 4 5 2\n", 2));
+  qsp::ReadReport r;
+  const qsp::QuadMesh m = qsp::read_ply_file(p.string(), &r);
+  EXPECT_EQ(bits(m.positions[0]), bits(0.1f));
+  EXPECT_EQ(bits(m.positions[17]), bits(std::numeric_limits<float>::denorm_min()));
+  EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{18, 19}));
+}
+
+namespace {
+
+// OpenMesh's reading of a PLY file as a QuadMesh (its add_face keeps corner order and gives the face
+// the halfedge from the last corner to the first). Used only to cross-check qsp's reader.
+qsp::QuadMesh read_with_openmesh(const fs::path& p) {
+  OpenMesh::PolyMesh_ArrayKernelT<> om;
+  OpenMesh::IO::Options options;
+  EXPECT_TRUE(OpenMesh::IO::read_mesh(om, p.string(), options)) << p;
+  qsp::QuadMesh m;
+  for (const auto vh : om.vertices()) {
+    const auto& pt = om.point(vh);
+    m.positions.insert(m.positions.end(), {pt[0], pt[1], pt[2]});
+  }
+  for (const auto fh : om.faces()) {
+    const auto h0 = om.halfedge_handle(fh);
+    auto h = h0;
+    do {
+      m.quads.push_back(static_cast<std::uint32_t>(om.to_vertex_handle(h).idx()));
+      h = om.next_halfedge_handle(h);
+    } while (h != h0);
+  }
+  return m;
+}
+
+void write_ply(const fs::path& p, const qsp::QuadMesh& m, bool binary) {
+  std::string out = std::string("ply\nformat ") + (binary ? "binary_little_endian" : "ascii") +
+                    " 1.0\nelement vertex " + std::to_string(m.vertex_count()) +
+                    "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                    std::to_string(m.face_count()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (std::size_t i = 0; i < m.positions.size(); i += 3) {
+    if (binary) {
+      out.append(reinterpret_cast<const char*>(&m.positions[i]), 12);
+    } else {
+      char buf[128];
+      std::snprintf(buf, sizeof buf, "%.9g %.9g %.9g\n", m.positions[i], m.positions[i + 1], m.positions[i + 2]);
+      out += buf;
+    }
+  }
+  for (std::size_t i = 0; i < m.quads.size(); i += 4) {
+    if (binary) {
+      out.push_back(4);
+      out.append(reinterpret_cast<const char*>(&m.quads[i]), 16);
+    } else {
+      out += "4 " + std::to_string(m.quads[i]) + " " + std::to_string(m.quads[i + 1]) + " " +
+             std::to_string(m.quads[i + 2]) + " " + std::to_string(m.quads[i + 3]) + "\n";
+    }
+  }
+  spit(p, out);
+}
+
+}  // namespace
+
+TEST(ReadPly, AgreesWithObjAndOpenMeshOnSharedMesh) {
+  // A real mesh written as ASCII and binary PLY reads back as the OBJ did, and as OpenMesh reads it.
   const fs::path src = fs::path(QSP_SHARED_DIR) / "meshes" / "igl_horse_quad.obj";
   if (!fs::exists(src)) GTEST_SKIP() << src << " not present";
   const qsp::QuadMesh obj = qsp::read_mesh_file(src.string());
-  std::string verts, faces;
-  for (std::size_t i = 0; i < obj.positions.size(); i += 3) {
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "%.9g %.9g %.9g\n", obj.positions[i], obj.positions[i + 1], obj.positions[i + 2]);
-    verts += buf;
-  }
-  for (std::size_t i = 0; i < obj.quads.size(); i += 4) {
-    faces += "4 " + std::to_string(obj.quads[i]) + " " + std::to_string(obj.quads[i + 1]) + " " +
-             std::to_string(obj.quads[i + 2]) + " " + std::to_string(obj.quads[i + 3]) + "\n";
-  }
   TempDir dir;
-  const fs::path p = dir.path() / "horse.ply";
-  spit(p, ply_ascii("property float x\nproperty float y\nproperty float z\n", verts,
-                    static_cast<int>(obj.vertex_count()), faces, static_cast<int>(obj.face_count())));
-  const qsp::QuadMesh ply = qsp::read_mesh_file(p.string());
-  expect_bit_exact(obj, ply);
+  for (const bool binary : {false, true}) {
+    const fs::path p = dir.path() / (binary ? "horse_bin.ply" : "horse_ascii.ply");
+    write_ply(p, obj, binary);
+    const qsp::QuadMesh ply = qsp::read_mesh_file(p.string());
+    expect_bit_exact(obj, ply);
+    expect_bit_exact(ply, read_with_openmesh(p));
+  }
+}
+
+TEST(ReadPly, MutatedFilesNeverCrash) {
+  std::mt19937 rng(2024);
+  qsp::QuadMesh m = random_mesh(rng, 20, 10);
+  TempDir dir;
+  for (const bool binary : {false, true}) {
+    const fs::path good = dir.path() / "good.ply";
+    write_ply(good, m, binary);
+    const std::string original = slurp(good);
+    const fs::path p = dir.path() / "mutated.ply";
+    for (int round = 0; round < 400; ++round) {
+      std::string bytes = original;
+      const int edits = 1 + static_cast<int>(rng() % 4);
+      for (int e = 0; e < edits; ++e) {
+        const std::size_t at = rng() % bytes.size();
+        switch (rng() % 3) {
+          case 0: bytes[at] = static_cast<char>(rng()); break;
+          case 1: bytes.erase(at, 1 + rng() % 8); break;
+          default: bytes.resize(at); break;
+        }
+        if (bytes.empty()) bytes = "p";
+      }
+      spit(p, bytes);
+      try {
+        (void)qsp::read_ply_file(p.string());
+      } catch (const qsp::Error&) {
+      }
+    }
+  }
+}
+
+TEST(ReadPly, NonManifoldInputIsKeptAsWritten) {
+  // Three quads on one edge: OpenMesh would duplicate vertices; qsp's reader keeps the file as it is
+  // and leaves the refusal to build_adjacency (kNonManifold), as for OBJ/OFF.
+  TempDir dir;
+  const fs::path p = dir.path() / "nm.ply";
+  spit(p, ply_ascii("property float x\nproperty float y\nproperty float z\n",
+                    "0 0 0\n1 0 0\n1 1 0\n0 1 0\n1 -1 0\n0 -1 0\n1 0 1\n0 0 1\n", 8,
+                    "4 0 1 2 3\n4 1 0 5 4\n4 0 1 6 7\n", 3));
+  const qsp::QuadMesh m = qsp::read_mesh_file(p.string());
+  EXPECT_EQ(m.vertex_count(), 8u);
+  EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{0, 1, 2, 3, 1, 0, 5, 4, 0, 1, 6, 7}));
+  EXPECT_NE(read_with_openmesh(p).vertex_count(), 8u);  // what qsp avoids
 }
 
 // ---------------------------------------------------------------------------------------------

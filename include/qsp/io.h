@@ -1,4 +1,4 @@
-// qsp/io.h: strict, exact mesh readers and writers (OBJ, OFF by qsp's own parser; PLY via OpenMesh).
+// qsp/io.h: strict, exact mesh readers and writers (OBJ, OFF, PLY: qsp's own parsers).
 // The only stage that knows about files. Uses only qsp/mesh.h.
 #pragma once
 
@@ -55,8 +55,12 @@ QuadMesh read_obj(std::string_view text, std::string_view source, ReadReport* re
 // Parse OFF text (faces may span several lines; optional colours are reported). Same guarantees.
 QuadMesh read_off(std::string_view text, std::string_view source, ReadReport* report = nullptr);
 
-// Read PLY through OpenMesh, then check OpenMesh did not silently rewrite anything (vertex count,
-// face count and every face's corners must match the file); refuses with kNonManifold otherwise.
+// Read PLY (ascii, binary_little_endian, binary_big_endian) with qsp's own reader: x, y, z of any
+// numeric type (float32 kept bit for bit, float64 rounded to nearest, ASCII via std::from_chars) and
+// the face vertex_indices list; other properties are counted in the report. Refuses like read_obj:
+// non-quads (all counted), bad indices, repeated vertices, NaN/inf, truncated or trailing data,
+// unsupported elements (edges, ...); messages give "file:line:" (ASCII) or "file: byte N:" (binary).
+// Not OpenMesh: it silently rewrites non-manifold or degenerate input while reporting success.
 QuadMesh read_ply_file(const std::string& path, ReadReport* report = nullptr);
 
 // Read a mesh file by extension (`-` = standard input, needs `format`). Throws Error(kIo) when the
