@@ -1,0 +1,108 @@
+// qsp/codec.h: the .qsp file format (format-spec/qsp_format.md): mesh <-> bytes. Never touches files.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "qsp/canonical.h"
+#include "qsp/mesh.h"
+#include "qsp/partition.h"
+
+namespace qsp {
+
+inline constexpr std::uint8_t kFormatMajor = 1;
+inline constexpr std::uint8_t kFormatMinor = 0;
+
+struct EncodeOptions {
+  std::uint32_t quantize_bits = 0;  // 0 = lossless; 1..30 = uniform grid (GeometryOptions)
+  bool keep_order = false;          // also store vertex order, face order and first corners
+};
+
+// What a decoder accepts before allocating. The defaults suit real assets (tens of millions of
+// faces); the decoder's memory is then bounded by the declared counts (see the spec, "Limits").
+struct DecodeLimits {
+  std::uint64_t max_vertices = std::uint64_t{1} << 26;
+  std::uint64_t max_faces = std::uint64_t{1} << 26;
+};
+
+// The keep-order permutations, as the encoder stores them: for each original vertex its canonical
+// index, for each original face its canonical index and the rotation r such that canonical corner c
+// is original corner (c + r) % 4.
+struct OrderMap {
+  std::vector<std::uint32_t> vertex;
+  std::vector<std::uint32_t> face;
+  std::vector<std::uint8_t> rotation;
+};
+
+// Encodes `mesh` (build_adjacency -> partition_motorcycle -> canonicalize -> bytes). The bytes depend
+// only on the mesh up to orientation-preserving isomorphism and its positions (plus, with keep_order,
+// the original numbering). Throws what build_adjacency throws for invalid meshes, Error(kLimit) past
+// the format's limits, Error(kInternal) if a stage broke an invariant (never writes a wrong file).
+// If `order` is given it receives the original -> canonical map (what decode() numbers vertices and
+// faces by without keep_order), whether or not it is stored.
+std::string encode(const QuadMesh& mesh, const EncodeOptions& options = {}, OrderMap* order = nullptr);
+
+// Decodes a whole .qsp. Returns the mesh in canonical order (or the original order when the file has
+// an order section). Throws Error with kFormat (malformed, truncated, trailing bytes), kVersion
+// (newer major), kChecksum, kLimit (past `limits`); the message says what and at which byte offset.
+// The checksum is verified before anything is decoded. Safe on untrusted input.
+QuadMesh decode(std::string_view bytes, const DecodeLimits& limits = {});
+
+struct SectionInfo {
+  std::uint8_t tag = 0;
+  std::uint64_t offset = 0;  // of the tag byte
+  std::uint64_t size = 0;    // tag + length + payload
+};
+
+struct ComponentSummary {
+  ComponentKind kind = ComponentKind::kUnstructured;
+  std::uint32_t vertices = 0, faces = 0;
+  std::uint32_t schematic_vertices = 0, schematic_edges = 0, patches = 0;  // 0 for annulus/torus
+  std::uint32_t a = 0, b = 0, twist = 0;                                   // annulus/torus
+};
+
+// What `qsp stats` prints for a .qsp: the Table-1 row and where the bytes go.
+struct FileInfo {
+  std::uint8_t version_major = 0, version_minor = 0;
+  std::uint64_t total_bytes = 0;
+  std::uint64_t header_bytes = 0;        // magic, version, flags, size, checksum
+  std::uint64_t connectivity_bytes = 0;  // counts + topology sections
+  std::uint64_t geometry_bytes = 0;
+  std::uint64_t order_bytes = 0;         // keep-order permutations (0 if absent)
+  std::uint64_t other_bytes = 0;         // optional sections this decoder skipped
+  std::uint64_t vertices = 0, edges = 0, faces = 0, unreferenced = 0, extraordinary = 0;
+  std::uint64_t schematic_vertices = 0, schematic_edges = 0, patches = 0;
+  std::array<std::uint32_t, 4> kind_counts{};  // by ComponentKind
+  bool keep_order = false;
+  std::vector<ComponentSummary> components;  // canonical order
+  std::vector<SectionInfo> sections;
+};
+
+// Parses and checks a .qsp like decode() (checksum, limits, topology) without decoding positions,
+// and counts what the file holds. Same errors as decode(). Safe on untrusted input.
+FileInfo inspect(std::string_view bytes, const DecodeLimits& limits = {});
+
+// ---- Building blocks (exposed for tests and tools) ----
+
+// Entropy-codes the connectivity of `codes` (canonical order) into the topology section's payload.
+// Throws Error(kInternal) if a code is not one partition_from_code would accept.
+std::string encode_topology(std::span<const TopologyCode> codes);
+
+// Inverse of encode_topology for `component_count` components. `max_edges` bounds the total number of
+// schematic edges and `max_length` any edge length (both derive from the declared face count), so
+// memory stays proportional to the declared mesh. `base_offset` is the payload's offset in the file,
+// for messages. Throws Error(kFormat). Safe on untrusted input (codes still need partition_from_code).
+std::vector<TopologyCode> decode_topology(std::string_view payload, std::uint64_t base_offset,
+                                          std::uint64_t component_count, std::uint64_t max_edges,
+                                          std::uint64_t max_length);
+
+std::string encode_order(const OrderMap& order);
+// Throws Error(kFormat) unless the payload holds exactly two permutations of the given sizes.
+OrderMap decode_order(std::string_view payload, std::uint64_t base_offset, std::uint32_t vertex_count,
+                      std::uint32_t face_count);
+
+}  // namespace qsp

@@ -1,0 +1,175 @@
+// Adaptive binary range coder (see format-spec/qsp_format.md, "Entropy coding").
+#include "qsp/entropy.h"
+
+#include <bit>
+#include <string>
+
+#include "qsp/error.h"
+
+namespace qsp {
+namespace {
+
+constexpr unsigned kProbBits = 16;
+constexpr std::uint32_t kTop = 1u << 24;
+
+void update(BitModel& m, unsigned bit) {
+  auto warm = static_cast<unsigned>(std::bit_width(static_cast<unsigned>(m.seen) + 1u));
+  unsigned fast_shift = warm < 4 ? warm : 4, slow_shift = warm < 7 ? warm : 7;
+  if (bit) {
+    m.fast = static_cast<std::uint16_t>(m.fast - (m.fast >> fast_shift));
+    m.slow = static_cast<std::uint16_t>(m.slow - (m.slow >> slow_shift));
+  } else {
+    m.fast = static_cast<std::uint16_t>(m.fast + ((65536u - m.fast) >> fast_shift));
+    m.slow = static_cast<std::uint16_t>(m.slow + ((65536u - m.slow) >> slow_shift));
+  }
+  if (m.seen < 255) ++m.seen;
+}
+
+}  // namespace
+
+void RangeEncoder::shift_low() {
+  if (static_cast<std::uint32_t>(low_) < 0xFF000000u || (low_ >> 32) != 0) {
+    auto carry = static_cast<std::uint8_t>(low_ >> 32);
+    std::uint8_t temp = cache_;
+    do {
+      out_.push_back(static_cast<char>(static_cast<std::uint8_t>(temp + carry)));
+      temp = 0xFF;
+    } while (--cache_size_ != 0);
+    cache_ = static_cast<std::uint8_t>(low_ >> 24);
+  }
+  ++cache_size_;
+  low_ = (low_ & 0x00FFFFFFu) << 8;
+}
+
+void RangeEncoder::encode_bit(BitModel& m, unsigned bit) {
+  std::uint32_t bound = (range_ >> kProbBits) * m.p0();
+  if (bit == 0) {
+    range_ = bound;
+  } else {
+    low_ += bound;
+    range_ -= bound;
+  }
+  update(m, bit);
+  while (range_ < kTop) {
+    range_ <<= 8;
+    shift_low();
+  }
+}
+
+void RangeEncoder::encode_raw(std::uint32_t value, unsigned count) {
+  for (unsigned i = count; i-- > 0;) {
+    range_ >>= 1;
+    if ((value >> i) & 1u) low_ += range_;
+    while (range_ < kTop) {
+      range_ <<= 8;
+      shift_low();
+    }
+  }
+}
+
+void RangeEncoder::finish() {
+  for (int i = 0; i < 5; ++i) shift_low();
+}
+
+RangeDecoder::RangeDecoder(std::string_view bytes, std::uint64_t base_offset, const char* what)
+    : bytes_(bytes), base_offset_(base_offset), what_(what) {
+  if (next_byte() != 0) {
+    throw Error(ErrorCode::kFormat, std::string(what_) + ": range coder stream must start with a zero byte (at byte offset " +
+                                        std::to_string(base_offset_) + ")");
+  }
+  for (int i = 0; i < 4; ++i) code_ = (code_ << 8) | next_byte();
+}
+
+std::uint8_t RangeDecoder::next_byte() {
+  if (pos_ >= bytes_.size()) {
+    throw Error(ErrorCode::kFormat, std::string(what_) + " ends too early: needs more than its " +
+                                        std::to_string(bytes_.size()) + " bytes (at byte offset " +
+                                        std::to_string(base_offset_ + bytes_.size()) + ")");
+  }
+  return static_cast<std::uint8_t>(bytes_[pos_++]);
+}
+
+unsigned RangeDecoder::decode_bit(BitModel& m) {
+  std::uint32_t bound = (range_ >> kProbBits) * m.p0();
+  unsigned bit;
+  if (code_ < bound) {
+    range_ = bound;
+    bit = 0;
+  } else {
+    code_ -= bound;
+    range_ -= bound;
+    bit = 1;
+  }
+  update(m, bit);
+  while (range_ < kTop) {
+    range_ <<= 8;
+    code_ = (code_ << 8) | next_byte();
+  }
+  return bit;
+}
+
+std::uint32_t RangeDecoder::decode_raw(unsigned count) {
+  std::uint32_t value = 0;
+  for (unsigned i = 0; i < count; ++i) {
+    range_ >>= 1;
+    unsigned bit = 0;
+    if (code_ >= range_) {
+      code_ -= range_;
+      bit = 1;
+    }
+    value = (value << 1) | bit;
+    while (range_ < kTop) {
+      range_ <<= 8;
+      code_ = (code_ << 8) | next_byte();
+    }
+  }
+  return value;
+}
+
+void RangeDecoder::finish() const {
+  // A stream the encoder wrote is used up exactly, and the decoder's code register is then 0.
+  if (pos_ != bytes_.size() || code_ != 0) {
+    throw Error(ErrorCode::kFormat, std::string(what_) + " does not end where its symbols end (" +
+                                        std::to_string(bytes_.size() - pos_) +
+                                        " bytes unused, at byte offset " +
+                                        std::to_string(base_offset_ + pos_) + ")");
+  }
+}
+
+IntModel::IntModel() : tree_(std::size_t{2} << kTreeBits), tail_(32 * 32) {}
+
+void IntModel::encode(RangeEncoder& enc, std::uint32_t value) {
+  std::uint32_t v = value + 1;  // >= 1; value <= 2^32 - 2 by contract
+  unsigned n = static_cast<unsigned>(std::bit_width(v)) - 1;
+  for (unsigned i = 0; i < n; ++i) enc.encode_bit(prefix_[i], 1);
+  if (n < kMaxBits) enc.encode_bit(prefix_[n], 0);
+  if (n <= kTreeBits) {
+    std::uint32_t node = 1;
+    for (unsigned i = n; i-- > 0;) {
+      unsigned bit = (v >> i) & 1u;
+      enc.encode_bit(tree_[(std::size_t{1} << n) + node - 1], bit);
+      node = 2 * node + bit;
+    }
+  } else {
+    for (unsigned i = n; i-- > 0;) enc.encode_bit(tail_[32 * n + i], (v >> i) & 1u);
+  }
+}
+
+std::uint32_t IntModel::decode(RangeDecoder& dec) {
+  unsigned n = 0;
+  while (n < kMaxBits && dec.decode_bit(prefix_[n]) == 1) ++n;
+  std::uint32_t v = 1;
+  if (n <= kTreeBits) {
+    std::uint32_t node = 1;
+    for (unsigned i = 0; i < n; ++i) {
+      unsigned bit = dec.decode_bit(tree_[(std::size_t{1} << n) + node - 1]);
+      node = 2 * node + bit;
+      v = (v << 1) | bit;
+    }
+  } else {
+    for (unsigned i = n; i-- > 0;) v = (v << 1) | dec.decode_bit(tail_[32 * n + i]);
+  }
+  return v - 1;  // every prefix the decoder accepts gives v in [1, 2^32 - 1]
+}
+
+}  // namespace qsp

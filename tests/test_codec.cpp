@@ -1,0 +1,425 @@
+// The .qsp codec: entropy coder, topology streams, round trips, canonical bytes, keep-order, CLI.
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "qsp/canonical.h"
+#include "qsp/codec.h"
+#include "qsp/entropy.h"
+#include "qsp/error.h"
+#include "qsp/io.h"
+#include "qsp/mesh.h"
+#include "qsp/partition.h"
+
+namespace fs = std::filesystem;
+
+namespace qsp {
+namespace {
+
+// ---- Entropy coder ----
+
+TEST(Entropy, BitsAndIntegersRoundTrip) {
+  std::mt19937 rng(7);
+  std::vector<unsigned> bits;
+  std::vector<std::uint32_t> ints;
+  for (int i = 0; i < 20000; ++i) {
+    bits.push_back(rng() % 10 == 0);
+    std::uint32_t mag = rng() % 33;
+    ints.push_back(mag == 32 ? 0xFFFFFFFEu : static_cast<std::uint32_t>(rng() & ((1ull << mag) - 1)));
+  }
+  std::string out;
+  RangeEncoder enc(out);
+  BitModel bm[3];
+  IntModel im;
+  for (std::size_t i = 0; i < bits.size(); ++i) {
+    enc.encode_bit(bm[i % 3], bits[i]);
+    im.encode(enc, ints[i]);
+    enc.encode_raw(ints[i] & 0xFFFF, 16);
+  }
+  enc.finish();
+  RangeDecoder dec(out, 0, "test stream");
+  BitModel dm[3];
+  IntModel di;
+  for (std::size_t i = 0; i < bits.size(); ++i) {
+    ASSERT_EQ(dec.decode_bit(dm[i % 3]), bits[i]);
+    ASSERT_EQ(di.decode(dec), ints[i]);
+    ASSERT_EQ(dec.decode_raw(16), ints[i] & 0xFFFF);
+  }
+  EXPECT_NO_THROW(dec.finish());
+}
+
+TEST(Entropy, SkewedBitsCostLittle) {
+  std::string out;
+  RangeEncoder enc(out);
+  BitModel m;
+  for (int i = 0; i < 100000; ++i) enc.encode_bit(m, 0);
+  enc.finish();
+  EXPECT_LT(out.size(), 60u);  // ~0.003 bits each once learnt
+}
+
+TEST(Entropy, DecoderRefusesShortAndLongStreams) {
+  std::string out;
+  RangeEncoder enc(out);
+  BitModel m;
+  for (int i = 0; i < 1000; ++i) enc.encode_bit(m, i % 3 == 0);
+  enc.finish();
+  auto run = [](std::string_view s) {
+    RangeDecoder dec(s, 100, "test stream");
+    BitModel dm;
+    for (int i = 0; i < 1000; ++i) dec.decode_bit(dm);
+    dec.finish();
+  };
+  EXPECT_NO_THROW(run(out));
+  for (std::size_t n = 0; n < out.size(); ++n) {
+    EXPECT_THROW(run(std::string_view(out).substr(0, n)), Error) << n;
+  }
+  EXPECT_THROW(run(out + std::string(1, '\0')), Error);
+}
+
+// ---- Topology streams ----
+
+// A single quad: one patch and one hole, four darts each (worked out in qsp_format.md).
+TopologyCode single_quad_code() {
+  TopologyCode c;
+  c.kind = ComponentKind::kDisk;
+  c.next_ref = {0, 0, 0, 2, 4, 1, 2, 1};
+  c.edge_length = {1, 1, 1, 1};
+  c.corner = {1, 0, 1, 0, 0, 1, 1, 0};
+  return c;
+}
+
+TEST(Topology, HandBuiltCodesRoundTrip) {
+  TopologyCode torus;
+  torus.kind = ComponentKind::kTorus;
+  torus.a = 9, torus.b = 6, torus.twist = 2;
+  TopologyCode annulus;
+  annulus.kind = ComponentKind::kAnnulus;
+  annulus.a = 12, annulus.b = 3;
+  TopologyCode big = single_quad_code();
+  big.edge_length = {70000, 3, 3, 70000};  // edges 0 and 3 are opposite, so are 1 and 2
+  std::vector<TopologyCode> codes = {single_quad_code(), torus, annulus, big};
+  std::string bytes = encode_topology(codes);
+  std::vector<TopologyCode> back = decode_topology(bytes, 0, codes.size(), 1000, 100000);
+  ASSERT_EQ(back.size(), codes.size());
+  for (std::size_t i = 0; i < codes.size(); ++i) EXPECT_TRUE(back[i] == codes[i]) << i;
+  // The code is a valid partition: a 1x1 grid.
+  ComponentPartition p = partition_from_code(back[0]);
+  EXPECT_EQ(grid_layout(p).quads.size(), 4u);
+  // Limits are enforced while decoding.
+  EXPECT_THROW(decode_topology(bytes, 0, codes.size(), 7, 100000), Error);  // 8 schematic edges
+  EXPECT_THROW(decode_topology(bytes, 0, codes.size(), 1000, 69999), Error);
+}
+
+TEST(Topology, LengthsImpliedByOppositeSidesAreNotStored) {
+  // A 5x7 patch: only two of the four lengths are coded, and a code whose opposite sides disagree
+  // is refused by the encoder as a bug.
+  TopologyCode c = single_quad_code();
+  c.edge_length = {5, 7, 7, 5};
+  std::vector<TopologyCode> one{c};
+  auto back = decode_topology(encode_topology(one), 0, 1, 100, 100);
+  EXPECT_TRUE(back[0] == c);
+  c.edge_length = {5, 7, 6, 5};
+  EXPECT_THROW(encode_topology(std::vector<TopologyCode>{c}), Error);
+}
+
+// ---- Meshes ----
+
+QuadMesh load(const std::string& path) {
+  ReadReport report;
+  return read_mesh_file(path, &report);
+}
+
+std::vector<std::string> mesh_files(const std::string& dir) {
+  std::vector<std::string> out;
+  if (!fs::is_directory(dir)) return out;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    MeshFormat f = format_from_path(e.path().string());
+    if (f == MeshFormat::kObj || f == MeshFormat::kOff || f == MeshFormat::kPly) out.push_back(e.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+bool same_float_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// decoded is `mesh` renumbered by `order` (original -> canonical), every face rotated by its rotation.
+void expect_isomorphic(const QuadMesh& mesh, const QuadMesh& decoded, const OrderMap& order, bool exact_positions) {
+  ASSERT_EQ(decoded.vertex_count(), mesh.vertex_count());
+  ASSERT_EQ(decoded.face_count(), mesh.face_count());
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    std::uint32_t cf = order.face[f], r = order.rotation[f];
+    for (std::uint32_t c = 0; c < 4; ++c) {
+      ASSERT_EQ(decoded.quads[4 * cf + c], order.vertex[mesh.quads[4 * f + (c + r) % 4]]) << "face " << f;
+    }
+  }
+  if (!exact_positions) return;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_TRUE(same_float_bits(decoded.positions[3 * order.vertex[v] + k], mesh.positions[3 * v + k]))
+          << "vertex " << v;
+    }
+  }
+}
+
+// Returns false (after checking the refusal is a typed input error) when `path` is not a valid mesh.
+bool round_trip(const std::string& path) {
+  SCOPED_TRACE(path);
+  QuadMesh mesh;
+  try {
+    mesh = load(path);
+    build_adjacency(mesh);
+  } catch (const Error& e) {
+    EXPECT_NE(e.code(), ErrorCode::kInternal) << e.what();
+    return false;
+  }
+  OrderMap order;
+  std::string bytes = encode(mesh, {}, &order);
+  QuadMesh decoded = decode(bytes);
+  expect_isomorphic(mesh, decoded, order, true);
+  // Decoding then encoding again gives the same bytes (the canonical form is a fixed point).
+  EXPECT_EQ(encode(decoded), bytes);
+
+  EncodeOptions keep;
+  keep.keep_order = true;
+  QuadMesh restored = decode(encode(mesh, keep));
+  EXPECT_EQ(restored.quads, mesh.quads);
+  EXPECT_TRUE(restored.positions.size() == mesh.positions.size() &&
+              std::memcmp(restored.positions.data(), mesh.positions.data(), 4 * mesh.positions.size()) == 0);
+  FileInfo info = inspect(bytes);
+  EXPECT_EQ(info.vertices, mesh.vertex_count());
+  EXPECT_EQ(info.faces, mesh.face_count());
+  EXPECT_EQ(info.total_bytes, bytes.size());
+  return true;
+}
+
+TEST(Codec, RoundTripTestdata) {
+  auto files = mesh_files(QSP_TESTDATA_DIR);
+  ASSERT_FALSE(files.empty());
+  for (const auto& f : files) EXPECT_TRUE(round_trip(f)) << f;
+}
+
+TEST(Codec, RoundTripSharedMeshes) {
+  auto files = mesh_files(std::string(QSP_SHARED_DIR) + "/meshes");
+  if (files.empty()) GTEST_SKIP() << "no shared meshes";
+  int ok = 0;
+  for (const auto& f : files) ok += round_trip(f);
+  EXPECT_GE(ok, 20);
+}
+
+TEST(Codec, RoundTripOpenSubdivShapes) {
+  auto files = mesh_files(std::string(QSP_SHARED_DIR) + "/meshes/osd_shapes");
+  if (files.empty()) GTEST_SKIP() << "no shared osd shapes";
+  int ok = 0;
+  for (const auto& f : files) ok += round_trip(f);
+  EXPECT_GT(ok, 0);
+}
+
+QuadMesh shuffled(const QuadMesh& m, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::vector<std::uint32_t> vperm(m.vertex_count()), fperm(m.face_count());
+  std::iota(vperm.begin(), vperm.end(), 0);
+  std::iota(fperm.begin(), fperm.end(), 0);
+  std::shuffle(vperm.begin(), vperm.end(), rng);
+  std::shuffle(fperm.begin(), fperm.end(), rng);
+  QuadMesh out;
+  out.positions.resize(m.positions.size());
+  for (std::size_t v = 0; v < vperm.size(); ++v) std::copy_n(&m.positions[3 * v], 3, &out.positions[3 * vperm[v]]);
+  for (std::size_t i = 0; i < fperm.size(); ++i) {
+    std::uint32_t f = fperm[i], r = rng() % 4;
+    for (std::uint32_t c = 0; c < 4; ++c) out.quads.push_back(vperm[m.quads[4 * f + (c + r) % 4]]);
+  }
+  return out;
+}
+
+TEST(Codec, ShuffledCopiesGiveIdenticalBytes) {
+  std::vector<std::string> files = mesh_files(QSP_TESTDATA_DIR);
+  for (const char* name : {"igl_horse_quad.obj", "mh_base.obj", "osd_catmark_car.obj", "pmp_hole_capsule.off"}) {
+    std::string p = std::string(QSP_SHARED_DIR) + "/meshes/" + name;
+    if (fs::exists(p)) files.push_back(p);
+  }
+  for (const auto& f : files) {
+    SCOPED_TRACE(f);
+    QuadMesh mesh = load(f);
+    std::string bytes = encode(mesh);
+    for (std::uint32_t seed = 1; seed <= 3; ++seed) EXPECT_EQ(encode(shuffled(mesh, seed)), bytes) << seed;
+  }
+}
+
+TEST(Codec, EmptyAndVertexOnlyMeshes) {
+  QuadMesh empty;
+  QuadMesh back = decode(encode(empty));
+  EXPECT_EQ(back.vertex_count(), 0u);
+  QuadMesh points;
+  points.positions = {1, 2, 3, -0.0f, 5, 6};
+  EncodeOptions keep;
+  keep.keep_order = true;
+  back = decode(encode(points, keep));
+  EXPECT_EQ(std::memcmp(back.positions.data(), points.positions.data(), 24), 0);
+}
+
+TEST(Codec, UnreferencedVerticesKeepTheirPositions) {
+  QuadMesh m = load(std::string(QSP_TESTDATA_DIR) + "/grid_5x3.obj");
+  m.positions.insert(m.positions.begin(), {7.5f, -1.0f, 2.0f});  // new vertex 0, in no face
+  for (auto& v : m.quads) ++v;
+  m.positions.insert(m.positions.end(), {1e-30f, 3.0f, 4.0f});
+  OrderMap order;
+  std::string bytes = encode(m, {}, &order);
+  expect_isomorphic(m, decode(bytes), order, true);
+  EXPECT_EQ(inspect(bytes).unreferenced, 2u);
+}
+
+TEST(Codec, QuantizedStaysWithinTheGrid) {
+  QuadMesh m = load(std::string(QSP_TESTDATA_DIR) + "/keenan_spot_quadrangulated.obj");
+  EncodeOptions o;
+  o.quantize_bits = 12;
+  OrderMap order;
+  std::string bytes = encode(m, o, &order);
+  EXPECT_LT(bytes.size(), encode(m).size());
+  QuadMesh d = decode(bytes);
+  expect_isomorphic(m, d, order, false);
+}
+
+TEST(Codec, LimitsRefuseBeforeDecoding) {
+  QuadMesh m = load(std::string(QSP_TESTDATA_DIR) + "/cube_4.obj");
+  std::string bytes = encode(m);
+  DecodeLimits tight;
+  tight.max_faces = m.face_count() - 1;
+  try {
+    decode(bytes, tight);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kLimit);
+    EXPECT_NE(std::string(e.what()).find("face count"), std::string::npos);
+  }
+}
+
+TEST(Codec, InspectCountsTable1Row) {
+  QuadMesh m = load(std::string(QSP_TESTDATA_DIR) + "/cube_4.obj");
+  FileInfo info = inspect(encode(m));
+  Adjacency adj = build_adjacency(m);
+  EXPECT_EQ(info.edges, adj.halfedge_count() / 2);
+  EXPECT_EQ(info.extraordinary, 8u);
+  EXPECT_EQ(info.components.size(), 1u);
+  EXPECT_GT(info.schematic_edges, 0u);
+  EXPECT_EQ(info.header_bytes + info.connectivity_bytes + info.geometry_bytes + info.order_bytes + info.other_bytes,
+            info.total_bytes);
+}
+
+// ---- CLI ----
+
+struct CliRun {
+  int status;
+  std::string err;
+};
+
+CliRun run_cli(const std::string& args) {
+  std::string errfile = (fs::temp_directory_path() / ("qsp_cli_err_" + std::to_string(::getpid()))).string();
+  std::string cmd = std::string(QSP_CLI_PATH) + " " + args + " 2>" + errfile;
+  int rc = std::system(cmd.c_str());
+  std::ifstream in(errfile);
+  std::string err((std::istreambuf_iterator<char>(in)), {});
+  fs::remove(errfile);
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, err};
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("qsp_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    fs::copy_file(std::string(QSP_TESTDATA_DIR) + "/cube_4.obj", dir_ / "cube.obj");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string p(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+TEST_F(CliTest, CompressDecompressRoundTrip) {
+  ASSERT_EQ(run_cli("compress " + p("cube.obj")).status, 0);
+  ASSERT_TRUE(fs::exists(p("cube.obj.qsp")));
+  // Default output would be cube.obj again: the input exists, so it is refused without -f.
+  CliRun r = run_cli("decompress " + p("cube.obj.qsp"));
+  EXPECT_EQ(r.status, 3) << r.err;
+  EXPECT_NE(r.err.find("exists"), std::string::npos) << r.err;
+  ASSERT_EQ(run_cli("decompress " + p("cube.obj.qsp") + " -o " + p("back.obj")).status, 0);
+  QuadMesh a = load(p("cube.obj")), b = load(p("back.obj"));
+  EXPECT_EQ(a.vertex_count(), b.vertex_count());
+  EXPECT_EQ(encode(a), encode(b));
+  // compress -> decompress -> compress gives the same bytes.
+  ASSERT_EQ(run_cli("compress " + p("back.obj") + " " + p("again.qsp")).status, 0);
+  EXPECT_EQ(read_file_bytes(p("again.qsp")), read_file_bytes(p("cube.obj.qsp")));
+  // OFF output by extension, keep-order restores the file's own order.
+  ASSERT_EQ(run_cli("compress --keep-order " + p("cube.obj") + " " + p("k.qsp")).status, 0);
+  ASSERT_EQ(run_cli("decompress " + p("k.qsp") + " " + p("k.off")).status, 0);
+  QuadMesh k = load(p("k.off"));
+  EXPECT_EQ(k.quads, a.quads);
+  EXPECT_EQ(k.positions, a.positions);
+}
+
+TEST_F(CliTest, RefusesToOverwrite) {
+  ASSERT_EQ(run_cli("compress " + p("cube.obj") + " " + p("x.qsp")).status, 0);
+  CliRun r = run_cli("compress " + p("cube.obj") + " " + p("x.qsp"));
+  EXPECT_EQ(r.status, 3);
+  EXPECT_EQ(run_cli("compress -f " + p("cube.obj") + " " + p("x.qsp")).status, 0);
+  // Never the input, not even with -f, not even through a link.
+  std::string before = read_file_bytes(p("cube.obj"));
+  r = run_cli("compress -f " + p("cube.obj") + " " + p("cube.obj"));
+  EXPECT_EQ(r.status, 3);
+  EXPECT_NE(r.err.find("input"), std::string::npos) << r.err;
+  fs::create_hard_link(p("cube.obj"), p("link.obj"));
+  r = run_cli("compress -f " + p("cube.obj") + " -o " + p("link.obj"));
+  EXPECT_EQ(r.status, 3);
+  EXPECT_EQ(read_file_bytes(p("cube.obj")), before);
+  // Usage errors exit 2.
+  EXPECT_EQ(run_cli("compress " + p("cube.obj") + " " + p("a.qsp") + " -o " + p("b.qsp")).status, 2);
+  EXPECT_EQ(run_cli("compress --quantize 31 " + p("cube.obj")).status, 2);
+}
+
+TEST_F(CliTest, ExtraDataIsRefusedUnlessDropped) {
+  {
+    std::ofstream o(p("uv.obj"));
+    o << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\ng quad\nf 1/1 2/2 3/3 4/4\n";
+  }
+  CliRun r = run_cli("compress " + p("uv.obj"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("--positions-only"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("texture"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p("uv.obj.qsp")));
+  r = run_cli("compress --positions-only " + p("uv.obj"));
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("dropped"), std::string::npos) << r.err;
+}
+
+TEST_F(CliTest, StdinAndStdout) {
+  ASSERT_EQ(std::system((std::string(QSP_CLI_PATH) + " compress - - < " + p("cube.obj") + " > " + p("s.qsp")).c_str()), 0);
+  ASSERT_EQ(std::system((std::string(QSP_CLI_PATH) + " decompress - < " + p("s.qsp") + " > " + p("s.obj")).c_str()), 0);
+  EXPECT_EQ(encode(load(p("s.obj"))), encode(load(p("cube.obj"))));
+}
+
+TEST_F(CliTest, CorruptFileGivesTypedError) {
+  ASSERT_EQ(run_cli("compress " + p("cube.obj") + " " + p("c.qsp")).status, 0);
+  std::string bytes = read_file_bytes(p("c.qsp"));
+  bytes[bytes.size() / 2] ^= 0x10;
+  write_file_atomic(p("bad.qsp"), bytes, false);
+  CliRun r = run_cli("decompress " + p("bad.qsp") + " " + p("bad.obj"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("checksum"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p("bad.obj")));
+}
+
+}  // namespace
+}  // namespace qsp
