@@ -284,25 +284,42 @@ std::string validate(const ComponentPartition& part, const Adjacency* adj) {
         return fail("edge " + std::to_string(e) + " lies between two holes");
   }
   if (!adj) return {};
-  // Exact tiling: the layout maps one-to-one onto the component's vertices and faces.
   LayoutMap map;
   std::string why = link(part, *adj, map);
   if (!why.empty()) return why;
-  std::vector<std::uint8_t> face_seen(adj->face_count, 0);
-  std::uint32_t comp_faces = 0;
-  for (std::uint32_t f = 0; f < adj->face_count; ++f) comp_faces += adj->face_component[f] == part.component;
+  std::vector<std::uint8_t> face_seen, vertex_seen;
+  return check_tiling(part, *adj, map, face_seen, vertex_seen);
+}
+
+std::string check_tiling(const ComponentPartition& part, const Adjacency& adj, const LayoutMap& map,
+                         std::vector<std::uint8_t>& face_seen, std::vector<std::uint8_t>& vertex_seen) {
+  // Exact tiling: the layout maps one-to-one onto the component's vertices and faces. The scratch
+  // arrays are shared between components and left all zero again, so a whole mesh costs O(n).
+  face_seen.resize(adj.face_count, 0);
+  vertex_seen.resize(adj.vertex_count, 0);
+  std::string why;
   for (std::uint32_t f : map.face) {
-    if (face_seen[f]) return fail("face " + std::to_string(f) + " lies in two patches");
+    if (face_seen[f]) {
+      why = "face " + std::to_string(f) + " lies in two patches";
+      break;
+    }
     face_seen[f] = 1;
   }
-  if (map.face.size() != comp_faces) return fail("patches do not cover the component");
-  std::vector<std::uint8_t> vertex_seen(adj->vertex_count, 0);
+  if (why.empty() && map.face.size() != adj.component_faces[part.component]) why = "patches do not cover the component";
   for (std::uint32_t v : map.vertex) {
-    if (v == kInvalid) return fail("a grid point has no mesh vertex");
-    if (vertex_seen[v]) return fail("mesh vertex " + std::to_string(v) + " appears twice in the layout");
-    vertex_seen[v] = 1;
+    if (!why.empty()) break;
+    if (v == kInvalid) {
+      why = "a grid point has no mesh vertex";
+    } else if (vertex_seen[v]) {
+      why = "mesh vertex " + std::to_string(v) + " appears twice in the layout";
+    } else {
+      vertex_seen[v] = 1;
+    }
   }
-  return {};
+  for (std::uint32_t f : map.face) face_seen[f] = 0;
+  for (std::uint32_t v : map.vertex)
+    if (v != kInvalid) vertex_seen[v] = 0;
+  return why;
 }
 
 }  // namespace qsp

@@ -147,11 +147,13 @@ Adjacency build_adjacency(const QuadMesh& mesh) {
   for (std::uint32_t f0 = 0; f0 < nf; ++f0) {
     if (adj.face_component[f0] != kInvalid) continue;
     const std::uint32_t c = adj.component_count++;
+    adj.component_faces.push_back(0);
     adj.face_component[f0] = c;
     stack.push_back(f0);
     while (!stack.empty()) {
       const std::uint32_t f = stack.back();
       stack.pop_back();
+      ++adj.component_faces[c];
       for (std::uint32_t i = 0; i < 4; ++i) {
         const std::uint32_t g = adj.face(adj.twin[4 * f + i]);
         if (g != kInvalid && adj.face_component[g] == kInvalid) {

@@ -307,8 +307,10 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
                  std::to_string(region_first_face[r]) + ")");
   }
   // Never hand out a wrong partition: every patch must be a grid and the patches must tile.
+  std::vector<std::uint8_t> face_seen, vertex_seen;
   for (const auto& part : out.components) {
-    const std::string why = validate(part, &adj);
+    std::string why = validate(part);
+    if (why.empty()) why = check_tiling(part, adj, layout_to_mesh(part, adj), face_seen, vertex_seen);
     if (!why.empty()) internal("component " + std::to_string(part.component) + ": " + why);
   }
   return out;

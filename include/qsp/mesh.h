@@ -33,6 +33,7 @@ struct Adjacency {
   std::vector<std::uint32_t> valence;         // per vertex: number of incident edges (0 if unreferenced)
   std::vector<std::uint8_t> boundary;         // per vertex: 1 if on the mesh boundary
   std::vector<std::uint32_t> face_component;  // per face: connected component id, numbered by first face
+  std::vector<std::uint32_t> component_faces; // per component: its number of faces
   std::uint32_t component_count = 0;
 
   std::uint32_t halfedge_count() const { return static_cast<std::uint32_t>(twin.size()); }

@@ -119,4 +119,10 @@ struct LayoutMap {
 };
 LayoutMap layout_to_mesh(const ComponentPartition& part, const Adjacency& adj);
 
+// The tiling half of validate(): `map` (from layout_to_mesh) covers the component's faces and
+// vertices exactly once. The scratch vectors may be shared across calls (they are left zeroed), which
+// keeps a whole mesh at O(n). Returns an empty string or what is wrong.
+std::string check_tiling(const ComponentPartition& part, const Adjacency& adj, const LayoutMap& map,
+                         std::vector<std::uint8_t>& face_seen, std::vector<std::uint8_t>& vertex_seen);
+
 }  // namespace qsp
