@@ -516,7 +516,7 @@ TEST(ReadPly, MutatedFilesNeverCrash) {
     write_ply(good, m, binary);
     const std::string original = slurp(good);
     const fs::path p = dir.path() / "mutated.ply";
-    for (int round = 0; round < 400; ++round) {
+    for (int round = 0; round < 200; ++round) {
       std::string bytes = original;
       const int edits = 1 + static_cast<int>(rng() % 4);
       for (int e = 0; e < edits; ++e) {
