@@ -1,5 +1,7 @@
 // File access, format dispatch and the OBJ/OFF writers. The parsers are in io_text.cpp (OBJ, OFF)
 // and io_ply.cpp (PLY through OpenMesh).
+#include "qsp/io.h"
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -13,7 +15,6 @@
 #include <string_view>
 
 #include "qsp/error.h"
-#include "qsp/io.h"
 #include "qsp/mesh.h"
 
 namespace qsp {
@@ -52,8 +53,9 @@ void check_writable(const QuadMesh& mesh, const char* what) {
   const std::size_t v = mesh.vertex_count();
   for (std::size_t i = 0; i < mesh.quads.size(); ++i) {
     if (mesh.quads[i] >= v) {
-      throw Error(ErrorCode::kBadIndex, std::string(what) + ": face " + std::to_string(i / 4) + " refers to vertex " +
-                                            std::to_string(mesh.quads[i]) + " of " + std::to_string(v));
+      throw Error(ErrorCode::kBadIndex, std::string(what) + ": face " + std::to_string(i / 4) +
+                                            " refers to vertex " + std::to_string(mesh.quads[i]) + " of " +
+                                            std::to_string(v));
     }
   }
 }
@@ -223,7 +225,8 @@ QuadMesh read_mesh_file(const std::string& path, ReadReport* report, MeshFormat 
     case MeshFormat::kPly:
       return read_ply_file(path, report);
     case MeshFormat::kQsp:
-      throw Error(ErrorCode::kUnsupported, path + ": a .qsp file is compressed data, not a mesh to read here");
+      throw Error(ErrorCode::kUnsupported,
+                  path + ": a .qsp file is compressed data, not a mesh to read here");
     case MeshFormat::kUnknown:
       break;
   }

@@ -21,7 +21,17 @@
 namespace qsp {
 namespace {
 
-enum class PlyType : std::uint8_t { kNone, kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };
+enum class PlyType : std::uint8_t {
+  kNone,
+  kInt8,
+  kUint8,
+  kInt16,
+  kUint16,
+  kInt32,
+  kUint32,
+  kFloat32,
+  kFloat64
+};
 
 PlyType parse_type(std::string_view t) {
   if (t == "char" || t == "int8") return PlyType::kInt8;
@@ -38,19 +48,26 @@ PlyType parse_type(std::string_view t) {
 int type_size(PlyType t) {
   switch (t) {
     case PlyType::kInt8:
-    case PlyType::kUint8: return 1;
+    case PlyType::kUint8:
+      return 1;
     case PlyType::kInt16:
-    case PlyType::kUint16: return 2;
+    case PlyType::kUint16:
+      return 2;
     case PlyType::kInt32:
     case PlyType::kUint32:
-    case PlyType::kFloat32: return 4;
-    case PlyType::kFloat64: return 8;
-    case PlyType::kNone: break;
+    case PlyType::kFloat32:
+      return 4;
+    case PlyType::kFloat64:
+      return 8;
+    case PlyType::kNone:
+      break;
   }
   return 0;
 }
 
-bool is_float_type(PlyType t) { return t == PlyType::kFloat32 || t == PlyType::kFloat64; }
+bool is_float_type(PlyType t) {
+  return t == PlyType::kFloat32 || t == PlyType::kFloat64;
+}
 
 struct PlyProperty {
   std::string name;
@@ -98,7 +115,8 @@ std::string shown(std::string_view s) {
   return out;
 }
 
-[[noreturn]] void fail_at(ErrorCode code, const std::string& path, std::uint64_t line, const std::string& what) {
+[[noreturn]] void fail_at(ErrorCode code, const std::string& path, std::uint64_t line,
+                          const std::string& what) {
   throw Error(code, path + ":" + std::to_string(line) + ": " + what);
 }
 
@@ -119,12 +137,14 @@ PlyHeader parse_header(std::string_view bytes, const std::string& path) {
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     const auto w = split_words(line);
     if (line_no == 1) {
-      if (w.size() != 1 || w[0] != "ply") fail_at(ErrorCode::kParse, path, 1, "not a PLY file (no 'ply' magic line)");
+      if (w.size() != 1 || w[0] != "ply")
+        fail_at(ErrorCode::kParse, path, 1, "not a PLY file (no 'ply' magic line)");
       continue;
     }
     if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
     if (w[0] == "format") {
-      if (w.size() != 3 || w[2] != "1.0") fail_at(ErrorCode::kParse, path, line_no, "malformed PLY format line");
+      if (w.size() != 3 || w[2] != "1.0")
+        fail_at(ErrorCode::kParse, path, line_no, "malformed PLY format line");
       if (w[1] == "ascii") {
         h.format = PlyHeader::Format::kAscii;
       } else if (w[1] == "binary_little_endian") {
@@ -178,7 +198,9 @@ bool is_color(std::string_view n) {
 bool is_texcoord(std::string_view n) {
   return n == "u" || n == "v" || n == "s" || n == "t" || n.substr(0, 8) == "texture_" || n == "texcoord";
 }
-bool is_normal(std::string_view n) { return n == "nx" || n == "ny" || n == "nz"; }
+bool is_normal(std::string_view n) {
+  return n == "nx" || n == "ny" || n == "nz";
+}
 
 // What the header promises: counted extras, checked limits, and counts the data can hold.
 struct PlyLayout {
@@ -213,7 +235,8 @@ PlyLayout check_header(const PlyHeader& h, std::string_view bytes, const std::st
     }
   }
   if (min_bytes > available) {
-    fail_at(ErrorCode::kParse, path, h.header_lines, "PLY header declares more data than the file holds (truncated?)");
+    fail_at(ErrorCode::kParse, path, h.header_lines,
+            "PLY header declares more data than the file holds (truncated?)");
   }
   if (!l.vertex) fail_at(ErrorCode::kParse, path, h.header_lines, "PLY file has no vertex element");
   l.x = l.vertex->find("x");
@@ -221,7 +244,8 @@ PlyLayout check_header(const PlyHeader& h, std::string_view bytes, const std::st
   l.z = l.vertex->find("z");
   if (l.x < 0 || l.y < 0 || l.z < 0 || l.vertex->properties[l.x].list() || l.vertex->properties[l.y].list() ||
       l.vertex->properties[l.z].list()) {
-    fail_at(ErrorCode::kParse, path, l.vertex->header_line, "PLY vertex element needs scalar x, y and z properties");
+    fail_at(ErrorCode::kParse, path, l.vertex->header_line,
+            "PLY vertex element needs scalar x, y and z properties");
   }
   if (l.vertex->count > kMaxVertices) {
     fail_at(ErrorCode::kLimit, path, l.vertex->header_line,
@@ -230,7 +254,10 @@ PlyLayout check_header(const PlyHeader& h, std::string_view bytes, const std::st
   bool normals = false, colors = false, texcoords = false, other = false;
   for (const auto& p : l.vertex->properties) {
     if (p.name == "x" || p.name == "y" || p.name == "z") continue;
-    (is_normal(p.name) ? normals : is_color(p.name) ? colors : is_texcoord(p.name) ? texcoords : other) = true;
+    (is_normal(p.name)     ? normals
+     : is_color(p.name)    ? colors
+     : is_texcoord(p.name) ? texcoords
+                           : other) = true;
   }
   if (normals) r.normals += l.vertex->count;
   if (colors) r.vertex_colors += l.vertex->count;
@@ -239,8 +266,10 @@ PlyLayout check_header(const PlyHeader& h, std::string_view bytes, const std::st
   if (!l.face) return l;
   l.indices = l.face->find("vertex_indices");
   if (l.indices < 0) l.indices = l.face->find("vertex_index");
-  if (l.indices < 0 || !l.face->properties[l.indices].list() || is_float_type(l.face->properties[l.indices].type)) {
-    fail_at(ErrorCode::kParse, path, l.face->header_line, "PLY face element has no integer vertex_indices list");
+  if (l.indices < 0 || !l.face->properties[l.indices].list() ||
+      is_float_type(l.face->properties[l.indices].type)) {
+    fail_at(ErrorCode::kParse, path, l.face->header_line,
+            "PLY face element has no integer vertex_indices list");
   }
   if (l.face->count > kMaxFaces) {
     fail_at(ErrorCode::kLimit, path, l.face->header_line,
@@ -264,8 +293,12 @@ PlyLayout check_header(const PlyHeader& h, std::string_view bytes, const std::st
 class PlyData {
  public:
   PlyData(const PlyHeader& h, std::string_view bytes, const std::string& path)
-      : format_(h.format), begin_(bytes.data()), p_(bytes.data() + h.data_offset), end_(bytes.data() + bytes.size()),
-        line_(h.header_lines + 1), path_(path) {}
+      : format_(h.format),
+        begin_(bytes.data()),
+        p_(bytes.data() + h.data_offset),
+        end_(bytes.data() + bytes.size()),
+        line_(h.header_lines + 1),
+        path_(path) {}
 
   std::uint64_t line() const { return line_; }
   bool ascii() const { return format_ == PlyHeader::Format::kAscii; }
@@ -285,8 +318,8 @@ class PlyData {
     if (!ascii()) return;
     skip_spaces();
     if (p_ < end_ && *p_ != '\n') {
-      fail(ErrorCode::kParse, "unexpected '" + shown(token()) + "' after " + what + " " + std::to_string(index) +
-                                  " (more values than the header declares)");
+      fail(ErrorCode::kParse, "unexpected '" + shown(token()) + "' after " + what + " " +
+                                  std::to_string(index) + " (more values than the header declares)");
     }
   }
   // Only blank space may follow the last element.
@@ -297,7 +330,8 @@ class PlyData {
     } else if (p_ == end_) {
       return;
     }
-    fail(ErrorCode::kParse, "unexpected data after the last element (" + std::to_string(end_ - p_) + " bytes)");
+    fail(ErrorCode::kParse,
+         "unexpected data after the last element (" + std::to_string(end_ - p_) + " bytes)");
   }
 
   float coordinate(PlyType t, const char* what, std::uint64_t index) {
@@ -306,8 +340,8 @@ class PlyData {
       const std::string_view tok = next_token(what, index);
       const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), f);
       if (ec == std::errc::invalid_argument || ptr != tok.data() + tok.size()) {
-        fail(ErrorCode::kParse, std::string("malformed number '") + shown(tok) + "' in " + what + " " +
-                                    std::to_string(index));
+        fail(ErrorCode::kParse,
+             std::string("malformed number '") + shown(tok) + "' in " + what + " " + std::to_string(index));
       }
       if (ec == std::errc::result_out_of_range) {
         fail(ErrorCode::kBadNumber, "number '" + shown(tok) + "' in " + what + " " + std::to_string(index) +
@@ -318,16 +352,17 @@ class PlyData {
     } else if (t == PlyType::kFloat64) {
       const double d = std::bit_cast<double>(raw(8, what, index));
       if (std::isfinite(d) && std::fabs(d) > static_cast<double>(std::numeric_limits<float>::max())) {
-        fail(ErrorCode::kBadNumber, std::string(what) + " " + std::to_string(index) +
-                                        " has a coordinate outside the float32 range");
+        fail(ErrorCode::kBadNumber,
+             std::string(what) + " " + std::to_string(index) + " has a coordinate outside the float32 range");
       }
       f = static_cast<float>(d);
     } else {
       f = static_cast<float>(integer(t, what, index));
     }
     if (!std::isfinite(f)) {
-      fail(ErrorCode::kBadNumber, std::string(what) + " " + std::to_string(index) +
-                                      " has a non-finite coordinate (NaN and infinity are not valid mesh data)");
+      fail(ErrorCode::kBadNumber,
+           std::string(what) + " " + std::to_string(index) +
+               " has a non-finite coordinate (NaN and infinity are not valid mesh data)");
     }
     return f;
   }
@@ -338,20 +373,27 @@ class PlyData {
       std::int64_t v = 0;
       const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
       if (ec != std::errc() || ptr != tok.data() + tok.size()) {
-        fail(ErrorCode::kParse, std::string("malformed integer '") + shown(tok) + "' in " + what + " " +
-                                    std::to_string(index));
+        fail(ErrorCode::kParse,
+             std::string("malformed integer '") + shown(tok) + "' in " + what + " " + std::to_string(index));
       }
       return v;
     }
     const std::uint64_t b = raw(type_size(t), what, index);
     switch (t) {
-      case PlyType::kInt8: return static_cast<std::int8_t>(b);
-      case PlyType::kUint8: return static_cast<std::uint8_t>(b);
-      case PlyType::kInt16: return static_cast<std::int16_t>(b);
-      case PlyType::kUint16: return static_cast<std::uint16_t>(b);
-      case PlyType::kInt32: return static_cast<std::int32_t>(b);
-      case PlyType::kUint32: return static_cast<std::uint32_t>(b);
-      default: break;
+      case PlyType::kInt8:
+        return static_cast<std::int8_t>(b);
+      case PlyType::kUint8:
+        return static_cast<std::uint8_t>(b);
+      case PlyType::kInt16:
+        return static_cast<std::int16_t>(b);
+      case PlyType::kUint16:
+        return static_cast<std::uint16_t>(b);
+      case PlyType::kInt32:
+        return static_cast<std::int32_t>(b);
+      case PlyType::kUint32:
+        return static_cast<std::uint32_t>(b);
+      default:
+        break;
     }
     fail(ErrorCode::kParse, std::string("expected an integer in ") + what + " " + std::to_string(index));
   }
@@ -365,8 +407,8 @@ class PlyData {
         double d = 0;
         const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), d);
         if (ec == std::errc::invalid_argument || ptr != tok.data() + tok.size()) {
-          fail(ErrorCode::kParse, std::string("malformed number '") + shown(tok) + "' in " + what + " " +
-                                      std::to_string(index));
+          fail(ErrorCode::kParse,
+               std::string("malformed number '") + shown(tok) + "' in " + what + " " + std::to_string(index));
         }
       } else {
         (void)raw(type_size(p.type), what, index);
@@ -378,7 +420,8 @@ class PlyData {
     const std::int64_t n = integer(t, what, index);
     // Every entry takes at least one byte, so a longer list cannot be in the file.
     if (n < 0 || static_cast<std::uint64_t>(n) > static_cast<std::uint64_t>(end_ - p_)) {
-      fail(ErrorCode::kParse, "invalid list length " + std::to_string(n) + " in " + what + " " + std::to_string(index));
+      fail(ErrorCode::kParse,
+           "invalid list length " + std::to_string(n) + " in " + what + " " + std::to_string(index));
     }
     return static_cast<std::uint64_t>(n);
   }
@@ -386,7 +429,8 @@ class PlyData {
  private:
   std::uint64_t raw(int size, const char* what, std::uint64_t index) {
     if (end_ - p_ < size) {
-      fail(ErrorCode::kParse, std::string("file ends inside ") + what + " " + std::to_string(index) + " (truncated)");
+      fail(ErrorCode::kParse,
+           std::string("file ends inside ") + what + " " + std::to_string(index) + " (truncated)");
     }
     std::uint64_t v = 0;
     for (int i = 0; i < size; ++i) {
@@ -419,8 +463,8 @@ class PlyData {
   std::string_view next_token(const char* what, std::uint64_t index) {
     skip_spaces();
     if (p_ == end_ || *p_ == '\n') {
-      fail(ErrorCode::kParse, std::string(p_ == end_ ? "file ends inside " : "too few values in ") + what + " " +
-                                  std::to_string(index) + (p_ == end_ ? " (truncated)" : ""));
+      fail(ErrorCode::kParse, std::string(p_ == end_ ? "file ends inside " : "too few values in ") + what +
+                                  " " + std::to_string(index) + (p_ == end_ ? " (truncated)" : ""));
     }
     const std::string_view tok = token();
     p_ += tok.size();
@@ -463,15 +507,18 @@ QuadMesh read_ply_file(const std::string& path, ReadReport* report) {
       for (int k = 0; k < static_cast<int>(e.properties.size()); ++k) {
         const PlyProperty& p = e.properties[k];
         if (is_vertex && (k == layout.x || k == layout.y || k == layout.z)) {
-          mesh.positions[3 * i + (k == layout.x ? 0 : k == layout.y ? 1 : 2)] = in.coordinate(p.type, what, i);
+          mesh.positions[3 * i + (k == layout.x   ? 0
+                                  : k == layout.y ? 1
+                                                  : 2)] = in.coordinate(p.type, what, i);
         } else if (is_face && k == layout.indices) {
           const std::uint64_t n = in.length(p.count_type, what, i);
           std::uint32_t q[4];
           for (std::uint64_t c = 0; c < n; ++c) {
             const std::int64_t v = in.integer(p.type, what, i);
             if (v < 0 || static_cast<std::uint64_t>(v) >= layout.vertex->count) {
-              in.fail(ErrorCode::kBadIndex, "face " + std::to_string(i) + " refers to vertex " + std::to_string(v) +
-                                                " (the file has " + std::to_string(layout.vertex->count) +
+              in.fail(ErrorCode::kBadIndex, "face " + std::to_string(i) + " refers to vertex " +
+                                                std::to_string(v) + " (the file has " +
+                                                std::to_string(layout.vertex->count) +
                                                 " vertices, numbered from 0)");
             }
             if (c < 4) q[c] = static_cast<std::uint32_t>(v);
@@ -490,12 +537,14 @@ QuadMesh read_ply_file(const std::string& path, ReadReport* report) {
             for (int b = a + 1; b < 4; ++b) {
               if (q[a] == q[b]) {
                 in.fail(ErrorCode::kDegenerateFace, "face " + std::to_string(i) + " repeats vertex " +
-                                                        std::to_string(q[a]) + "; a quad needs 4 distinct vertices");
+                                                        std::to_string(q[a]) +
+                                                        "; a quad needs 4 distinct vertices");
               }
             }
           }
           mesh.quads.insert(mesh.quads.end(), q, q + 4);
-          if (in.ascii()) r.face_line.push_back(static_cast<std::uint32_t>(std::min<std::uint64_t>(line, 0xFFFFFFFFu)));
+          if (in.ascii())
+            r.face_line.push_back(static_cast<std::uint32_t>(std::min<std::uint64_t>(line, 0xFFFFFFFFu)));
         } else {
           in.skip(p, what, i);
         }
@@ -505,11 +554,13 @@ QuadMesh read_ply_file(const std::string& path, ReadReport* report) {
   }
   in.finish();
   if (non_quads) {
-    const std::string where = in.ascii() ? path + ":" + std::to_string(first_non_quad_line) + ": " : path + ": ";
-    throw Error(ErrorCode::kNotQuad, where + std::to_string(non_quads) +
-                                         (non_quads == 1 ? " face is not a quad (" : " faces are not quads (first: ") +
-                                         examples + (non_quads > 3 ? ", ..." : "") +
-                                         "); qsp stores quad meshes only and never triangulates or drops faces");
+    const std::string where =
+        in.ascii() ? path + ":" + std::to_string(first_non_quad_line) + ": " : path + ": ";
+    throw Error(ErrorCode::kNotQuad,
+                where + std::to_string(non_quads) +
+                    (non_quads == 1 ? " face is not a quad (" : " faces are not quads (first: ") + examples +
+                    (non_quads > 3 ? ", ..." : "") +
+                    "); qsp stores quad meshes only and never triangulates or drops faces");
   }
   if (!in.ascii()) r.face_line.assign(mesh.face_count(), 0);  // binary faces have no line
   return mesh;

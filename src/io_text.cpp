@@ -67,14 +67,17 @@ struct NonQuads {
     if (count == 1) {
       msg += "1 face is not a quad (" + examples + ")";
     } else {
-      msg += std::to_string(count) + " faces are not quads (first: " + examples + (count > 3 ? ", ..." : "") + ")";
+      msg += std::to_string(count) + " faces are not quads (first: " + examples + (count > 3 ? ", ..." : "") +
+             ")";
     }
     msg += "; qsp stores quad meshes only and never triangulates or drops faces";
     throw Error(ErrorCode::kNotQuad, msg);
   }
 };
 
-inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+inline bool is_blank(char c) {
+  return c == ' ' || c == '\t' || c == '\r';
+}
 
 // Cursor over the text with line tracking. Blanks are spaces, tabs, CR and backslash-newline
 // continuations; a statement ends at '\n', '#' or the end of the text.
@@ -273,8 +276,8 @@ class ObjReader {
       statement();
       in_.skip_blank();
       if (!in_.at_eol()) {
-        in_.fail(ErrorCode::kParse, "unexpected " + quote_token(in_.token_at(in_.pos())) + " at the end of a `" +
-                                        std::string(keyword_) + "` statement");
+        in_.fail(ErrorCode::kParse, "unexpected " + quote_token(in_.token_at(in_.pos())) +
+                                        " at the end of a `" + std::string(keyword_) + "` statement");
       }
       in_.finish_line();
     }
@@ -295,7 +298,8 @@ class ObjReader {
     if (k == "vp") return count_numbers(report_.parameter_vertices, 1, 3, "`vp` statement");
     if (k == "g" || k == "o") return count_statement(report_.groups);
     if (k == "s") return count_statement(report_.smoothing);
-    if (k == "usemtl" || k == "mtllib" || k == "usemap" || k == "maplib") return count_statement(report_.materials);
+    if (k == "usemtl" || k == "mtllib" || k == "usemap" || k == "maplib")
+      return count_statement(report_.materials);
     if (k == "t") return count_statement(report_.tags);  // OpenSubdiv tags: `t crease 2/1/0 1 2 4.0`
     if (k == "l" || k == "p") {
       in_.fail(ErrorCode::kUnsupported, line,
@@ -303,13 +307,14 @@ class ObjReader {
                    ") elements are not supported; qsp stores quad meshes only");
     }
     static constexpr std::string_view kFreeForm[] = {
-        "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv", "sp",
-        "end",    "con", "mg",   "bevel", "c_interp", "d_interp", "lod", "shadow_obj", "trace_obj", "ctech",
-        "stech"};
+        "cstype",   "deg",      "bmat", "step",       "curv",      "curv2", "surf", "parm",
+        "trim",     "hole",     "scrv", "sp",         "end",       "con",   "mg",   "bevel",
+        "c_interp", "d_interp", "lod",  "shadow_obj", "trace_obj", "ctech", "stech"};
     if (std::find(std::begin(kFreeForm), std::end(kFreeForm), k) != std::end(kFreeForm)) {
       in_.fail(ErrorCode::kUnsupported, line,
-               "`" + std::string(k) + "` (free-form geometry or display attribute) is not supported; qsp "
-               "stores quad meshes only");
+               "`" + std::string(k) +
+                   "` (free-form geometry or display attribute) is not supported; qsp "
+                   "stores quad meshes only");
     }
     in_.fail(ErrorCode::kParse, line, "unknown statement " + quote_token(k));
   }
@@ -359,7 +364,8 @@ class ObjReader {
           attribute_index("normal");
         }
         if (!in_.token_ends_at(in_.pos())) {
-          in_.fail(ErrorCode::kParse, "malformed vertex reference " + quote_token(in_.token_at(in_.token_start())));
+          in_.fail(ErrorCode::kParse,
+                   "malformed vertex reference " + quote_token(in_.token_at(in_.token_start())));
         }
       }
       const std::uint32_t index = resolve(magnitude, negative, in_range);
@@ -379,7 +385,8 @@ class ObjReader {
                    std::to_string(first + 1) + " and " + std::to_string(other + 1) +
                    "); a quad needs 4 distinct vertices");
     }
-    if (face_count_ >= kMaxFaces) in_.fail(ErrorCode::kLimit, "more than " + std::to_string(kMaxFaces) + " faces");
+    if (face_count_ >= kMaxFaces)
+      in_.fail(ErrorCode::kLimit, "more than " + std::to_string(kMaxFaces) + " faces");
     ++face_count_;
     mesh_.quads.insert(mesh_.quads.end(), q, q + 4);
     report_.face_line.push_back(clamp_line(line));
@@ -390,8 +397,8 @@ class ObjReader {
     std::uint32_t magnitude = 0;
     bool negative = false;
     if (!in_.index(magnitude, negative, "`f` statement", true) || magnitude == 0) {
-      in_.fail(ErrorCode::kParse, std::string("invalid ") + what + " index in " +
-                                      quote_token(in_.token_at(in_.token_start())));
+      in_.fail(ErrorCode::kParse,
+               std::string("invalid ") + what + " index in " + quote_token(in_.token_at(in_.token_start())));
     }
   }
 
@@ -426,8 +433,8 @@ class ObjReader {
         const std::uint32_t index = mesh_.quads[4 * f + i];
         if (index >= vertex_count_) {
           in_.fail(ErrorCode::kBadIndex, report_.face_line[f],
-                   "vertex index " + std::to_string(std::uint64_t{index} + 1) + " is out of range (the file has " +
-                       plural(vertex_count_, "vertex", "vertices") + ")");
+                   "vertex index " + std::to_string(std::uint64_t{index} + 1) +
+                       " is out of range (the file has " + plural(vertex_count_, "vertex", "vertices") + ")");
         }
       }
     }
@@ -436,8 +443,10 @@ class ObjReader {
   void count_numbers(std::uint64_t& counter, std::uint64_t min, std::uint64_t max, const char* context) {
     const std::uint64_t n = skip_numbers(in_, context);
     if (n < min || n > max) {
-      std::string want = min == max ? std::to_string(min) : std::to_string(min) + " to " + std::to_string(max);
-      in_.fail(ErrorCode::kParse, std::string(context) + " has " + std::to_string(n) + " numbers, expected " + want);
+      std::string want =
+          min == max ? std::to_string(min) : std::to_string(min) + " to " + std::to_string(max);
+      in_.fail(ErrorCode::kParse,
+               std::string(context) + " has " + std::to_string(n) + " numbers, expected " + want);
     }
     ++counter;
   }
@@ -472,8 +481,10 @@ class OffReader {
     // Only blanks and comments may follow the last face.
     skip_empty();
     if (!in_.done()) {
-      in_.fail(ErrorCode::kParse, "unexpected " + quote_token(in_.token_at(in_.pos())) + " after the last face (the "
-                                      "header declares " + plural(face_count_, "face", "faces") + ")");
+      in_.fail(ErrorCode::kParse, "unexpected " + quote_token(in_.token_at(in_.pos())) +
+                                      " after the last face (the "
+                                      "header declares " +
+                                      plural(face_count_, "face", "faces") + ")");
     }
     non_quads_.throw_if_any(source_);
     return std::move(mesh_);
@@ -504,8 +515,9 @@ class OffReader {
     std::int64_t v = 0;
     const bool ok = in_.integer(v, "the OFF counts line", false);
     if (v < 0) in_.fail(ErrorCode::kParse, std::string("negative ") + what + " in the OFF counts line");
-    if (!ok) in_.fail(ErrorCode::kLimit, std::string(what) + " " + quote_token(in_.token_at(in_.token_start())) +
-                                             " is beyond qsp's limits");
+    if (!ok)
+      in_.fail(ErrorCode::kLimit, std::string(what) + " " + quote_token(in_.token_at(in_.token_start())) +
+                                      " is beyond qsp's limits");
     return static_cast<std::uint64_t>(v);
   }
 
@@ -519,12 +531,12 @@ class OffReader {
     if (!k.empty() && k[0] == 'C') has_colors_ = true, k.remove_prefix(1);
     if (!k.empty() && k[0] == 'N') has_normals_ = true, k.remove_prefix(1);
     if (k == "4OFF" || k == "nOFF" || k == "4nOFF") {
-      in_.fail(ErrorCode::kUnsupported, "OFF variant " + quote_token(key) +
-                                            " (homogeneous or n-dimensional) is not supported");
+      in_.fail(ErrorCode::kUnsupported,
+               "OFF variant " + quote_token(key) + " (homogeneous or n-dimensional) is not supported");
     }
     if (k != "OFF") {
-      in_.fail(ErrorCode::kParse, header_line, "expected an OFF header (OFF, COFF, NOFF, STOFF, ...), found " +
-                                                   quote_token(key));
+      in_.fail(ErrorCode::kParse, header_line,
+               "expected an OFF header (OFF, COFF, NOFF, STOFF, ...), found " + quote_token(key));
     }
     in_.skip_blank();
     if (!in_.at_eol()) {
@@ -546,12 +558,14 @@ class OffReader {
 
     // Refuse counts the text cannot hold before allocating anything for them.
     if (vertex_count_ > kMaxVertices) {
-      in_.fail(ErrorCode::kLimit, counts_line_, "header declares " + std::to_string(vertex_count_) +
-                                                    " vertices; qsp's limit is " + std::to_string(kMaxVertices));
+      in_.fail(ErrorCode::kLimit, counts_line_,
+               "header declares " + std::to_string(vertex_count_) + " vertices; qsp's limit is " +
+                   std::to_string(kMaxVertices));
     }
     if (face_count_ > kMaxFaces) {
-      in_.fail(ErrorCode::kLimit, counts_line_, "header declares " + std::to_string(face_count_) +
-                                                    " faces; qsp's limit is " + std::to_string(kMaxFaces));
+      in_.fail(ErrorCode::kLimit, counts_line_,
+               "header declares " + std::to_string(face_count_) + " faces; qsp's limit is " +
+                   std::to_string(kMaxFaces));
     }
     // Smallest possible entries: "0 0 0\n" per vertex, "0\n" per face.
     const std::uint64_t need = 6 * vertex_count_ + 2 * face_count_;
@@ -580,7 +594,8 @@ class OffReader {
       skip_empty();
       if (in_.done()) {
         in_.fail(ErrorCode::kParse, "file ends after " + std::to_string(v) + " of " +
-                                        plural(vertex_count_, "vertex", "vertices") + " (truncated)" + counts_hint());
+                                        plural(vertex_count_, "vertex", "vertices") + " (truncated)" +
+                                        counts_hint());
       }
       float xyz[3];
       std::uint64_t n = 0;
@@ -611,7 +626,8 @@ class OffReader {
       skip_empty();
       if (in_.done()) {
         in_.fail(ErrorCode::kParse, "file ends after " + std::to_string(f) + " of " +
-                                        plural(face_count_, "face", "faces") + " (truncated)" + counts_hint());
+                                        plural(face_count_, "face", "faces") + " (truncated)" +
+                                        counts_hint());
       }
       const std::uint64_t line = in_.line();
       in_.mark_token();
@@ -619,18 +635,20 @@ class OffReader {
       const char* start = in_.pos();
       const std::string_view first = in_.token_at(start);
       if (first.find_first_of(".eE") != std::string_view::npos) {
-        in_.fail(ErrorCode::kParse, "expected a face (vertex count, then indices), found " + quote_token(first) +
-                                        counts_hint());
+        in_.fail(ErrorCode::kParse,
+                 "expected a face (vertex count, then indices), found " + quote_token(first) + counts_hint());
       }
       if (!in_.integer(n, "an OFF face", false) || n < 0 || static_cast<std::uint64_t>(n) > in_.remaining()) {
-        in_.fail(ErrorCode::kParse, "face vertex count " + quote_token(first) + " is invalid" + counts_hint());
+        in_.fail(ErrorCode::kParse,
+                 "face vertex count " + quote_token(first) + " is invalid" + counts_hint());
       }
       std::uint32_t q[4];
       for (std::int64_t i = 0; i < n; ++i) {
         skip_empty();
         if (in_.done()) {
-          in_.fail(ErrorCode::kParse, line, "file ends inside face " + std::to_string(f) + " (" +
-                                                std::to_string(i) + " of " + std::to_string(n) + " indices)");
+          in_.fail(ErrorCode::kParse, line,
+                   "file ends inside face " + std::to_string(f) + " (" + std::to_string(i) + " of " +
+                       std::to_string(n) + " indices)");
         }
         in_.mark_token();
         std::uint32_t index = 0;
@@ -639,7 +657,8 @@ class OffReader {
         if (!ok || (negative && index != 0) || index >= vertex_count_) {
           in_.fail(ErrorCode::kBadIndex, "vertex index " + quote_token(in_.token_at(in_.token_start())) +
                                              " is out of range (the file has " +
-                                             plural(vertex_count_, "vertex", "vertices") + ", numbered from 0)");
+                                             plural(vertex_count_, "vertex", "vertices") +
+                                             ", numbered from 0)");
         }
         if (i < 4) q[i] = index;
       }
@@ -662,8 +681,8 @@ class OffReader {
       const int dup = repeated_corner(q, &other);
       if (dup >= 0) {
         in_.fail(ErrorCode::kDegenerateFace, line,
-                 "face repeats vertex " + std::to_string(q[dup]) + " (corners " + std::to_string(dup + 1) + " and " +
-                     std::to_string(other + 1) + "); a quad needs 4 distinct vertices");
+                 "face repeats vertex " + std::to_string(q[dup]) + " (corners " + std::to_string(dup + 1) +
+                     " and " + std::to_string(other + 1) + "); a quad needs 4 distinct vertices");
       }
       mesh_.quads.insert(mesh_.quads.end(), q, q + 4);
       report_.face_line.push_back(clamp_line(line));

@@ -5,6 +5,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -18,9 +20,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
 #include "qsp/error.h"
 #include "qsp/io.h"
@@ -81,7 +80,9 @@ class TempDir {
   fs::path path_;
 };
 
-std::vector<std::uint32_t> quads(const qsp::QuadMesh& m) { return m.quads; }
+std::vector<std::uint32_t> quads(const qsp::QuadMesh& m) {
+  return m.quads;
+}
 
 }  // namespace
 
@@ -103,7 +104,8 @@ TEST(ReadObj, PlainQuadsAndUnreferencedVertex) {
 }
 
 TEST(ReadObj, FloatsRoundExactlyAsFromChars) {
-  const char* tokens[] = {"0.1", "-0", "1e-45", "3.4028235e38", "16777217", "+2.5", ".5", "1.", "-1.17549435e-38"};
+  const char* tokens[] = {"0.1",  "-0", "1e-45", "3.4028235e38",   "16777217",
+                          "+2.5", ".5", "1.",    "-1.17549435e-38"};
   for (const char* t : tokens) {
     const std::string text = std::string("v ") + t + " 0 0\n";
     const qsp::QuadMesh m = qsp::read_obj(text, "t.obj");
@@ -119,7 +121,7 @@ TEST(ReadObj, AttributeSyntaxNegativeIndicesAndExtras) {
       "# header comment\n"
       "mtllib a.mtl\n"
       "o thing\n"
-      "v 0 0 0 1\n"           // w
+      "v 0 0 0 1\n"            // w
       "v 1 0 0 0.5 0.5 0.5\n"  // colour
       "v 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
       "vt 0 0\nvt 1 0\nvt 1 1 0\n"
@@ -149,10 +151,11 @@ TEST(ReadObj, AttributeSyntaxNegativeIndicesAndExtras) {
   EXPECT_EQ(r.vertex_colors, 2u);
   EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{18, 19, 20}));
   EXPECT_TRUE(r.has_extra_data());
-  EXPECT_EQ(r.describe_extra_data(),
-            "3 texture coordinates, 1 normal, 3 faces with texture/normal indices, 2 group/object names, "
-            "2 material statements, 2 smoothing group statements, 2 subdivision tags, 2 vertex colours (or w), "
-            "1 parameter-space vertex");
+  EXPECT_EQ(
+      r.describe_extra_data(),
+      "3 texture coordinates, 1 normal, 3 faces with texture/normal indices, 2 group/object names, "
+      "2 material statements, 2 smoothing group statements, 2 subdivision tags, 2 vertex colours (or w), "
+      "1 parameter-space vertex");
 }
 
 TEST(ReadObj, CrlfTabsTrailingSpaceContinuationBomForwardRefs) {
@@ -236,8 +239,8 @@ TEST(ReadOff, MultiLineFacesColoursAndComments) {
       "# counts next\n"
       "5 3 0\n"
       "0 0 0\n1 0 0\n1 1 0\n0 1 0\n\n2 2 2  # trailing comment\n"
-      "4 0 1\n2\n3\n"           // face over three lines
-      "4 1 4 2 0 255 0 0\n"     // face colour (RGB)
+      "4 0 1\n2\n3\n"                 // face over three lines
+      "4 1 4 2 0 255 0 0\n"           // face colour (RGB)
       "4\n3 2\n4 1 0.5 0.5 0.5 1\n";  // colour (RGBA) on the last index line
   qsp::ReadReport r;
   const qsp::QuadMesh m = qsp::read_off(text, "t.off", &r);
@@ -251,10 +254,12 @@ TEST(ReadOff, CountsOnHeaderLineAndVariants) {
   qsp::ReadReport r;
   qsp::QuadMesh m = qsp::read_off("OFF 4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n", "t.off", &r);
   EXPECT_EQ(m.face_count(), 1u);
-  m = qsp::read_off("COFF\r\n4 1\r\n0 0 0 1 0 0 1\r\n1 0 0 1 0 0 1\r\n1 1 0 1 0 0 1\r\n0 1 0 1 0 0\r\n4 0 1 2 3\r\n",
-                    "t.off", &r);
+  m = qsp::read_off(
+      "COFF\r\n4 1\r\n0 0 0 1 0 0 1\r\n1 0 0 1 0 0 1\r\n1 1 0 1 0 0 1\r\n0 1 0 1 0 0\r\n4 0 1 2 3\r\n",
+      "t.off", &r);
   EXPECT_EQ(r.vertex_colors, 4u);
-  m = qsp::read_off("NOFF\n4 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n1 1 0 0 0 1\n0 1 0 0 0 1\n4 0 1 2 3\n", "t.off", &r);
+  m = qsp::read_off("NOFF\n4 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n1 1 0 0 0 1\n0 1 0 0 0 1\n4 0 1 2 3\n", "t.off",
+                    &r);
   EXPECT_EQ(r.normals, 4u);
   EXPECT_EQ(m.positions[3], 1.0f);
 }
@@ -360,9 +365,9 @@ namespace {
 
 std::string ply_ascii(const std::string& vertex_props, const std::string& vertices, int vcount,
                       const std::string& faces, int fcount, const std::string& face_props = "") {
-  return "ply\nformat ascii 1.0\ncomment test\nelement vertex " + std::to_string(vcount) + "\n" + vertex_props +
-         "element face " + std::to_string(fcount) + "\nproperty list uchar int vertex_indices\n" + face_props +
-         "end_header\n" + vertices + faces;
+  return "ply\nformat ascii 1.0\ncomment test\nelement vertex " + std::to_string(vcount) + "\n" +
+         vertex_props + "element face " + std::to_string(fcount) +
+         "\nproperty list uchar int vertex_indices\n" + face_props + "end_header\n" + vertices + faces;
 }
 
 }  // namespace
@@ -474,7 +479,8 @@ void write_ply(const fs::path& p, const qsp::QuadMesh& m, bool binary) {
       out.append(reinterpret_cast<const char*>(&m.positions[i]), 12);
     } else {
       char buf[128];
-      std::snprintf(buf, sizeof buf, "%.9g %.9g %.9g\n", m.positions[i], m.positions[i + 1], m.positions[i + 2]);
+      std::snprintf(buf, sizeof buf, "%.9g %.9g %.9g\n", m.positions[i], m.positions[i + 1],
+                    m.positions[i + 2]);
       out += buf;
     }
   }
@@ -522,9 +528,15 @@ TEST(ReadPly, MutatedFilesNeverCrash) {
       for (int e = 0; e < edits; ++e) {
         const std::size_t at = rng() % bytes.size();
         switch (rng() % 3) {
-          case 0: bytes[at] = static_cast<char>(rng()); break;
-          case 1: bytes.erase(at, 1 + rng() % 8); break;
-          default: bytes.resize(at); break;
+          case 0:
+            bytes[at] = static_cast<char>(rng());
+            break;
+          case 1:
+            bytes.erase(at, 1 + rng() % 8);
+            break;
+          default:
+            bytes.resize(at);
+            break;
         }
         if (bytes.empty()) bytes = "p";
       }

@@ -28,7 +28,7 @@ struct ReadReport {
   std::uint64_t normals = 0;         // `vn` lines
   std::uint64_t face_attribute_refs = 0; // faces written v/vt, v//vn or v/vt/vn
   std::uint64_t groups = 0;          // `g` and `o` lines
-  std::uint64_t materials = 0;       // `usemtl` and `mtllib` lines
+  std::uint64_t materials = 0;       // `usemtl`, `mtllib` (and old `usemap`, `maplib`) lines
   std::uint64_t smoothing = 0;       // `s` lines
   std::uint64_t tags = 0;            // OpenSubdiv `t` lines (creases, corners, ...)
   std::uint64_t vertex_colors = 0;   // colours after x y z on `v` lines, or PLY/OFF colour properties

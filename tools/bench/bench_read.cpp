@@ -28,7 +28,8 @@ void BM_QspReadObjMemory(benchmark::State& state) {
     qsp::QuadMesh mesh = qsp::read_obj(bytes, g_path, &report);
     benchmark::DoNotOptimize(mesh.quads.data());
   }
-  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(bytes.size()));
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) *
+                          static_cast<std::int64_t>(bytes.size()));
 }
 
 void BM_QspReadObjFile(benchmark::State& state) {
@@ -45,7 +46,8 @@ void BM_OpenMeshReadObjFile(benchmark::State& state) {
   for (auto _ : state) {
     OpenMesh::PolyMesh_ArrayKernelT<> mesh;
     OpenMesh::IO::Options options;
-    if (!OpenMesh::IO::read_mesh(mesh, g_path, options)) state.SkipWithError("OpenMesh could not read the file");
+    if (!OpenMesh::IO::read_mesh(mesh, g_path, options))
+      state.SkipWithError("OpenMesh could not read the file");
     benchmark::DoNotOptimize(mesh.n_faces());
   }
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(size));
