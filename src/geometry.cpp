@@ -88,12 +88,31 @@ class Reader {
 constexpr int kKinds = 5;         // predictor kinds, see Kind
 constexpr int kBuckets = 24;      // neighbourhood magnitude classes
 constexpr int kModelledBits = 2;  // mantissa bits with their own contexts
+constexpr int kMaxTrailingZeros = 12;  // decimal integers: 10^12 < 2^40 < 10^13
 
 // The three axes share contexts: on small meshes, learning three times faster beats separate models.
 struct ResidualModel {
   std::vector<BitModel> length;    // [kind][bucket][node 1..63]
   std::vector<BitModel> mantissa;  // [L][node 1..3]
-  ResidualModel() : length(kKinds * kBuckets * 64), mantissa(64 * 4) {}
+  std::vector<BitModel> zeros;     // [digit count of |prediction| 0..15][node 1..15]
+  ResidualModel() : length(kKinds * kBuckets * 64), mantissa(64 * 4), zeros(16 * 16) {}
+
+  // Trailing decimal zeros t (0..12) as a 4-bit tree, most significant bit first.
+  void encode_zeros(RangeEncoder& rc, int t, int digits) {
+    BitModel* tree = &zeros[static_cast<std::size_t>(digits) * 16];
+    for (int i = 3, node = 1; i >= 0; --i) {
+      const unsigned b = (t >> i) & 1;
+      rc.encode_bit(tree[node], b);
+      node = 2 * node + static_cast<int>(b);
+    }
+  }
+  int decode_zeros(RangeDecoder& rc, int digits) {
+    BitModel* tree = &zeros[static_cast<std::size_t>(digits) * 16];
+    int node = 1;
+    for (int i = 0; i < 4; ++i) node = 2 * node + static_cast<int>(rc.decode_bit(tree[node]));
+    if (node - 16 > kMaxTrailingZeros) fail("too many trailing zeros");
+    return node - 16;
+  }
 
   BitModel* length_tree(int kind, int bucket) {
     return &length[(static_cast<std::size_t>(kind) * kBuckets + bucket) * 64];
@@ -371,8 +390,51 @@ struct Exception {
 
 struct AxisPlan {
   std::uint8_t mode = kFloatBits;
+  bool trailing_zeros = false;  // decimal only: code each integer's trailing zero digits first
   std::vector<Exception> exceptions;
 };
+
+constexpr std::uint8_t kTrailingFlag = 0x80;  // in the axis mode byte
+constexpr int kMaxTrailing = kMaxTrailingZeros;
+constexpr std::array<std::int64_t, kMaxTrailing + 1> kPow10i = {
+    1, 10, 100, 1000, 10000, 100000, 1000000, 10000000, 100000000, 1000000000, 10000000000, 100000000000,
+    1000000000000};
+
+int trailing_zeros(std::int64_t n) {
+  int t = 0;
+  while (n != 0 && t < kMaxTrailing && n % 10 == 0) n /= 10, ++t;
+  return t;
+}
+
+int decimal_digits(std::int64_t n) {  // of |n|; 0 for 0
+  int d = 0;
+  for (std::uint64_t m = static_cast<std::uint64_t>(n < 0 ? -n : n); m != 0; m /= 10) ++d;
+  return d;
+}
+
+// Trailing-zero coding pays when the zeros follow the magnitude, as with "%g" output (6 significant
+// digits: 0.348799 and 0.0663178 share k = 7, but the first ends in a zero): estimate the cost of
+// coding t given the digit count against the log2(10^t) bits it saves.
+bool trailing_zeros_pay(std::span<const float> pos, int axis, int k) {
+  std::array<std::array<double, kMaxTrailing + 1>, 16> counts{};
+  double saved = 0, total = 0;
+  std::int64_t n;
+  for (std::size_t i = axis; i < pos.size(); i += 3) {
+    if (!decimal_of(pos[i], k, n)) continue;
+    const int t = trailing_zeros(n);
+    counts[std::min(decimal_digits(n), 15)][t] += 1;
+    saved += t * std::log2(10.0);
+    total += 1;
+  }
+  double cost = 0;
+  for (const auto& row : counts) {
+    double sum = 0;
+    for (double c : row) sum += c;
+    for (double c : row)
+      if (c > 0) cost -= c * std::log2(c / sum);
+  }
+  return saved > cost + 0.25 * total;
+}
 
 void check_stencil(std::span<const GridLayout::Stencil> stencil, std::size_t n) {
   if (stencil.size() != n) throw Error(ErrorCode::kInternal, "geometry: stencil count != vertex count");
@@ -422,6 +484,7 @@ AxisPlan plan_axis(std::span<const float> pos, int axis) {
   AxisPlan plan;
   if (best_k < 0) return plan;
   plan.mode = static_cast<std::uint8_t>(1 + best_k);
+  plan.trailing_zeros = trailing_zeros_pay(pos, axis, best_k);
   std::int64_t n;
   for (std::uint32_t i = 0; i < count; ++i) {
     const float x = pos[3 * i + axis];
@@ -522,6 +585,7 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
       int bucket = bucket_for(lengths[a].data(), x);
       if (blended) bucket = std::min(kBuckets - 1, (bucket + blend_class + 1) >> 1);
       std::uint64_t u = 0;
+      int zeros = -1, digits = 0;  // trailing-zero coding: t, and the digit count of |prediction|
       if (h.integer_axis(a)) {
         std::int64_t* v = ints[a].data();
         std::int64_t pred = blended ? blend(cand[a], mask, weight) : predict_fixed(x, v);
@@ -539,17 +603,33 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
           }
         } else {
           pred = clamp_decimal(pred);
-          const std::vector<Exception>& ex = h.plans[a].exceptions;
+          const AxisPlan& plan = h.plans[a];
           std::size_t& e = next_exception[a];
-          const bool exception = e < ex.size() && ex[e].vertex == i;
+          const bool exception = e < plan.exceptions.size() && plan.exceptions[e].vertex == i;
+          // With trailing-zero coding, n = 10^t * m: residual of m against the rounded prediction.
+          if (plan.trailing_zeros) digits = std::min(decimal_digits(pred), 15);
           if constexpr (kEncode) {
             if (exception) v[i] = pred;  // its float is stored aside: residual zero keeps neighbours smooth
-            u = zigzag64(v[i] - pred);
+            if (plan.trailing_zeros) {
+              zeros = trailing_zeros(v[i]);
+              const std::int64_t unit = kPow10i[zeros];
+              u = zigzag64(v[i] / unit - floor_div(2 * pred + unit, 2 * unit));
+            } else {
+              u = zigzag64(v[i] - pred);
+            }
           } else {
             u = model->decode(*dec, x.kind, bucket, h.max_length(a));
-            v[i] = pred + unzigzag64(u);
+            if (plan.trailing_zeros) {
+              const int t = model->decode_zeros(*dec, digits);
+              const std::int64_t unit = kPow10i[t];
+              const std::int64_t m = floor_div(2 * pred + unit, 2 * unit) + unzigzag64(u);
+              if (m <= -kDecimalLimit / unit || m >= kDecimalLimit / unit) fail("decimal integer out of range");
+              v[i] = m * unit;
+            } else {
+              v[i] = pred + unzigzag64(u);
+            }
             if (v[i] <= -kDecimalLimit || v[i] >= kDecimalLimit) fail("decimal integer out of range");
-            (*out)[3 * std::size_t{i} + a] = exception ? ex[e].value : decimal_float(v[i], h.plans[a].mode - 1);
+            (*out)[3 * std::size_t{i} + a] = exception ? plan.exceptions[e].value : decimal_float(v[i], plan.mode - 1);
           }
           if (exception) ++e;
         }
@@ -566,7 +646,10 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
           (*out)[3 * std::size_t{i} + a] = f[i];
         }
       }
-      if constexpr (kEncode) model->encode(*enc, u, x.kind, bucket);
+      if constexpr (kEncode) {
+        model->encode(*enc, u, x.kind, bucket);
+        if (zeros >= 0) model->encode_zeros(*enc, zeros, digits);
+      }
       lengths[a][i] = static_cast<std::uint8_t>(std::bit_width(u));
     }
     if (!any_int) continue;
@@ -591,7 +674,7 @@ void write_header(std::string& out, const Header& h, std::uint32_t count) {
     return;
   }
   for (const AxisPlan& plan : h.plans) {
-    put_u8(out, plan.mode);
+    put_u8(out, plan.mode | (plan.trailing_zeros ? kTrailingFlag : 0));
     if (plan.mode == kFloatBits) continue;
     put_varint(out, plan.exceptions.size());
     std::uint32_t prev = 0;
@@ -624,7 +707,9 @@ Header read_header(Reader& in, std::uint32_t count) {
   }
   for (AxisPlan& plan : h.plans) {
     plan.mode = in.u8("truncated axis mode");
-    if (plan.mode > 1 + kMaxDecimals) fail("unknown axis mode");
+    plan.trailing_zeros = (plan.mode & kTrailingFlag) != 0;
+    plan.mode &= static_cast<std::uint8_t>(~kTrailingFlag);
+    if (plan.mode > 1 + kMaxDecimals || (plan.trailing_zeros && plan.mode == kFloatBits)) fail("unknown axis mode");
     if (plan.mode == kFloatBits) continue;
     const std::uint64_t n = in.varint("truncated exception count");
     if (n > count || n > in.left() / 5) fail("exception count exceeds the data");

@@ -56,6 +56,21 @@ std::vector<float> smooth_positions(std::uint32_t a, std::uint32_t b, int decima
   return p;
 }
 
+// "%g" output (6 significant digits) over several decades: many decimals for small values, trailing
+// zeros for large ones.
+std::vector<float> significant_positions(std::uint32_t a, std::uint32_t b) {
+  std::vector<float> p;
+  char buf[64];
+  for (std::uint32_t r = 0; r < b; ++r)
+    for (std::uint32_t c = 0; c < a; ++c)
+      for (double x : {0.45 * std::sin(c * 0.1 + 0.05) * std::pow(10.0, -static_cast<double>(r % 3)),
+                       0.8 * std::sin(r * 0.05) + 0.001 * c, 0.02 * r + 0.01 * c - 0.3}) {
+        std::snprintf(buf, sizeof buf, "%g", x);
+        p.push_back(parse(buf));
+      }
+  return p;
+}
+
 bool bit_equal(const std::vector<float>& x, const std::vector<float>& y) {
   if (x.size() != y.size()) return false;
   for (std::size_t i = 0; i < x.size(); ++i) {
@@ -63,6 +78,9 @@ bool bit_equal(const std::vector<float>& x, const std::vector<float>& y) {
   }
   return true;
 }
+
+void expect_format_error(std::string_view bytes, const std::vector<GridLayout::Stencil>& st,
+                         std::uint32_t count);
 
 std::vector<float> round_trip(const std::vector<float>& pos, const std::vector<GridLayout::Stencil>& st,
                               std::uint32_t bits = 0, std::size_t* size = nullptr) {
@@ -124,6 +142,18 @@ TEST(Geometry, DecimalGridWithExceptions) {
   std::size_t size = 0;
   EXPECT_TRUE(bit_equal(round_trip(pos, st, 0, &size), pos));
   EXPECT_LT(size, clean + 4 * 12);  // about the raw float bits of each
+}
+
+TEST(Geometry, SignificantDigitsUseTrailingZeros) {
+  const auto st = grid_stencil(30, 30);
+  const std::vector<float> pos = significant_positions(30, 30);
+  const std::string b = qsp::encode_geometry(pos, st, {});
+  EXPECT_TRUE(bit_equal(qsp::decode_geometry(b, st, 900), pos));
+  EXPECT_EQ(static_cast<std::uint8_t>(b[4]) & 0x80, 0x80);  // x: trailing-zero coding
+  // The mode bit alone must not be accepted on a float-bits axis.
+  std::string bad = b;
+  bad[4] = static_cast<char>(0x80);
+  expect_format_error(bad, st, 900);
 }
 
 TEST(Geometry, DecimalGridValueMatchesFromChars) {
@@ -193,7 +223,11 @@ TEST(Geometry, MixedAxisModes) {
   EXPECT_TRUE(bit_equal(round_trip(pos, st), pos));
   // Header: tag 1, varint 400, lossless, then per axis mode (+ exception count for decimal axes).
   const std::string b = qsp::encode_geometry(pos, st, {});
-  EXPECT_EQ(b.substr(0, 9), std::string("\x01\x90\x03\x00\x05\x00\x00\x03\x00", 9));
+  // (Bit 7 of a mode byte, trailing-zero coding, is the encoder's choice.)
+  std::string header = b.substr(0, 9);
+  header[4] = static_cast<char>(header[4] & 0x7F);
+  header[7] = static_cast<char>(header[7] & 0x7F);
+  EXPECT_EQ(header, std::string("\x01\x90\x03\x00\x05\x00\x00\x03\x00", 9));
 }
 
 TEST(Geometry, PartialStencils) {
@@ -288,7 +322,7 @@ std::vector<std::string> sample_encodings(const std::vector<GridLayout::Stencil>
   std::vector<float> raw = smooth_positions(6, 5, 4);
   for (std::size_t i = 0; i < raw.size(); ++i) raw[i] = std::nextafter(raw[i], 10.0f) * (i % 2 ? 1 : -1);
   return {qsp::encode_geometry(dec, st, {}), qsp::encode_geometry(raw, st, {}),
-          qsp::encode_geometry(dec, st, {12})};
+          qsp::encode_geometry(dec, st, {12}), qsp::encode_geometry(significant_positions(6, 5), st, {})};
 }
 
 TEST(Geometry, EveryTruncationIsRefused) {
