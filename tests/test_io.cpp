@@ -538,7 +538,7 @@ TEST(ReadPly, MutatedFilesNeverCrash) {
             bytes.resize(at);
             break;
         }
-        if (bytes.empty()) bytes = "p";
+        if (bytes.empty()) bytes.push_back('p');
       }
       spit(p, bytes);
       try {
