@@ -127,7 +127,8 @@ struct Models {
   std::array<BitModel, 5 * 5> is_face;     // closes its own face
   BitModel is_newest;                      // the most recently labelled dart without predecessor
   IntModel other_step;                     // else: zigzag of its pool rank minus the visited dart's
-  std::array<BitModel, 4> is_hole;         // by face size - 4 (capped)
+  IntModel hole_count;                     // per component
+  std::array<BitModel, 4> is_hole;         // by face size - 4 (capped), while holes are left
   std::array<BitModel, 5 * 4 * 3 * 3> corner;
   std::array<IntModel, 2> length;          // interior edge, edge on a hole
 };
@@ -205,6 +206,20 @@ void mark_corner(CornerState& s, std::uint32_t d, bool is_corner) {
   auto& c = is_corner ? s.v_corner : s.v_plain;
   if (c[v] < 255) ++c[v];
 }
+
+// Every dart of a hole is a non-corner: known to the corner contexts before any corner is coded.
+void mark_holes(CornerState& s, const std::vector<std::uint32_t>& next) {
+  for (std::uint32_t f = 0; f < s.o.face_first.size(); ++f) {
+    if (!s.hole[f]) continue;
+    std::uint32_t x = s.o.face_first[f];
+    do {
+      mark_corner(s, x, false);
+      x = next[x];
+    } while (x != s.o.face_first[f]);
+  }
+}
+
+std::string near(const RangeDecoder& dec) { return " (near byte offset " + std::to_string(dec.offset()) + ")"; }
 
 // Patch side constraints: sum of lengths on side 0 == side 2, side 1 == side 3.
 struct LengthSolver {
@@ -364,6 +379,7 @@ std::string encode_topology(std::span<const TopologyCode> codes) {
     s.v_corner.assign(s.o.vertex_degree.size(), 0);
     s.v_plain.assign(s.o.vertex_degree.size(), 0);
     s.hole.assign(s.o.face_first.size(), 0);
+    std::uint32_t holes = 0;
     for (std::uint32_t f = 0; f < s.o.face_first.size(); ++f) {
       std::uint32_t corners = 0;
       std::uint32_t x = s.o.face_first[f];
@@ -373,16 +389,20 @@ std::string encode_topology(std::span<const TopologyCode> codes) {
       } while (x != s.o.face_first[f]);
       if (corners != 0 && corners != 4) fail(ErrorCode::kInternal, "encode_topology: face with bad corners");
       s.hole[f] = corners == 0;
-      if (s.o.face_size[f] >= 4) enc.encode_bit(m.is_hole[cap(s.o.face_size[f] - 4, 3)], s.hole[f]);
-      else if (!s.hole[f]) fail(ErrorCode::kInternal, "encode_topology: patch with < 4 darts");
-      if (s.hole[f]) {
-        x = s.o.face_first[f];
-        do {
-          mark_corner(s, x, false);
-          x = trav[ci].next[x];
-        } while (x != s.o.face_first[f]);
-      }
+      holes += s.hole[f];
     }
+    // Most components have no hole: their count says so and no face needs a flag.
+    m.hole_count.encode(enc, holes);
+    for (std::uint32_t f = 0, left = holes; f < s.o.face_first.size() && left > 0; ++f) {
+      if (s.o.face_size[f] < 4) {
+        if (!s.hole[f]) fail(ErrorCode::kInternal, "encode_topology: patch with < 4 darts");
+        --left;
+        continue;
+      }
+      enc.encode_bit(m.is_hole[cap(s.o.face_size[f] - 4, 3)], s.hole[f]);
+      left -= s.hole[f];
+    }
+    mark_holes(s, trav[ci].next);
   }
   for (std::size_t ci = 0; ci < codes.size(); ++ci) {
     if (!has_schematic(codes[ci].kind)) continue;
@@ -491,17 +511,23 @@ std::vector<TopologyCode> decode_topology(std::string_view payload, std::uint64_
     s.corner.assign(trav[ci].labelled(), 0);
     s.v_corner.assign(s.o.vertex_degree.size(), 0);
     s.v_plain.assign(s.o.vertex_degree.size(), 0);
-    s.hole.assign(s.o.face_first.size(), 1);
+    s.hole.assign(s.o.face_first.size(), 0);
+    std::uint32_t left = m.hole_count.decode(dec);
+    for (std::uint32_t f = 0; f < s.o.face_first.size() && left > 0; ++f) {
+      if (s.o.face_size[f] < 4) {
+        s.hole[f] = 1;
+      } else {
+        s.hole[f] = static_cast<std::uint8_t>(dec.decode_bit(m.is_hole[cap(s.o.face_size[f] - 4, 3)]));
+      }
+      left -= s.hole[f];
+    }
+    if (left != 0) fail(ErrorCode::kFormat, "topology: fewer faces than declared holes" + near(dec));
     for (std::uint32_t f = 0; f < s.o.face_first.size(); ++f) {
-      if (s.o.face_size[f] >= 4) s.hole[f] = static_cast<std::uint8_t>(dec.decode_bit(m.is_hole[cap(s.o.face_size[f] - 4, 3)]));
-      if (s.hole[f]) {
-        std::uint32_t x = s.o.face_first[f];
-        do {
-          mark_corner(s, x, false);
-          x = trav[ci].next[x];
-        } while (x != s.o.face_first[f]);
+      if (!s.hole[f] && s.o.face_size[f] < 4) {
+        fail(ErrorCode::kFormat, "topology: a patch with fewer than four sides" + near(dec));
       }
     }
+    mark_holes(s, trav[ci].next);
   }
   for (std::size_t ci = 0; ci < codes.size(); ++ci) {
     if (!has_schematic(codes[ci].kind)) continue;
