@@ -12,6 +12,7 @@
 #include "qsp/io.h"
 #include "qsp/partition.h"
 #include "qsp/smaller.h"
+#include "support/cli.h"
 #include "support/corpus.h"
 #include "support/mesh_gen.h"
 
@@ -247,6 +248,22 @@ TEST(Highway, BruteForceFindsTheLargestNonCrossingSet) {
   // Determinism of the generator.
   const auto a = highway::random_arrangement(7, 8), b = highway::random_arrangement(7, 8);
   EXPECT_EQ(a.crossings, b.crossings);
+}
+
+// `qsp stats --partition`: one row per mode with "all", the mode named in the row and in JSON.
+TEST(PartitionModes, StatsCommandPrintsEveryMode) {
+  const std::string cube = testing::quote(std::string(QSP_TESTDATA_DIR) + "/cube_4.obj");
+  const auto all = testing::run_qsp("stats --partition all " + cube);
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  EXPECT_NE(all.out.find("|       8      12       6 |"), std::string::npos) << all.out;  // motorcycle
+  EXPECT_NE(all.out.find("[greedy]"), std::string::npos) << all.out;
+  EXPECT_NE(all.out.find("[merge]"), std::string::npos) << all.out;
+  EXPECT_NE(all.out.find("|       8       8       2 |"), std::string::npos) << all.out;  // two n x 3n bands
+  const auto json = testing::run_qsp("stats --json --partition merge " + cube);
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  EXPECT_NE(json.out.find("\"partition\": \"merge\""), std::string::npos) << json.out;
+  EXPECT_NE(json.out.find("\"edges\": 8,"), std::string::npos) << json.out;
+  EXPECT_EQ(testing::run_qsp("stats --partition smallest " + cube).exit_code, 2);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "qsp/io.h"
 #include "qsp/mesh.h"
 #include "qsp/partition.h"
+#include "qsp/smaller.h"
 
 namespace qsp::cli {
 namespace {
@@ -17,10 +18,12 @@ struct StatsOptions {
   std::vector<std::string> files;
   bool json = false;
   bool verbose = false;
+  std::string partition = "motorcycle";  // a PartitionMode name, or "all" (one row per mode)
 };
 
 struct Row {
   std::string file;
+  std::string partition;  // mode name; shown in the table when not the default
   std::uint64_t vertices = 0, edges = 0, faces = 0, components = 0, extraordinary = 0, unreferenced = 0;
   std::uint64_t sx = 0, se = 0, patches = 0;
   struct Comp {
@@ -41,14 +44,14 @@ const char* kind_name(ComponentKind k) {
   return "?";
 }
 
-Row mesh_row(const std::string& file) {
-  const LoadedMesh loaded = load_mesh(file);
+Row mesh_row(const std::string& file, const LoadedMesh& loaded, PartitionMode mode) {
   const QuadMesh& mesh = loaded.mesh;
   const Adjacency& adj = loaded.adjacency;
-  const Partition part = partition_motorcycle(adj);
+  const Partition part = partition(adj, mode);
   const auto info = component_info(adj);
   Row r;
   r.file = file;
+  r.partition = partition_mode_name(mode);
   r.vertices = mesh.vertex_count();
   r.faces = mesh.face_count();
   r.components = adj.component_count;
@@ -93,10 +96,10 @@ void print_json(const std::vector<Row>& rows, bool verbose) {
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const Row& r = rows[i];
     std::printf(
-        "{\"file\": %s, \"mesh\": {\"vertices\": %llu, \"edges\": %llu, \"faces\": %llu, \"components\": %llu, "
+        "{\"file\": %s, \"partition\": \"%s\", \"mesh\": {\"vertices\": %llu, \"edges\": %llu, \"faces\": %llu, \"components\": %llu, "
         "\"extraordinary\": %llu, \"unreferenced\": %llu}, \"schematic\": {\"vertices\": %llu, \"edges\": %llu, "
         "\"patches\": %llu}, \"relative\": {\"vertices\": %.4f, \"edges\": %.4f}",
-        json_string(r.file).c_str(), (unsigned long long)r.vertices, (unsigned long long)r.edges,
+        json_string(r.file).c_str(), r.partition.c_str(), (unsigned long long)r.vertices, (unsigned long long)r.edges,
         (unsigned long long)r.faces, (unsigned long long)r.components, (unsigned long long)r.extraordinary,
         (unsigned long long)r.unreferenced, (unsigned long long)r.sx, (unsigned long long)r.se,
         (unsigned long long)r.patches, pct(r.sx, r.vertices), pct(r.se, r.edges));
@@ -121,7 +124,8 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
   std::printf("%-32s %9s %9s %9s %6s | %7s %7s %7s | %7s %7s\n", "model", "V", "E", "F", "xord", "sch.V", "sch.E",
               "patches", "V%", "E%");
   for (const Row& r : rows) {
-    std::printf("%-32s %9llu %9llu %9llu %6llu | %7llu %7llu %7llu | %6.2f%% %6.2f%%\n", r.file.c_str(),
+    const std::string model = r.partition == "motorcycle" ? r.file : r.file + " [" + r.partition + "]";
+    std::printf("%-32s %9llu %9llu %9llu %6llu | %7llu %7llu %7llu | %6.2f%% %6.2f%%\n", model.c_str(),
                 (unsigned long long)r.vertices, (unsigned long long)r.edges, (unsigned long long)r.faces,
                 (unsigned long long)r.extraordinary, (unsigned long long)r.sx, (unsigned long long)r.se,
                 (unsigned long long)r.patches, pct(r.sx, r.vertices), pct(r.se, r.edges));
@@ -144,9 +148,17 @@ void register_stats(CLI::App& app, int& exit_code) {
   cmd->add_option("files", opt->files, "Mesh files (.obj .off .ply)")->required();
   cmd->add_flag("--json", opt->json, "One JSON object per file (an array for several files)");
   cmd->add_flag("--verbose", opt->verbose, "Add a per-component breakdown");
+  cmd->add_option("--partition", opt->partition, "Partition: motorcycle (default), greedy, merge, or all (a row each)")
+      ->check(CLI::IsMember({"motorcycle", "greedy", "merge", "all"}));
   cmd->callback([opt, &exit_code] {
     std::vector<Row> rows;
-    for (const auto& f : opt->files) rows.push_back(mesh_row(f));
+    std::vector<PartitionMode> modes;
+    for (PartitionMode m : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge})
+      if (opt->partition == "all" || opt->partition == partition_mode_name(m)) modes.push_back(m);
+    for (const auto& f : opt->files) {
+      const LoadedMesh loaded = load_mesh(f);
+      for (PartitionMode m : modes) rows.push_back(mesh_row(f, loaded, m));
+    }
     if (opt->json)
       print_json(rows, opt->verbose);
     else
