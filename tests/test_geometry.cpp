@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <random>
 #include <string>
@@ -12,6 +13,8 @@
 
 #include "qsp/error.h"
 #include "qsp/geometry.h"
+#include "qsp/io.h"
+#include "qsp/partition.h"
 
 namespace {
 
@@ -303,6 +306,41 @@ TEST(Geometry, CallerMistakesAreInternalErrors) {
   EXPECT_EQ(qsp::max_geometry_error(pos, pos), 0.0);
   EXPECT_EQ(qsp::max_geometry_error(pos, other), 1.0);
   EXPECT_THROW(qsp::max_geometry_error(pos, std::vector<float>(3)), qsp::Error);
+}
+
+TEST(Geometry, RealMeshesAlongTheirPartition) {
+  // The stencils the codec will pass: every component's grid layout, one after the other.
+  for (const char* name : {"keenan_spot_quadrangulated.obj", "quadriflow_gargoyle.obj", "mh_fedora.obj",
+                           "igl_horse_quad.obj"}) {
+    const std::filesystem::path path = std::filesystem::path(QSP_SHARED_DIR) / "meshes" / name;
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
+    SCOPED_TRACE(name);
+    const qsp::QuadMesh mesh = qsp::read_mesh_file(path.string());
+    const qsp::Adjacency adj = qsp::build_adjacency(mesh);
+    const qsp::Partition part = qsp::partition_motorcycle(adj);
+    std::vector<float> pos;
+    std::vector<GridLayout::Stencil> st;
+    for (const auto& comp : part.components) {
+      const GridLayout layout = qsp::grid_layout(comp);
+      const qsp::LayoutMap map = qsp::layout_to_mesh(comp, adj);
+      const auto base = static_cast<std::uint32_t>(st.size());
+      for (std::uint32_t v = 0; v < layout.vertex_count; ++v) {
+        GridLayout::Stencil s = layout.stencil[v];
+        for (std::uint32_t* j : {&s.w, &s.ww, &s.s, &s.sw})
+          if (*j != kInvalid) *j += base;
+        st.push_back(s);
+        for (int a = 0; a < 3; ++a) pos.push_back(mesh.positions[3 * std::size_t{map.vertex[v]} + a]);
+      }
+    }
+    std::size_t lossless = 0, q14 = 0;
+    EXPECT_TRUE(bit_equal(round_trip(pos, st, 0, &lossless), pos));
+    EXPECT_LT(lossless * 8.0 / st.size(), 60.0);  // raw floats: 96
+    const auto q = round_trip(pos, st, 14, &q14);
+    EXPECT_LT(q14 * 8.0 / st.size(), 30.0);
+    float lo = pos[0], hi = pos[0];
+    for (float f : pos) lo = std::min(lo, f), hi = std::max(hi, f);
+    EXPECT_LE(qsp::max_geometry_error(pos, q), (double{hi} - lo) / 16383 * 0.51);
+  }
 }
 
 void expect_format_error(std::string_view bytes, const std::vector<GridLayout::Stencil>& st,
