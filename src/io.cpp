@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -111,6 +112,79 @@ bool write_all(int fd, std::string_view bytes, int* err) {
   return true;
 }
 
+// Makes the names just created in `dir` durable.
+void sync_dir(const std::string& dir) {
+  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dfd >= 0) {
+    ::fsync(dfd);
+    ::close(dfd);
+  }
+}
+
+// Linux: writes `bytes` to an unnamed file in `dir` (O_TMPFILE), then gives it its name. A process
+// killed at any point before that leaves nothing behind, not even a temporary file. Without -f the
+// name is created by linkat, which fails if it exists (atomic no-replace); with -f the file is
+// linked under a hidden temporary name and renamed over the target (named only between those two
+// calls). Returns false, having left nothing, where O_TMPFILE or /proc is unavailable.
+bool write_anonymous_then_link(const std::string& path, const std::string& dir, const std::string& name,
+                               std::string_view bytes, bool overwrite) {
+#ifdef O_TMPFILE
+  const int fd = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+  if (fd < 0) {
+    const int e = errno;
+    if (e == EOPNOTSUPP || e == EISDIR || e == EINVAL)
+      return false;  // filesystem or kernel without O_TMPFILE
+    fail_errno(path, "cannot create a temporary file in " + dir, e);
+  }
+  int err = 0;
+  const auto fail_closed = [&](const std::string& what, int e) {
+    ::close(fd);
+    fail_errno(path, what, e);
+  };
+  if (!write_all(fd, bytes, &err)) fail_closed("cannot write", err);
+  if (::fsync(fd) != 0) fail_closed("cannot flush to disk", errno);
+  const std::string self = "/proc/self/fd/" + std::to_string(fd);
+  std::string target = path;
+  if (overwrite) {
+    // Hidden, and short enough for NAME_MAX whatever the target's name length.
+    const std::string base = (dir == "/" ? "" : dir) + "/." + name.substr(0, 200) + ".tmp.";
+    for (unsigned attempt = 0;; ++attempt) {
+      target = base + std::to_string(::getpid()) + "." + std::to_string(attempt);
+      if (::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, target.c_str(), AT_SYMLINK_FOLLOW) == 0) break;
+      err = errno;
+      if (err == EEXIST && attempt < 100) continue;
+      if (err == ENOENT && ::access("/proc/self/fd", X_OK) != 0) {
+        ::close(fd);
+        return false;  // no /proc
+      }
+      fail_closed("cannot create a temporary file in " + dir, err);
+    }
+    ::close(fd);
+    if (::rename(target.c_str(), path.c_str()) != 0) {
+      err = errno;
+      ::unlink(target.c_str());
+      fail_errno(path, "cannot rename into place", err);
+    }
+  } else {
+    if (::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, path.c_str(), AT_SYMLINK_FOLLOW) != 0) {
+      err = errno;
+      if (err == EEXIST) fail_closed("already exists (refusing to overwrite it)", 0);
+      if (err == ENOENT && ::access("/proc/self/fd", X_OK) != 0) {
+        ::close(fd);
+        return false;  // no /proc
+      }
+      fail_closed("cannot create", err);
+    }
+    ::close(fd);
+  }
+  sync_dir(dir);
+  return true;
+#else
+  (void)path, (void)dir, (void)name, (void)bytes, (void)overwrite;
+  return false;
+#endif
+}
+
 }  // namespace
 
 MeshFormat format_from_path(std::string_view path) {
@@ -182,46 +256,63 @@ std::string write_off(const QuadMesh& mesh) {
   return w.take();
 }
 
-std::string read_file_bytes(const std::string& path) {
+namespace {
+
+// The whole file in an uninitialised buffer: for a 12 MB mesh, zero-filling a std::string first
+// costs about as much as the read itself. `size` is what was read.
+struct FileBuffer {
+  std::unique_ptr<char[]> data;
+  std::size_t size = 0;
+  std::string_view view() const { return {data.get(), size}; }
+};
+
+FileBuffer read_file_raw(const std::string& path) {
   const bool is_stdin = path == "-";
   const int fd = is_stdin ? STDIN_FILENO : ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) fail_errno(path, "", errno);
   // Size the buffer from fstat (+1 so the read that sees EOF needs no regrowth), but read until
   // EOF rather than trusting it: pipes have no size and files can grow.
-  std::string bytes;
   struct stat st {};
   constexpr std::size_t kChunk = 1 << 20;
   const bool sized = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0;
-  bytes.resize(sized ? static_cast<std::size_t>(st.st_size) + 1 : kChunk);
-  std::size_t used = 0;
+  std::size_t capacity = sized ? static_cast<std::size_t>(st.st_size) + 1 : kChunk;
+  FileBuffer buf;
+  buf.data.reset(new char[capacity]);
   for (;;) {
-    if (used == bytes.size()) bytes.resize(2 * bytes.size());
-    const ssize_t n = ::read(fd, bytes.data() + used, bytes.size() - used);
+    if (buf.size == capacity) {
+      std::unique_ptr<char[]> bigger(new char[2 * capacity]);
+      std::memcpy(bigger.get(), buf.data.get(), buf.size);
+      buf.data = std::move(bigger);
+      capacity *= 2;
+    }
+    const ssize_t n = ::read(fd, buf.data.get() + buf.size, capacity - buf.size);
     if (n < 0) {
       if (errno == EINTR) continue;
       const int err = errno;
       if (!is_stdin) ::close(fd);
-      fail_errno(is_stdin ? "-" : path, "", err);
+      fail_errno(path, "", err);
     }
     if (n == 0) break;
-    used += static_cast<std::size_t>(n);
+    buf.size += static_cast<std::size_t>(n);
   }
   if (!is_stdin) ::close(fd);
-  bytes.resize(used);
-  return bytes;
+  return buf;
+}
+
+}  // namespace
+
+std::string read_file_bytes(const std::string& path) {
+  const FileBuffer buf = read_file_raw(path);
+  return std::string(buf.view());
 }
 
 QuadMesh read_mesh_file(const std::string& path, ReadReport* report, MeshFormat format) {
   if (format == MeshFormat::kUnknown) format = format_from_path(path);
   switch (format) {
-    case MeshFormat::kObj: {
-      const std::string bytes = read_file_bytes(path);
-      return read_obj(bytes, path, report);
-    }
-    case MeshFormat::kOff: {
-      const std::string bytes = read_file_bytes(path);
-      return read_off(bytes, path, report);
-    }
+    case MeshFormat::kObj:
+      return read_obj(read_file_raw(path).view(), path, report);
+    case MeshFormat::kOff:
+      return read_off(read_file_raw(path).view(), path, report);
     case MeshFormat::kPly:
       return read_ply_file(path, report);
     case MeshFormat::kQsp:
@@ -243,12 +334,25 @@ void write_file_atomic(const std::string& path, std::string_view bytes, bool ove
   }
   if (path.empty()) fail_io(path, "empty output path");
   struct stat st {};
-  if (!overwrite && ::lstat(path.c_str(), &st) == 0) {
-    fail_io(path, "already exists (refusing to overwrite it)");
+  const bool exists = ::lstat(path.c_str(), &st) == 0;
+  if (exists && !overwrite) fail_io(path, "already exists (refusing to overwrite it)");
+  if (exists && S_ISDIR(st.st_mode)) fail_io(path, "is a directory");
+  if (exists && !S_ISREG(st.st_mode) && !S_ISLNK(st.st_mode)) {
+    // A device or pipe (/dev/null, /dev/full, a FIFO) is written in place: renaming a file over it
+    // would replace the device node.
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
+    if (fd < 0) fail_errno(path, "cannot open", errno);
+    if (!write_all(fd, bytes, &err)) {
+      ::close(fd);
+      fail_errno(path, "cannot write", err);
+    }
+    if (::close(fd) != 0) fail_errno(path, "cannot close", errno);
+    return;
   }
   const std::size_t slash = path.find_last_of('/');
   const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
   const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+  if (write_anonymous_then_link(path, dir, name, bytes, overwrite)) return;
   // Hidden, and short enough for NAME_MAX whatever the target's name length.
   std::string temp = (dir == "/" ? "" : dir) + "/." + name.substr(0, 200) + ".tmp.XXXXXX";
   const int fd = ::mkstemp(temp.data());
@@ -291,11 +395,7 @@ void write_file_atomic(const std::string& path, std::string_view bytes, bool ove
     }
   }
   // Make the rename itself durable.
-  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dfd >= 0) {
-    ::fsync(dfd);
-    ::close(dfd);
-  }
+  sync_dir(dir);
 }
 
 }  // namespace qsp

@@ -775,9 +775,21 @@ TEST(Files, AtomicWriteFailuresAreIoErrorsAndLeaveNothing) {
   fs::create_directory(dir.path() / "adir");
   msg = expect_error([&] { qsp::write_file_atomic((dir.path() / "adir").string(), "x", true); },
                      qsp::ErrorCode::kIo);
-  EXPECT_NE(msg.find("cannot rename into place"), std::string::npos) << msg;
+  EXPECT_EQ(msg.rfind((dir.path() / "adir").string() + ": ", 0), 0u) << msg;
   for (const auto& e : fs::directory_iterator(dir.path())) {
     EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+  }
+}
+
+TEST(Files, DeviceTargetIsWrittenInPlace) {
+  if (!fs::exists("/dev/null")) GTEST_SKIP();
+  qsp::write_file_atomic("/dev/null", "discarded", true);
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));  // not replaced by a regular file
+  expect_error([] { qsp::write_file_atomic("/dev/null", "x", false); }, qsp::ErrorCode::kIo);
+  if (fs::exists("/dev/full")) {
+    const std::string msg =
+        expect_error([] { qsp::write_file_atomic("/dev/full", "x", true); }, qsp::ErrorCode::kIo);
+    EXPECT_NE(msg.find("No space left on device"), std::string::npos) << msg;
   }
 }
 
