@@ -1,0 +1,325 @@
+// Pins the .qsp bytes (testdata/golden), the refusal of every damaged or crafted file
+// (testdata/invalid/*.qsp + .expect), and the spec's own worked example.
+// QSP_UPDATE_GOLDEN=1 rewrites the golden .qsp files and the crafted invalid files: only for a
+// deliberate format change, which also needs a new version and a changes-log entry in the spec.
+#include <gtest/gtest.h>
+#include <xxhash.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "qsp/codec.h"
+#include "qsp/error.h"
+#include "qsp/io.h"
+
+namespace fs = std::filesystem;
+
+namespace qsp {
+namespace {
+
+const std::string kGolden = std::string(QSP_TESTDATA_DIR) + "/golden";
+const std::string kInvalid = std::string(QSP_TESTDATA_DIR) + "/invalid";
+bool updating() { return std::getenv("QSP_UPDATE_GOLDEN") != nullptr; }
+
+std::string slurp(const std::string& path) { return read_file_bytes(path); }
+void dump(const std::string& path, std::string_view bytes) {
+  std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+std::vector<std::string> golden_names() {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(kGolden)) {
+    if (e.path().extension() == ".obj") out.push_back(e.path().stem().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+EncodeOptions options_for(const std::string& name) {
+  EncodeOptions o;
+  o.keep_order = name.find("_keep_order") != std::string::npos;
+  return o;
+}
+
+TEST(Golden, BytesArePinned) {
+  auto names = golden_names();
+  ASSERT_GE(names.size(), 5u);
+  for (const auto& name : names) {
+    SCOPED_TRACE(name);
+    QuadMesh mesh = read_mesh_file(kGolden + "/" + name + ".obj");
+    std::string bytes = encode(mesh, options_for(name));
+    std::string path = kGolden + "/" + name + ".qsp";
+    if (updating()) dump(path, bytes);
+    ASSERT_TRUE(fs::exists(path));
+    EXPECT_EQ(bytes, slurp(path)) << "the encoder's output changed: a format change needs a version bump";
+    QuadMesh back = decode(slurp(path));
+    EXPECT_EQ(back.vertex_count(), mesh.vertex_count());
+    EXPECT_EQ(back.face_count(), mesh.face_count());
+    if (options_for(name).keep_order) {
+      EXPECT_EQ(back.quads, mesh.quads);
+    }
+  }
+}
+
+// Every strict prefix and every single-bit flip of every golden file is refused with a typed error.
+TEST(Golden, EveryPrefixAndBitFlipIsRefused) {
+  for (const auto& name : golden_names()) {
+    SCOPED_TRACE(name);
+    const std::string good = slurp(kGolden + "/" + name + ".qsp");
+    for (std::size_t n = 0; n < good.size(); ++n) {
+      try {
+        decode(std::string_view(good).substr(0, n));
+        ADD_FAILURE() << "prefix of " << n << " bytes accepted";
+      } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::kFormat) << n << ": " << e.what();
+      }
+    }
+    for (std::size_t bit = 0; bit < 8 * good.size(); ++bit) {
+      std::string bad = good;
+      bad[bit / 8] = static_cast<char>(bad[bit / 8] ^ (1 << (bit % 8)));
+      try {
+        decode(bad);
+        ADD_FAILURE() << "flip of bit " << bit << " accepted";
+      } catch (const Error& e) {
+        EXPECT_TRUE(e.code() == ErrorCode::kFormat || e.code() == ErrorCode::kVersion ||
+                    e.code() == ErrorCode::kChecksum)
+            << bit << ": " << error_name(e.code()) << ": " << e.what();
+      }
+    }
+  }
+}
+
+// ---- Crafted files ----
+
+void put_varint(std::string& out, std::uint64_t v) {
+  while (v >= 0x80) {
+    out.push_back(static_cast<char>((v & 0x7F) | 0x80));
+    v >>= 7;
+  }
+  out.push_back(static_cast<char>(v));
+}
+
+// magic + version + flags, then the size field and checksum computed as an encoder would.
+std::string seal(std::string_view head11, std::string_view sections) {
+  std::string out(head11);
+  std::uint64_t total = head11.size() + sections.size() + 8 + 1;
+  for (;;) {
+    std::string v;
+    put_varint(v, total);
+    if (head11.size() + v.size() + sections.size() + 8 == total) {
+      out += v;
+      break;
+    }
+    ++total;
+  }
+  out += sections;
+  std::uint64_t sum = XXH64(out.data(), out.size(), 0);
+  for (int i = 0; i < 8; ++i) out.push_back(static_cast<char>(sum >> (8 * i)));
+  return out;
+}
+
+std::string section(std::uint8_t tag, std::string_view payload) {
+  std::string s(1, static_cast<char>(tag));
+  put_varint(s, payload.size());
+  s += payload;
+  return s;
+}
+
+struct Parts {
+  std::string head11, counts, topology, geometry;  // section payloads
+};
+
+// Splits a file the encoder wrote for a small mesh (1-byte size field, sections in order).
+Parts split(const std::string& f) {
+  Parts p;
+  p.head11 = f.substr(0, 11);
+  std::size_t pos = 12;
+  std::string* dst[] = {&p.counts, &p.topology, &p.geometry};
+  for (std::string* d : dst) {
+    ++pos;  // tag
+    std::size_t len = static_cast<std::uint8_t>(f[pos++]);
+    *d = f.substr(pos, len);
+    pos += len;
+  }
+  return p;
+}
+
+std::string assemble(const Parts& p) {
+  return seal(p.head11, section(1, p.counts) + section(2, p.topology) + section(3, p.geometry));
+}
+
+// The crafted invalid files: name -> (bytes, expected code, expected message substring).
+struct Crafted {
+  std::string bytes, code, message;
+};
+
+std::map<std::string, Crafted> crafted() {
+  const std::string good = slurp(kGolden + "/quad.qsp");
+  const Parts p = split(good);
+  std::map<std::string, Crafted> out;
+  out["qsp_empty"] = {"", "format", "truncated"};
+  out["qsp_truncated"] = {good.substr(0, 40), "format", "truncated: header declares 58 bytes, file has 40"};
+  std::string bad_magic = good;
+  bad_magic[1] = 'X';
+  out["qsp_bad_magic"] = {bad_magic, "format", "bad magic number"};
+  std::string crlf = good;
+  crlf.erase(4, 1);  // CR LF -> LF, as a text-mode transfer would
+  out["qsp_line_endings_converted"] = {crlf, "format", "line-ending bytes were changed"};
+  std::string seven = good;
+  seven[0] = static_cast<char>(0x09);
+  out["qsp_high_bit_stripped"] = {seven, "format", "7-bit transfer"};
+  Parts newer = p;
+  newer.head11[8] = 2;
+  out["qsp_newer_major"] = {assemble(newer), "version", "file is .qsp format 2.0; this qsp reads format 1.x only"};
+  std::string flipped = good;
+  flipped[40] = static_cast<char>(flipped[40] ^ 0x04);
+  out["qsp_checksum_mismatch"] = {flipped, "checksum", "checksum mismatch"};
+  Parts reserved = p;
+  reserved.head11[10] = 0x01;
+  out["qsp_reserved_header_bit"] = {assemble(reserved), "format", "reserved header flag bits are set"};
+  Parts reserved2 = p;
+  reserved2.counts.back() = 0x40;
+  out["qsp_reserved_counts_bit"] = {assemble(reserved2), "format", "reserved counts flag bits are set"};
+  out["qsp_trailing_bytes"] = {good + std::string("\0\0\0", 3), "format", "3 trailing bytes"};
+  {
+    std::string sec = section(1, p.counts) + section(2, p.topology);
+    sec += std::string(1, '\x03') + std::string(1, '\x7f') + p.geometry;  // geometry claims 127 bytes
+    out["qsp_section_longer_than_file"] = {seal(p.head11, sec), "format", "section declares 127 bytes but only 20 remain"};
+  }
+  {
+    std::string counts;
+    put_varint(counts, 1000000000);
+    put_varint(counts, 1000000000);
+    counts += std::string("\x01\x00\x00", 3);
+    Parts huge = p;
+    huge.counts = counts;
+    out["qsp_huge_counts"] = {assemble(huge), "limit", "vertex count 1000000000 exceeds the limit 67108864"};
+    counts.clear();
+    put_varint(counts, 5000);
+    put_varint(counts, 5000);
+    counts += std::string("\x01\x00\x00", 3);
+    huge.counts = counts;
+    out["qsp_counts_larger_than_content"] = {assemble(huge), "format",
+                                             "topology describes 1 faces and 4 referenced vertices, the counts section 5000 and 5000"};
+  }
+  {
+    Parts more = p;
+    more.counts[0] = 5;  // 5 vertices, but the topology has 4 and no unreferenced vertex
+    out["qsp_counts_mismatch"] = {assemble(more), "format", "topology describes 1 faces and 4 referenced vertices, the counts section 1 and 5"};
+  }
+  out["qsp_unknown_required_section"] = {
+      seal(p.head11, section(1, p.counts) + section(2, p.topology) + section(5, "x") + section(3, p.geometry)),
+      "format", "unknown or out-of-order required section tag 0x05"};
+  out["qsp_missing_geometry"] = {seal(p.head11, section(1, p.counts) + section(2, p.topology)), "format",
+                                 "required section 3 is missing"};
+  {
+    Parts overlong = p;
+    overlong.counts = std::string("\x84\x00", 2) + p.counts.substr(1);
+    out["qsp_overlong_varint"] = {assemble(overlong), "format", "vertex count is not minimally encoded"};
+  }
+  {
+    Parts junk = p;
+    junk.topology += '\0';
+    out["qsp_topology_trailing_byte"] = {assemble(junk), "format", "topology section does not end where its symbols end"};
+  }
+  return out;
+}
+
+TEST(Invalid, CraftedFilesArePinnedAndRefused) {
+  for (const auto& [name, c] : crafted()) {
+    SCOPED_TRACE(name);
+    std::string path = kInvalid + "/" + name + ".qsp";
+    if (updating()) {
+      dump(path, c.bytes);
+      dump(kInvalid + "/" + name + ".expect", "code=" + c.code + "\nmessage=" + c.message + "\n");
+    }
+    EXPECT_EQ(slurp(path), c.bytes);
+  }
+}
+
+std::map<std::string, std::string> read_expect(const std::string& path) {
+  std::map<std::string, std::string> kv;
+  std::istringstream in(slurp(path));
+  std::string line;
+  while (std::getline(in, line)) {
+    auto eq = line.find('=');
+    if (eq != std::string::npos) kv[line.substr(0, eq)] = line.substr(eq + 1);
+  }
+  return kv;
+}
+
+TEST(Invalid, EveryQspIsRefusedWithItsExpectedError) {
+  int seen = 0;
+  for (const auto& e : fs::directory_iterator(kInvalid)) {
+    if (e.path().extension() != ".qsp") continue;
+    ++seen;
+    SCOPED_TRACE(e.path().string());
+    auto expect = read_expect(fs::path(e.path()).replace_extension(".expect").string());
+    ASSERT_TRUE(expect.count("code") && expect.count("message"));
+    try {
+      decode(slurp(e.path().string()));
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& err) {
+      EXPECT_EQ(error_name(err.code()), expect["code"]) << err.what();
+      EXPECT_NE(std::string(err.what()).find(expect["message"]), std::string::npos) << err.what();
+    }
+  }
+  EXPECT_GE(seen, 15);
+}
+
+TEST(Invalid, UnknownOptionalSectionsAreSkipped) {
+  const Parts p = split(slurp(kGolden + "/quad.qsp"));
+  std::string with_extra = seal(p.head11, section(1, p.counts) + section(0x81, "future data") +
+                                              section(2, p.topology) + section(3, p.geometry) + section(0xA0, ""));
+  QuadMesh m = decode(with_extra);
+  EXPECT_EQ(m.face_count(), 1u);
+  FileInfo info = inspect(with_extra);
+  EXPECT_EQ(info.other_bytes, 2u + 11u + 2u);
+}
+
+TEST(Invalid, NewerMinorVersionIsRead) {
+  Parts p = split(slurp(kGolden + "/quad.qsp"));
+  p.head11[9] = 7;
+  EXPECT_EQ(decode(assemble(p)).face_count(), 1u);
+}
+
+// ---- The spec's worked example ----
+
+// The hex dump between "<!-- example: NAME -->" and the closing fence of the next code block.
+std::string spec_example(const std::string& name) {
+  std::string md = slurp(std::string(QSP_TESTDATA_DIR) + "/../format-spec/qsp_format.md");
+  auto at = md.find("<!-- example: " + name + " -->");
+  if (at == std::string::npos) return {};
+  auto open = md.find("```", at);
+  auto body = md.find('\n', open) + 1;
+  auto close = md.find("```", body);
+  std::string out;
+  std::istringstream in(md.substr(body, close - body));
+  std::string line;
+  while (std::getline(in, line)) {
+    line = line.substr(0, line.find('#'));  // comments after '#'
+    std::istringstream words(line);
+    std::string w;
+    while (words >> w) out.push_back(static_cast<char>(std::stoi(w, nullptr, 16)));
+  }
+  return out;
+}
+
+TEST(Spec, WorkedExampleDecodes) {
+  std::string bytes = spec_example("quad.qsp");
+  ASSERT_FALSE(bytes.empty()) << "format-spec/qsp_format.md lost its worked example";
+  EXPECT_EQ(bytes, slurp(kGolden + "/quad.qsp"));
+  QuadMesh m = decode(bytes);
+  EXPECT_EQ(m.positions, (std::vector<float>{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}));
+  EXPECT_EQ(m.quads, (std::vector<std::uint32_t>{0, 1, 2, 3}));
+  EXPECT_EQ(encode(m), bytes);
+}
+
+}  // namespace
+}  // namespace qsp
