@@ -423,3 +423,34 @@ TEST_F(CliTest, CorruptFileGivesTypedError) {
 
 }  // namespace
 }  // namespace qsp
+
+namespace qsp {
+namespace {
+
+// Not a check: prints bytes and bits per vertex (connectivity and geometry apart) for the shared
+// meshes. Run: qsp_tests --gtest_also_run_disabled_tests --gtest_filter='*SizeTable*'
+TEST(Measure, DISABLED_SizeTable) {
+  std::printf("%-40s %8s %8s %7s %9s %7s %9s %7s\n", "mesh", "V", "F", "conn.B", "conn.bpv", "geom.B", "geom.bpv",
+              "q14.B");
+  for (const auto& f : mesh_files(std::string(QSP_SHARED_DIR) + "/meshes")) {
+    QuadMesh m;
+    try {
+      m = load(f);
+      build_adjacency(m);
+    } catch (const Error&) {
+      continue;
+    }
+    std::string bytes = encode(m);
+    FileInfo info = inspect(bytes);
+    EncodeOptions q;
+    q.quantize_bits = 14;
+    std::size_t q14 = encode(m, q).size();
+    double v = static_cast<double>(m.vertex_count());
+    std::printf("%-40s %8zu %8zu %7llu %9.4f %7llu %9.3f %7zu\n", fs::path(f).filename().c_str(), m.vertex_count(),
+                m.face_count(), static_cast<unsigned long long>(info.connectivity_bytes), 8.0 * info.connectivity_bytes / v,
+                static_cast<unsigned long long>(info.geometry_bytes), 8.0 * info.geometry_bytes / v, q14);
+  }
+}
+
+}  // namespace
+}  // namespace qsp
