@@ -1,0 +1,107 @@
+// qsp/match.h: seed-free isomorphism between two quad meshes through their canonical partitions (§6).
+// Isomorphism work happens on the schematic partitions; only the final maps touch every vertex.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "qsp/mesh.h"
+
+namespace qsp {
+
+// What positions are compared when choosing among several isomorphisms (symmetric meshes) and when
+// pairing interchangeable components (equal canonical codes).
+enum class Centering : std::uint8_t {
+  // Translation-invariant (default): components are paired by their centroids relative to each
+  // mesh's centroid, and a component's own isomorphism is chosen on positions relative to its own
+  // centroid. Moving a whole mesh, or one component, does not change the answer.
+  kComponent,
+  // Positions relative to each mesh's centroid, everywhere.
+  kMesh,
+  // Raw positions.
+  kNone,
+};
+
+struct MatchOptions {
+  Centering centering = Centering::kComponent;
+  // Per component, at most this many isomorphisms are scored on all their vertices (the rest are
+  // ruled out on a few probe vertices first; see match()). When the cap stops the search before the
+  // nearest is certain, the result says so (exhaustive = false, ambiguous = true).
+  std::uint32_t max_full_evaluations = 64;
+  // Two isomorphisms tie when their costs differ by at most this fraction of the best cost (plus
+  // 1e-12 * vertices * bounding-box diagonal², so exact zeros tie too).
+  double tie_tolerance = 1e-6;
+};
+
+// The first level at which two meshes differ, coarse to fine. kNone when they are isomorphic.
+enum class MatchLevel : std::uint8_t {
+  kNone,
+  kComponentCount,  // number of connected components
+  kComponentSizes,  // multiset of (kind, vertices, faces) per component
+  kExtraordinary,   // ... and extraordinary vertices per component
+  kSchematic,       // ... and schematic vertices / edges / patches (torus: canonical a x b)
+  kCode,            // same sizes, different canonical connectivity (lengths, corners, links, twist)
+  kUnreferenced,    // number of vertices in no face
+};
+const char* match_level_name(MatchLevel level) noexcept;
+
+// Per matched component pair.
+struct ComponentMatch {
+  std::uint32_t a_faces = 0;             // size, to name it in messages
+  std::uint64_t isomorphisms = 0;        // orientation-preserving isomorphisms of this pair (= symmetries)
+  std::uint32_t scored = 0;              // of them, scored on all vertices
+  bool ambiguous = false;                // another isomorphism is as near as the chosen one
+  bool exhaustive = true;                // false: the cap stopped the search (then also ambiguous)
+  double cost = 0;                       // sum of squared distances of the chosen isomorphism
+};
+
+struct MatchResult {
+  bool isomorphic = false;
+  MatchLevel level = MatchLevel::kNone;  // first level that differs
+  std::string reason;                    // one line saying what differs ("" when isomorphic)
+
+  // A -> B, filled when isomorphic: B's vertex for each A vertex, B's face for each A face, and the
+  // rotation r such that corner c of A's face is corner (c + r) % 4 of B's face. Unreferenced vertices
+  // are paired by nearest position (minimum total squared distance).
+  std::vector<std::uint32_t> vertex;
+  std::vector<std::uint32_t> face;
+  std::vector<std::uint8_t> rotation;
+
+  // Number of isomorphisms A -> B: product of the components' symmetry counts, times k! for every k
+  // interchangeable components and for the k unreferenced vertices. Saturates at UINT64_MAX.
+  std::uint64_t isomorphisms = 0;
+  bool ambiguous = false;   // some choice (a component's isomorphism, a pairing) had an equally near rival
+  bool exhaustive = true;   // false when a cap stopped a search early
+  double cost = 0;          // sum over all vertices of squared distances (as compared, see Centering)
+  std::vector<ComponentMatch> components;  // in canonical component order
+};
+
+// Finds an orientation-preserving isomorphism from `a` to `b` (faces to faces, corners to corners, in
+// any numbering, components in any order) without seeds, or says at which level they differ.
+//
+// How: both meshes are partitioned (motorcycle graph) and canonicalized; equal canonical codes in
+// the same order ⇔ isomorphic. The isomorphisms of a component are the starts of its canonical
+// traversal (canonical_starts): one per symmetry. Among them match() picks the one minimizing
+//     cost = sum over the component's vertices v of |(pos_A(v) - t_A) - (pos_B(map v) - t_B)|²
+// (t = the centroid chosen by `options.centering`), which keeps parts where they are. Candidates are
+// ranked by the cost over probe vertices (the schematic vertices, or row 0 and column 0 of a torus or
+// annulus), a lower bound of their full cost; full costs are computed in that order until the next
+// lower bound exceeds the best full cost, so the choice is exact, and usually costs one full pass.
+// Components with equal codes are paired by minimum total squared centroid distance (Hungarian
+// method up to 256 of them, greedy nearest pairs beyond), then each pair as above.
+//
+// Time: O(V + F) for adjacency, partition and maps, plus work on the schematics. Throws what
+// build_adjacency / partition_motorcycle throw for invalid meshes (Error).
+MatchResult match(const QuadMesh& a, const QuadMesh& b, const MatchOptions& options = {});
+
+// Same, with adjacencies already built (build_adjacency of a and b).
+MatchResult match(const QuadMesh& a, const Adjacency& adj_a, const QuadMesh& b, const Adjacency& adj_b,
+                  const MatchOptions& options = {});
+
+// True when `m` (from match(a, b)) is a valid isomorphism: vertex map a bijection, and every face f of
+// `a` has corner c equal to corner (c + rotation) of face face[f] of `b` under the vertex map. O(V + F).
+// If not, `why` (when given) says where it fails.
+bool verify_match(const QuadMesh& a, const QuadMesh& b, const MatchResult& m, std::string* why = nullptr);
+
+}  // namespace qsp

@@ -1,0 +1,550 @@
+// Mesh isomorphism from canonical partitions (§6): compare canonical codes, then pick, among the few
+// isomorphisms the codes allow (the symmetries), the one that keeps vertices nearest to where they were.
+#include "qsp/match.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <thread>
+#include <tuple>
+
+#include "qsp/canonical.h"
+#include "qsp/error.h"
+#include "qsp/partition.h"
+
+namespace qsp {
+namespace {
+
+using Vec3 = std::array<double, 3>;
+
+Vec3 position(const QuadMesh& m, std::uint32_t v) {
+  const float* p = &m.positions[3 * std::size_t(v)];
+  return {p[0], p[1], p[2]};
+}
+
+double dist2(const Vec3& x, const Vec3& y) {
+  const double dx = x[0] - y[0], dy = x[1] - y[1], dz = x[2] - y[2];
+  return dx * dx + dy * dy + dz * dz;
+}
+
+std::uint64_t mul_sat(std::uint64_t x, std::uint64_t y) {
+  if (x == 0 || y == 0) return 0;
+  return x > std::numeric_limits<std::uint64_t>::max() / y ? std::numeric_limits<std::uint64_t>::max() : x * y;
+}
+
+std::uint64_t factorial_sat(std::uint64_t k) {
+  std::uint64_t f = 1;
+  for (std::uint64_t i = 2; i <= k && f != std::numeric_limits<std::uint64_t>::max(); ++i) f = mul_sat(f, i);
+  return f;
+}
+
+const char* kind_name(ComponentKind k) {
+  switch (k) {
+    case ComponentKind::kUnstructured: return "unstructured";
+    case ComponentKind::kDisk: return "disk";
+    case ComponentKind::kAnnulus: return "annulus";
+    case ComponentKind::kTorus: return "torus";
+  }
+  return "?";
+}
+
+// One mesh, partitioned and canonicalized.
+struct Prepared {
+  const QuadMesh* mesh = nullptr;
+  const Adjacency* adj = nullptr;
+  CanonicalMesh canon;
+  std::vector<ComponentInfo> info;  // by Adjacency component id
+  Vec3 centroid{0, 0, 0};           // of all vertices
+};
+
+void prepare(const QuadMesh& mesh, const Adjacency& adj, Prepared& out) {
+  out.mesh = &mesh;
+  out.adj = &adj;
+  out.info = component_info(adj);
+  out.canon = canonicalize(mesh, adj, partition_motorcycle(adj));
+  const std::size_t n = mesh.vertex_count();
+  Vec3 c{0, 0, 0};
+  for (std::size_t v = 0; v < n; ++v)
+    for (int k = 0; k < 3; ++k) c[k] += mesh.positions[3 * v + k];
+  if (n)
+    for (int k = 0; k < 3; ++k) c[k] /= double(n);
+  out.centroid = c;
+}
+
+// ---- Levels: per-component keys compared as multisets, coarse to fine ----
+
+// kind, V, F | extraordinary | schematic V, E, patches, torus a, b
+using Key = std::array<std::uint64_t, 9>;
+constexpr std::size_t kKeyFields[] = {0, 0, 3, 4, 9};  // fields compared at kComponentSizes..kSchematic
+
+Key component_key(const Prepared& p, const CanonicalComponent& c) {
+  const ComponentInfo& i = p.info[c.part.component];
+  Key k{static_cast<std::uint64_t>(c.part.kind), i.vertices, i.faces, i.extraordinary, 0, 0, 1, 0, 0};
+  if (c.part.kind == ComponentKind::kTorus) {
+    k[7] = c.code.a;
+    k[8] = c.code.b;
+  } else if (c.part.kind != ComponentKind::kAnnulus) {
+    k[4] = c.part.schematic.vertex_count;
+    k[5] = c.part.schematic.edge_count();
+    k[6] = c.part.schematic.patch_count();
+  }
+  return k;
+}
+
+std::string describe(const Key& k, std::size_t fields) {
+  std::string s = std::string(kind_name(static_cast<ComponentKind>(k[0]))) + " component(s) of " +
+                  std::to_string(k[1]) + " vertices, " + std::to_string(k[2]) + " faces";
+  if (fields > 3) s += ", " + std::to_string(k[3]) + " extraordinary";
+  if (fields > 4) {
+    if (k[0] == static_cast<std::uint64_t>(ComponentKind::kTorus))
+      s += ", lattice " + std::to_string(k[7]) + "x" + std::to_string(k[8]);
+    else if (k[0] != static_cast<std::uint64_t>(ComponentKind::kAnnulus))
+      s += ", schematic " + std::to_string(k[4]) + " vertices / " + std::to_string(k[5]) + " edges / " +
+           std::to_string(k[6]) + " patches";
+  }
+  return s;
+}
+
+// Empty if the multisets of key prefixes agree, else the first (in key order) that differs.
+std::string compare_keys(std::vector<Key> ka, std::vector<Key> kb, std::size_t fields) {
+  for (auto* v : {&ka, &kb}) {
+    for (Key& k : *v) std::fill(k.begin() + fields, k.end(), 0);
+    std::sort(v->begin(), v->end());
+  }
+  std::size_t i = 0, j = 0;
+  while (i < ka.size() || j < kb.size()) {
+    const Key& k = (j == kb.size() || (i < ka.size() && ka[i] < kb[j])) ? ka[i] : kb[j];
+    std::size_t na = 0, nb = 0;
+    while (i < ka.size() && ka[i] == k) ++i, ++na;
+    while (j < kb.size() && kb[j] == k) ++j, ++nb;
+    if (na != nb)
+      return "A has " + std::to_string(na) + ", B has " + std::to_string(nb) + " " + describe(k, fields);
+  }
+  return {};
+}
+
+std::string code_difference(const TopologyCode& x, const TopologyCode& y) {
+  if (x.kind == ComponentKind::kTorus && x.twist != y.twist)
+    return "torus twist " + std::to_string(x.twist) + " vs " + std::to_string(y.twist);
+  if (x.next_ref != y.next_ref) return "schematic connectivity differs";
+  if (x.edge_length != y.edge_length) return "schematic edge lengths differ";
+  if (x.corner != y.corner) return "patch corners differ";
+  return "canonical codes differ";
+}
+
+// ---- Assignment (pairing interchangeable components, unreferenced vertices) ----
+
+// Minimum-cost perfect matching of a square cost matrix (Hungarian method with potentials, O(n³)).
+// Returns row -> column.
+std::vector<std::uint32_t> hungarian(const std::vector<double>& cost, std::size_t n) {
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> u(n + 1, 0), v(n + 1, 0), minv(n + 1);
+  std::vector<std::size_t> p(n + 1, 0), way(n + 1, 0);
+  std::vector<char> used(n + 1);
+  for (std::size_t i = 1; i <= n; ++i) {
+    p[0] = i;
+    std::size_t j0 = 0;
+    std::fill(minv.begin(), minv.end(), inf);
+    std::fill(used.begin(), used.end(), 0);
+    do {
+      used[j0] = 1;
+      const std::size_t i0 = p[j0];
+      double delta = inf;
+      std::size_t j1 = 0;
+      for (std::size_t j = 1; j <= n; ++j) {
+        if (used[j]) continue;
+        const double cur = cost[(i0 - 1) * n + (j - 1)] - u[i0] - v[j];
+        if (cur < minv[j]) {
+          minv[j] = cur;
+          way[j] = j0;
+        }
+        if (minv[j] < delta) {
+          delta = minv[j];
+          j1 = j;
+        }
+      }
+      for (std::size_t j = 0; j <= n; ++j) {
+        if (used[j]) {
+          u[p[j]] += delta;
+          v[j] -= delta;
+        } else {
+          minv[j] -= delta;
+        }
+      }
+      j0 = j1;
+    } while (p[j0] != 0);
+    do {
+      const std::size_t j1 = way[j0];
+      p[j0] = p[j1];
+      j0 = j1;
+    } while (j0);
+  }
+  std::vector<std::uint32_t> out(n);
+  for (std::size_t j = 1; j <= n; ++j) out[p[j] - 1] = static_cast<std::uint32_t>(j - 1);
+  return out;
+}
+
+constexpr std::size_t kMaxHungarian = 256;
+
+struct Assignment {
+  std::vector<std::uint32_t> to;  // index in xs -> index in ys
+  bool ambiguous = false;
+  bool exhaustive = true;
+};
+
+// Pairs points xs[i] with ys[to[i]] minimizing the total squared distance: exactly up to
+// kMaxHungarian points; beyond, by lexicographic order of the points (exact when the two sets are
+// equal, flagged non-exhaustive otherwise). Ambiguous when swapping two pairs costs nothing (within tol).
+Assignment assign(const std::vector<Vec3>& xs, const std::vector<Vec3>& ys, double rel_tol) {
+  const std::size_t n = xs.size();
+  Assignment out;
+  out.to.resize(n);
+  if (n == 0) return out;
+  if (n == 1) {
+    out.to[0] = 0;
+    return out;
+  }
+  if (n > kMaxHungarian) {
+    std::vector<std::uint32_t> ix(n), iy(n);
+    std::iota(ix.begin(), ix.end(), 0);
+    std::iota(iy.begin(), iy.end(), 0);
+    std::sort(ix.begin(), ix.end(), [&](auto p, auto q) { return xs[p] < xs[q]; });
+    std::sort(iy.begin(), iy.end(), [&](auto p, auto q) { return ys[p] < ys[q]; });
+    for (std::size_t k = 0; k < n; ++k) {
+      out.to[ix[k]] = iy[k];
+      if (xs[ix[k]] != ys[iy[k]]) out.exhaustive = false;
+      // Equal points on one side make the pairing arbitrary.
+      if (k > 0 && (xs[ix[k]] == xs[ix[k - 1]] || ys[iy[k]] == ys[iy[k - 1]])) out.ambiguous = true;
+    }
+    if (!out.exhaustive) out.ambiguous = true;
+    return out;
+  }
+  std::vector<double> c(n * n);
+  double scale = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) {
+      c[i * n + j] = dist2(xs[i], ys[j]);
+      scale = std::max(scale, c[i * n + j]);
+    }
+  out.to = hungarian(c, n);
+  double total = 0;
+  for (std::size_t i = 0; i < n; ++i) total += c[i * n + out.to[i]];
+  const double tol = rel_tol * total + 1e-12 * scale;
+  for (std::size_t i = 0; i < n && !out.ambiguous; ++i)
+    for (std::size_t k = i + 1; k < n; ++k) {
+      const std::uint32_t j = out.to[i], l = out.to[k];
+      if (c[i * n + l] + c[k * n + j] - c[i * n + j] - c[k * n + l] <= tol) {
+        out.ambiguous = true;
+        break;
+      }
+    }
+  return out;
+}
+
+// ---- Choosing a component's isomorphism ----
+
+struct PairChoice {
+  LayoutMap map;  // B's layout map realizing the chosen isomorphism
+  ComponentMatch info;
+};
+
+// Squared-distance sum between A vertices av[i] and B vertices bv[i], B shifted by t.
+double cost_of(const QuadMesh& a, const std::uint32_t* av, const QuadMesh& b, const std::uint32_t* bv,
+               std::size_t n, const Vec3& t) {
+  double s = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float* p = &a.positions[3 * std::size_t(av[i])];
+    const float* q = &b.positions[3 * std::size_t(bv[i])];
+    const double dx = double(p[0]) - q[0] - t[0], dy = double(p[1]) - q[1] - t[1], dz = double(p[2]) - q[2] - t[2];
+    s += dx * dx + dy * dy + dz * dz;
+  }
+  return s;
+}
+
+Vec3 component_centroid(const QuadMesh& m, const CanonicalComponent& c) {
+  Vec3 s{0, 0, 0};
+  for (std::uint32_t v : c.map.vertex)
+    for (int k = 0; k < 3; ++k) s[k] += m.positions[3 * std::size_t(v) + k];
+  const double n = double(std::max<std::size_t>(c.map.vertex.size(), 1));
+  return {s[0] / n, s[1] / n, s[2] / n};
+}
+
+// t such that A's positions are compared with B's plus t.
+Vec3 shift(const Prepared& pa, const CanonicalComponent& ca, const Prepared& pb, const CanonicalComponent& cb,
+           Centering centering) {
+  Vec3 x{0, 0, 0}, y{0, 0, 0};
+  if (centering == Centering::kComponent) {
+    x = component_centroid(*pa.mesh, ca);
+    y = component_centroid(*pb.mesh, cb);
+  } else if (centering == Centering::kMesh) {
+    x = pa.centroid;
+    y = pb.centroid;
+  }
+  return {x[0] - y[0], x[1] - y[1], x[2] - y[2]};
+}
+
+PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepared& pb, const CanonicalComponent& cb,
+                  const MatchOptions& opt) {
+  const QuadMesh& a = *pa.mesh;
+  const QuadMesh& b = *pb.mesh;
+  const Adjacency& adj = *pb.adj;
+  const Vec3 t = shift(pa, ca, pb, cb, opt.centering);
+  const std::size_t n = ca.map.vertex.size();
+  PairChoice out;
+  out.info.a_faces = static_cast<std::uint32_t>(ca.map.face.size());
+  const bool structured = cb.part.kind == ComponentKind::kAnnulus || cb.part.kind == ComponentKind::kTorus;
+  // For general components `automorphisms` already is the number of starts.
+  const std::vector<std::uint32_t> starts =
+      structured || cb.automorphisms > 1 ? canonical_starts(adj, cb) : std::vector<std::uint32_t>{0};
+  out.info.isomorphisms = starts.size();
+  if (starts.size() <= 1) {
+    // No symmetry: the canonical layouts correspond, nothing to choose.
+    out.map = cb.map;
+    out.info.scored = 1;
+    out.info.cost = cost_of(a, ca.map.vertex.data(), b, out.map.vertex.data(), n, t);
+    return out;
+  }
+
+  // Scale for the absolute tie tolerance: A's bounding-box diagonal.
+  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (std::uint32_t v : ca.map.vertex) {
+    const Vec3 p = position(a, v);
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+  }
+  const double abs_tol = 1e-12 * double(n) * dist2(lo, hi);
+  auto tol = [&](double best) { return opt.tie_tolerance * best + abs_tol; };
+
+  // Lower bounds from probe vertices (a subset of the layout's vertices, same indices on both sides).
+  std::vector<std::uint32_t> probe_a, probe_b;
+  if (structured) {
+    const std::uint32_t w = cb.part.a, rows = cb.part.b;
+    for (std::uint32_t x = 0; x < w; ++x) probe_a.push_back(ca.map.vertex[x]);
+    for (std::uint32_t y = 1; y < rows; ++y) probe_a.push_back(ca.map.vertex[std::size_t(y) * w]);
+  } else {
+    probe_a = ca.part.schematic.vertex_mesh;
+  }
+  std::vector<std::pair<double, std::uint32_t>> cand;
+  cand.reserve(starts.size());
+  for (std::uint32_t s : starts) {
+    probe_b.clear();
+    if (structured) {
+      std::uint32_t h = s;
+      for (std::uint32_t x = 0; x < cb.part.a; ++x, h = adj.next(adj.twin[adj.next(h)])) probe_b.push_back(adj.origin[h]);
+      h = s;
+      for (std::uint32_t y = 1; y < cb.part.b; ++y) {
+        h = adj.twin[adj.next(adj.next(h))];
+        probe_b.push_back(adj.origin[h]);
+      }
+    } else {
+      probe_b = canonical_from_start(adj, cb, s).schematic.vertex_mesh;
+    }
+    cand.emplace_back(cost_of(a, probe_a.data(), b, probe_b.data(), probe_a.size(), t), s);
+  }
+  std::sort(cand.begin(), cand.end());
+
+  // Full costs in order of lower bound, until no remaining candidate can tie or beat the best.
+  double best = HUGE_VAL, rival = HUGE_VAL;
+  for (const auto& [bound, s] : cand) {
+    if (bound > best + tol(best)) break;
+    if (out.info.scored == opt.max_full_evaluations) {
+      out.info.exhaustive = false;
+      break;
+    }
+    LayoutMap m = layout_to_mesh(canonical_from_start(adj, cb, s), adj);
+    const double c = cost_of(a, ca.map.vertex.data(), b, m.vertex.data(), n, t);
+    ++out.info.scored;
+    if (c < best) {
+      rival = best;
+      best = c;
+      out.map = std::move(m);
+    } else {
+      rival = std::min(rival, c);
+    }
+  }
+  out.info.cost = best;
+  out.info.ambiguous = !out.info.exhaustive || rival <= best + tol(best);
+  return out;
+}
+
+}  // namespace
+
+const char* match_level_name(MatchLevel level) noexcept {
+  switch (level) {
+    case MatchLevel::kNone: return "none";
+    case MatchLevel::kComponentCount: return "component count";
+    case MatchLevel::kComponentSizes: return "component sizes";
+    case MatchLevel::kExtraordinary: return "extraordinary vertices";
+    case MatchLevel::kSchematic: return "schematic";
+    case MatchLevel::kCode: return "canonical code";
+    case MatchLevel::kUnreferenced: return "unreferenced vertices";
+  }
+  return "?";
+}
+
+MatchResult match(const QuadMesh& a, const QuadMesh& b, const MatchOptions& options) {
+  const Adjacency adj_a = build_adjacency(a);
+  const Adjacency adj_b = build_adjacency(b);
+  return match(a, adj_a, b, adj_b, options);
+}
+
+MatchResult match(const QuadMesh& a, const Adjacency& adj_a, const QuadMesh& b, const Adjacency& adj_b,
+                  const MatchOptions& options) {
+  MatchResult r;
+  auto differ = [&](MatchLevel level, std::string why) {
+    r.level = level;
+    r.reason = std::string(match_level_name(level)) + ": " + why;
+    return r;
+  };
+  // Cheapest level first, before any partitioning.
+  if (adj_a.component_count != adj_b.component_count)
+    return differ(MatchLevel::kComponentCount, "A has " + std::to_string(adj_a.component_count) + ", B has " +
+                                                   std::to_string(adj_b.component_count));
+
+  // The two meshes are independent: canonicalize them side by side.
+  Prepared pa, pb;
+  {
+    std::exception_ptr failed;
+    std::thread worker([&] {
+      try {
+        prepare(b, adj_b, pb);
+      } catch (...) {
+        failed = std::current_exception();
+      }
+    });
+    try {
+      prepare(a, adj_a, pa);
+    } catch (...) {
+      worker.join();
+      throw;
+    }
+    worker.join();
+    if (failed) std::rethrow_exception(failed);
+  }
+  const auto& ca = pa.canon.components;
+  const auto& cb = pb.canon.components;
+
+  std::vector<Key> ka, kb;
+  for (const auto& c : ca) ka.push_back(component_key(pa, c));
+  for (const auto& c : cb) kb.push_back(component_key(pb, c));
+  for (MatchLevel level : {MatchLevel::kComponentSizes, MatchLevel::kExtraordinary, MatchLevel::kSchematic}) {
+    std::string why = compare_keys(ka, kb, kKeyFields[static_cast<int>(level)]);
+    if (!why.empty()) return differ(level, why);
+  }
+  // Codes: both lists are in canonical order, so isomorphic ⇔ equal element by element.
+  for (std::size_t i = 0; i < ca.size(); ++i) {
+    if (ca[i].code == cb[i].code) continue;
+    // Name an A component with no equal code in B, and how it differs from a B one of the same sizes.
+    for (std::size_t x = 0; x < ca.size(); ++x) {
+      bool found = false;
+      for (std::size_t y = 0; y < cb.size() && !found; ++y) found = ca[x].code == cb[y].code;
+      if (found) continue;
+      for (std::size_t y = 0; y < cb.size(); ++y)
+        if (kb[y] == ka[x])
+          return differ(MatchLevel::kCode, "A's " + describe(ka[x], 9) + ": " + code_difference(ca[x].code, cb[y].code));
+    }
+    return differ(MatchLevel::kCode, "canonical codes differ");
+  }
+  const auto& ua = pa.canon.unreferenced;
+  const auto& ub = pb.canon.unreferenced;
+  if (ua.size() != ub.size())
+    return differ(MatchLevel::kUnreferenced, "A has " + std::to_string(ua.size()) + ", B has " + std::to_string(ub.size()));
+
+  r.isomorphic = true;
+  r.vertex.assign(a.vertex_count(), kInvalid);
+  r.face.assign(a.face_count(), kInvalid);
+  r.rotation.assign(a.face_count(), 0);
+  r.isomorphisms = 1;
+  r.components.resize(ca.size());
+  const bool centered = options.centering != Centering::kNone;
+  auto rel = [&](const Prepared& p, Vec3 x) {
+    if (centered)
+      for (int k = 0; k < 3; ++k) x[k] -= p.centroid[k];
+    return x;
+  };
+
+  // Runs of equal codes are interchangeable components: pair them by centroid.
+  for (std::size_t i = 0; i < ca.size();) {
+    std::size_t j = i + 1;
+    while (j < ca.size() && ca[j].code == ca[i].code) ++j;
+    std::vector<Vec3> xs, ys;
+    for (std::size_t k = i; k < j; ++k) {
+      xs.push_back(rel(pa, component_centroid(a, ca[k])));
+      ys.push_back(rel(pb, component_centroid(b, cb[k])));
+    }
+    const Assignment pairing = assign(xs, ys, options.tie_tolerance);
+    r.ambiguous |= pairing.ambiguous;
+    r.exhaustive &= pairing.exhaustive;
+    r.isomorphisms = mul_sat(r.isomorphisms, factorial_sat(j - i));
+    for (std::size_t k = i; k < j; ++k) {
+      const CanonicalComponent& x = ca[k];
+      const CanonicalComponent& y = cb[i + pairing.to[k - i]];
+      PairChoice choice = choose(pa, x, pb, y, options);
+      r.components[k] = choice.info;
+      r.isomorphisms = mul_sat(r.isomorphisms, choice.info.isomorphisms);
+      r.ambiguous |= choice.info.ambiguous;
+      r.exhaustive &= choice.info.exhaustive;
+      r.cost += choice.info.cost;
+      const LayoutMap& m = choice.map;
+      if (m.vertex.size() != x.map.vertex.size() || m.face.size() != x.map.face.size())
+        throw Error(ErrorCode::kInternal, "match: equal codes gave layouts of different sizes");
+      for (std::size_t v = 0; v < m.vertex.size(); ++v) r.vertex[x.map.vertex[v]] = m.vertex[v];
+      for (std::size_t f = 0; f < m.face.size(); ++f) {
+        r.face[x.map.face[f]] = m.face[f];
+        r.rotation[x.map.face[f]] = static_cast<std::uint8_t>((m.rotation[f] - x.map.rotation[f]) & 3u);
+      }
+    }
+    i = j;
+  }
+
+  // Unreferenced vertices: any pairing is an isomorphism; take the nearest.
+  {
+    std::vector<Vec3> xs, ys;
+    for (std::uint32_t v : ua) xs.push_back(rel(pa, position(a, v)));
+    for (std::uint32_t v : ub) ys.push_back(rel(pb, position(b, v)));
+    const Assignment pairing = assign(xs, ys, options.tie_tolerance);
+    r.ambiguous |= pairing.ambiguous;
+    r.exhaustive &= pairing.exhaustive;
+    r.isomorphisms = mul_sat(r.isomorphisms, factorial_sat(ua.size()));
+    for (std::size_t k = 0; k < ua.size(); ++k) {
+      r.vertex[ua[k]] = ub[pairing.to[k]];
+      r.cost += dist2(xs[k], ys[pairing.to[k]]);
+    }
+  }
+  for (std::uint32_t v : r.vertex)
+    if (v == kInvalid) throw Error(ErrorCode::kInternal, "match: a vertex of A was left unmapped");
+  for (std::uint32_t f : r.face)
+    if (f == kInvalid) throw Error(ErrorCode::kInternal, "match: a face of A was left unmapped");
+  return r;
+}
+
+bool verify_match(const QuadMesh& a, const QuadMesh& b, const MatchResult& m, std::string* why) {
+  auto fail = [&](std::string s) {
+    if (why) *why = std::move(s);
+    return false;
+  };
+  if (!m.isomorphic) return fail("not isomorphic");
+  if (a.vertex_count() != b.vertex_count() || a.face_count() != b.face_count()) return fail("sizes differ");
+  if (m.vertex.size() != a.vertex_count() || m.face.size() != a.face_count() || m.rotation.size() != a.face_count())
+    return fail("map sizes differ from A's");
+  std::vector<std::uint8_t> seen(b.vertex_count(), 0);
+  for (std::size_t v = 0; v < m.vertex.size(); ++v) {
+    if (m.vertex[v] >= b.vertex_count() || seen[m.vertex[v]]) return fail("vertex map not a bijection at " + std::to_string(v));
+    seen[m.vertex[v]] = 1;
+  }
+  std::vector<std::uint8_t> fseen(b.face_count(), 0);
+  for (std::size_t f = 0; f < m.face.size(); ++f) {
+    const std::uint32_t g = m.face[f];
+    if (g >= b.face_count() || fseen[g]) return fail("face map not a bijection at " + std::to_string(f));
+    fseen[g] = 1;
+    for (std::uint32_t c = 0; c < 4; ++c)
+      if (m.vertex[a.quads[4 * f + c]] != b.quads[4 * std::size_t(g) + ((c + m.rotation[f]) & 3u)])
+        return fail("face " + std::to_string(f) + " corner " + std::to_string(c) + " does not map");
+  }
+  return true;
+}
+
+}  // namespace qsp
