@@ -10,5 +10,9 @@ namespace qsp::cli {
 void register_stats(CLI::App& app, int& exit_code);
 void register_compress(CLI::App& app, int& exit_code);
 void register_decompress(CLI::App& app, int& exit_code);
+// match exits 0 isomorphic / 1 not / 2 invalid input (cmp-style); it maps qsp::Error itself.
+void register_match(CLI::App& app, int& exit_code);
+void register_fingerprint(CLI::App& app, int& exit_code);
+void register_reorder(CLI::App& app, int& exit_code);
 
 }  // namespace qsp::cli

@@ -26,6 +26,9 @@ int main(int argc, char** argv) {
   qsp::cli::register_compress(app, exit_code);
   qsp::cli::register_decompress(app, exit_code);
   qsp::cli::register_stats(app, exit_code);
+  qsp::cli::register_match(app, exit_code);
+  qsp::cli::register_fingerprint(app, exit_code);
+  qsp::cli::register_reorder(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

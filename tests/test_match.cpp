@@ -1,0 +1,563 @@
+// Mesh matching: shuffled and morphed copies, mirrors, near-misses, symmetric meshes, the CLI.
+// Claims of (non-)isomorphism and symmetry counts on small meshes are checked against a brute-force
+// half-edge search that shares no code with the canonical partition.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "qsp/canonical.h"
+#include "qsp/error.h"
+#include "qsp/io.h"
+#include "qsp/match.h"
+#include "qsp/partition.h"
+#include "support/cli.h"
+#include "support/corpus.h"
+#include "support/mesh_gen.h"
+
+namespace qsp {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---- Independent reference: brute-force isomorphisms of connected meshes ----
+
+// Number of orientation-preserving isomorphisms a -> b (both connected, no unreferenced vertices):
+// map A's half-edge 0 to every interior half-edge of B and propagate along next and twin.
+std::uint64_t brute_force_isomorphisms(const QuadMesh& a, const QuadMesh& b) {
+  const Adjacency x = build_adjacency(a), y = build_adjacency(b);
+  if (x.halfedge_count() != y.halfedge_count() || x.face_count != y.face_count) return 0;
+  const std::uint32_t nh = x.halfedge_count();
+  std::uint64_t count = 0;
+  std::vector<std::uint32_t> fwd(nh), back(nh), stack;
+  for (std::uint32_t g0 = 0; g0 < 4 * y.face_count; ++g0) {
+    std::fill(fwd.begin(), fwd.end(), kInvalid);
+    std::fill(back.begin(), back.end(), kInvalid);
+    bool ok = true;
+    auto put = [&](std::uint32_t h, std::uint32_t g) {
+      if (fwd[h] == g) return;
+      if (fwd[h] != kInvalid || back[g] != kInvalid || x.is_exterior(h) != y.is_exterior(g)) {
+        ok = false;
+        return;
+      }
+      fwd[h] = g;
+      back[g] = h;
+      stack.push_back(h);
+    };
+    stack.clear();
+    put(0, g0);
+    while (ok && !stack.empty()) {
+      const std::uint32_t h = stack.back();
+      stack.pop_back();
+      put(x.next(h), y.next(fwd[h]));
+      put(x.twin[h], y.twin[fwd[h]]);
+    }
+    if (ok && std::count(fwd.begin(), fwd.end(), kInvalid) == 0) ++count;
+  }
+  return count;
+}
+
+// ---- Meshes ----
+
+// Surface of the box [0,ex]x[0,ey]x[0,ez] in unit quads, outward counter-clockwise.
+QuadMesh box(int ex, int ey, int ez) {
+  testing::MeshBuilder b;
+  const int ext[3] = {ex, ey, ez};
+  // origin flags (1 = at the far side), u axis, v axis; u x v points outward.
+  const int sides[6][5] = {{0, 0, 1, 0, 1}, {0, 0, 0, 1, 0}, {1, 0, 0, 1, 2},
+                           {0, 0, 0, 2, 1}, {0, 1, 0, 2, 0}, {0, 0, 0, 0, 2}};
+  for (const auto& s : sides)
+    for (int j = 0; j < ext[s[4]]; ++j)
+      for (int i = 0; i < ext[s[3]]; ++i) {
+        auto P = [&](int p, int q) {
+          std::array<int, 3> c{s[0] * ext[0], s[1] * ext[1], s[2] * ext[2]};
+          c[s[3]] += p;
+          c[s[4]] += q;
+          return c;
+        };
+        b.quad({P(i, j), P(i + 1, j), P(i + 1, j + 1), P(i, j + 1)});
+      }
+  return b.take();
+}
+
+// cube(n) cut along the horizontal loop z = k and reglued with the upper part turned by `shift`
+// positions along the loop: same counts and valences; a cube again exactly when shift % n == 0.
+QuadMesh sheared_cube(int n, int k, int shift) {
+  QuadMesh m = testing::cube(n);
+  std::vector<std::uint32_t> loop;
+  for (std::uint32_t v = 0; v < m.vertex_count(); ++v)
+    if (m.positions[3 * v + 2] == float(k)) loop.push_back(v);
+  auto angle = [&](std::uint32_t v) {
+    return std::atan2(m.positions[3 * v + 1] - n / 2.0, m.positions[3 * v] - n / 2.0);
+  };
+  std::sort(loop.begin(), loop.end(), [&](auto p, auto q) { return angle(p) < angle(q); });
+  std::map<std::uint32_t, std::uint32_t> moved;
+  for (std::size_t i = 0; i < loop.size(); ++i) moved[loop[i]] = loop[(i + shift) % loop.size()];
+  for (std::size_t f = 0; f < m.face_count(); ++f) {
+    bool upper = true;
+    for (int c = 0; c < 4; ++c) upper &= m.positions[3 * m.quads[4 * f + c] + 2] >= float(k);
+    if (!upper) continue;
+    for (int c = 0; c < 4; ++c)
+      if (auto it = moved.find(m.quads[4 * f + c]); it != moved.end()) m.quads[4 * f + c] = it->second;
+  }
+  return m;
+}
+
+// Mirror image: x negated, every face's orientation reversed.
+QuadMesh mirrored(QuadMesh m) {
+  for (std::size_t v = 0; v < m.vertex_count(); ++v) m.positions[3 * v] = -m.positions[3 * v];
+  for (std::size_t f = 0; f < m.face_count(); ++f) std::swap(m.quads[4 * f + 1], m.quads[4 * f + 3]);
+  return m;
+}
+
+// Positions transformed by p -> R p + t (R integer 3x3, row-major).
+QuadMesh transformed(QuadMesh m, const std::array<int, 9>& r, std::array<float, 3> t = {0, 0, 0}) {
+  for (std::size_t v = 0; v < m.vertex_count(); ++v) {
+    const float x = m.positions[3 * v], y = m.positions[3 * v + 1], z = m.positions[3 * v + 2];
+    for (int k = 0; k < 3; ++k) m.positions[3 * v + k] = r[3 * k] * x + r[3 * k + 1] * y + r[3 * k + 2] * z + t[k];
+  }
+  return m;
+}
+
+// For b = shuffled(a, seed, &old): A vertex v is B vertex truth[v].
+std::vector<std::uint32_t> truth_of(const std::vector<std::uint32_t>& old) {
+  std::vector<std::uint32_t> t(old.size());
+  for (std::uint32_t i = 0; i < old.size(); ++i) t[old[i]] = i;
+  return t;
+}
+
+void expect_valid(const QuadMesh& a, const QuadMesh& b, const MatchResult& r) {
+  ASSERT_TRUE(r.isomorphic) << r.reason;
+  std::string why;
+  EXPECT_TRUE(verify_match(a, b, r, &why)) << why;
+}
+
+bool same_position(const QuadMesh& a, std::uint32_t v, const QuadMesh& b, std::uint32_t w) {
+  for (int k = 0; k < 3; ++k)
+    if (a.positions[3 * std::size_t(v) + k] != b.positions[3 * std::size_t(w) + k]) return false;
+  return true;
+}
+
+// ---- Shuffled and morphed copies ----
+
+TEST(Match, ShuffledCorpusMeshesMatchFaceByFace) {
+  int n = 0, symmetric = 0;
+  for (const auto& path : testing::corpus()) {
+    SCOPED_TRACE(path.string());
+    QuadMesh m;
+    try {
+      m = read_mesh_file(path.string());
+      build_adjacency(m);
+    } catch (const Error&) {
+      continue;
+    }
+    std::vector<std::uint32_t> old;
+    const QuadMesh s = testing::shuffled(m, 7 + n, &old);
+    const MatchResult r = match(m, s);
+    expect_valid(m, s, r);
+    EXPECT_EQ(r.cost, 0.0);
+    // The nearest isomorphism of an exact copy is the shuffle itself, unless two isomorphisms put
+    // every vertex on an equal position (then the result must say it is ambiguous).
+    if (!r.ambiguous) {
+      EXPECT_EQ(r.vertex, truth_of(old));
+    }
+    symmetric += r.isomorphisms > 1;
+    ++n;
+  }
+  EXPECT_GT(n, 10);
+  std::printf("[ match    ] %d corpus meshes, %d with several isomorphisms\n", n, symmetric);
+}
+
+TEST(Match, GeneratedMeshesMatchTheirShuffles) {
+  std::vector<QuadMesh> meshes = {testing::cube(3), testing::grid(4, 7), testing::periodic(8, 5, true, 0),
+                                  testing::periodic(9, 6, true, 2), testing::periodic(7, 3, false, 0),
+                                  box(1, 2, 3), sheared_cube(4, 2, 1)};
+  QuadMesh several = testing::cube(2);
+  testing::append(several, testing::cube(2), 5);
+  testing::append(several, testing::grid(3, 2), 12);
+  testing::append(several, testing::cube(2), -7);
+  several.positions.insert(several.positions.end(), {100, 0, 0, 101, 0, 0});  // unreferenced
+  meshes.push_back(several);
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    SCOPED_TRACE(i);
+    std::vector<std::uint32_t> old;
+    const QuadMesh s = testing::shuffled(meshes[i], 100 + i, &old);
+    const MatchResult r = match(meshes[i], s);
+    expect_valid(meshes[i], s, r);
+    EXPECT_FALSE(r.ambiguous);
+    EXPECT_TRUE(r.exhaustive);
+    EXPECT_EQ(r.vertex, truth_of(old));
+  }
+}
+
+// The cost match() minimizes (Centering::kComponent), recomputed here for any vertex map `to`.
+double component_centered_cost(const QuadMesh& a, const QuadMesh& b, const std::vector<std::uint32_t>& to) {
+  const Adjacency adj = build_adjacency(a);
+  const std::uint32_t none = adj.component_count;  // unreferenced vertices: centred on the mesh
+  std::vector<std::uint32_t> comp(a.vertex_count(), none);
+  for (std::size_t f = 0; f < a.face_count(); ++f)
+    for (int c = 0; c < 4; ++c) comp[a.quads[4 * f + c]] = adj.face_component[f];
+  std::vector<std::array<double, 7>> sum(none + 1, std::array<double, 7>{});  // A xyz, B xyz, count
+  for (std::uint32_t v = 0; v < a.vertex_count(); ++v) {
+    auto& s = sum[comp[v]];
+    auto& m = sum[none];
+    for (int k = 0; k < 3; ++k) {
+      s[k] += a.positions[3 * v + k], s[3 + k] += b.positions[3 * std::size_t(to[v]) + k];
+      if (comp[v] != none) m[k] += a.positions[3 * v + k], m[3 + k] += b.positions[3 * std::size_t(to[v]) + k];
+    }
+    s[6] += 1;
+    if (comp[v] != none) sum[none][6] += 1;
+  }
+  double cost = 0;
+  for (std::uint32_t v = 0; v < a.vertex_count(); ++v) {
+    const auto& s = sum[comp[v]];
+    for (int k = 0; k < 3; ++k) {
+      const double d = (a.positions[3 * v + k] - s[k] / s[6]) - (b.positions[3 * std::size_t(to[v]) + k] - s[3 + k] / s[6]);
+      cost += d * d;
+    }
+  }
+  return cost;
+}
+
+TEST(Match, MakeHumanBaseMatchesItsMorphs) {
+  const fs::path dir = fs::path(QSP_SHARED_DIR) / "meshes";
+  if (!fs::exists(dir / "mh_base.obj")) GTEST_SKIP() << "no " << dir / "mh_base.obj";
+  const QuadMesh base = read_mesh_file((dir / "mh_base.obj").string());
+  ASSERT_EQ(build_adjacency(base).component_count, 154u);  // body plus 153 helpers, 125 of them 6-quad cubes
+  int morphs = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("mh_base_morph_", 0) != 0 || e.path().extension() != ".obj") continue;
+    SCOPED_TRACE(name);
+    const QuadMesh morph = read_mesh_file(e.path().string());
+    const MatchResult r = match(base, morph);
+    expect_valid(base, morph, r);
+    EXPECT_FALSE(r.ambiguous);
+    // Morphs keep MakeHuman's numbering, so the identity is an isomorphism; the chosen one is at least
+    // as near. They differ only where a morph turns or crushes a symmetric helper (a cube of the
+    // skeleton helpers) far enough that another of its 24 turns is nearer.
+    std::vector<std::uint32_t> identity(base.vertex_count());
+    std::iota(identity.begin(), identity.end(), 0);
+    const double id_cost = component_centered_cost(base, morph, identity);
+    EXPECT_NEAR(r.cost, component_centered_cost(base, morph, r.vertex), 1e-9 * (1 + r.cost));
+    EXPECT_LE(r.cost, id_cost * (1 + 1e-12));
+    std::size_t moved = 0;
+    for (std::uint32_t v = 0; v < identity.size(); ++v) moved += r.vertex[v] != v;
+    EXPECT_LT(moved, base.vertex_count() / 100);
+    std::printf("[ match    ] %s: %zu of %zu vertices not identity, cost %.4g vs identity %.4g\n", name.c_str(),
+                moved, base.vertex_count(), r.cost, id_cost);
+    // Renumbering the morph renumbers the answer and changes nothing else.
+    std::vector<std::uint32_t> old;
+    const QuadMesh shuffled_morph = testing::shuffled(morph, 5, &old);
+    const MatchResult rs = match(base, shuffled_morph);
+    expect_valid(base, shuffled_morph, rs);
+    const auto truth = truth_of(old);
+    for (std::uint32_t v = 0; v < identity.size(); ++v) ASSERT_EQ(rs.vertex[v], truth[r.vertex[v]]) << v;
+    ++morphs;
+  }
+  EXPECT_GT(morphs, 0);
+}
+
+// ---- Mirrors ----
+
+TEST(Match, MirroredCopyMatchesOnlyWithAMirrorSymmetry) {
+  struct Case {
+    const char* name;
+    QuadMesh mesh;
+    bool mirror_symmetric;
+  };
+  const std::vector<Case> cases = {
+      {"L with equal arms", testing::polyomino({"##..", "##..", "####", "####"}), true},
+      {"F pentomino", testing::polyomino({"..####", "..####", "####..", "####..", "..##..", "..##.."}), false},
+      {"cube", testing::cube(3), true},
+      {"box 1x2x3", box(1, 2, 3), true},
+      {"torus, no twist", testing::periodic(9, 6, true, 0), true},
+      {"torus, twist 2", testing::periodic(9, 6, true, 2), false},
+      {"sheared cube", sheared_cube(3, 1, 1), false},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const QuadMesh m = mirrored(c.mesh);
+    const MatchResult r = match(c.mesh, m);
+    EXPECT_EQ(r.isomorphic, c.mirror_symmetric) << r.reason;
+    EXPECT_EQ(brute_force_isomorphisms(c.mesh, m) > 0, c.mirror_symmetric);
+    if (r.isomorphic) expect_valid(c.mesh, m, r);
+  }
+}
+
+// Small connected corpus meshes: match agrees with brute force on a mirrored copy and on the count.
+TEST(Match, SmallCorpusMeshesAgreeWithBruteForce) {
+  int n = 0;
+  for (const auto& path : testing::corpus()) {
+    QuadMesh m;
+    try {
+      m = read_mesh_file(path.string());
+      const Adjacency adj = build_adjacency(m);
+      if (adj.component_count != 1 || m.face_count() > 600) continue;
+      bool unreferenced = false;
+      for (auto v : adj.valence) unreferenced |= v == 0;
+      if (unreferenced) continue;
+    } catch (const Error&) {
+      continue;
+    }
+    SCOPED_TRACE(path.string());
+    const QuadMesh s = testing::shuffled(m, 3);
+    const MatchResult r = match(m, s);
+    EXPECT_EQ(r.isomorphisms, brute_force_isomorphisms(m, s));
+    const QuadMesh mm = mirrored(m);
+    const MatchResult rm = match(m, mm);
+    EXPECT_EQ(rm.isomorphic, brute_force_isomorphisms(m, mm) > 0) << rm.reason;
+    if (rm.isomorphic) expect_valid(m, mm, rm);
+    ++n;
+  }
+  EXPECT_GT(n, 5);
+  std::printf("[ match    ] %d small connected corpus meshes checked against brute force\n", n);
+}
+
+// ---- Near misses ----
+
+TEST(Match, ToriWithDifferentTwistsDiffer) {
+  const QuadMesh a = testing::periodic(9, 6, true, 1), b = testing::periodic(9, 6, true, 2);
+  const MatchResult r = match(a, b);
+  EXPECT_FALSE(r.isomorphic);
+  EXPECT_EQ(r.level, MatchLevel::kCode);
+  EXPECT_NE(r.reason.find("twist"), std::string::npos) << r.reason;
+  EXPECT_EQ(brute_force_isomorphisms(a, b), 0u);
+  // Twist t and a - t are mirror images, not rotations, of each other.
+  EXPECT_FALSE(match(testing::periodic(9, 6, true, 2), testing::periodic(9, 6, true, 7)).isomorphic);
+}
+
+TEST(Match, BoxesWithEqualCountsDiffer) {
+  // 1x1x5 and 1x2x3: both 22 quads, 24 vertices, eight valence-3 corners.
+  const QuadMesh a = box(1, 1, 5), b = box(1, 2, 3);
+  ASSERT_EQ(a.face_count(), b.face_count());
+  ASSERT_EQ(a.vertex_count(), b.vertex_count());
+  const MatchResult r = match(a, b);
+  EXPECT_FALSE(r.isomorphic);
+  EXPECT_GE(r.level, MatchLevel::kSchematic) << r.reason;
+  EXPECT_EQ(brute_force_isomorphisms(a, b), 0u);
+}
+
+TEST(Match, ReroutedStripsDiffer) {
+  // Turning the top of a cube by one quad reroutes every vertical strip; by a whole side it does not.
+  const QuadMesh cube = testing::cube(3);
+  const QuadMesh turned = sheared_cube(3, 1, 3), sheared = sheared_cube(3, 1, 1);
+  const MatchResult same = match(cube, turned);
+  expect_valid(cube, turned, same);
+  const MatchResult r = match(cube, sheared);
+  EXPECT_FALSE(r.isomorphic);
+  EXPECT_GE(r.level, MatchLevel::kSchematic) << r.reason;
+  EXPECT_EQ(brute_force_isomorphisms(cube, sheared), 0u);
+  // Shears by different amounts differ from each other too.
+  EXPECT_FALSE(match(sheared_cube(4, 2, 1), sheared_cube(4, 2, 2)).isomorphic);
+}
+
+TEST(Match, CoarseLevelsAreReportedFirst) {
+  QuadMesh two = testing::cube(2);
+  testing::append(two, testing::cube(2), 4);
+  EXPECT_EQ(match(testing::cube(2), two).level, MatchLevel::kComponentCount);
+  EXPECT_EQ(match(testing::grid(4, 6), testing::grid(3, 8)).level, MatchLevel::kComponentSizes);
+  // L and T tetrominoes: 10 vertices, 4 faces each; one concave corner against two.
+  using Rows = std::vector<std::string>;
+  const QuadMesh ell = testing::polyomino(Rows{"#..", "###"}), tee = testing::polyomino(Rows{"###", ".#."});
+  const MatchResult r = match(ell, tee);
+  EXPECT_EQ(r.level, MatchLevel::kExtraordinary) << r.reason;
+  EXPECT_NE(r.reason.find("1 extraordinary"), std::string::npos) << r.reason;
+  QuadMesh with_point = testing::cube(2);
+  with_point.positions.insert(with_point.positions.end(), {9, 9, 9});
+  EXPECT_EQ(match(with_point, testing::cube(2)).level, MatchLevel::kUnreferenced);
+}
+
+// ---- Symmetric meshes ----
+
+TEST(Match, RefinedCubeHas24IsomorphismsAndUndoesARotation) {
+  const QuadMesh a = testing::cube(4);
+  // Rotate a shuffled copy by 90 degrees about z through the cube's centre: (x,y,z) -> (4-y, x, z).
+  const QuadMesh b = transformed(testing::shuffled(a, 11), {0, -1, 0, 1, 0, 0, 0, 0, 1}, {4, 0, 0});
+  const MatchResult r = match(a, b);
+  expect_valid(a, b, r);
+  EXPECT_EQ(r.isomorphisms, 24u);
+  EXPECT_FALSE(r.ambiguous);
+  EXPECT_EQ(r.cost, 0.0);
+  // The nearest isomorphism sends every vertex to the vertex now at its place: it undoes the rotation.
+  for (std::uint32_t v = 0; v < a.vertex_count(); ++v) ASSERT_TRUE(same_position(a, v, b, r.vertex[v])) << v;
+  EXPECT_EQ(brute_force_isomorphisms(testing::cube(2), testing::cube(2)), 24u);
+}
+
+TEST(Match, SymmetryCountsAgreeWithBruteForce) {
+  for (const QuadMesh& m : {testing::grid(5, 5), testing::grid(5, 3), testing::periodic(8, 5, true, 0),
+                            testing::periodic(6, 6, true, 0), testing::periodic(9, 6, true, 2),
+                            testing::periodic(7, 3, false, 0), box(1, 2, 3), box(2, 2, 3)}) {
+    const QuadMesh s = testing::shuffled(m, 1);
+    const MatchResult r = match(m, s);
+    expect_valid(m, s, r);
+    EXPECT_EQ(r.isomorphisms, brute_force_isomorphisms(m, s)) << m.face_count();
+  }
+}
+
+TEST(Match, EquallyNearIsomorphismsAreAmbiguous) {
+  // A square grid against itself turned by 45 degrees: the turns by +-45 degrees are equally near.
+  const QuadMesh a = testing::grid(4, 4);
+  QuadMesh b = testing::shuffled(a, 2);
+  const double c = std::sqrt(0.5);
+  for (std::size_t v = 0; v < b.vertex_count(); ++v) {
+    const double x = b.positions[3 * v] - 2.0, y = b.positions[3 * v + 1] - 2.0;
+    b.positions[3 * v] = float(c * x - c * y);
+    b.positions[3 * v + 1] = float(c * x + c * y);
+  }
+  const MatchResult r = match(a, b);
+  expect_valid(a, b, r);
+  EXPECT_EQ(r.isomorphisms, 4u);
+  EXPECT_TRUE(r.ambiguous);
+  // Turned by 30 degrees, turning back by 30 (not on by 60) is the unique nearest: each vertex goes
+  // to its own turned copy.
+  std::vector<std::uint32_t> old;
+  QuadMesh d = testing::shuffled(a, 2, &old);
+  const double cs = std::cos(0.5235987755982988), sn = std::sin(0.5235987755982988);
+  for (std::size_t v = 0; v < d.vertex_count(); ++v) {
+    const double x = d.positions[3 * v] - 2.0, y = d.positions[3 * v + 1] - 2.0;
+    d.positions[3 * v] = float(cs * x - sn * y);
+    d.positions[3 * v + 1] = float(sn * x + cs * y);
+  }
+  const MatchResult rd = match(a, d);
+  EXPECT_FALSE(rd.ambiguous);
+  EXPECT_EQ(rd.vertex, truth_of(old));
+}
+
+TEST(Match, InterchangeableComponentsPairByPlace) {
+  // Three equal cubes, listed in another order in B and moved as a whole: each goes to its place.
+  QuadMesh a = testing::cube(2);
+  testing::append(a, testing::cube(2), 10);
+  testing::append(a, testing::cube(2), 20);
+  QuadMesh b = testing::cube(2);
+  testing::append(b, testing::cube(2), 10);
+  testing::append(b, testing::cube(2), 20);
+  std::vector<std::uint32_t> old;
+  b = transformed(testing::shuffled(b, 4, &old), {1, 0, 0, 0, 1, 0, 0, 0, 1}, {5, 5, 5});
+  const MatchResult r = match(a, b);
+  expect_valid(a, b, r);
+  EXPECT_EQ(r.vertex, truth_of(old));
+  EXPECT_EQ(r.isomorphisms, 6u * 24 * 24 * 24);
+  EXPECT_FALSE(r.ambiguous);
+  // With raw positions the translation counts, but the pairing is still by nearest centroids.
+  MatchOptions raw;
+  raw.centering = Centering::kNone;
+  const MatchResult rr = match(a, b, raw);
+  expect_valid(a, b, rr);
+  EXPECT_GT(rr.cost, 0.0);
+}
+
+// ---- CLI ----
+
+class MatchCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(::testing::TempDir()) / ("qsp_match_cli_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const QuadMesh& m) {
+    const std::string p = (dir_ / name).string();
+    std::ofstream(p, std::ios::binary) << write_obj(m);
+    return p;
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  static std::vector<std::string> lines(const std::string& file) {
+    std::ifstream f(file);
+    std::vector<std::string> out;
+    for (std::string l; std::getline(f, l);) out.push_back(l);
+    return out;
+  }
+  fs::path dir_;
+};
+
+using testing::quote;
+using testing::run_qsp;
+
+TEST_F(MatchCli, MatchWritesTheMapAndExitsByResult) {
+  const QuadMesh a = testing::cube(3);
+  std::vector<std::uint32_t> old;
+  const QuadMesh b = testing::shuffled(a, 8, &old);
+  const std::string pa = write("a.obj", a), pb = write("b.obj", b), map = path("map.txt"), fmap = path("faces.txt");
+  auto r = run_qsp("match " + quote(pa) + " " + quote(pb) + " -o " + quote(map) + " --faces " + quote(fmap));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("isomorphic"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("24 isomorphisms"), std::string::npos) << r.out;
+  const auto vl = lines(map);
+  ASSERT_EQ(vl.size(), a.vertex_count());
+  const auto truth = truth_of(old);
+  for (std::size_t v = 0; v < vl.size(); ++v) ASSERT_EQ(vl[v], std::to_string(truth[v])) << v;
+  // Face map: "FACE ROTATION"; check it face by face.
+  const auto fl = lines(fmap);
+  ASSERT_EQ(fl.size(), a.face_count());
+  for (std::size_t f = 0; f < fl.size(); ++f) {
+    std::istringstream in(fl[f]);
+    std::uint32_t g = 0, rot = 9;
+    ASSERT_TRUE(in >> g >> rot) << fl[f];
+    ASSERT_LT(g, b.face_count());
+    for (std::uint32_t c = 0; c < 4; ++c)
+      ASSERT_EQ(truth[a.quads[4 * f + c]], b.quads[4 * g + (c + rot) % 4]) << "face " << f;
+  }
+  // Refuses to replace the map without -f.
+  EXPECT_EQ(run_qsp("match " + quote(pa) + " " + quote(pb) + " -o " + quote(map)).exit_code, 3);
+  EXPECT_EQ(run_qsp("match " + quote(pa) + " " + quote(pb) + " -f -o " + quote(map)).exit_code, 0);
+
+  // Not isomorphic: 1, with the level on stdout.
+  const std::string pc = write("c.obj", box(1, 2, 3)), pd = write("d.obj", box(1, 1, 5));
+  r = run_qsp("match " + quote(pc) + " " + quote(pd));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.out.find("not isomorphic"), std::string::npos) << r.out;
+  // Errors are 2 or more: invalid mesh 2, usage 2, missing file 3.
+  const std::string bad = path("bad.obj");
+  std::ofstream(bad) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  EXPECT_EQ(run_qsp("match " + quote(pa) + " " + quote(bad)).exit_code, 2);
+  EXPECT_EQ(run_qsp("match " + quote(pa)).exit_code, 2);
+  EXPECT_EQ(run_qsp("match " + quote(pa) + " " + quote(path("missing.obj"))).exit_code, 3);
+}
+
+TEST_F(MatchCli, FingerprintGroupsFilesByTopology) {
+  const std::string p1 = write("one.obj", testing::cube(2)), p2 = write("two.obj", testing::shuffled(testing::cube(2), 3)),
+                    p3 = write("three.obj", box(1, 2, 3));
+  auto r = run_qsp("fingerprint " + quote(p1) + " " + quote(p2) + " " + quote(p3));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream in(r.out);
+  std::string h1, f1, h2, f2, h3, f3;
+  in >> h1 >> f1 >> h2 >> f2 >> h3 >> f3;
+  EXPECT_EQ(h1.size(), 16u);
+  EXPECT_EQ(h1, h2);
+  EXPECT_NE(h1, h3);
+  EXPECT_EQ(f1, p1);
+  EXPECT_EQ(f3, p3);
+  r = run_qsp("fingerprint --group " + quote(p1) + " " + quote(p3) + " " + quote(p2));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Groups in order of first appearance, separated by a blank line.
+  EXPECT_EQ(r.out, h1 + "  " + p1 + "\n" + h1 + "  " + p2 + "\n\n" + h3 + "  " + p3 + "\n");
+}
+
+TEST_F(MatchCli, ReorderGivesTheReferenceOrder) {
+  const QuadMesh ref = testing::cube(3);
+  std::vector<std::uint32_t> old;
+  const QuadMesh in = transformed(testing::shuffled(ref, 21, &old), {2, 0, 0, 0, 2, 0, 0, 0, 2});  // scaled
+  const std::string pr = write("ref.obj", ref), pi = write("in.obj", in), out = path("out.obj");
+  auto r = run_qsp("reorder --like " + quote(pr) + " " + quote(pi) + " -o " + quote(out));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const QuadMesh got = read_mesh_file(out);
+  EXPECT_EQ(got.quads, ref.quads);  // REF's faces, corners and vertex numbers
+  const auto truth = truth_of(old);
+  ASSERT_EQ(got.vertex_count(), ref.vertex_count());
+  for (std::uint32_t v = 0; v < ref.vertex_count(); ++v) ASSERT_TRUE(same_position(got, v, in, truth[v])) << v;
+  // Refuses to overwrite without -f; -f replaces.
+  EXPECT_EQ(run_qsp("reorder --like " + quote(pr) + " " + quote(pi) + " -o " + quote(out)).exit_code, 3);
+  EXPECT_EQ(run_qsp("reorder --like " + quote(pr) + " " + quote(pi) + " -f -o " + quote(out)).exit_code, 0);
+  // Not isomorphic: 1.
+  const std::string pc = write("c.obj", box(1, 2, 3));
+  EXPECT_EQ(run_qsp("reorder --like " + quote(pr) + " " + quote(pc) + " -o " + quote(path("x.obj"))).exit_code, 1);
+}
+
+}  // namespace
+}  // namespace qsp
