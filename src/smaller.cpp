@@ -83,11 +83,14 @@ class Greedy {
   struct Entry {
     int red = 0;                 // how much the path lowers the need of its end vertices
     int cost = 0;                // schematic edges it adds (estimate): 1, or 2 if it makes a T vertex
+    std::uint32_t length = 0;    // mesh edges along it
     std::uint32_t rank = 0;      // canonical label of the motorcycle dart that starts with h
     std::uint32_t h = kInvalid;  // first half-edge, leaving the extraordinary vertex
-    // Larger is better: more reduction, then fewer edges, then smaller rank.
+    // Larger is better: more reduction, then fewer edges, then shorter, then smaller rank. Shorter
+    // first blocks fewer later paths and gives shorter edge lengths (measured: ~1.5% fewer schematic
+    // edges and ~7% fewer topology bytes on ../shared/meshes than ignoring length or longest first).
     bool operator<(const Entry& o) const {
-      return std::make_tuple(red, -cost, o.rank, o.h) < std::make_tuple(o.red, -o.cost, rank, h);
+      return std::make_tuple(red, -cost, o.length, o.rank, o.h) < std::make_tuple(o.red, -o.cost, length, rank, h);
     }
   };
   struct Trace {
@@ -191,6 +194,7 @@ class Greedy {
     const Trace t = trace(h);
     const std::uint32_t y = adj_.dest(t.last), in = adj_.twin[t.last];
     e.h = h;
+    e.length = t.length;
     e.rank = rank_[h];
     if (adj_.extraordinary(y) && !t.self) {
       if (y == x) {
