@@ -8,6 +8,7 @@
 
 #include "../tools/highway/highway.h"
 #include "qsp/canonical.h"
+#include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/partition.h"
@@ -29,6 +30,29 @@ std::vector<TopologyCode> codes(const QuadMesh& m, const Adjacency& adj, const P
   std::vector<TopologyCode> out;
   for (const auto& c : canonicalize(m, adj, p).components) out.push_back(c.code);
   return out;
+}
+
+// Decodability: the mode's canonical codes go through the topology coder and back, are rebuilt by
+// partition_from_code and laid out; the mesh that comes out is isomorphic to the input (equal
+// motorcycle-graph codes), whatever partition the codes were made from.
+void check_round_trip(const QuadMesh& m, const Adjacency& adj, const std::vector<TopologyCode>& mode_codes) {
+  std::uint64_t edges = 0, max_length = 0;
+  for (const auto& c : mode_codes) {
+    edges += c.edge_length.size();
+    for (auto l : c.edge_length) max_length = std::max<std::uint64_t>(max_length, l);
+  }
+  const std::vector<TopologyCode> back =
+      decode_topology(encode_topology(mode_codes), 0, mode_codes.size(), edges, std::max<std::uint64_t>(max_length, 1));
+  ASSERT_EQ(back, mode_codes);
+  QuadMesh rebuilt;
+  for (const auto& c : back) {
+    const GridLayout g = grid_layout(partition_from_code(c));
+    const auto base = static_cast<std::uint32_t>(rebuilt.vertex_count());
+    rebuilt.positions.resize(rebuilt.positions.size() + 3ull * g.vertex_count, 0.0f);
+    for (std::uint32_t v : g.quads) rebuilt.quads.push_back(base + v);
+  }
+  const Adjacency radj = build_adjacency(rebuilt);
+  EXPECT_EQ(codes(rebuilt, radj, partition_motorcycle(radj)), codes(m, adj, partition_motorcycle(adj)));
 }
 
 // The building blocks on their own: greedy's cut set needs no fallback, and merging never grows.
@@ -158,7 +182,9 @@ TEST(PartitionModes, EveryCorpusMeshGivesValidCanonicalPartitions) {
       expect_valid(p, adj, partition_mode_name(kModes[k]));
       const Partition q = partition(sadj, kModes[k]);
       expect_valid(q, sadj, "shuffled");
-      EXPECT_EQ(codes(m, adj, p), codes(shuffled, sadj, q)) << "not canonical";
+      const std::vector<TopologyCode> c = codes(m, adj, p);
+      EXPECT_EQ(c, codes(shuffled, sadj, q)) << "not canonical";
+      check_round_trip(m, adj, c);
       edges[k] += partition_size(p).edges;
     }
     ++partitioned;
