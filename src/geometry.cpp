@@ -1,9 +1,10 @@
 // Geometry coding: per-vertex prediction from grid neighbours, residuals through an adaptive binary
 // range coder. The byte layout is specified in format-spec/geometry_section.md; keep them in sync.
 //
-// Determinism: every float prediction is additions (and exact doublings) in binary64, then one
-// rounding to binary32, and dequantization multiplies by a step whose product is exact. So FMA
-// contraction cannot change a result and the decoder recomputes the encoder's predictions bit for bit.
+// Determinism: integer axes (decimal grids, quantized) predict with integer arithmetic only. Float
+// axes predict with additions in binary64 and one rounding to binary32, and dequantization multiplies
+// by a step whose product is exact. So FMA contraction cannot change a result, and the decoder
+// recomputes the encoder's predictions bit for bit on any IEEE-754 machine.
 #include "qsp/geometry.h"
 
 #include <algorithm>
