@@ -172,7 +172,7 @@ class Scanner {
     return value;
   }
 
-  // An integer token, ending where `stop` or a token boundary says. Returns false on overflow
+  // An integer token (a '/' may end it when allow_slash). Returns false on overflow
   // (the caller reports the range); throws on malformed text.
   bool integer(std::int64_t& value, const char* context, bool allow_slash) {
     const char* s = skip_plus();
