@@ -18,7 +18,9 @@ namespace {
   throw Error(ErrorCode::kInternal, "smaller partition: " + what + " (please report this mesh)");
 }
 
-bool general(ComponentKind k) { return k == ComponentKind::kUnstructured || k == ComponentKind::kDisk; }
+bool general(ComponentKind k) {
+  return k == ComponentKind::kUnstructured || k == ComponentKind::kDisk;
+}
 
 // The general components of `p` relabelled canonically (dart index = canonical label), indexed by
 // component id; structured components stay empty. Positions only break ties between roots that
@@ -43,7 +45,10 @@ std::vector<ComponentPartition> canonical_parts(const Adjacency& adj, const Part
 class Greedy {
  public:
   Greedy(const Adjacency& adj, std::vector<std::uint32_t> rank)
-      : adj_(adj), rank_(std::move(rank)), cut_(adj.halfedge_count(), 0), cuts_at_(adj.vertex_count, 0),
+      : adj_(adj),
+        rank_(std::move(rank)),
+        cut_(adj.halfedge_count(), 0),
+        cuts_at_(adj.vertex_count, 0),
         stamp_(adj.vertex_count, 0) {
     for (std::uint32_t h = 4 * adj.face_count; h < adj.halfedge_count(); ++h) mark(h);
     xv_ = extraordinary_vertices(adj);
@@ -90,7 +95,8 @@ class Greedy {
     // first blocks fewer later paths and gives shorter edge lengths (measured: ~1.5% fewer schematic
     // edges and ~7% fewer topology bytes on ../shared/meshes than ignoring length or longest first).
     bool operator<(const Entry& o) const {
-      return std::make_tuple(red, -cost, o.length, o.rank, o.h) < std::make_tuple(o.red, -o.cost, length, rank, h);
+      return std::make_tuple(red, -cost, o.length, o.rank, o.h) <
+             std::make_tuple(o.red, -o.cost, length, rank, h);
     }
   };
   struct Trace {
@@ -98,7 +104,9 @@ class Greedy {
     bool self = false;  // stopped on its own track
   };
 
-  bool is_boundary_edge(std::uint32_t h) const { return adj_.is_exterior(h) || adj_.is_exterior(adj_.twin[h]); }
+  bool is_boundary_edge(std::uint32_t h) const {
+    return adj_.is_exterior(h) || adj_.is_exterior(adj_.twin[h]);
+  }
   std::uint32_t straight(std::uint32_t h) const { return adj_.next(adj_.twin[adj_.next(h)]); }
 
   void mark(std::uint32_t h) {
@@ -200,7 +208,8 @@ class Greedy {
       if (y == x) {
         e.red = need(x, kInvalid, kInvalid) - need(x, h, in);
       } else {
-        e.red = need(x, kInvalid, kInvalid) + need(y, kInvalid, kInvalid) - need(x, h, kInvalid) - need(y, in, kInvalid);
+        e.red = need(x, kInvalid, kInvalid) + need(y, kInvalid, kInvalid) - need(x, h, kInvalid) -
+                need(y, in, kInvalid);
       }
       e.cost = 1;
     } else {
@@ -268,8 +277,9 @@ class Greedy {
           ++faces;
         }
         if (faces == 1) ++corners[region[h >> 2]];
-        if (faces > 2) internal("vertex " + std::to_string(adj_.origin[g]) + " keeps a sector of " +
-                                std::to_string(faces) + " faces");
+        if (faces > 2)
+          internal("vertex " + std::to_string(adj_.origin[g]) + " keeps a sector of " +
+                   std::to_string(faces) + " faces");
       }
       // Best (smallest rank) launching edge per annulus; regions of components without extraordinary
       // vertices are whole structured components and stay as they are.
@@ -293,7 +303,8 @@ class Greedy {
   }
 
   const Adjacency& adj_;
-  std::vector<std::uint32_t> rank_;     // per half-edge: canonical rank (only those at extraordinary vertices matter)
+  std::vector<std::uint32_t>
+      rank_;  // per half-edge: canonical rank (only those at extraordinary vertices matter)
   std::vector<std::uint8_t> cut_;       // per half-edge: its edge is cut (boundary or on a path)
   std::vector<std::uint32_t> cuts_at_;  // per vertex: cut edges incident to it
   std::vector<std::uint32_t> stamp_;    // per vertex: last trace that passed it
@@ -321,8 +332,14 @@ std::vector<std::uint32_t> canonical_ranks(const Adjacency& adj, const Partition
 class Merger {
  public:
   explicit Merger(const Schematic& s)
-      : s_(s), next_(s.dart_next), prev_(s.dart_prev), face_(s.dart_face), corner_(s.dart_corner),
-        alive_(s.dart_count(), 1), degree_(s.vertex_count, 0), corners_at_(s.vertex_count, 0),
+      : s_(s),
+        next_(s.dart_next),
+        prev_(s.dart_prev),
+        face_(s.dart_face),
+        corner_(s.dart_corner),
+        alive_(s.dart_count(), 1),
+        degree_(s.vertex_count, 0),
+        corners_at_(s.vertex_count, 0),
         stamp_(s.vertex_count, 0) {
     for (std::uint32_t d = 0; d < s.dart_count(); ++d) {
       ++degree_[s.dart_vertex[d]];
@@ -394,7 +411,8 @@ class Merger {
     ++epoch_;
     std::uint32_t e = d1, ends = 0;
     do {
-      if (face_[e ^ 1] == q && std::find(side.darts.begin(), side.darts.end(), e) == side.darts.end()) return false;
+      if (face_[e ^ 1] == q && std::find(side.darts.begin(), side.darts.end(), e) == side.darts.end())
+        return false;
       const std::uint32_t w = s_.dart_vertex[e];
       ends += w == u || w == v;
       if (stamp_[w] != mark) stamp_[w] = epoch_;
@@ -483,9 +501,12 @@ std::vector<std::uint32_t> cut_list(const Adjacency& adj, const std::vector<std:
 
 const char* partition_mode_name(PartitionMode mode) noexcept {
   switch (mode) {
-    case PartitionMode::kMotorcycle: return "motorcycle";
-    case PartitionMode::kGreedy: return "greedy";
-    case PartitionMode::kMerge: return "merge";
+    case PartitionMode::kMotorcycle:
+      return "motorcycle";
+    case PartitionMode::kGreedy:
+      return "greedy";
+    case PartitionMode::kMerge:
+      return "merge";
   }
   return "?";
 }

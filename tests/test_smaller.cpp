@@ -20,10 +20,12 @@
 namespace qsp {
 namespace {
 
-constexpr PartitionMode kModes[] = {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge};
+constexpr PartitionMode kModes[] = {PartitionMode::kMotorcycle, PartitionMode::kGreedy,
+                                    PartitionMode::kMerge};
 
 void expect_valid(const Partition& p, const Adjacency& adj, const char* what) {
-  for (const auto& part : p.components) EXPECT_EQ(validate(part, &adj), "") << what << ", component " << part.component;
+  for (const auto& part : p.components)
+    EXPECT_EQ(validate(part, &adj), "") << what << ", component " << part.component;
 }
 
 std::vector<TopologyCode> codes(const QuadMesh& m, const Adjacency& adj, const Partition& p) {
@@ -41,8 +43,8 @@ void check_round_trip(const QuadMesh& m, const Adjacency& adj, const std::vector
     edges += c.edge_length.size();
     for (auto l : c.edge_length) max_length = std::max<std::uint64_t>(max_length, l);
   }
-  const std::vector<TopologyCode> back =
-      decode_topology(encode_topology(mode_codes), 0, mode_codes.size(), edges, std::max<std::uint64_t>(max_length, 1));
+  const std::vector<TopologyCode> back = decode_topology(encode_topology(mode_codes), 0, mode_codes.size(),
+                                                         edges, std::max<std::uint64_t>(max_length, 1));
   ASSERT_EQ(back, mode_codes);
   QuadMesh rebuilt;
   for (const auto& c : back) {
@@ -91,7 +93,8 @@ TEST(PartitionModes, NamesRoundTrip) {
 TEST(PartitionModes, MotorcycleModeIsTheMotorcycleGraph) {
   const QuadMesh m = testing::polyomino({"##....", "##....", "####..", "####..", "######", "######"});
   const Adjacency adj = build_adjacency(m);
-  EXPECT_EQ(codes(m, adj, partition(adj, PartitionMode::kMotorcycle)), codes(m, adj, partition_motorcycle(adj)));
+  EXPECT_EQ(codes(m, adj, partition(adj, PartitionMode::kMotorcycle)),
+            codes(m, adj, partition_motorcycle(adj)));
 }
 
 // Worked by hand. Refined cube: the motorcycle graph cuts along the 12 cube edges (6 patches); greedy
@@ -108,8 +111,10 @@ TEST(PartitionModes, HandCheckedSizes) {
       {testing::cube(4), PartitionMode::kGreedy, 8, 8, 2},
       {testing::cube(4), PartitionMode::kMerge, 8, 8, 2},
       {testing::cube(3), PartitionMode::kGreedy, 8, 8, 2},
-      {testing::polyomino({"###...", "###...", "###...", "######", "######", "######"}), PartitionMode::kGreedy, 7, 8, 2},
-      {testing::polyomino({"###...", "###...", "###...", "######", "######", "######"}), PartitionMode::kMerge, 7, 8, 2},
+      {testing::polyomino({"###...", "###...", "###...", "######", "######", "######"}),
+       PartitionMode::kGreedy, 7, 8, 2},
+      {testing::polyomino({"###...", "###...", "###...", "######", "######", "######"}),
+       PartitionMode::kMerge, 7, 8, 2},
       {testing::grid(5, 3), PartitionMode::kGreedy, 4, 4, 1},
   };
   for (const auto& c : cases) {

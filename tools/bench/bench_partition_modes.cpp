@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
   using namespace qsp;
   const PartitionMode modes[3] = {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge};
   std::printf("%-40s %7s %6s |", "model", "faces", "xord");
-  for (PartitionMode m : modes) std::printf(" %-10s %5s %5s %5s %6s |", partition_mode_name(m), "V", "E", "P", "T");
+  for (PartitionMode m : modes)
+    std::printf(" %-10s %5s %5s %5s %6s |", partition_mode_name(m), "V", "E", "P", "T");
   std::printf(" %7s %7s\n", "E g/m", "E mg/m");
   std::vector<double> tratio_greedy, tratio_merge;
   std::vector<double> ratio_greedy, ratio_merge, vratio_greedy, vratio_merge, pratio_greedy, pratio_merge;
@@ -67,10 +68,11 @@ int main(int argc, char** argv) {
       for (const auto& c : canonicalize(mesh, adj, p).components) codes.push_back(c.code);
       topo[k] = encode_topology(codes).size();
     }
-    std::printf("%-40s %7zu %6zu |", base(argv[i]).c_str(), mesh.face_count(), extraordinary_vertices(adj).size());
+    std::printf("%-40s %7zu %6zu |", base(argv[i]).c_str(), mesh.face_count(),
+                extraordinary_vertices(adj).size());
     for (int k = 0; k < 3; ++k)
-      std::printf(" %-10s %5llu %5llu %5llu %6zu |", "", (unsigned long long)z[k].vertices, (unsigned long long)z[k].edges,
-                  (unsigned long long)z[k].patches, topo[k]);
+      std::printf(" %-10s %5llu %5llu %5llu %6zu |", "", (unsigned long long)z[k].vertices,
+                  (unsigned long long)z[k].edges, (unsigned long long)z[k].patches, topo[k]);
     const double e0 = std::max<double>(1, double(z[0].edges));
     std::printf(" %6.1f%% %6.1f%%\n", 100.0 * z[1].edges / e0, 100.0 * z[2].edges / e0);
     if (z[0].edges == 0) continue;  // structured meshes: nothing to compare
@@ -83,12 +85,13 @@ int main(int argc, char** argv) {
     tratio_greedy.push_back(double(topo[1]) / topo[0]);
     tratio_merge.push_back(double(topo[2]) / topo[0]);
   }
-  std::printf("\nmedian over %zu meshes, relative to motorcycle:  greedy V %.1f%% E %.1f%% P %.1f%% T %.1f%%   "
-              "merge V %.1f%% E %.1f%% P %.1f%% T %.1f%%\n",
-              ratio_greedy.size(), 100 * median(vratio_greedy), 100 * median(ratio_greedy), 100 * median(pratio_greedy),
-              100 * median(tratio_greedy), 100 * median(vratio_merge), 100 * median(ratio_merge),
-              100 * median(pratio_merge), 100 * median(tratio_merge));
-  std::printf("total time: motorcycle %.0f ms, greedy %.0f ms, merge %.0f ms; invalid components: %d\n", time_ms[0],
-              time_ms[1], time_ms[2], invalid);
+  std::printf(
+      "\nmedian over %zu meshes, relative to motorcycle:  greedy V %.1f%% E %.1f%% P %.1f%% T %.1f%%   "
+      "merge V %.1f%% E %.1f%% P %.1f%% T %.1f%%\n",
+      ratio_greedy.size(), 100 * median(vratio_greedy), 100 * median(ratio_greedy),
+      100 * median(pratio_greedy), 100 * median(tratio_greedy), 100 * median(vratio_merge),
+      100 * median(ratio_merge), 100 * median(pratio_merge), 100 * median(tratio_merge));
+  std::printf("total time: motorcycle %.0f ms, greedy %.0f ms, merge %.0f ms; invalid components: %d\n",
+              time_ms[0], time_ms[1], time_ms[2], invalid);
   return invalid ? 1 : 0;
 }

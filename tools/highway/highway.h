@@ -44,7 +44,9 @@ struct Arrangement {
 inline std::int64_t cross(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by) {
   return ax * by - ay * bx;
 }
-inline int sign(std::int64_t v) { return (v > 0) - (v < 0); }
+inline int sign(std::int64_t v) {
+  return (v > 0) - (v < 0);
+}
 inline int orient(const Point& p, const Point& q, const Point& r) {
   return sign(cross(q.x - p.x, q.y - p.y, r.x - p.x, r.y - p.y));
 }
@@ -148,9 +150,9 @@ inline Counts optimal_counts(std::int64_t n, std::int64_t j, std::int64_t k) {
 struct HighwayMesh {
   QuadMesh mesh;
   int n = 0, j = 0;
-  std::vector<int> length;                       // per segment: U = 3x+3 (quads along lane L2-L3)
-  std::vector<std::vector<int>> junctions;       // per segment: crossing ids in order along it
-  std::vector<std::pair<int, int>> crossings;    // per crossing id: (s, t)
+  std::vector<int> length;                     // per segment: U = 3x+3 (quads along lane L2-L3)
+  std::vector<std::vector<int>> junctions;     // per segment: crossing ids in order along it
+  std::vector<std::pair<int, int>> crossings;  // per crossing id: (s, t)
   std::map<std::tuple<int, int, int>, std::uint32_t> vertex;  // (segment, u, v) -> mesh vertex
 };
 
