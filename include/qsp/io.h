@@ -76,9 +76,12 @@ std::string write_off(const QuadMesh& mesh);
 // Read a whole file (or stdin for "-") into memory. Throws Error(kIo) with the path and reason.
 std::string read_file_bytes(const std::string& path);
 
-// Write bytes atomically: to a temporary file in the target's folder, fsync, then rename over the
-// target. Refuses (kIo) to replace an existing file unless `overwrite`; "-" writes stdout. On any
-// failure the temporary file is removed and Error(kIo) says why (e.g. "No space left on device").
+// Write bytes atomically: to an unnamed temporary file in the target's folder (O_TMPFILE; a named
+// hidden one where unsupported), fsync, then link or rename it into place, so a process killed at
+// any moment leaves no partial output. Refuses (kIo) to replace an existing file unless `overwrite`;
+// "-" writes stdout; an existing device or FIFO (e.g. /dev/full) is written in place, never
+// replaced. On any failure the temporary file is removed and Error(kIo) says why (e.g. "No space
+// left on device").
 void write_file_atomic(const std::string& path, std::string_view bytes, bool overwrite);
 
 }  // namespace qsp
