@@ -224,6 +224,21 @@ Parsed parse_container(std::string_view bytes, const DecodeLimits& limits) {
   off = c.pos();
   if (c.u8("counts flags") != 0) format_error("reserved counts flag bits are set (must be zero)", off);
   if (c.left() != 0) format_error("counts section has " + std::to_string(c.left()) + " unexpected bytes", c.pos());
+
+  // What the content can hold, checked before anything is allocated (docs/hardening.md), so a tiny
+  // file cannot make the decoder reserve memory for a huge declared mesh. Every component has a quad
+  // (4 vertices). Every vertex costs at least 18 adaptive binary decisions in the geometry section
+  // (three residual lengths of six each) and no decision costs less than log2(65536 / 65465) bits, so
+  // a geometry section of B bytes holds at most ~284 * B vertices.
+  if (p.counts.components > (p.counts.vertices - p.counts.unreferenced) / 4) {
+    format_error("more components than the referenced vertices allow (4 each)", cs.payload_offset);
+  }
+  constexpr std::uint64_t kMaxVerticesPerGeometryByte = 512;
+  if (p.counts.vertices > kMaxVerticesPerGeometryByte * (p.geometry->payload.size() + 8)) {
+    format_error("counts section declares " + std::to_string(p.counts.vertices) + " vertices but the " +
+                     std::to_string(p.geometry->payload.size()) + "-byte geometry section cannot hold them",
+                 p.geometry->payload_offset);
+  }
   return p;
 }
 
@@ -237,7 +252,13 @@ void decode_components(Parsed& p) {
   std::uint64_t vertices = 0, faces = 0;
   const std::uint64_t off = p.topology->payload_offset;
   for (const TopologyCode& code : p.codes) {
-    ComponentPartition part = partition_from_code(code);
+    ComponentPartition part;
+    try {
+      part = partition_from_code(code);
+    } catch (const Error& e) {
+      if (e.code() != ErrorCode::kFormat) throw;
+      format_error(std::string(e.what()) + " in component " + std::to_string(p.parts.size()) + " of the topology section", off);
+    }
     std::uint64_t cv = 0, cf = 0;
     if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus) {
       cf = std::uint64_t{part.a} * part.b;
@@ -306,7 +327,7 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
   if (nv > kFormatMaxVertices) throw Error(ErrorCode::kLimit, "mesh has more than 2^32 - 2 vertices");
   if (nf > kFormatMaxFaces) throw Error(ErrorCode::kLimit, "mesh has more than 2^30 - 1 faces");
   Adjacency adj = build_adjacency(mesh);
-  Partition partition = partition_motorcycle(adj);
+  Partition partition = qsp::partition(adj, options.partition);
   CanonicalMesh cm = canonicalize(mesh, adj, partition);
 
   // Canonical numbering of the input, checked to be a bijection that maps every layout quad onto an
@@ -403,7 +424,12 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
   if (stencil.size() != nv || canonical.quads.size() != 4 * std::size_t{nf}) {
     throw Error(ErrorCode::kInternal, "decode: grid layout sizes disagree with the checked counts");
   }
-  canonical.positions = decode_geometry(p.geometry->payload, stencil, nv);
+  try {
+    canonical.positions = decode_geometry(p.geometry->payload, stencil, nv);
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::kFormat) throw;
+    format_error(std::string(e.what()) + " in the geometry section", p.geometry->payload_offset);
+  }
   if (canonical.positions.size() != 3 * std::size_t{nv}) {
     format_error("geometry section decodes to the wrong number of positions", p.geometry->payload_offset);
   }

@@ -11,6 +11,7 @@
 #include "qsp/canonical.h"
 #include "qsp/mesh.h"
 #include "qsp/partition.h"
+#include "qsp/smaller.h"
 
 namespace qsp {
 
@@ -20,6 +21,8 @@ inline constexpr std::uint8_t kFormatMinor = 0;
 struct EncodeOptions {
   std::uint32_t quantize_bits = 0;  // 0 = lossless; 1..30 = uniform grid (GeometryOptions)
   bool keep_order = false;          // also store vertex order, face order and first corners
+  // Which structured partition to store; any decodes with the same decoder (all three are canonical).
+  PartitionMode partition = PartitionMode::kMotorcycle;
 };
 
 // What a decoder accepts before allocating. The defaults suit real assets (tens of millions of

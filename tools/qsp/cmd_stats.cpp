@@ -5,6 +5,7 @@
 
 #include "commands.h"
 #include "load.h"
+#include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
@@ -19,6 +20,7 @@ struct StatsOptions {
   bool json = false;
   bool verbose = false;
   std::string partition = "motorcycle";  // a PartitionMode name, or "all" (one row per mode)
+  bool sizes = false;
 };
 
 struct Row {
@@ -26,6 +28,8 @@ struct Row {
   std::string partition;  // mode name; shown in the table when not the default
   std::uint64_t vertices = 0, edges = 0, faces = 0, components = 0, extraordinary = 0, unreferenced = 0;
   std::uint64_t sx = 0, se = 0, patches = 0;
+  bool has_bytes = false;  // a .qsp, or a mesh compressed in memory (--sizes)
+  std::uint64_t total_bytes = 0, connectivity_bytes = 0, geometry_bytes = 0;
   struct Comp {
     const char* kind;
     std::uint64_t vertices, edges, faces, extraordinary, sx, se, patches;
@@ -44,7 +48,39 @@ const char* kind_name(ComponentKind k) {
   return "?";
 }
 
-Row mesh_row(const std::string& file, const LoadedMesh& loaded, PartitionMode mode) {
+void add_sizes(Row& r, const FileInfo& info) {
+  r.has_bytes = true;
+  r.total_bytes = info.total_bytes;
+  r.connectivity_bytes = info.connectivity_bytes;
+  r.geometry_bytes = info.geometry_bytes;
+}
+
+// A .qsp: everything from inspect(), without decoding positions.
+Row qsp_row(const std::string& file) {
+  const FileInfo info = inspect(read_file_bytes(file));
+  Row r;
+  r.file = file;
+  r.partition = "stored";
+  r.vertices = info.vertices;
+  r.edges = info.edges;
+  r.faces = info.faces;
+  r.components = info.components.size();
+  r.extraordinary = info.extraordinary;
+  r.unreferenced = info.unreferenced;
+  r.sx = info.schematic_vertices;
+  r.se = info.schematic_edges;
+  r.patches = info.patches;
+  for (const auto& c : info.components) {
+    const bool closed = c.kind == ComponentKind::kAnnulus || c.kind == ComponentKind::kTorus;
+    // A .qsp does not store per-component edge or extraordinary counts; those columns read 0.
+    r.comps.push_back({kind_name(c.kind), c.vertices, 0, c.faces, 0, c.schematic_vertices, c.schematic_edges,
+                       closed ? 1u : c.patches, 0});
+  }
+  add_sizes(r, info);
+  return r;
+}
+
+Row mesh_row(const std::string& file, const LoadedMesh& loaded, PartitionMode mode, bool sizes) {
   const QuadMesh& mesh = loaded.mesh;
   const Adjacency& adj = loaded.adjacency;
   const Partition part = partition(adj, mode);
@@ -68,6 +104,11 @@ Row mesh_row(const std::string& file, const LoadedMesh& loaded, PartitionMode mo
     r.se += k.se;
     r.patches += k.patches;
     r.comps.push_back(k);
+  }
+  if (sizes) {
+    EncodeOptions eo;
+    eo.partition = mode;
+    add_sizes(r, inspect(encode(mesh, eo)));
   }
   return r;
 }
@@ -103,6 +144,14 @@ void print_json(const std::vector<Row>& rows, bool verbose) {
         (unsigned long long)r.faces, (unsigned long long)r.components, (unsigned long long)r.extraordinary,
         (unsigned long long)r.unreferenced, (unsigned long long)r.sx, (unsigned long long)r.se,
         (unsigned long long)r.patches, pct(r.sx, r.vertices), pct(r.se, r.edges));
+    if (r.has_bytes) {
+      const double v = r.vertices ? double(r.vertices) : 1.0;
+      std::printf(", \"bytes\": {\"total\": %llu, \"connectivity\": %llu, \"geometry\": %llu}, "
+                  "\"bits_per_vertex\": {\"total\": %.4f, \"connectivity\": %.4f, \"geometry\": %.4f}",
+                  (unsigned long long)r.total_bytes, (unsigned long long)r.connectivity_bytes,
+                  (unsigned long long)r.geometry_bytes, 8.0 * r.total_bytes / v, 8.0 * r.connectivity_bytes / v,
+                  8.0 * r.geometry_bytes / v);
+    }
     if (verbose) {
       std::printf(", \"components\": [");
       for (std::size_t c = 0; c < r.comps.size(); ++c) {
@@ -129,6 +178,12 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
                 (unsigned long long)r.vertices, (unsigned long long)r.edges, (unsigned long long)r.faces,
                 (unsigned long long)r.extraordinary, (unsigned long long)r.sx, (unsigned long long)r.se,
                 (unsigned long long)r.patches, pct(r.sx, r.vertices), pct(r.se, r.edges));
+    if (r.has_bytes) {
+      const double v = r.vertices ? double(r.vertices) : 1.0;
+      std::printf("  bytes: %llu total = %llu connectivity (%.3f bits/vertex) + %llu geometry (%.2f bits/vertex)\n",
+                  (unsigned long long)r.total_bytes, (unsigned long long)r.connectivity_bytes,
+                  8.0 * r.connectivity_bytes / v, (unsigned long long)r.geometry_bytes, 8.0 * r.geometry_bytes / v);
+    }
     if (!verbose) continue;
     for (std::size_t c = 0; c < r.comps.size(); ++c) {
       const auto& k = r.comps[c];
@@ -145,9 +200,10 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
 void register_stats(CLI::App& app, int& exit_code) {
   auto opt = std::make_shared<StatsOptions>();
   CLI::App* cmd = app.add_subcommand("stats", "Print the paper's Table-1 row (mesh vs schematic partition) per file");
-  cmd->add_option("files", opt->files, "Mesh files (.obj .off .ply)")->required();
+  cmd->add_option("files", opt->files, "Mesh files (.obj .off .ply) or .qsp files")->required();
   cmd->add_flag("--json", opt->json, "One JSON object per file (an array for several files)");
   cmd->add_flag("--verbose", opt->verbose, "Add a per-component breakdown");
+  cmd->add_flag("--sizes", opt->sizes, "For meshes: compress in memory and report the .qsp sizes");
   cmd->add_option("--partition", opt->partition, "Partition: motorcycle (default), greedy, merge, or all (a row each)")
       ->check(CLI::IsMember({"motorcycle", "greedy", "merge", "all"}));
   cmd->callback([opt, &exit_code] {
@@ -156,8 +212,12 @@ void register_stats(CLI::App& app, int& exit_code) {
     for (PartitionMode m : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge})
       if (opt->partition == "all" || opt->partition == partition_mode_name(m)) modes.push_back(m);
     for (const auto& f : opt->files) {
+      if (format_from_path(f) == MeshFormat::kQsp) {
+        rows.push_back(qsp_row(f));
+        continue;
+      }
       const LoadedMesh loaded = load_mesh(f);
-      for (PartitionMode m : modes) rows.push_back(mesh_row(f, loaded, m));
+      for (PartitionMode m : modes) rows.push_back(mesh_row(f, loaded, m, opt->sizes));
     }
     if (opt->json)
       print_json(rows, opt->verbose);
