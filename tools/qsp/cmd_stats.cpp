@@ -1,4 +1,5 @@
 // `qsp stats FILE...`: the paper's Table-1 row per file (mesh counts, schematic counts, ratios).
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -170,11 +171,16 @@ void print_json(const std::vector<Row>& rows, bool verbose) {
 }
 
 void print_table(const std::vector<Row>& rows, bool verbose) {
-  std::printf("%-32s %9s %9s %9s %6s | %7s %7s %7s | %7s %7s\n", "model", "V", "E", "F", "xord", "sch.V", "sch.E",
+  int width = 5;  // the model column fits the longest name
+  for (const Row& r : rows) {
+    const std::size_t n = r.file.size() + (r.partition == "motorcycle" ? 0 : r.partition.size() + 3);
+    width = std::max(width, static_cast<int>(n));
+  }
+  std::printf("%-*s %9s %9s %9s %6s | %7s %7s %7s | %7s %7s\n", width, "model", "V", "E", "F", "xord", "sch.V", "sch.E",
               "patches", "V%", "E%");
   for (const Row& r : rows) {
     const std::string model = r.partition == "motorcycle" ? r.file : r.file + " [" + r.partition + "]";
-    std::printf("%-32s %9llu %9llu %9llu %6llu | %7llu %7llu %7llu | %6.2f%% %6.2f%%\n", model.c_str(),
+    std::printf("%-*s %9llu %9llu %9llu %6llu | %7llu %7llu %7llu | %6.2f%% %6.2f%%\n", width, model.c_str(),
                 (unsigned long long)r.vertices, (unsigned long long)r.edges, (unsigned long long)r.faces,
                 (unsigned long long)r.extraordinary, (unsigned long long)r.sx, (unsigned long long)r.se,
                 (unsigned long long)r.patches, pct(r.sx, r.vertices), pct(r.se, r.edges));
