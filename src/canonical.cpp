@@ -9,6 +9,7 @@
 #include <numeric>
 #include <string>
 #include <tuple>
+#include <unordered_set>
 
 #include "qsp/error.h"
 
@@ -306,44 +307,48 @@ std::vector<std::uint32_t> structured_anchors(const Adjacency& adj, const Compon
   std::vector<std::uint32_t> anchors;
   const std::uint32_t faces = part.a * part.b;
   base = part;
+  // Work proportional to the component, not the mesh: a mesh may hold thousands of small rings.
   if (part.kind == ComponentKind::kAnnulus) {
     // Every boundary half-edge of the component: both loops, every start.
-    for (std::uint32_t h = 4 * adj.face_count; h < adj.halfedge_count(); ++h) {
-      const std::uint32_t g = adj.twin[h];
-      if (adj.face_component[adj.face(g)] == part.component) anchors.push_back(g);
-    }
-  } else {
-    // Orient every face like the anchor (its "bottom" half-edge), then try the four rotations.
-    std::vector<std::uint32_t> bottom(adj.face_count, kInvalid), stack{part.anchor_halfedge};
-    bottom[part.anchor_halfedge >> 2] = part.anchor_halfedge;
-    auto prev = [&](std::uint32_t h) { return adj.next(adj.next(adj.next(h))); };
+    std::unordered_set<std::uint32_t> seen{part.anchor_halfedge >> 2};
+    std::vector<std::uint32_t> stack{part.anchor_halfedge >> 2};
     while (!stack.empty()) {
-      const std::uint32_t b = stack.back();
+      const std::uint32_t f = stack.back();
       stack.pop_back();
-      for (std::uint32_t g : {right(b), up(b), prev(adj.twin[prev(b)]), adj.next(adj.next(adj.twin[b]))}) {
-        if (bottom[g >> 2] == kInvalid) {
-          bottom[g >> 2] = g;
-          stack.push_back(g);
-        }
+      for (std::uint32_t h = 4 * f; h < 4 * f + 4; ++h) {
+        const std::uint32_t t = adj.twin[h];
+        if (adj.is_exterior(t)) anchors.push_back(h);
+        else if (seen.insert(t >> 2).second) stack.push_back(t >> 2);
       }
     }
-    std::tuple<std::uint32_t, std::uint32_t, std::uint32_t> best{~0u, ~0u, ~0u};
-    std::uint8_t good[4] = {0, 0, 0, 0};
-    const std::uint32_t a0 = part.anchor_halfedge;
-    for (std::uint32_t q = 0; q < 4; ++q) {
-      const auto z = sizes((a0 & ~3u) | ((a0 + q) & 3u), faces);
-      if (z < best) {
-        best = z;
-        std::fill(good, good + 4, 0);
-      }
-      if (z == best) good[q] = 1;
-    }
-    std::tie(base.a, base.b, base.twist) = best;
-    for (std::uint32_t f = 0; f < adj.face_count; ++f)
-      if (bottom[f] != kInvalid)
-        for (std::uint32_t q = 0; q < 4; ++q)
-          if (good[q]) anchors.push_back((bottom[f] & ~3u) | ((bottom[f] + q) & 3u));
+    return anchors;
   }
+  // Torus: orient every face like the anchor (its "bottom" half-edge), then try the four rotations.
+  std::vector<std::uint32_t> bottom{part.anchor_halfedge};  // per face, in discovery order
+  {
+    std::unordered_set<std::uint32_t> seen{part.anchor_halfedge >> 2};
+    auto prev = [&](std::uint32_t h) { return adj.next(adj.next(adj.next(h))); };
+    for (std::size_t i = 0; i < bottom.size(); ++i) {
+      const std::uint32_t b = bottom[i];
+      for (std::uint32_t g : {right(b), up(b), prev(adj.twin[prev(b)]), adj.next(adj.next(adj.twin[b]))})
+        if (seen.insert(g >> 2).second) bottom.push_back(g);
+    }
+  }
+  std::tuple<std::uint32_t, std::uint32_t, std::uint32_t> best{~0u, ~0u, ~0u};
+  std::uint8_t good[4] = {0, 0, 0, 0};
+  const std::uint32_t a0 = part.anchor_halfedge;
+  for (std::uint32_t q = 0; q < 4; ++q) {
+    const auto z = sizes((a0 & ~3u) | ((a0 + q) & 3u), faces);
+    if (z < best) {
+      best = z;
+      std::fill(good, good + 4, 0);
+    }
+    if (z == best) good[q] = 1;
+  }
+  std::tie(base.a, base.b, base.twist) = best;
+  for (std::uint32_t b : bottom)
+    for (std::uint32_t q = 0; q < 4; ++q)
+      if (good[q]) anchors.push_back((b & ~3u) | ((b + q) & 3u));
   return anchors;
 }
 
