@@ -57,14 +57,13 @@ struct Prepared {
   const QuadMesh* mesh = nullptr;
   const Adjacency* adj = nullptr;
   CanonicalMesh canon;
-  std::vector<ComponentInfo> info;  // by Adjacency component id
+  std::vector<ComponentInfo> info;  // by Adjacency component id; filled only to explain a difference
   Vec3 centroid{0, 0, 0};           // of all vertices
 };
 
 void prepare(const QuadMesh& mesh, const Adjacency& adj, Prepared& out) {
   out.mesh = &mesh;
   out.adj = &adj;
-  out.info = component_info(adj);
   out.canon = canonicalize(mesh, adj, partition_motorcycle(adj));
   const std::size_t n = mesh.vertex_count();
   Vec3 c{0, 0, 0};
@@ -188,7 +187,8 @@ std::vector<std::uint32_t> hungarian(const std::vector<double>& cost, std::size_
   return out;
 }
 
-constexpr std::size_t kMaxHungarian = 256;
+constexpr std::size_t kMaxHungarian = 256;  // exact pairing up to here (O(n³))
+constexpr std::size_t kMaxGreedy = 8192;    // greedy nearest pairing up to here (O(n²))
 
 struct Assignment {
   std::vector<std::uint32_t> to;  // index in xs -> index in ys
@@ -196,9 +196,11 @@ struct Assignment {
   bool exhaustive = true;
 };
 
-// Pairs points xs[i] with ys[to[i]] minimizing the total squared distance: exactly up to
-// kMaxHungarian points; beyond, by lexicographic order of the points (exact when the two sets are
-// equal, flagged non-exhaustive otherwise). Ambiguous when swapping two pairs costs nothing (within tol).
+// Pairs points xs[i] with ys[to[i]] minimizing the total squared distance: exactly (Hungarian) up to
+// kMaxHungarian points; up to kMaxGreedy, each x in turn takes its nearest free y; beyond, by
+// lexicographic order of the points. The last two are exact when both sets are equal and flagged
+// non-exhaustive when they are not. Ambiguous when a pairing has an equally good alternative (within
+// the tolerance): for Hungarian, swapping two pairs costs nothing; greedily, a tie for the nearest.
 Assignment assign(const std::vector<Vec3>& xs, const std::vector<Vec3>& ys, double rel_tol) {
   const std::size_t n = xs.size();
   Assignment out;
@@ -208,7 +210,7 @@ Assignment assign(const std::vector<Vec3>& xs, const std::vector<Vec3>& ys, doub
     out.to[0] = 0;
     return out;
   }
-  if (n > kMaxHungarian) {
+  if (n > kMaxGreedy) {
     std::vector<std::uint32_t> ix(n), iy(n);
     std::iota(ix.begin(), ix.end(), 0);
     std::iota(iy.begin(), iy.end(), 0);
@@ -220,7 +222,29 @@ Assignment assign(const std::vector<Vec3>& xs, const std::vector<Vec3>& ys, doub
       // Equal points on one side make the pairing arbitrary.
       if (k > 0 && (xs[ix[k]] == xs[ix[k - 1]] || ys[iy[k]] == ys[iy[k - 1]])) out.ambiguous = true;
     }
-    if (!out.exhaustive) out.ambiguous = true;
+    return out;
+  }
+  if (n > kMaxHungarian) {
+    std::vector<char> used(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      double best = HUGE_VAL, second = HUGE_VAL;
+      std::size_t arg = 0;
+      for (std::size_t j = 0; j < n; ++j) {
+        if (used[j]) continue;
+        const double d = dist2(xs[i], ys[j]);
+        if (d < best) {
+          second = best;
+          best = d;
+          arg = j;
+        } else if (d < second) {
+          second = d;
+        }
+      }
+      used[arg] = 1;
+      out.to[i] = static_cast<std::uint32_t>(arg);
+      if (best > 0) out.exhaustive = false;
+      if (second <= best + rel_tol * best + 1e-12 * dist2(xs[i], Vec3{0, 0, 0})) out.ambiguous = true;
+    }
     return out;
   }
   std::vector<double> c(n * n);
@@ -427,25 +451,31 @@ MatchResult match(const QuadMesh& a, const Adjacency& adj_a, const QuadMesh& b, 
   const auto& ca = pa.canon.components;
   const auto& cb = pb.canon.components;
 
-  std::vector<Key> ka, kb;
-  for (const auto& c : ca) ka.push_back(component_key(pa, c));
-  for (const auto& c : cb) kb.push_back(component_key(pb, c));
-  for (MatchLevel level : {MatchLevel::kComponentSizes, MatchLevel::kExtraordinary, MatchLevel::kSchematic}) {
-    std::string why = compare_keys(ka, kb, kKeyFields[static_cast<int>(level)]);
-    if (!why.empty()) return differ(level, why);
-  }
-  // Codes: both lists are in canonical order, so isomorphic ⇔ equal element by element.
-  for (std::size_t i = 0; i < ca.size(); ++i) {
-    if (ca[i].code == cb[i].code) continue;
-    // Name an A component with no equal code in B, and how it differs from a B one of the same sizes.
-    for (std::size_t x = 0; x < ca.size(); ++x) {
-      bool found = false;
-      for (std::size_t y = 0; y < cb.size() && !found; ++y) found = ca[x].code == cb[y].code;
-      if (found) continue;
-      for (std::size_t y = 0; y < cb.size(); ++y)
-        if (kb[y] == ka[x])
-          return differ(MatchLevel::kCode, "A's " + describe(ka[x], 9) + ": " + code_difference(ca[x].code, cb[y].code));
+  // Codes: both lists are in canonical order, so isomorphic ⇔ equal element by element. Equal codes
+  // imply equal keys, so the per-component counts are only needed to say why codes differ.
+  bool same = true;
+  for (std::size_t i = 0; i < ca.size() && same; ++i) same = ca[i].code == cb[i].code;
+  if (!same) {
+    pa.info = component_info(adj_a);
+    pb.info = component_info(adj_b);
+    std::vector<Key> ka, kb;
+    for (const auto& c : ca) ka.push_back(component_key(pa, c));
+    for (const auto& c : cb) kb.push_back(component_key(pb, c));
+    for (MatchLevel level : {MatchLevel::kComponentSizes, MatchLevel::kExtraordinary, MatchLevel::kSchematic}) {
+      std::string why = compare_keys(ka, kb, kKeyFields[static_cast<int>(level)]);
+      if (!why.empty()) return differ(level, why);
     }
+    // Name the first A component (in code order) with no equal code in B, and how it differs from a B
+    // component of the same sizes.
+    std::size_t i = 0, j = 0;
+    while (i < ca.size() && j < cb.size() && !(ca[i].code < cb[j].code)) {
+      if (ca[i].code == cb[j].code) ++i;
+      ++j;
+    }
+    if (i < ca.size())
+      for (std::size_t y = 0; y < cb.size(); ++y)
+        if (kb[y] == ka[i])
+          return differ(MatchLevel::kCode, "A's " + describe(ka[i], 9) + ": " + code_difference(ca[i].code, cb[y].code));
     return differ(MatchLevel::kCode, "canonical codes differ");
   }
   const auto& ua = pa.canon.unreferenced;

@@ -452,6 +452,38 @@ TEST(Match, InterchangeableComponentsPairByPlace) {
   EXPECT_GT(rr.cost, 0.0);
 }
 
+TEST(Match, ManyEqualComponentsPairLinearly) {
+  // 300 rings (more than the exact pairing handles, so they pair by sorted centroids), jittered so
+  // that each ring's nearest turn is unique; 300! isomorphisms saturate the count.
+  QuadMesh a;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> jitter(-0.05f, 0.05f);
+  for (int i = 0; i < 300; ++i) {
+    QuadMesh ring = testing::periodic(8, 3, i % 2 == 0, 0);
+    for (float& x : ring.positions) x += jitter(rng);
+    testing::append(a, ring, 10.0f * float(i % 20) + 0.5f * float(i / 20));
+  }
+  std::vector<std::uint32_t> old;
+  const QuadMesh b = testing::shuffled(a, 6, &old);
+  const MatchResult r = match(a, b);
+  expect_valid(a, b, r);
+  EXPECT_EQ(r.vertex, truth_of(old));
+  EXPECT_EQ(r.isomorphisms, UINT64_MAX);
+  EXPECT_FALSE(r.ambiguous);
+  // 9000 loose quads (beyond greedy pairing: sorted centroids), each with 4 turns.
+  QuadMesh quads;
+  for (int i = 0; i < 9000; ++i) {
+    const float x = float(i % 100) * 2, y = float(i / 100) * 2;
+    quads.positions.insert(quads.positions.end(), {x, y, 0, x + 1, y, 0, x + 1.5f, y + 1, 0, x, y + 1, 0});
+    for (std::uint32_t k = 0; k < 4; ++k) quads.quads.push_back(4 * i + k);
+  }
+  const QuadMesh qs = testing::shuffled(quads, 8, &old);
+  const MatchResult rq = match(quads, qs);
+  expect_valid(quads, qs, rq);
+  EXPECT_EQ(rq.vertex, truth_of(old));
+  EXPECT_TRUE(rq.exhaustive);
+}
+
 // ---- CLI ----
 
 class MatchCli : public ::testing::Test {

@@ -72,7 +72,7 @@ struct MatchResult {
   // interchangeable components and for the k unreferenced vertices. Saturates at UINT64_MAX.
   std::uint64_t isomorphisms = 0;
   bool ambiguous = false;   // some choice (a component's isomorphism, a pairing) had an equally near rival
-  bool exhaustive = true;   // false when a cap stopped a search early
+  bool exhaustive = true;   // false when a cap stopped a search early, or a large pairing was greedy
   double cost = 0;          // sum over all vertices of squared distances (as compared, see Centering)
   std::vector<ComponentMatch> components;  // in canonical component order
 };
@@ -88,8 +88,9 @@ struct MatchResult {
 // ranked by the cost over probe vertices (the schematic vertices, or row 0 and column 0 of a torus or
 // annulus), a lower bound of their full cost; full costs are computed in that order until the next
 // lower bound exceeds the best full cost, so the choice is exact, and usually costs one full pass.
-// Components with equal codes are paired by minimum total squared centroid distance (Hungarian
-// method up to 256 of them, greedy nearest pairs beyond), then each pair as above.
+// Components with equal codes are interchangeable: they are paired by minimum total squared centroid
+// distance (exactly, Hungarian method, up to 256 of them; greedy nearest-free up to 8192; sorted
+// order beyond, exact only when the centroids are equal), then each pair as above.
 //
 // Time: O(V + F) for adjacency, partition and maps, plus work on the schematics. Throws what
 // build_adjacency / partition_motorcycle throw for invalid meshes (Error).

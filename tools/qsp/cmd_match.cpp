@@ -4,7 +4,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <string>
+#include <thread>
 
 #include "commands.h"
 #include "load.h"
@@ -66,9 +68,29 @@ std::string count_text(std::uint64_t n) {
   return std::to_string(n) + (n == 1 ? " isomorphism" : " isomorphisms");
 }
 
+// Reads A and B side by side (parsing is most of a match's time). A's error wins if both fail.
+void load_both(const std::string& pa, const std::string& pb, LoadedMesh& a, LoadedMesh& b) {
+  std::exception_ptr failed;
+  std::thread worker([&] {
+    try {
+      b = load_mesh(pb);
+    } catch (...) {
+      failed = std::current_exception();
+    }
+  });
+  try {
+    a = load_mesh(pa);
+  } catch (...) {
+    worker.join();
+    throw;
+  }
+  worker.join();
+  if (failed) std::rethrow_exception(failed);
+}
+
 int run(const MatchCliOptions& o) {
-  const LoadedMesh a = load_mesh(o.a);
-  const LoadedMesh b = load_mesh(o.b);
+  LoadedMesh a, b;
+  load_both(o.a, o.b, a, b);
   MatchOptions mo;
   mo.centering = parse_centering(o.centering);
   mo.max_full_evaluations = o.max_evaluations;
@@ -84,10 +106,8 @@ int run(const MatchCliOptions& o) {
   if (!o.quiet) {
     const double rms = a.mesh.vertex_count() ? std::sqrt(r.cost / double(a.mesh.vertex_count())) : 0.0;
     std::fprintf(report, "isomorphic: %s; chose the nearest, rms distance %.6g", count_text(r.isomorphisms).c_str(), rms);
-    if (r.ambiguous) {
-      std::fprintf(report, "; ambiguous: %s", r.exhaustive ? "another isomorphism is equally near"
-                                                           : "search capped (--max-evaluations) before one was nearest");
-    }
+    if (r.ambiguous) std::fprintf(report, "; ambiguous: another isomorphism is as near");
+    if (!r.exhaustive) std::fprintf(report, "; nearest not proven (search capped, or many equal components paired greedily)");
     std::fprintf(report, "\n");
   }
   return 0;
