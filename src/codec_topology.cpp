@@ -488,6 +488,9 @@ std::vector<TopologyCode> decode_topology(std::string_view payload, std::uint64_
         z = fc;
       } else {
         std::uint32_t newest = newest_other(t, vc, fc);
+        if (newest == kInvalid) {  // no third dart without predecessor: a valid stream never gets here
+          fail(ErrorCode::kFormat, "topology: dart reference with no dart left to refer to" + near(dec));
+        }
         if (dec.decode_bit(m.is_newest)) {
           z = newest;
         } else {
