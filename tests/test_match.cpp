@@ -591,5 +591,42 @@ TEST_F(MatchCli, ReorderGivesTheReferenceOrder) {
   EXPECT_EQ(run_qsp("reorder --like " + quote(pr) + " " + quote(pc) + " -o " + quote(path("x.obj"))).exit_code, 1);
 }
 
+TEST_F(MatchCli, QspFilesFingerprintMatchAndReorder) {
+  // A shape whose greedy partition (compress --partition greedy) differs from the motorcycle graph.
+  const QuadMesh m = testing::polyomino(std::vector<std::string>{"######..", "######..", "########", "########",
+                                                                  "########", "########", "..######", "..######"});
+  std::vector<std::uint32_t> old;
+  const QuadMesh s = testing::shuffled(m, 12, &old);
+  const std::string pm = write("m.obj", m), ps = write("s.obj", s), qm = path("m.qsp"), qg = path("g.qsp");
+  ASSERT_EQ(run_qsp("compress " + quote(pm) + " " + quote(qm)).exit_code, 0);
+  ASSERT_EQ(run_qsp("compress --partition greedy " + quote(pm) + " " + quote(qg)).exit_code, 0);
+  auto r = run_qsp("fingerprint " + quote(pm) + " " + quote(qm) + " " + quote(qg) + " " + quote(ps));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string fp = r.out.substr(0, 16);
+  EXPECT_EQ(r.out, fp + "  " + pm + "\n" + fp + "  " + qm + "\n" + fp + "  " + qg + "\n" + fp + "  " + ps + "\n");
+  // match on a .qsp numbers its vertices as decompress writes them.
+  const std::string back = path("back.obj");
+  ASSERT_EQ(run_qsp("decompress " + quote(qm) + " " + quote(back)).exit_code, 0);
+  const QuadMesh decoded = read_mesh_file(back);
+  const std::string map = path("map.txt");
+  r = run_qsp("match " + quote(qm) + " " + quote(ps) + " -o " + quote(map));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto vl = lines(map);
+  ASSERT_EQ(vl.size(), decoded.vertex_count());
+  for (std::uint32_t v = 0; v < decoded.vertex_count(); ++v)
+    ASSERT_TRUE(same_position(decoded, v, s, std::stoul(vl[v]))) << v;
+  // reorder into a .qsp keeps REF's order through decompress.
+  const std::string out = path("out.qsp"), out_obj = path("out.obj");
+  ASSERT_EQ(run_qsp("reorder --like " + quote(pm) + " " + quote(ps) + " -o " + quote(out)).exit_code, 0);
+  ASSERT_EQ(run_qsp("decompress " + quote(out) + " " + quote(out_obj)).exit_code, 0);
+  EXPECT_EQ(read_mesh_file(out_obj).quads, m.quads);
+  // A damaged .qsp is an error (2), not "not isomorphic".
+  std::string bytes = read_file_bytes(qm);
+  bytes[bytes.size() / 2] ^= 0x40;
+  std::ofstream(path("bad.qsp"), std::ios::binary) << bytes;
+  EXPECT_EQ(run_qsp("match " + quote(path("bad.qsp")) + " " + quote(ps)).exit_code, 2);
+  EXPECT_EQ(run_qsp("fingerprint " + quote(path("bad.qsp"))).exit_code, 1);
+}
+
 }  // namespace
 }  // namespace qsp

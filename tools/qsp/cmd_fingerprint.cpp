@@ -1,6 +1,8 @@
 // `qsp fingerprint FILE...`: one line per file, "HHHHHHHHHHHHHHHH  FILE", the 64-bit hash of the
 // canonical connectivity (equal exactly when the meshes are isomorphic with orientation, up to
-// hash collisions ~2^-64). `--group` lists files with equal fingerprints together.
+// hash collisions ~2^-64). `--group` lists files with equal fingerprints together. A .qsp gives the
+// same fingerprint as the mesh it was compressed from.
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <string>
@@ -10,6 +12,7 @@
 #include "commands.h"
 #include "load.h"
 #include "qsp/canonical.h"
+#include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/partition.h"
 
@@ -21,9 +24,57 @@ struct FingerprintOptions {
   bool group = false;
 };
 
+std::uint64_t mesh_fingerprint(const QuadMesh& mesh, const Adjacency& adj) {
+  return topology_fingerprint(canonicalize(mesh, adj, partition_motorcycle(adj)));
+}
+
+// A .qsp without its geometry: inspect() checks the whole file (checksum, counts, topology), then the
+// topology section's codes are rebuilt into the mesh's connectivity (canonical numbering, positions
+// left at zero). The codes cannot be hashed as stored: a file may hold a greedy or merged partition
+// (`compress --partition`), and the fingerprint is defined on the motorcycle partition.
+std::uint64_t qsp_fingerprint(const std::string& path) {
+  const std::string bytes = read_file_bytes(path);
+  try {
+    const FileInfo info = inspect(bytes);
+    constexpr std::uint8_t kTopologyTag = 0x02;  // format-spec/qsp_format.md, "Sections"
+    for (const SectionInfo& sec : info.sections) {
+      if (sec.tag != kTopologyTag) continue;
+      // size = tag + LEB128 length + payload; the length field is the k that makes this consistent.
+      std::uint64_t payload = 0, header = 1;
+      for (std::uint64_t k = 1; k <= 10; ++k) {
+        const std::uint64_t len = sec.size - 1 - k;
+        std::uint64_t need = 1;
+        for (std::uint64_t x = len >> 7; x; x >>= 7) ++need;
+        if (need == k) {
+          payload = len;
+          header = 1 + k;
+          break;
+        }
+      }
+      const std::uint64_t f = info.faces;
+      const std::vector<TopologyCode> codes =
+          decode_topology(std::string_view(bytes).substr(sec.offset + header, payload), sec.offset + header,
+                          info.components.size(), 4 * f, std::max<std::uint64_t>(4 * f, 1));
+      QuadMesh mesh;
+      std::uint32_t base = 0;
+      for (const TopologyCode& code : codes) {
+        const GridLayout g = grid_layout(partition_from_code(code));
+        for (std::uint32_t v : g.quads) mesh.quads.push_back(base + v);
+        base += g.vertex_count;
+      }
+      mesh.positions.assign(3 * (std::size_t(base) + info.unreferenced), 0.0f);
+      return mesh_fingerprint(mesh, build_adjacency(mesh));
+    }
+    throw Error(ErrorCode::kFormat, "no topology section");
+  } catch (const Error& e) {
+    throw Error(e.code(), path + ": " + e.what());
+  }
+}
+
 std::uint64_t file_fingerprint(const std::string& path) {
+  if (format_from_path(path) == MeshFormat::kQsp) return qsp_fingerprint(path);
   const LoadedMesh m = load_mesh(path);
-  return topology_fingerprint(canonicalize(m.mesh, m.adjacency, partition_motorcycle(m.adjacency)));
+  return mesh_fingerprint(m.mesh, m.adjacency);
 }
 
 void run(const FingerprintOptions& o) {
@@ -53,7 +104,7 @@ void run(const FingerprintOptions& o) {
 void register_fingerprint(CLI::App& app, int& exit_code) {
   auto opt = std::make_shared<FingerprintOptions>();
   CLI::App* cmd = app.add_subcommand("fingerprint", "Print a topology fingerprint per file (equal = isomorphic meshes)");
-  cmd->add_option("files", opt->files, "Mesh files (.obj .off .ply)")->required();
+  cmd->add_option("files", opt->files, "Mesh files (.obj .off .ply), or .qsp (read without decoding positions)")->required();
   cmd->add_flag("--group", opt->group, "List files with equal fingerprints together, groups separated by a blank line");
   cmd->callback([opt, &exit_code] {
     run(*opt);

@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "load.h"
+#include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/match.h"
@@ -68,18 +69,32 @@ std::string count_text(std::uint64_t n) {
   return std::to_string(n) + (n == 1 ? " isomorphism" : " isomorphisms");
 }
 
+// A mesh file, or a .qsp decoded in full (vertices numbered as `qsp decompress` writes them).
+LoadedMesh load_any(const std::string& path) {
+  if (format_from_path(path) != MeshFormat::kQsp) return load_mesh(path);
+  LoadedMesh out;
+  const std::string bytes = read_file_bytes(path);
+  try {
+    out.mesh = decode(bytes);
+  } catch (const Error& e) {
+    throw Error(e.code(), path + ": " + e.what());
+  }
+  out.adjacency = build_adjacency(out.mesh);
+  return out;
+}
+
 // Reads A and B side by side (parsing is most of a match's time). A's error wins if both fail.
 void load_both(const std::string& pa, const std::string& pb, LoadedMesh& a, LoadedMesh& b) {
   std::exception_ptr failed;
   std::thread worker([&] {
     try {
-      b = load_mesh(pb);
+      b = load_any(pb);
     } catch (...) {
       failed = std::current_exception();
     }
   });
   try {
-    a = load_mesh(pa);
+    a = load_any(pa);
   } catch (...) {
     worker.join();
     throw;
@@ -119,7 +134,7 @@ void register_match(CLI::App& app, int& exit_code) {
   auto opt = std::make_shared<MatchCliOptions>();
   CLI::App* cmd = app.add_subcommand(
       "match", "Find the vertex correspondence between two isomorphic quad meshes (exit 0 isomorphic, 1 not, 2+ error)");
-  cmd->add_option("A", opt->a, "First mesh (.obj .off .ply)")->required();
+  cmd->add_option("A", opt->a, "First mesh (.obj .off .ply .qsp)")->required();
   cmd->add_option("B", opt->b, "Second mesh")->required();
   cmd->add_option("-o,--output", opt->map, "Write the vertex map: line i = B's vertex for A's vertex i (- = stdout)");
   cmd->add_option("--faces", opt->face_map,

@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "load.h"
+#include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/match.h"
@@ -29,15 +30,29 @@ bool same_file(const std::string& x, const std::string& y) {
   return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
 }
 
+// A mesh file, or a .qsp decoded in full (as in cmd_match.cpp).
+LoadedMesh load_any(const std::string& path) {
+  if (format_from_path(path) != MeshFormat::kQsp) return load_mesh(path);
+  LoadedMesh out;
+  const std::string bytes = read_file_bytes(path);
+  try {
+    out.mesh = decode(bytes);
+  } catch (const Error& e) {
+    throw Error(e.code(), path + ": " + e.what());
+  }
+  out.adjacency = build_adjacency(out.mesh);
+  return out;
+}
+
 int run(const ReorderOptions& o) {
   const MeshFormat format = o.output == "-" ? MeshFormat::kObj : format_from_path(o.output);
-  if (format != MeshFormat::kObj && format != MeshFormat::kOff)
-    throw Error(ErrorCode::kUnsupported, o.output + ": can write .obj or .off only");
+  if (format != MeshFormat::kObj && format != MeshFormat::kOff && format != MeshFormat::kQsp)
+    throw Error(ErrorCode::kUnsupported, o.output + ": can write .obj, .off or .qsp only");
   for (const std::string* in : {&o.ref, &o.input})
     if (same_file(*in, o.output)) throw Error(ErrorCode::kIo, o.output + ": is an input file; refusing to write over it");
 
-  const LoadedMesh ref = load_mesh(o.ref);
-  const LoadedMesh in = load_mesh(o.input);
+  const LoadedMesh ref = load_any(o.ref);
+  const LoadedMesh in = load_any(o.input);
   // Only IN's data reaches OUT; REF contributes its order alone.
   if (in.report.has_extra_data()) {
     if (!o.positions_only)
@@ -72,7 +87,16 @@ int run(const ReorderOptions& o) {
     for (std::uint32_t c = 0; c < 4; ++c)
       out.quads[4 * f + c] = out_of[src.quads[4 * std::size_t(r.face[f]) + ((c + r.rotation[f]) & 3u)]];
   if (out.quads != ref.mesh.quads) throw Error(ErrorCode::kInternal, "reorder: faces do not come out in REF's order");
-  write_file_atomic(o.output, format == MeshFormat::kOff ? write_off(out) : write_obj(out), o.force);
+  std::string bytes;
+  if (format == MeshFormat::kQsp) {
+    // Keep the order in the file, so decompressing gives REF's order.
+    EncodeOptions eo;
+    eo.keep_order = true;
+    bytes = encode(out, eo);
+  } else {
+    bytes = format == MeshFormat::kOff ? write_off(out) : write_obj(out);
+  }
+  write_file_atomic(o.output, bytes, o.force);
   return 0;
 }
 
@@ -82,8 +106,8 @@ void register_reorder(CLI::App& app, int& exit_code) {
   auto opt = std::make_shared<ReorderOptions>();
   CLI::App* cmd = app.add_subcommand("reorder", "Write IN with REF's vertex and face order (IN isomorphic to REF)");
   cmd->add_option("--like", opt->ref, "Reference mesh whose order OUT takes")->required();
-  cmd->add_option("IN", opt->input, "Mesh to reorder (.obj .off .ply)")->required();
-  cmd->add_option("-o,--output", opt->output, "Output .obj or .off (- = OBJ on stdout)")->required();
+  cmd->add_option("IN", opt->input, "Mesh to reorder (.obj .off .ply .qsp)")->required();
+  cmd->add_option("-o,--output", opt->output, "Output .obj, .off or .qsp (keeps the order) (- = OBJ on stdout)")->required();
   cmd->add_flag("-f,--force", opt->force, "Replace OUT if it exists (never an input)");
   cmd->add_option("--centering", opt->centering,
                   "Positions compared to choose among symmetric isomorphisms: component (default), mesh, none")
