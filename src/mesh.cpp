@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <string>
 
+#include "face_sets.h"
 #include "qsp/error.h"
 
 namespace qsp {
@@ -141,31 +142,12 @@ Adjacency build_adjacency(const QuadMesh& mesh) {
     adj.valence[v] = n;
   }
 
-  // Components of faces, numbered by their first face: union-find over a sequential scan of the
-  // twins (a flood fill would chase twins in random order, the slowest part of this function).
-  std::vector<std::uint32_t> parent(nf);
-  for (std::uint32_t f = 0; f < nf; ++f) parent[f] = f;
-  auto find = [&](std::uint32_t f) {
-    while (parent[f] != f) f = parent[f] = parent[parent[f]];
-    return f;
-  };
-  for (std::uint32_t h = 0; h < nh; ++h) {
-    const std::uint32_t t = adj.twin[h];
-    if (t < h || t >= nh) continue;
-    const std::uint32_t a = find(h >> 2), b = find(t >> 2);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // roots stay the smallest face
-  }
-  adj.face_component.resize(nf);
-  for (std::uint32_t f = 0; f < nf; ++f) {
-    const std::uint32_t r = find(f);
-    if (r == f) {
-      adj.face_component[f] = adj.component_count++;
-      adj.component_faces.push_back(0);
-    } else {
-      adj.face_component[f] = adj.face_component[r];  // r < f: already numbered
-    }
-    ++adj.component_faces[adj.face_component[f]];
-  }
+  // Components of faces, numbered by their first face.
+  std::vector<std::uint32_t> first_face;
+  adj.face_component = detail::label_face_sets(nf, adj.twin, [](std::uint32_t) { return true; }, first_face);
+  adj.component_count = static_cast<std::uint32_t>(first_face.size());
+  adj.component_faces.assign(adj.component_count, 0);
+  for (std::uint32_t f = 0; f < nf; ++f) ++adj.component_faces[adj.face_component[f]];
   return adj;
 }
 

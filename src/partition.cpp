@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <string>
 
+#include "face_sets.h"
 #include "qsp/error.h"
 
 namespace qsp {
@@ -81,30 +82,9 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
   }
 
   // Regions: faces connected across uncut edges.
-  std::vector<std::uint32_t> region(nf, kInvalid), region_first_face;
-  {
-    std::vector<std::uint32_t> stack;
-    for (std::uint32_t f0 = 0; f0 < nf; ++f0) {
-      if (region[f0] != kInvalid) continue;
-      const std::uint32_t r = static_cast<std::uint32_t>(region_first_face.size());
-      region_first_face.push_back(f0);
-      region[f0] = r;
-      stack.push_back(f0);
-      while (!stack.empty()) {
-        const std::uint32_t f = stack.back();
-        stack.pop_back();
-        for (std::uint32_t i = 0; i < 4; ++i) {
-          const std::uint32_t h = 4 * f + i;
-          if (cut[h]) continue;
-          const std::uint32_t g = adj.face(adj.twin[h]);
-          if (region[g] == kInvalid) {
-            region[g] = r;
-            stack.push_back(g);
-          }
-        }
-      }
-    }
-  }
+  std::vector<std::uint32_t> region_first_face;
+  const std::vector<std::uint32_t> region =
+      detail::label_face_sets(nf, adj.twin, [&](std::uint32_t h) { return !cut[h]; }, region_first_face);
 
   // Per component: counts that decide its kind.
   const std::uint32_t nc = adj.component_count;
