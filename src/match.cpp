@@ -52,27 +52,101 @@ const char* kind_name(ComponentKind k) {
   return "?";
 }
 
-// One mesh, partitioned and canonicalized.
-struct Prepared {
-  const QuadMesh* mesh = nullptr;
-  const Adjacency* adj = nullptr;
-  CanonicalMesh canon;
-  std::vector<ComponentInfo> info;  // by Adjacency component id; filled only to explain a difference
-  Vec3 centroid{0, 0, 0};           // of all vertices
-};
+// ---- Memory locality ----
+// Adjacency, partition and layout walk the mesh face by face; in a file whose vertices and faces were
+// renumbered at random (exactly what match is for) every step is a cache miss, and those stages run
+// two to three times slower. Such meshes are renumbered first (faces along a Morton curve of their
+// first corner, vertices by first use); the result is translated back at the end.
 
-void prepare(const QuadMesh& mesh, const Adjacency& adj, Prepared& out) {
-  out.mesh = &mesh;
-  out.adj = &adj;
-  out.canon = canonicalize(mesh, adj, partition_motorcycle(adj));
-  const std::size_t n = mesh.vertex_count();
-  Vec3 c{0, 0, 0};
+// True when consecutive faces rarely share a vertex, i.e. the face order carries no locality.
+bool scrambled(const QuadMesh& m) {
+  const std::size_t nf = m.face_count();
+  if (nf < 4096) return false;  // fits in cache anyway
+  std::size_t near = 0;
+  for (std::size_t f = 1; f < nf; ++f) {
+    const std::uint32_t* p = &m.quads[4 * (f - 1)];
+    const std::uint32_t* q = &m.quads[4 * f];
+    bool shared = false;
+    for (int i = 0; i < 4 && !shared; ++i)
+      for (int j = 0; j < 4 && !shared; ++j) shared = p[i] == q[j];
+    near += shared;
+  }
+  return near < nf / 4;
+}
+
+std::uint32_t spread10(std::uint32_t x) {  // 10 bits -> every third bit of 30
+  x &= 0x3ff;
+  x = (x | x << 16) & 0x30000ff;
+  x = (x | x << 8) & 0x300f00f;
+  x = (x | x << 4) & 0x30c30c3;
+  x = (x | x << 2) & 0x9249249;
+  return x;
+}
+
+// Renumbers `m` in place; vertex_old / face_old receive new -> old. Corners are not rotated.
+void localize(QuadMesh& m, std::vector<std::uint32_t>& vertex_old, std::vector<std::uint32_t>& face_old) {
+  const auto nf = static_cast<std::uint32_t>(m.face_count()), nv = static_cast<std::uint32_t>(m.vertex_count());
+  float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
+  for (std::uint32_t v = 0; v < nv; ++v)
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], m.positions[3 * std::size_t(v) + k]), hi[k] = std::max(hi[k], m.positions[3 * std::size_t(v) + k]);
+  float scale[3];
+  for (int k = 0; k < 3; ++k) scale[k] = hi[k] > lo[k] ? 1023.0f / (hi[k] - lo[k]) : 0.0f;
+  // 30-bit Morton keys, two 15-bit radix passes.
+  std::vector<std::uint32_t> key(nf), idx(nf), tmp_key(nf), tmp_idx(nf);
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    const float* p = &m.positions[3 * std::size_t(m.quads[4 * std::size_t(f)])];
+    std::uint32_t c = 0;
+    for (int k = 0; k < 3; ++k) c |= spread10(static_cast<std::uint32_t>((p[k] - lo[k]) * scale[k])) << k;
+    key[f] = c;
+    idx[f] = f;
+  }
+  std::vector<std::uint32_t> count((1u << 15) + 1);
+  for (int shift : {0, 15}) {
+    std::fill(count.begin(), count.end(), 0);
+    for (std::uint32_t f = 0; f < nf; ++f) ++count[((key[f] >> shift) & 0x7fff) + 1];
+    for (std::size_t i = 1; i < count.size(); ++i) count[i] += count[i - 1];
+    for (std::uint32_t f = 0; f < nf; ++f) {
+      const std::uint32_t slot = count[(key[f] >> shift) & 0x7fff]++;
+      tmp_key[slot] = key[f];
+      tmp_idx[slot] = idx[f];
+    }
+    key.swap(tmp_key);
+    idx.swap(tmp_idx);
+  }
+  face_old = std::move(idx);
+  std::vector<std::uint32_t> fresh(nv, kInvalid), quads(m.quads.size());
+  vertex_old.clear();
+  vertex_old.reserve(nv);
+  for (std::uint32_t i = 0; i < nf; ++i)
+    for (int c = 0; c < 4; ++c) {
+      const std::uint32_t v = m.quads[4 * std::size_t(face_old[i]) + c];
+      if (fresh[v] == kInvalid) {
+        fresh[v] = static_cast<std::uint32_t>(vertex_old.size());
+        vertex_old.push_back(v);
+      }
+      quads[4 * std::size_t(i) + c] = fresh[v];
+    }
+  for (std::uint32_t v = 0; v < nv; ++v)
+    if (fresh[v] == kInvalid) vertex_old.push_back(v);  // unreferenced, in their order
+  std::vector<float> positions(m.positions.size());
+  for (std::uint32_t i = 0; i < nv; ++i)
+    for (int k = 0; k < 3; ++k) positions[3 * std::size_t(i) + k] = m.positions[3 * std::size_t(vertex_old[i]) + k];
+  m.quads = std::move(quads);
+  m.positions = std::move(positions);
+}
+
+void finish(MatchInput& in) {
+  in.canonical = canonicalize(in.mesh, in.adjacency, partition_motorcycle(in.adjacency));
+  const std::size_t n = in.mesh.vertex_count();
+  std::array<double, 3> c{0, 0, 0};
   for (std::size_t v = 0; v < n; ++v)
-    for (int k = 0; k < 3; ++k) c[k] += mesh.positions[3 * v + k];
+    for (int k = 0; k < 3; ++k) c[k] += in.mesh.positions[3 * v + k];
   if (n)
     for (int k = 0; k < 3; ++k) c[k] /= double(n);
-  out.centroid = c;
+  in.centroid = c;
 }
+
+using Prepared = MatchInput;
 
 // ---- Levels: per-component keys compared as multisets, coarse to fine ----
 
@@ -80,8 +154,8 @@ void prepare(const QuadMesh& mesh, const Adjacency& adj, Prepared& out) {
 using Key = std::array<std::uint64_t, 9>;
 constexpr std::size_t kKeyFields[] = {0, 0, 3, 4, 9};  // fields compared at kComponentSizes..kSchematic
 
-Key component_key(const Prepared& p, const CanonicalComponent& c) {
-  const ComponentInfo& i = p.info[c.part.component];
+Key component_key(const std::vector<ComponentInfo>& info, const CanonicalComponent& c) {
+  const ComponentInfo& i = info[c.part.component];
   Key k{static_cast<std::uint64_t>(c.part.kind), i.vertices, i.faces, i.extraordinary, 0, 0, 1, 0, 0};
   if (c.part.kind == ComponentKind::kTorus) {
     k[7] = c.code.a;
@@ -302,8 +376,8 @@ Vec3 shift(const Prepared& pa, const CanonicalComponent& ca, const Prepared& pb,
            Centering centering) {
   Vec3 x{0, 0, 0}, y{0, 0, 0};
   if (centering == Centering::kComponent) {
-    x = component_centroid(*pa.mesh, ca);
-    y = component_centroid(*pb.mesh, cb);
+    x = component_centroid(pa.mesh, ca);
+    y = component_centroid(pb.mesh, cb);
   } else if (centering == Centering::kMesh) {
     x = pa.centroid;
     y = pb.centroid;
@@ -313,9 +387,9 @@ Vec3 shift(const Prepared& pa, const CanonicalComponent& ca, const Prepared& pb,
 
 PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepared& pb, const CanonicalComponent& cb,
                   const MatchOptions& opt) {
-  const QuadMesh& a = *pa.mesh;
-  const QuadMesh& b = *pb.mesh;
-  const Adjacency& adj = *pb.adj;
+  const QuadMesh& a = pa.mesh;
+  const QuadMesh& b = pb.mesh;
+  const Adjacency& adj = pb.adjacency;
   const Vec3 t = shift(pa, ca, pb, cb, opt.centering);
   const std::size_t n = ca.map.vertex.size();
   PairChoice out;
@@ -409,58 +483,80 @@ const char* match_level_name(MatchLevel level) noexcept {
   return "?";
 }
 
-MatchResult match(const QuadMesh& a, const QuadMesh& b, const MatchOptions& options) {
-  const Adjacency adj_a = build_adjacency(a);
-  const Adjacency adj_b = build_adjacency(b);
-  return match(a, adj_a, b, adj_b, options);
+MatchInput prepare_match(QuadMesh mesh) {
+  MatchInput in;
+  if (!scrambled(mesh)) {
+    in.mesh = std::move(mesh);
+    in.adjacency = build_adjacency(in.mesh);
+  } else {
+    in.mesh = mesh;
+    localize(in.mesh, in.vertex_old, in.face_old);
+    try {
+      in.adjacency = build_adjacency(in.mesh);
+    } catch (const Error&) {
+      // Say what is wrong in the caller's numbering: the same check on the original mesh.
+      build_adjacency(mesh);
+      throw;
+    }
+  }
+  finish(in);
+  return in;
 }
 
-MatchResult match(const QuadMesh& a, const Adjacency& adj_a, const QuadMesh& b, const Adjacency& adj_b,
-                  const MatchOptions& options) {
+MatchInput prepare_match(const QuadMesh& mesh, const Adjacency& adjacency) {
+  MatchInput in;
+  in.mesh = mesh;
+  in.adjacency = adjacency;
+  finish(in);
+  return in;
+}
+
+MatchResult match(const QuadMesh& a, const QuadMesh& b, const MatchOptions& options) {
+  // The two meshes are independent: prepare them side by side. A's error wins if both fail.
+  MatchInput pa, pb;
+  std::exception_ptr failed;
+  std::thread worker([&] {
+    try {
+      pb = prepare_match(b);
+    } catch (...) {
+      failed = std::current_exception();
+    }
+  });
+  try {
+    pa = prepare_match(a);
+  } catch (...) {
+    worker.join();
+    throw;
+  }
+  worker.join();
+  if (failed) std::rethrow_exception(failed);
+  return match(pa, pb, options);
+}
+
+MatchResult match(const MatchInput& pa, const MatchInput& pb, const MatchOptions& options) {
   MatchResult r;
   auto differ = [&](MatchLevel level, std::string why) {
     r.level = level;
     r.reason = std::string(match_level_name(level)) + ": " + why;
     return r;
   };
-  // Cheapest level first, before any partitioning.
-  if (adj_a.component_count != adj_b.component_count)
-    return differ(MatchLevel::kComponentCount, "A has " + std::to_string(adj_a.component_count) + ", B has " +
-                                                   std::to_string(adj_b.component_count));
-
-  // The two meshes are independent: canonicalize them side by side.
-  Prepared pa, pb;
-  {
-    std::exception_ptr failed;
-    std::thread worker([&] {
-      try {
-        prepare(b, adj_b, pb);
-      } catch (...) {
-        failed = std::current_exception();
-      }
-    });
-    try {
-      prepare(a, adj_a, pa);
-    } catch (...) {
-      worker.join();
-      throw;
-    }
-    worker.join();
-    if (failed) std::rethrow_exception(failed);
-  }
-  const auto& ca = pa.canon.components;
-  const auto& cb = pb.canon.components;
+  const QuadMesh& a = pa.mesh;
+  const QuadMesh& b = pb.mesh;
+  if (pa.adjacency.component_count != pb.adjacency.component_count)
+    return differ(MatchLevel::kComponentCount, "A has " + std::to_string(pa.adjacency.component_count) +
+                                                   ", B has " + std::to_string(pb.adjacency.component_count));
+  const auto& ca = pa.canonical.components;
+  const auto& cb = pb.canonical.components;
 
   // Codes: both lists are in canonical order, so isomorphic ⇔ equal element by element. Equal codes
   // imply equal keys, so the per-component counts are only needed to say why codes differ.
   bool same = true;
   for (std::size_t i = 0; i < ca.size() && same; ++i) same = ca[i].code == cb[i].code;
   if (!same) {
-    pa.info = component_info(adj_a);
-    pb.info = component_info(adj_b);
+    const auto info_a = component_info(pa.adjacency), info_b = component_info(pb.adjacency);
     std::vector<Key> ka, kb;
-    for (const auto& c : ca) ka.push_back(component_key(pa, c));
-    for (const auto& c : cb) kb.push_back(component_key(pb, c));
+    for (const auto& c : ca) ka.push_back(component_key(info_a, c));
+    for (const auto& c : cb) kb.push_back(component_key(info_b, c));
     for (MatchLevel level : {MatchLevel::kComponentSizes, MatchLevel::kExtraordinary, MatchLevel::kSchematic}) {
       std::string why = compare_keys(ka, kb, kKeyFields[static_cast<int>(level)]);
       if (!why.empty()) return differ(level, why);
@@ -478,8 +574,8 @@ MatchResult match(const QuadMesh& a, const Adjacency& adj_a, const QuadMesh& b, 
           return differ(MatchLevel::kCode, "A's " + describe(ka[i], 9) + ": " + code_difference(ca[i].code, cb[y].code));
     return differ(MatchLevel::kCode, "canonical codes differ");
   }
-  const auto& ua = pa.canon.unreferenced;
-  const auto& ub = pb.canon.unreferenced;
+  const auto& ua = pa.canonical.unreferenced;
+  const auto& ub = pb.canonical.unreferenced;
   if (ua.size() != ub.size())
     return differ(MatchLevel::kUnreferenced, "A has " + std::to_string(ua.size()) + ", B has " + std::to_string(ub.size()));
 
@@ -548,6 +644,23 @@ MatchResult match(const QuadMesh& a, const Adjacency& adj_a, const QuadMesh& b, 
     if (v == kInvalid) throw Error(ErrorCode::kInternal, "match: a vertex of A was left unmapped");
   for (std::uint32_t f : r.face)
     if (f == kInvalid) throw Error(ErrorCode::kInternal, "match: a face of A was left unmapped");
+  // Back to the callers' numbering (prepare_match may have renumbered either mesh; corners kept).
+  if (!pa.vertex_old.empty() || !pb.vertex_old.empty()) {
+    auto va = [&](std::uint32_t v) { return pa.vertex_old.empty() ? v : pa.vertex_old[v]; };
+    auto vb = [&](std::uint32_t v) { return pb.vertex_old.empty() ? v : pb.vertex_old[v]; };
+    auto fa = [&](std::uint32_t f) { return pa.face_old.empty() ? f : pa.face_old[f]; };
+    auto fb = [&](std::uint32_t f) { return pb.face_old.empty() ? f : pb.face_old[f]; };
+    std::vector<std::uint32_t> vertex(r.vertex.size()), face(r.face.size());
+    std::vector<std::uint8_t> rotation(r.face.size());
+    for (std::uint32_t v = 0; v < vertex.size(); ++v) vertex[va(v)] = vb(r.vertex[v]);
+    for (std::uint32_t f = 0; f < face.size(); ++f) {
+      face[fa(f)] = fb(r.face[f]);
+      rotation[fa(f)] = r.rotation[f];
+    }
+    r.vertex = std::move(vertex);
+    r.face = std::move(face);
+    r.rotation = std::move(rotation);
+  }
   return r;
 }
 

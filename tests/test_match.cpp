@@ -484,6 +484,37 @@ TEST(Match, ManyEqualComponentsPairLinearly) {
   EXPECT_TRUE(rq.exhaustive);
 }
 
+TEST(Match, PreparedMeshesAreRenumberedOnlyWhenScrambled) {
+  const QuadMesh grid = testing::grid(80, 80);  // 6400 faces, file order row by row
+  std::vector<std::uint32_t> old;
+  const QuadMesh scrambled = testing::shuffled(grid, 3, &old);
+  const MatchInput pg = prepare_match(grid), ps = prepare_match(scrambled);
+  EXPECT_TRUE(pg.vertex_old.empty());
+  EXPECT_FALSE(ps.vertex_old.empty());
+  // Prepared once, matched twice; maps in the callers' numbering either way round.
+  const MatchResult r = match(pg, ps), back = match(ps, pg);
+  expect_valid(grid, scrambled, r);
+  expect_valid(scrambled, grid, back);
+  EXPECT_EQ(r.vertex, truth_of(old));
+  EXPECT_EQ(r.vertex, match(grid, scrambled).vertex);
+  // An invalid scrambled mesh reports the face as numbered in the caller's mesh.
+  QuadMesh bad = scrambled;
+  std::swap(bad.quads[4 * 777 + 1], bad.quads[4 * 777 + 3]);  // flip one face
+  std::string expected, got;
+  try {
+    build_adjacency(bad);
+  } catch (const Error& e) {
+    expected = e.what();
+  }
+  try {
+    prepare_match(bad);
+  } catch (const Error& e) {
+    got = e.what();
+  }
+  EXPECT_FALSE(expected.empty());
+  EXPECT_EQ(got, expected);
+}
+
 // ---- CLI ----
 
 class MatchCli : public ::testing::Test {

@@ -69,32 +69,40 @@ std::string count_text(std::uint64_t n) {
   return std::to_string(n) + (n == 1 ? " isomorphism" : " isomorphisms");
 }
 
-// A mesh file, or a .qsp decoded in full (vertices numbered as `qsp decompress` writes them).
-LoadedMesh load_any(const std::string& path) {
-  if (format_from_path(path) != MeshFormat::kQsp) return load_mesh(path);
-  LoadedMesh out;
-  const std::string bytes = read_file_bytes(path);
-  try {
-    out.mesh = decode(bytes);
-  } catch (const Error& e) {
-    throw Error(e.code(), path + ": " + e.what());
+// Reads a mesh file, or a .qsp decoded in full (vertices numbered as `qsp decompress` writes them),
+// and prepares it for matching. Topology errors name the file and line, as load_mesh's do.
+MatchInput read_and_prepare(const std::string& path) {
+  ReadReport report;
+  QuadMesh mesh;
+  if (format_from_path(path) == MeshFormat::kQsp) {
+    const std::string bytes = read_file_bytes(path);
+    try {
+      mesh = decode(bytes);
+    } catch (const Error& e) {
+      throw Error(e.code(), path + ": " + e.what());
+    }
+  } else {
+    mesh = read_mesh_file(path, &report);
   }
-  out.adjacency = build_adjacency(out.mesh);
-  return out;
+  try {
+    return prepare_match(std::move(mesh));
+  } catch (const Error& e) {
+    rethrow_located(e, path, report);
+  }
 }
 
-// Reads A and B side by side (parsing is most of a match's time). A's error wins if both fail.
-void load_both(const std::string& pa, const std::string& pb, LoadedMesh& a, LoadedMesh& b) {
+// A and B side by side: reading and preparing are nearly all of a match's time. A's error wins.
+void prepare_both(const std::string& pa, const std::string& pb, MatchInput& a, MatchInput& b) {
   std::exception_ptr failed;
   std::thread worker([&] {
     try {
-      b = load_any(pb);
+      b = read_and_prepare(pb);
     } catch (...) {
       failed = std::current_exception();
     }
   });
   try {
-    a = load_any(pa);
+    a = read_and_prepare(pa);
   } catch (...) {
     worker.join();
     throw;
@@ -104,12 +112,12 @@ void load_both(const std::string& pa, const std::string& pb, LoadedMesh& a, Load
 }
 
 int run(const MatchCliOptions& o) {
-  LoadedMesh a, b;
-  load_both(o.a, o.b, a, b);
+  MatchInput a, b;
+  prepare_both(o.a, o.b, a, b);
   MatchOptions mo;
   mo.centering = parse_centering(o.centering);
   mo.max_full_evaluations = o.max_evaluations;
-  const MatchResult r = match(a.mesh, a.adjacency, b.mesh, b.adjacency, mo);
+  const MatchResult r = match(a, b, mo);
   // The report goes to stdout unless a map does.
   std::FILE* report = (o.map == "-" || o.face_map == "-") ? stderr : stdout;
   if (!r.isomorphic) {
@@ -119,7 +127,7 @@ int run(const MatchCliOptions& o) {
   if (!o.map.empty()) write_file_atomic(o.map, vertex_map_text(r), o.force);
   if (!o.face_map.empty()) write_file_atomic(o.face_map, face_map_text(r), o.force);
   if (!o.quiet) {
-    const double rms = a.mesh.vertex_count() ? std::sqrt(r.cost / double(a.mesh.vertex_count())) : 0.0;
+    const double rms = r.vertex.empty() ? 0.0 : std::sqrt(r.cost / double(r.vertex.size()));
     std::fprintf(report, "isomorphic: %s; chose the nearest, rms distance %.6g", count_text(r.isomorphisms).c_str(), rms);
     if (r.ambiguous) std::fprintf(report, "; ambiguous: another isomorphism is as near");
     if (!r.exhaustive) std::fprintf(report, "; nearest not proven (search capped, or many equal components paired greedily)");

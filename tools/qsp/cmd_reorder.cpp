@@ -30,18 +30,33 @@ bool same_file(const std::string& x, const std::string& y) {
   return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
 }
 
+struct Read {
+  QuadMesh mesh;
+  ReadReport report;
+};
+
 // A mesh file, or a .qsp decoded in full (as in cmd_match.cpp).
-LoadedMesh load_any(const std::string& path) {
-  if (format_from_path(path) != MeshFormat::kQsp) return load_mesh(path);
-  LoadedMesh out;
+Read read_any(const std::string& path) {
+  Read out;
+  if (format_from_path(path) != MeshFormat::kQsp) {
+    out.mesh = read_mesh_file(path, &out.report);
+    return out;
+  }
   const std::string bytes = read_file_bytes(path);
   try {
     out.mesh = decode(bytes);
   } catch (const Error& e) {
     throw Error(e.code(), path + ": " + e.what());
   }
-  out.adjacency = build_adjacency(out.mesh);
   return out;
+}
+
+MatchInput prepare_located(const Read& r, const std::string& path) {
+  try {
+    return prepare_match(r.mesh);
+  } catch (const Error& e) {
+    rethrow_located(e, path, r.report);
+  }
 }
 
 int run(const ReorderOptions& o) {
@@ -51,8 +66,8 @@ int run(const ReorderOptions& o) {
   for (const std::string* in : {&o.ref, &o.input})
     if (same_file(*in, o.output)) throw Error(ErrorCode::kIo, o.output + ": is an input file; refusing to write over it");
 
-  const LoadedMesh ref = load_any(o.ref);
-  const LoadedMesh in = load_any(o.input);
+  const Read ref = read_any(o.ref);
+  const Read in = read_any(o.input);
   // Only IN's data reaches OUT; REF contributes its order alone.
   if (in.report.has_extra_data()) {
     if (!o.positions_only)
@@ -63,7 +78,7 @@ int run(const ReorderOptions& o) {
   }
   MatchOptions mo;
   mo.centering = o.centering == "mesh" ? Centering::kMesh : o.centering == "none" ? Centering::kNone : Centering::kComponent;
-  const MatchResult r = match(ref.mesh, ref.adjacency, in.mesh, in.adjacency, mo);
+  const MatchResult r = match(prepare_located(ref, o.ref), prepare_located(in, o.input), mo);
   if (!r.isomorphic) {
     std::fprintf(stderr, "qsp: %s is not isomorphic to %s: %s\n", o.input.c_str(), o.ref.c_str(), r.reason.c_str());
     return 1;
