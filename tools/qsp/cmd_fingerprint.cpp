@@ -14,6 +14,7 @@
 #include "qsp/canonical.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
+#include "qsp/match.h"
 #include "qsp/partition.h"
 
 namespace qsp::cli {
@@ -24,9 +25,8 @@ struct FingerprintOptions {
   bool group = false;
 };
 
-std::uint64_t mesh_fingerprint(const QuadMesh& mesh, const Adjacency& adj) {
-  return topology_fingerprint(canonicalize(mesh, adj, partition_motorcycle(adj)));
-}
+// prepare_match: the canonical form, computed on a locality-friendly numbering if the file's is scrambled.
+std::uint64_t mesh_fingerprint(QuadMesh mesh) { return topology_fingerprint(prepare_match(std::move(mesh)).canonical); }
 
 // A .qsp without its geometry: inspect() checks the whole file (checksum, counts, topology), then the
 // topology section's codes are rebuilt into the mesh's connectivity (canonical numbering, positions
@@ -63,7 +63,7 @@ std::uint64_t qsp_fingerprint(const std::string& path) {
         base += g.vertex_count;
       }
       mesh.positions.assign(3 * (std::size_t(base) + info.unreferenced), 0.0f);
-      return mesh_fingerprint(mesh, build_adjacency(mesh));
+      return mesh_fingerprint(std::move(mesh));
     }
     throw Error(ErrorCode::kFormat, "no topology section");
   } catch (const Error& e) {
@@ -73,8 +73,13 @@ std::uint64_t qsp_fingerprint(const std::string& path) {
 
 std::uint64_t file_fingerprint(const std::string& path) {
   if (format_from_path(path) == MeshFormat::kQsp) return qsp_fingerprint(path);
-  const LoadedMesh m = load_mesh(path);
-  return mesh_fingerprint(m.mesh, m.adjacency);
+  ReadReport report;
+  QuadMesh mesh = read_mesh_file(path, &report);
+  try {
+    return mesh_fingerprint(std::move(mesh));
+  } catch (const Error& e) {
+    rethrow_located(e, path, report);
+  }
 }
 
 void run(const FingerprintOptions& o) {
