@@ -60,6 +60,7 @@ Adjacency build_adjacency(const QuadMesh& mesh) {
   adj.twin.assign(nh, kInvalid);
   std::vector<std::uint32_t> boundary_he;  // interior half-edges without a twin
   for (std::uint32_t v = 0; v < nv; ++v) {
+    if (start[v] == start[v + 1]) continue;  // no edge (and `bucket` may be empty: no b + 1 below)
     const auto b = bucket.begin() + start[v], e = bucket.begin() + start[v + 1];
     if (e - b <= 8) {
       for (auto i = b + 1; i < e; ++i)  // insertion sort: buckets are tiny
