@@ -168,9 +168,11 @@ Key component_key(const std::vector<ComponentInfo>& info, const CanonicalCompone
   return k;
 }
 
-std::string describe(const Key& k, std::size_t fields) {
-  std::string s = std::string(kind_name(static_cast<ComponentKind>(k[0]))) + " component(s) of " +
-                  std::to_string(k[1]) + " vertices, " + std::to_string(k[2]) + " faces";
+// "disk components with 25 vertices, 16 faces[, ...]" (plural) or "a disk component with ..." (one).
+std::string describe(const Key& k, std::size_t fields, bool plural) {
+  std::string s = std::string(plural ? "" : "a ") + kind_name(static_cast<ComponentKind>(k[0])) +
+                  (plural ? " components with " : " component with ") + std::to_string(k[1]) + " vertices, " +
+                  std::to_string(k[2]) + " faces";
   if (fields > 3) s += ", " + std::to_string(k[3]) + " extraordinary";
   if (fields > 4) {
     if (k[0] == static_cast<std::uint64_t>(ComponentKind::kTorus))
@@ -195,7 +197,7 @@ std::string compare_keys(std::vector<Key> ka, std::vector<Key> kb, std::size_t f
     while (i < ka.size() && ka[i] == k) ++i, ++na;
     while (j < kb.size() && kb[j] == k) ++j, ++nb;
     if (na != nb)
-      return "A has " + std::to_string(na) + ", B has " + std::to_string(nb) + " " + describe(k, fields);
+      return describe(k, fields, true) + ": A has " + std::to_string(na) + ", B has " + std::to_string(nb);
   }
   return {};
 }
@@ -571,7 +573,7 @@ MatchResult match(const MatchInput& pa, const MatchInput& pb, const MatchOptions
     if (i < ca.size())
       for (std::size_t y = 0; y < cb.size(); ++y)
         if (kb[y] == ka[i])
-          return differ(MatchLevel::kCode, "A's " + describe(ka[i], 9) + ": " + code_difference(ca[i].code, cb[y].code));
+          return differ(MatchLevel::kCode, describe(ka[i], 9, false) + " of A: " + code_difference(ca[i].code, cb[y].code));
     return differ(MatchLevel::kCode, "canonical codes differ");
   }
   const auto& ua = pa.canonical.unreferenced;
