@@ -444,6 +444,12 @@ TEST(Match, InterchangeableComponentsPairByPlace) {
   EXPECT_EQ(r.vertex, truth_of(old));
   EXPECT_EQ(r.isomorphisms, 6u * 24 * 24 * 24);
   EXPECT_FALSE(r.ambiguous);
+  // Mesh centering removes the common translation too.
+  MatchOptions mesh_centred;
+  mesh_centred.centering = Centering::kMesh;
+  const MatchResult rm = match(a, b, mesh_centred);
+  EXPECT_EQ(rm.vertex, truth_of(old));
+  EXPECT_NEAR(rm.cost, 0.0, 1e-9);
   // With raw positions the translation counts, but the pairing is still by nearest centroids.
   MatchOptions raw;
   raw.centering = Centering::kNone;
@@ -566,6 +572,11 @@ TEST_F(MatchCli, MatchWritesTheMapAndExitsByResult) {
     for (std::uint32_t c = 0; c < 4; ++c)
       ASSERT_EQ(truth[a.quads[4 * f + c]], b.quads[4 * g + (c + rot) % 4]) << "face " << f;
   }
+  // "-o -": the map on stdout, the report on stderr.
+  r = run_qsp("match " + quote(pa) + " " + quote(pb) + " -o -");
+  ASSERT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.out.substr(0, vl[0].size() + 1), vl[0] + "\n");
+  EXPECT_NE(r.err.find("isomorphic"), std::string::npos);
   // Refuses to replace the map without -f.
   EXPECT_EQ(run_qsp("match " + quote(pa) + " " + quote(pb) + " -o " + quote(map)).exit_code, 3);
   EXPECT_EQ(run_qsp("match " + quote(pa) + " " + quote(pb) + " -f -o " + quote(map)).exit_code, 0);
