@@ -146,7 +146,7 @@ bool same_position(const QuadMesh& a, std::uint32_t v, const QuadMesh& b, std::u
 // ---- Shuffled and morphed copies ----
 
 TEST(Match, ShuffledCorpusMeshesMatchFaceByFace) {
-  int n = 0, symmetric = 0;
+  int n = 0, symmetric = 0, ambiguous = 0;
   for (const auto& path : testing::corpus()) {
     SCOPED_TRACE(path.string());
     QuadMesh m;
@@ -167,10 +167,12 @@ TEST(Match, ShuffledCorpusMeshesMatchFaceByFace) {
       EXPECT_EQ(r.vertex, truth_of(old));
     }
     symmetric += r.isomorphisms > 1;
+    ambiguous += r.ambiguous;
     ++n;
   }
   EXPECT_GT(n, 10);
-  std::printf("[ match    ] %d corpus meshes, %d with several isomorphisms\n", n, symmetric);
+  std::printf("[ match    ] %d corpus meshes, %d with several isomorphisms, %d of them ambiguous\n", n, symmetric,
+              ambiguous);
 }
 
 TEST(Match, GeneratedMeshesMatchTheirShuffles) {
