@@ -1,0 +1,833 @@
+// Hostile input and faults (docs/hardening.md): every broken .qsp class is refused with a typed error
+// that says what and where; declared sizes are checked before anything is allocated; memory is
+// bounded by the declared content; output is atomic (kill, full disk, unwritable folder); nothing is
+// clobbered; every shared mesh round-trips or is refused cleanly; fuzzer findings stay fixed.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "../fuzz/fuzz_check.h"
+#include "../fuzz/qsp_craft.h"
+#include "qsp/canonical.h"
+#include "qsp/codec.h"
+#include "qsp/error.h"
+#include "qsp/io.h"
+#include "qsp/mesh.h"
+#include "support/cli.h"
+#include "support/mesh_gen.h"
+
+extern char** environ;
+
+namespace qsp {
+namespace {
+
+namespace fs = std::filesystem;
+namespace craft = qsp::craft;
+using testing::quote;
+using testing::run_qsp;
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+#else
+constexpr bool kSanitized = false;
+#endif
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+void spit(const fs::path& p, std::string_view bytes) {
+  std::ofstream out(p, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+std::map<std::string, std::string> read_expect(const fs::path& p) {
+  std::map<std::string, std::string> kv;
+  std::istringstream lines(slurp(p));
+  for (std::string line; std::getline(lines, line);) {
+    const auto eq = line.find('=');
+    if (eq != std::string::npos) kv[line.substr(0, eq)] = line.substr(eq + 1);
+  }
+  return kv;
+}
+
+QuadMesh load(const std::string& name) { return read_mesh_file(std::string(QSP_TESTDATA_DIR) + "/" + name); }
+
+std::string cube_qsp(bool keep_order = false) {
+  EncodeOptions o;
+  o.keep_order = keep_order;
+  return encode(load("cube_4.obj"), o);
+}
+
+struct Caught {
+  bool thrown = false;
+  ErrorCode code = ErrorCode::kInternal;
+  std::string message;
+};
+
+Caught decode_error(std::string_view bytes, const DecodeLimits& limits = {}) {
+  Caught c;
+  try {
+    (void)decode(bytes, limits);
+  } catch (const Error& e) {
+    c.thrown = true;
+    c.code = e.code();
+    c.message = e.what();
+  }
+  return c;
+}
+
+// Asserts `bytes` is refused with `code` and a message containing every one of `parts`.
+void expect_refused(std::string_view bytes, ErrorCode code, std::initializer_list<std::string_view> parts,
+                    const DecodeLimits& limits = {}) {
+  const Caught c = decode_error(bytes, limits);
+  ASSERT_TRUE(c.thrown) << "accepted";
+  EXPECT_EQ(error_name(c.code), std::string(error_name(code))) << c.message;
+  for (std::string_view p : parts) EXPECT_NE(c.message.find(p), std::string::npos) << "'" << p << "' not in: " << c.message;
+  // inspect() parses the same container and must refuse it the same way.
+  try {
+    (void)inspect(bytes, limits);
+    ADD_FAILURE() << "inspect accepted what decode refuses: " << c.message;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), c.code) << e.what();
+  }
+}
+
+// Replaces the payload of the first section with `tag`.
+std::string with_section(const std::string& file, std::uint8_t tag, const std::string& payload) {
+  craft::Parts p;
+  EXPECT_TRUE(craft::split(file, p));
+  auto secs = craft::sections(p.body);
+  for (auto& s : secs)
+    if (s.tag == tag) {
+      s.payload = payload;
+      break;
+    }
+  return craft::seal(p.major, p.minor, p.flags, craft::join(secs));
+}
+
+std::string section_payload(const std::string& file, std::uint8_t tag) {
+  craft::Parts p;
+  EXPECT_TRUE(craft::split(file, p));
+  for (const auto& s : craft::sections(p.body))
+    if (s.tag == tag) return s.payload;
+  ADD_FAILURE() << "no section " << int(tag);
+  return {};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Each class of broken container: typed error, what and where.
+
+TEST(HostileQsp, TruncatedAtEveryLength) {
+  for (bool keep : {false, true}) {
+    const std::string bytes = cube_qsp(keep);
+    for (std::size_t n = 0; n < bytes.size(); ++n) {
+      SCOPED_TRACE(n);
+      expect_refused(std::string_view(bytes).substr(0, n), ErrorCode::kFormat, {"truncated", "byte offset"});
+    }
+  }
+}
+
+TEST(HostileQsp, BadMagic) {
+  const std::string good = cube_qsp();
+  expect_refused("ply\nformat ascii 1.0\n", ErrorCode::kFormat, {"not a .qsp file", "byte offset 0"});
+  expect_refused(std::string("v 0 0 0\n"), ErrorCode::kFormat, {"bad magic"});
+  std::string seven = good;
+  seven[0] = static_cast<char>(0x09);  // high bit stripped
+  expect_refused(seven, ErrorCode::kFormat, {"bad magic", "7-bit"});
+  std::string crlf = good;
+  crlf.erase(4, 1);  // "\r\n" -> "\n"
+  expect_refused(crlf, ErrorCode::kFormat, {"bad magic", "line-ending"});
+}
+
+TEST(HostileQsp, NewerOrOlderMajorVersion) {
+  craft::Parts p;
+  ASSERT_TRUE(craft::split(cube_qsp(), p));
+  expect_refused(craft::seal(2, 0, 0, p.body), ErrorCode::kVersion, {"format 2.0", "upgrade qsp", "byte offset 8"});
+  expect_refused(craft::seal(255, 3, 0, p.body), ErrorCode::kVersion, {"format 255.3"});
+  expect_refused(craft::seal(0, 9, 0, p.body), ErrorCode::kVersion, {"format 0.9"});
+  // A newer minor of the same major is readable (it may only add optional sections).
+  EXPECT_EQ(decode(craft::seal(1, 200, 0, p.body)).quads, decode(cube_qsp()).quads);
+}
+
+TEST(HostileQsp, ChecksumMismatch) {
+  const std::string good = cube_qsp();
+  for (std::size_t at : {std::size_t{16}, good.size() / 2, good.size() - 9, good.size() - 1}) {
+    std::string bad = good;
+    bad[at] = static_cast<char>(bad[at] ^ 0x04);
+    SCOPED_TRACE(at);
+    expect_refused(bad, ErrorCode::kChecksum,
+                   {"checksum mismatch", "byte offset " + std::to_string(good.size() - 8)});
+  }
+}
+
+TEST(HostileQsp, ReservedBitsSet) {
+  craft::Parts p;
+  ASSERT_TRUE(craft::split(cube_qsp(), p));
+  for (int bit = 0; bit < 8; ++bit) {
+    expect_refused(craft::seal(1, 0, static_cast<std::uint8_t>(1u << bit), p.body), ErrorCode::kFormat,
+                   {"reserved header flag", "byte offset 10"});
+  }
+  // The counts section's flag byte.
+  const std::string good = cube_qsp();
+  std::string counts = section_payload(good, craft::kTagCounts);
+  counts.back() = static_cast<char>(0x80);
+  expect_refused(with_section(good, craft::kTagCounts, counts), ErrorCode::kFormat, {"reserved counts flag", "byte offset"});
+}
+
+TEST(HostileQsp, TrailingBytes) {
+  const std::string good = cube_qsp();
+  expect_refused(good + std::string(1, '\0'), ErrorCode::kFormat,
+                 {"1 trailing bytes", "byte offset " + std::to_string(good.size())});
+  expect_refused(good + good, ErrorCode::kFormat, {std::to_string(good.size()) + " trailing bytes"});
+  // Inside a section: the entropy-coded stream must end exactly where its symbols end.
+  std::string topo = section_payload(good, craft::kTagTopology) + std::string(3, '\0');
+  expect_refused(with_section(good, craft::kTagTopology, topo), ErrorCode::kFormat, {"topology", "byte offset"});
+  std::string counts = section_payload(good, craft::kTagCounts) + "x";
+  expect_refused(with_section(good, craft::kTagCounts, counts), ErrorCode::kFormat, {"counts section has 1 unexpected bytes"});
+}
+
+TEST(HostileQsp, CountsLargerThanTheFile) {
+  const std::string good = cube_qsp();
+  craft::Parts p;
+  ASSERT_TRUE(craft::split(good, p));
+  // The size field claims more than there is (the file was cut).
+  std::string longer = good;
+  ASSERT_NE(static_cast<std::uint8_t>(longer[11]) & 0x7F, 0x7F);
+  longer[11] = static_cast<char>(static_cast<std::uint8_t>(longer[11]) + 1);
+  expect_refused(longer, ErrorCode::kFormat,
+                 {"truncated: header declares " + std::to_string(good.size() + 1) + " bytes, file has " +
+                  std::to_string(good.size())});
+  // A section length beyond the end of the body.
+  auto secs = craft::sections(p.body);
+  std::string body = p.body.substr(0, secs.back().offset) + std::string(1, static_cast<char>(secs.back().tag));
+  craft::put_varint(body, secs.back().payload.size() + 10);
+  body += secs.back().payload;
+  expect_refused(craft::seal(1, 0, 0, body), ErrorCode::kFormat,
+                 {"declares " + std::to_string(secs.back().payload.size() + 10) + " bytes but only", "remain", "byte offset"});
+  std::string huge_len = std::string(1, static_cast<char>(craft::kTagGeometry)) + "\xff\xff\xff\xff\x0f";
+  expect_refused(craft::seal(1, 0, 0, p.body.substr(0, secs.back().offset) + huge_len), ErrorCode::kFormat,
+                 {"declares 4294967295 bytes but only 0 remain"});
+  // Counts beyond the format, beyond the limits, or inconsistent with each other.
+  auto with_counts = [&](std::uint64_t v, std::uint64_t f, std::uint64_t c, std::uint64_t u) {
+    return with_section(good, craft::kTagCounts, craft::counts_payload(v, f, c, u));
+  };
+  expect_refused(with_counts(std::uint64_t{1} << 40, 96, 1, 0), ErrorCode::kFormat, {"vertex count exceeds the format"});
+  expect_refused(with_counts(98, std::uint64_t{1} << 40, 1, 0), ErrorCode::kFormat, {"face count exceeds the format"});
+  expect_refused(with_counts(DecodeLimits{}.max_vertices + 1, 96, 1, 0), ErrorCode::kLimit,
+                 {"vertex count " + std::to_string(DecodeLimits{}.max_vertices + 1) + " exceeds the limit", "byte offset"});
+  expect_refused(with_counts(98, DecodeLimits{}.max_faces + 1, 1, 0), ErrorCode::kLimit, {"face count", "exceeds the limit"});
+  expect_refused(with_counts(98, 96, 97, 0), ErrorCode::kFormat, {"more components than faces"});
+  expect_refused(with_counts(98, 96, 1, 99), ErrorCode::kFormat, {"more unreferenced vertices than vertices"});
+  expect_refused(with_counts(99, 96, 1, 0), ErrorCode::kFormat, {"topology describes", "byte offset"});
+  expect_refused(with_counts(98, 97, 1, 0), ErrorCode::kFormat, {"byte offset"});
+  expect_refused(with_counts(98, 96, 2, 0), ErrorCode::kFormat, {"byte offset"});
+  DecodeLimits tight;
+  tight.max_vertices = 97;
+  expect_refused(good, ErrorCode::kLimit, {"vertex count 98 exceeds the limit 97"}, tight);
+}
+
+TEST(HostileQsp, UnknownAndMissingSections) {
+  const std::string good = cube_qsp();
+  craft::Parts p;
+  ASSERT_TRUE(craft::split(good, p));
+  auto secs = craft::sections(p.body);
+  ASSERT_EQ(secs.size(), 3u);
+  // An optional section (tag bit 7) this decoder does not know is skipped, wherever it is.
+  for (std::size_t at = 0; at <= secs.size(); ++at) {
+    auto more = secs;
+    more.insert(more.begin() + static_cast<std::ptrdiff_t>(at), craft::SectionView{0x85, 0, 0, "future data"});
+    EXPECT_EQ(decode(craft::seal(1, 0, 0, craft::join(more))).quads, decode(good).quads) << at;
+  }
+  // An unknown required section is refused, as are missing, repeated and reordered ones.
+  auto unknown = secs;
+  unknown.push_back({0x05, 0, 0, "x"});
+  expect_refused(craft::seal(1, 0, 0, craft::join(unknown)), ErrorCode::kFormat, {"required section tag 0x05", "byte offset"});
+  for (std::size_t drop = 0; drop < secs.size(); ++drop) {
+    auto fewer = secs;
+    fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(drop));
+    expect_refused(craft::seal(1, 0, 0, craft::join(fewer)), ErrorCode::kFormat, {"byte offset"});
+  }
+  auto twice = secs;
+  twice.insert(twice.begin() + 1, secs[0]);
+  expect_refused(craft::seal(1, 0, 0, craft::join(twice)), ErrorCode::kFormat, {"byte offset"});
+  auto swapped = secs;
+  std::swap(swapped[1], swapped[2]);
+  expect_refused(craft::seal(1, 0, 0, craft::join(swapped)), ErrorCode::kFormat, {"byte offset"});
+  expect_refused(craft::seal(1, 0, 0, ""), ErrorCode::kFormat, {"required section 1 is missing"});
+}
+
+// Small files of every component kind and mode, for the exhaustive corruption sweeps.
+std::vector<std::pair<std::string, std::string>> sweep_files() {
+  std::vector<std::pair<std::string, std::string>> out;
+  QuadMesh grid = testing::grid(3, 2);
+  grid.positions.insert(grid.positions.end(), {0.5f, 7.25f, -1e-3f});  // an unreferenced vertex
+  QuadMesh mixed = testing::periodic(5, 2, false, 0);
+  testing::append(mixed, testing::periodic(4, 3, true, 1), 10);
+  testing::append(mixed, testing::polyomino(std::vector<std::string>{"##.", ".##"}), 20);
+  EncodeOptions keep, quant;
+  keep.keep_order = true;
+  quant.quantize_bits = 9;
+  out.emplace_back("grid", encode(grid));
+  out.emplace_back("grid keep-order", encode(grid, keep));
+  out.emplace_back("mixed", encode(mixed));
+  out.emplace_back("mixed quantized", encode(mixed, quant));
+  out.emplace_back("l_shape", encode(load("l_shape.obj")));
+  return out;
+}
+
+// A file that decodes must give a valid mesh that round-trips; one that does not, a typed error.
+void expect_clean(const std::string& bytes, const std::string& what) {
+  QuadMesh m;
+  try {
+    m = decode(bytes);
+  } catch (const Error& e) {
+    EXPECT_NE(e.code(), ErrorCode::kInternal) << what << ": " << e.what();
+    EXPECT_NE(std::string(e.what()).find("byte offset"), std::string::npos) << what << ": " << e.what();
+    return;
+  }
+  try {
+    (void)build_adjacency(m);
+  } catch (const Error& e) {
+    ADD_FAILURE() << what << ": decoded an invalid mesh: " << e.what();
+    return;
+  }
+  fuzz::check_round_trip(m, what.c_str());
+}
+
+// Every single-bit flip and every cut of the body, re-sealed so the checksum does not hide it: the
+// section parsers, entropy decoders and partition checks see it all.
+TEST(HostileQsp, EveryResealedBitFlipAndCutIsCleanOrValid) {
+  for (const auto& [name, file] : sweep_files()) {
+    craft::Parts p;
+    ASSERT_TRUE(craft::split(file, p));
+    for (std::size_t i = 0; i < p.body.size(); ++i) {
+      for (int b = 0; b < 8; ++b) {
+        std::string body = p.body;
+        body[i] = static_cast<char>(body[i] ^ (1 << b));
+        expect_clean(craft::seal(1, 0, 0, body), name + " flip " + std::to_string(i) + "." + std::to_string(b));
+      }
+      expect_clean(craft::seal(1, 0, 0, p.body.substr(0, i)), name + " cut " + std::to_string(i));
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Limits and memory.
+
+struct ChildRun {
+  int exit_code = -1;  // -signal if killed
+  long peak_rss_kb = 0;
+  double seconds = 0;
+};
+
+// Runs qsp with `args` (stdout/stderr to /dev/null unless paths given) and measures its peak RSS.
+ChildRun run_measured(const std::vector<std::string>& args, const std::string& out = "/dev/null") {
+  std::vector<char*> argv;
+  std::string exe = QSP_CLI_PATH;
+  argv.push_back(exe.data());
+  std::vector<std::string> copy = args;
+  for (auto& a : copy) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+  const auto t0 = std::chrono::steady_clock::now();
+  pid_t pid = 0;
+  ChildRun r;
+  if (posix_spawn(&pid, exe.c_str(), &fa, nullptr, argv.data(), environ) != 0) return r;
+  posix_spawn_file_actions_destroy(&fa);
+  int status = 0;
+  struct rusage ru {};
+  ::wait4(pid, &status, 0, &ru);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.peak_rss_kb = ru.ru_maxrss;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+  return r;
+}
+
+class TempDir : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("qsp_hostile_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    fs::permissions(dir_, fs::perms::all);  // others (a dropped-privilege run) may enter
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::permissions(dir_, fs::perms::owner_all, fs::perm_options::add, ec);
+    for (const auto& e : fs::recursive_directory_iterator(dir_, ec)) {
+      if (e.is_directory()) fs::permissions(e.path(), fs::perms::owner_all, fs::perm_options::add, ec);
+    }
+    fs::remove_all(dir_, ec);
+  }
+  std::string p(const std::string& name) const { return (dir_ / name).string(); }
+  // Names in a folder, sorted (to show leftovers).
+  static std::vector<std::string> listing(const fs::path& d) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(d)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+  fs::path dir_;
+};
+
+using Limits = TempDir;
+
+// Files of a few dozen bytes that declare a huge mesh: refused at once, with no large allocation.
+TEST_F(Limits, TinyFileDeclaringAHugeMeshIsRefusedBeforeAllocating) {
+  const std::string good = cube_qsp();
+  const std::string empty_topology = encode_topology({});
+  TopologyCode torus;
+  torus.kind = ComponentKind::kTorus;
+  torus.a = 8192, torus.b = 8192;  // 2^26 faces, all in a few bytes of topology
+  const std::string torus_topology = encode_topology(std::vector<TopologyCode>{torus});
+  const std::uint64_t big = DecodeLimits{}.max_faces;  // at the limit: accepted by the counts check
+  auto file = [](const std::string& counts, const std::string& topo, const std::string& geo) {
+    return craft::seal(1, 0, 0,
+                       craft::section(craft::kTagCounts, counts) + craft::section(craft::kTagTopology, topo) +
+                           craft::section(craft::kTagGeometry, geo));
+  };
+  const std::string small_geometry = section_payload(good, craft::kTagGeometry);
+  struct Case {
+    const char* what;
+    std::string bytes;
+    ErrorCode code;
+  };
+  const std::vector<Case> cases = {
+      {"2^40 faces", file(craft::counts_payload(4, std::uint64_t{1} << 40, 1, 0), "", ""), ErrorCode::kFormat},
+      {"vertices past the limit", file(craft::counts_payload(big + 1, 1, 1, 0), "", ""), ErrorCode::kLimit},
+      {"2^26 components", file(craft::counts_payload(big, big, big, 0), std::string(12, '\0'), small_geometry),
+       ErrorCode::kFormat},
+      {"2^26 unreferenced vertices", file(craft::counts_payload(big, 0, 0, big), empty_topology, small_geometry),
+       ErrorCode::kFormat},
+      {"8192 x 8192 torus", file(craft::counts_payload(big, big, 1, 0), torus_topology, small_geometry),
+       ErrorCode::kFormat},
+  };
+  const std::string reference = p("small.qsp");
+  spit(reference, good);
+  const ChildRun base = run_measured({"decompress", reference, "-"});
+  ASSERT_EQ(base.exit_code, 0);
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    EXPECT_LT(c.bytes.size(), 200u);
+    const Caught e = decode_error(c.bytes);
+    ASSERT_TRUE(e.thrown);
+    EXPECT_EQ(error_name(e.code), std::string(error_name(c.code))) << e.message;
+    EXPECT_NE(e.message.find("byte offset"), std::string::npos) << e.message;
+    spit(p("bomb.qsp"), c.bytes);
+    const ChildRun r = run_measured({"decompress", p("bomb.qsp"), "-"});
+    EXPECT_EQ(r.exit_code, 1);
+    // No more memory than decompressing a 98-vertex cube (plus allocator noise), and no time.
+    EXPECT_LT(r.peak_rss_kb, base.peak_rss_kb + 8 * 1024) << e.message;
+    EXPECT_LT(r.seconds, 2.0);
+  }
+}
+
+// docs/hardening.md: qsp decompress needs at most kBase + kPerVertex * V + kPerFace * F bytes plus the
+// input file and the output text, for the file's declared (and validated) V and F.
+constexpr long kBaseKb = 16 * 1024;
+constexpr double kPerVertex = 120, kPerFace = 120;
+
+TEST_F(Limits, DecoderMemoryIsBoundedByTheDeclaredContent) {
+  if (kSanitized) GTEST_SKIP() << "peak RSS under AddressSanitizer includes shadow memory and quarantine";
+  std::vector<std::string> meshes = {std::string(QSP_TESTDATA_DIR) + "/keenan_spot_quadrangulated.obj",
+                                     std::string(QSP_TESTDATA_DIR) + "/mh_fedora.obj"};
+  const std::string big = std::string(QSP_SHARED_DIR) + "/meshes/mh_female_generic_cc2.obj";
+  if (fs::exists(big)) meshes.push_back(big);
+  QuadMesh grid = testing::grid(700, 600);  // one patch: tiny topology, 421k vertices
+  const std::string grid_qsp = p("grid.qsp");
+  spit(grid_qsp, encode(grid));
+  std::vector<std::pair<std::string, QuadMesh>> files = {{grid_qsp, std::move(grid)}};
+  for (const auto& m : meshes) {
+    QuadMesh mesh = read_mesh_file(m);
+    const std::string q = p(fs::path(m).filename().string() + ".qsp");
+    spit(q, encode(mesh));
+    files.emplace_back(q, std::move(mesh));
+  }
+  for (const auto& [q, mesh] : files) {
+    SCOPED_TRACE(q);
+    const ChildRun r = run_measured({"decompress", q, "-"});
+    ASSERT_EQ(r.exit_code, 0);
+    const double v = double(mesh.vertex_count()), f = double(mesh.face_count());
+    const double text = double(write_obj(mesh).size()), input = double(fs::file_size(q));
+    const double bound_kb = kBaseKb + (kPerVertex * v + kPerFace * f + input + text) / 1024;
+    std::printf("%s: V=%.0f F=%.0f peak %ld KiB, bound %.0f KiB (%.0f bytes/vertex beyond base+io)\n",
+                fs::path(q).filename().c_str(), v, f, r.peak_rss_kb, bound_kb,
+                (double(r.peak_rss_kb) * 1024 - input - text) / v);
+    EXPECT_LT(double(r.peak_rss_kb), bound_kb);
+  }
+}
+
+TEST_F(Limits, CliLimitFlagsOverrideTheDefaults) {
+  spit(p("c.qsp"), cube_qsp());
+  auto r = run_qsp("decompress --max-faces 95 " + quote(p("c.qsp")) + " " + quote(p("c.obj")));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("face count 96 exceeds the limit 95"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(p("c.qsp")), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p("c.obj")));
+  r = run_qsp("decompress --max-vertices 10 " + quote(p("c.qsp")) + " " + quote(p("c.obj")));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("vertex count 98 exceeds the limit 10"), std::string::npos) << r.err;
+  r = run_qsp("decompress --max-faces 96 --max-vertices 98 " + quote(p("c.qsp")) + " " + quote(p("c.obj")));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  r = run_qsp("decompress --help");
+  EXPECT_NE(r.out.find("--max-faces"), std::string::npos);
+}
+
+// ---------------------------------------------------------------------------------------------
+// CLI failures: exit code and a message that says what and where; nothing written.
+
+using CliFailures = TempDir;
+
+TEST_F(CliFailures, EveryInvalidMeshIsRefusedByCompress) {
+  int n = 0;
+  for (const auto& dir : {fs::path(QSP_TESTDATA_DIR) / "invalid", fs::path(QSP_TESTDATA_DIR) / "invalid" / "topology"}) {
+    for (const auto& e : fs::directory_iterator(dir)) {
+      const auto ext = e.path().extension();
+      if (ext != ".obj" && ext != ".off" && ext != ".ply") continue;
+      SCOPED_TRACE(e.path().string());
+      const auto expect = read_expect(fs::path(e.path()).replace_extension(".expect"));
+      const std::string out = p(e.path().filename().string() + ".qsp");
+      const auto r = run_qsp("compress --positions-only " + quote(e.path().string()) + " " + quote(out));
+      EXPECT_EQ(r.exit_code, 1) << r.err;
+      EXPECT_EQ(r.err.rfind("qsp: error: ", 0), 0u) << r.err;
+      EXPECT_NE(r.err.find(expect.at("message")), std::string::npos) << r.err << "\nexpected: " << expect.at("message");
+      EXPECT_EQ(listing(dir_), std::vector<std::string>{}) << "output left behind";
+      ++n;
+    }
+  }
+  EXPECT_GE(n, 50);
+}
+
+TEST_F(CliFailures, CorruptQspNamesTheFileAndTheOffset) {
+  const std::string good = cube_qsp();
+  craft::Parts parts;
+  ASSERT_TRUE(craft::split(good, parts));
+  std::string flipped = good;
+  flipped[good.size() / 2] ^= 1;
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {good.substr(0, 30), "truncated"},
+      {"PK\x03\x04 not a qsp", "bad magic"},
+      {craft::seal(3, 1, 0, parts.body), "format 3.1"},
+      {flipped, "checksum mismatch"},
+      {craft::seal(1, 0, 4, parts.body), "reserved header flag"},
+      {good + "xyz", "3 trailing bytes"},
+      {with_section(good, craft::kTagCounts, craft::counts_payload(99, 96, 1, 0)), "topology describes"},
+  };
+  for (const auto& [bytes, what] : cases) {
+    SCOPED_TRACE(what);
+    spit(p("in.qsp"), bytes);
+    const auto r = run_qsp("decompress " + quote(p("in.qsp")) + " " + quote(p("out.obj")));
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_EQ(r.err.rfind("qsp: error: " + p("in.qsp") + ": ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(what), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("byte offset"), std::string::npos) << r.err;
+    EXPECT_EQ(listing(dir_), std::vector<std::string>{"in.qsp"});
+  }
+}
+
+// Exit codes are derived from the error type in one place (tools/qsp/main.cpp, README):
+// 0 ok, 1 bad input or refused, 2 usage, 3 I/O, 4 internal.
+TEST_F(CliFailures, ExitCodesFollowTheErrorType) {
+  spit(p("c.qsp"), cube_qsp());
+  EXPECT_EQ(run_qsp("decompress " + quote(p("missing.qsp")) + " " + quote(p("x.obj"))).exit_code, 3);
+  EXPECT_EQ(run_qsp("compress " + quote(p("missing.obj")) + " " + quote(p("x.qsp"))).exit_code, 3);
+  fs::create_directory(p("d.obj"));
+  EXPECT_EQ(run_qsp("compress " + quote(p("d.obj")) + " " + quote(p("x.qsp"))).exit_code, 3);
+  EXPECT_EQ(run_qsp("decompress " + quote(p("c.qsp")) + " " + quote(p("x.ply"))).exit_code, 1);
+  EXPECT_EQ(run_qsp("compress " + quote(p("c.qsp")) + " " + quote(p("x.qsp"))).exit_code, 1);
+  EXPECT_EQ(run_qsp("decompress").exit_code, 2);
+  EXPECT_EQ(run_qsp("decompress --no-such-flag " + quote(p("c.qsp"))).exit_code, 2);
+  EXPECT_EQ(run_qsp("frobnicate").exit_code, 2);
+  const auto r = run_qsp("decompress " + quote(p("missing.qsp")) + " " + quote(p("x.obj")));
+  EXPECT_NE(r.err.find("No such file or directory"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(p("missing.qsp")), std::string::npos) << r.err;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Atomic output.
+
+using AtomicOutput = TempDir;
+
+// A compressed mesh big enough that decoding and writing its OBJ (7 MB) take a while.
+std::string big_qsp() {
+  static const std::string bytes = encode(testing::grid(500, 400));
+  return bytes;
+}
+
+TEST_F(AtomicOutput, KilledAtAnyMomentLeavesNoPartialOrTemporaryFile) {
+  spit(p("big.qsp"), big_qsp());
+  fs::create_directory(p("ref"));
+  const ChildRun full = run_measured({"decompress", p("big.qsp"), p("ref/out.obj")});
+  ASSERT_EQ(full.exit_code, 0);
+  const std::string expected = slurp(p("ref/out.obj"));
+  fs::remove_all(p("ref"));
+  int killed = 0, finished = 0;
+  for (int step = 0; step < 24; ++step) {
+    // Spread over the whole run, denser towards the end where the output is written.
+    const double frac = step < 12 ? step / 12.0 : 0.7 + 0.6 * (step - 12) / 12.0;
+    const auto delay = std::chrono::microseconds(static_cast<long>(frac * full.seconds * 1e6));
+    std::string exe = QSP_CLI_PATH, a1 = "decompress", a2 = p("big.qsp"), a3 = p("out.obj");
+    char* argv[] = {exe.data(), a1.data(), a2.data(), a3.data(), nullptr};
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+    pid_t pid = 0;
+    ASSERT_EQ(posix_spawn(&pid, exe.c_str(), &fa, nullptr, argv, environ), 0);
+    posix_spawn_file_actions_destroy(&fa);
+    std::this_thread::sleep_for(delay);
+    ::kill(pid, SIGKILL);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    if (WIFSIGNALED(status)) {
+      ++killed;
+      EXPECT_EQ(listing(dir_), std::vector<std::string>{"big.qsp"}) << "after a kill at " << frac;
+    } else {
+      ++finished;
+      EXPECT_EQ(WEXITSTATUS(status), 0);
+      EXPECT_EQ(listing(dir_), (std::vector<std::string>{"big.qsp", "out.obj"}));
+      EXPECT_TRUE(slurp(p("out.obj")) == expected) << "complete output differs";
+    }
+    fs::remove(p("out.obj"));
+  }
+  EXPECT_GT(killed, 0);
+  std::printf("killed %d runs, %d finished first (a full run takes %.3f s)\n", killed, finished, full.seconds);
+}
+
+// A write that fails part-way (file size limit: EFBIG, as a full disk gives ENOSPC) is reported, the
+// temporary file is removed, nothing appears; a process killed by SIGXFSZ leaves nothing either.
+TEST_F(AtomicOutput, WriteErrorRemovesTheTemporaryFile) {
+  spit(p("big.qsp"), big_qsp());
+  const std::string cmd = std::string("prlimit --fsize=65536 ") + quote(QSP_CLI_PATH) + " decompress " +
+                          quote(p("big.qsp")) + " " + quote(p("out.obj"));
+  auto r = run_qsp("--version");  // make sure the binary runs at all
+  ASSERT_EQ(r.exit_code, 0);
+  const std::string err = p("err.txt");
+  int status = std::system(("sh -c " + quote("trap '' XFSZ; exec " + cmd) + " 2>" + quote(err)).c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 3) << status;
+  const std::string message = slurp(err);
+  fs::remove(err);
+  EXPECT_NE(message.find(p("out.obj") + ": cannot write: File too large"), std::string::npos) << message;
+  EXPECT_EQ(listing(dir_), std::vector<std::string>{"big.qsp"});
+  status = std::system(("sh -c " + quote("exec " + cmd) + " 2>/dev/null").c_str());
+  EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  EXPECT_EQ(listing(dir_), std::vector<std::string>{"big.qsp"}) << "killed by SIGXFSZ";
+}
+
+TEST_F(AtomicOutput, FullDeviceGivesAClearError) {
+  spit(p("c.qsp"), cube_qsp());
+  // Standard output on a full device.
+  int status = std::system((quote(QSP_CLI_PATH) + " decompress " + quote(p("c.qsp")) + " - >/dev/full 2>" +
+                            quote(p("err.txt")))
+                               .c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 3);
+  EXPECT_NE(slurp(p("err.txt")).find("No space left on device"), std::string::npos) << slurp(p("err.txt"));
+  fs::remove(p("err.txt"));
+  // A full device named as OUT with -f is written in place (never replaced by a regular file).
+  if (::geteuid() != 0) GTEST_SKIP() << "mknod of a private /dev/full needs root";
+  ASSERT_EQ(::mknod(p("full").c_str(), S_IFCHR | 0666, makedev(1, 7)), 0) << std::strerror(errno);
+  auto r = run_qsp("decompress -f " + quote(p("c.qsp")) + " -o " + quote(p("full")) + " ");
+  EXPECT_EQ(r.exit_code, 1);  // "full" has no .obj/.off extension
+  ASSERT_EQ(::rename(p("full").c_str(), p("full.obj").c_str()), 0);
+  r = run_qsp("decompress -f " + quote(p("c.qsp")) + " -o " + quote(p("full.obj")));
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
+  struct stat st {};
+  ASSERT_EQ(::lstat(p("full.obj").c_str(), &st), 0);
+  EXPECT_TRUE(S_ISCHR(st.st_mode)) << "the device node was replaced";
+  EXPECT_EQ(listing(dir_), (std::vector<std::string>{"c.qsp", "full.obj"}));
+  // Without -f an existing device is refused like any existing file.
+  r = run_qsp("decompress " + quote(p("c.qsp")) + " -o " + quote(p("full.obj")));
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("already exists"), std::string::npos) << r.err;
+}
+
+TEST_F(AtomicOutput, UnwritableOrMissingFolderGivesAClearError) {
+  spit(p("c.qsp"), cube_qsp());
+  fs::permissions(p("c.qsp"), fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  auto r = run_qsp("decompress " + quote(p("c.qsp")) + " " + quote(p("no/such/dir/out.obj")));
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("No such file or directory"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(p("no/such/dir")), std::string::npos) << r.err;
+  fs::create_directory(p("ro"));
+  fs::permissions(p("ro"), fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
+                               fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec);
+  // root ignores folder permissions: drop to nobody for this run.
+  const std::string as_user = ::geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups " : "";
+  const int status = std::system((as_user + quote(QSP_CLI_PATH) + " decompress " + quote(p("c.qsp")) + " " +
+                                  quote(p("ro/out.obj")) + " 2>" + quote(p("err.txt")))
+                                     .c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 3) << status;
+  const std::string message = slurp(p("err.txt"));
+  EXPECT_NE(message.find(p("ro/out.obj")), std::string::npos) << message;
+  EXPECT_NE(message.find("Permission denied"), std::string::npos) << message;
+  EXPECT_TRUE(fs::is_empty(p("ro")));
+}
+
+TEST_F(AtomicOutput, ExistingFilesAreNeverClobberedWithoutForce) {
+  spit(p("c.qsp"), cube_qsp());
+  fs::copy_file(std::string(QSP_TESTDATA_DIR) + "/cube_4.obj", p("cube.obj"));
+  spit(p("out.obj"), "precious\n");
+  spit(p("out.qsp"), "precious\n");
+  fs::create_symlink(p("elsewhere.txt"), p("dangling.obj"));
+  for (const std::string& cmd : {"decompress " + quote(p("c.qsp")) + " " + quote(p("out.obj")),
+                                 "decompress " + quote(p("c.qsp")) + " -o " + quote(p("dangling.obj")),
+                                 "compress " + quote(p("cube.obj")) + " " + quote(p("out.qsp"))}) {
+    SCOPED_TRACE(cmd);
+    const auto r = run_qsp(cmd);
+    EXPECT_EQ(r.exit_code, 3);
+    EXPECT_NE(r.err.find("already exists"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(slurp(p("out.obj")), "precious\n");
+  EXPECT_EQ(slurp(p("out.qsp")), "precious\n");
+  EXPECT_FALSE(fs::exists(p("elsewhere.txt")));
+  EXPECT_EQ(run_qsp("decompress -f " + quote(p("c.qsp")) + " " + quote(p("out.obj"))).exit_code, 0);
+  EXPECT_EQ(encode(read_mesh_file(p("out.obj"))), slurp(p("c.qsp")));
+  EXPECT_EQ(listing(dir_), (std::vector<std::string>{"c.qsp", "cube.obj", "dangling.obj", "out.obj", "out.qsp"}));
+}
+
+TEST_F(AtomicOutput, TheInputIsNeverOverwrittenEvenWithForce) {
+  fs::copy_file(std::string(QSP_TESTDATA_DIR) + "/cube_4.obj", p("cube.obj"));
+  const std::string before = slurp(p("cube.obj"));
+  spit(p("c.qsp"), cube_qsp());
+  fs::create_directory(p("sub"));
+  fs::create_hard_link(p("cube.obj"), p("hard.obj"));
+  fs::create_symlink(p("cube.obj"), p("soft.obj"));
+  fs::create_hard_link(p("c.qsp"), p("c_link.obj"));
+  for (const std::string& cmd :
+       {"compress -f " + quote(p("cube.obj")) + " " + quote(p("cube.obj")),
+        "compress -f " + quote(p("cube.obj")) + " -o " + quote(p("sub/../cube.obj")),
+        "compress -f " + quote(p("cube.obj")) + " " + quote(p("hard.obj")),
+        "compress -f " + quote(p("cube.obj")) + " " + quote(p("soft.obj")),
+        "compress -f " + quote(p("soft.obj")) + " " + quote(p("cube.obj")),
+        "decompress -f " + quote(p("c.qsp")) + " " + quote(p("c_link.obj"))}) {
+    SCOPED_TRACE(cmd);
+    const auto r = run_qsp(cmd);
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_NE(r.err.find("input"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(slurp(p("cube.obj")), before);
+  EXPECT_EQ(slurp(p("c.qsp")), cube_qsp());
+  EXPECT_TRUE(fs::is_symlink(p("soft.obj")));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Real meshes through the CLI: exact round trip or a clear refusal, never a crash.
+
+using SharedMeshesCli = TempDir;
+
+TEST_F(SharedMeshesCli, EachRoundTripsExactlyOrIsRefusedClearly) {
+  std::vector<fs::path> files;
+  for (const char* sub : {"meshes", "meshes/osd_shapes"}) {
+    const fs::path d = fs::path(QSP_SHARED_DIR) / sub;
+    if (!fs::is_directory(d)) continue;
+    for (const auto& e : fs::directory_iterator(d)) {
+      const MeshFormat f = format_from_path(e.path().string());
+      if (f == MeshFormat::kObj || f == MeshFormat::kOff || f == MeshFormat::kPly) files.push_back(e.path());
+    }
+  }
+  if (files.empty()) GTEST_SKIP() << "no ../shared/meshes";
+  std::sort(files.begin(), files.end());
+  int round_tripped = 0, refused = 0;
+  for (const fs::path& f : files) {
+    SCOPED_TRACE(f.string());
+    const std::string q = p("m.qsp"), back = p("back.obj");
+    auto r = run_qsp("compress --keep-order " + quote(f.string()) + " " + quote(q));
+    if (r.exit_code == 1 && r.err.find("--positions-only") != std::string::npos) {
+      r = run_qsp("compress --keep-order --positions-only " + quote(f.string()) + " " + quote(q));
+    }
+    if (r.exit_code != 0) {
+      ++refused;
+      EXPECT_EQ(r.exit_code, 1) << r.err;
+      EXPECT_NE(r.err.find("qsp: error: " + f.string() + ":"), std::string::npos) << r.err;
+      EXPECT_EQ(r.err.find("internal"), std::string::npos) << r.err;
+      EXPECT_FALSE(fs::exists(q));
+      continue;
+    }
+    r = run_qsp("decompress " + quote(q) + " " + quote(back));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const QuadMesh a = read_mesh_file(f.string()), b = read_mesh_file(back);
+    EXPECT_EQ(a.quads, b.quads);
+    EXPECT_TRUE(fuzz::same_bits(a.positions, b.positions));
+    ++round_tripped;
+    fs::remove(q);
+    fs::remove(back);
+  }
+  std::printf("%d meshes round-tripped exactly, %d refused with a message\n", round_tripped, refused);
+  EXPECT_GT(round_tripped, 20);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Fuzzer findings (testdata/invalid/fuzz/, see testdata/README.md): each input with its NAME.expect.
+// code=ok means the input must now round-trip (a valid mesh that once crashed the codec).
+
+TEST(FuzzRegressions, EachFindingStaysFixed) {
+  const fs::path dir = fs::path(QSP_TESTDATA_DIR) / "invalid" / "fuzz";
+  if (!fs::is_directory(dir)) GTEST_SKIP() << "no findings recorded yet";
+  int checked = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const fs::path f = e.path();
+    const std::string ext = f.extension().string();
+    if (ext == ".expect" || ext == ".md") continue;
+    SCOPED_TRACE(f.filename().string());
+    fs::path sidecar = f;
+    sidecar.replace_extension(".expect");
+    ASSERT_TRUE(fs::exists(sidecar)) << "missing sidecar " << sidecar;
+    auto expect = read_expect(sidecar);
+    ASSERT_TRUE(expect.count("code")) << sidecar;
+    const std::string bytes = slurp(f);
+    Caught c;
+    try {
+      if (ext == ".qsp") {
+        QuadMesh m = decode(bytes);
+        (void)build_adjacency(m);
+        fuzz::check_round_trip(m, "decoded finding");
+      } else {
+        QuadMesh m = ext == ".off" ? read_off(bytes, f.filename().string()) : read_obj(bytes, f.filename().string());
+        fuzz::check_round_trip(m, "finding");
+        if (expect["code"] != "ok") (void)build_adjacency(m);
+      }
+    } catch (const Error& err) {
+      c = {true, err.code(), err.what()};
+    }
+    if (expect["code"] == "ok") {
+      EXPECT_FALSE(c.thrown) << c.message;
+    } else {
+      ASSERT_TRUE(c.thrown) << "accepted";
+      EXPECT_EQ(error_name(c.code), expect["code"]) << c.message;
+      EXPECT_NE(c.message.find(expect["message"]), std::string::npos) << c.message << "\nexpected: " << expect["message"];
+    }
+    ++checked;
+  }
+  std::printf("%d fuzzer findings checked\n", checked);
+}
+
+}  // namespace
+}  // namespace qsp

@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# Hostile input (docs/hardening.md): the whole test suite under AddressSanitizer + UBSan (build-asan),
+# then every libFuzzer target (build-fuzz, clang) for a bounded time on seeds made from testdata/.
+# Fails on any test failure, sanitizer report or fuzzer finding (crash, leak, timeout, out of memory).
+#
+# Usage: tools/hardening.sh [--no-asan] [--no-fuzz] [--fuzz-time SECONDS]
+#   QSP_FUZZ_TIME (default 60) is the time per target; QSP_FUZZ_JOBS (default: nproc) how many run
+#   at once. Findings are saved as build-fuzz/run/artifacts/TARGET-crash-*; reproduce one with
+#   build-fuzz/fuzz/fuzz_TARGET FILE, then add it to testdata/invalid/fuzz/ (see testdata/README.md).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+run_asan=1 run_fuzz=1
+fuzz_time=${QSP_FUZZ_TIME:-60}
+while (($#)); do
+  case "$1" in
+    --no-asan) run_asan=0 ;;
+    --no-fuzz) run_fuzz=0 ;;
+    --fuzz-time) fuzz_time=$2; shift ;;
+    -h|--help) sed -n '2,10p' "$0"; exit 0 ;;
+    *) echo "hardening.sh: unknown argument $1" >&2; exit 2 ;;
+  esac
+  shift
+done
+jobs=$(nproc)
+shared=../shared
+log() { printf '\n== hardening: %s\n' "$*"; }
+
+QSP_WITH_FUZZ=$run_fuzz tools/setup.sh
+
+if ((run_asan)); then
+  log "test suite under ASan + UBSan (build-asan)"
+  start=$SECONDS
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DQSP_SANITIZE=ON -DQSP_WERROR=ON >/dev/null
+  cmake --build build-asan -j"$jobs"
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1 \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    ctest --test-dir build-asan --output-on-failure -j"$jobs"
+  echo "hardening: sanitized suite passed in $((SECONDS - start)) s"
+fi
+
+if ((run_fuzz)); then
+  log "fuzzers (build-fuzz, ${fuzz_time} s per target)"
+  start=$SECONDS
+  cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+    -DQSP_FUZZ=ON -DQSP_BUILD_TESTS=OFF -DQSP_WERROR=ON >/dev/null
+  cmake --build build-fuzz --target qsp_fuzz -j"$jobs"
+  run=build-fuzz/run
+  rm -rf "$run/seeds" "$run/logs" "$run/artifacts"
+  mkdir -p "$run/logs" "$run/artifacts"
+  build-fuzz/fuzz/qsp_fuzz_seeds "$run/seeds" testdata "$shared"
+
+  targets=(decode_qsp roundtrip read_obj read_off)
+  declare -A max_len=([decode_qsp]=32768 [roundtrip]=16384 [read_obj]=16384 [read_off]=16384)
+  fuzz_one() {
+    local t=$1
+    # The corpus grows across runs (build output, never committed); seeds and the regression files
+    # in testdata/invalid/fuzz are read every time.
+    mkdir -p "$run/corpus/$t"
+    "build-fuzz/fuzz/fuzz_$t" "$run/corpus/$t" "$run/seeds/$t" testdata/invalid/fuzz \
+      -max_total_time="$fuzz_time" -max_len="${max_len[$t]}" -timeout=10 -rss_limit_mb=2048 \
+      -malloc_limit_mb=1024 -print_final_stats=1 -artifact_prefix="$run/artifacts/$t-" \
+      -dict=fuzz/"$( [[ $t == decode_qsp ]] && echo qsp || echo mesh )".dict \
+      >"$run/logs/$t.log" 2>&1
+  }
+  declare -A pid
+  failed=()
+  running=0
+  for t in "${targets[@]}"; do
+    if ((running >= ${QSP_FUZZ_JOBS:-$jobs})); then
+      wait -n || true
+      running=$((running - 1))
+    fi
+    fuzz_one "$t" &
+    pid[$t]=$!
+    running=$((running + 1))
+  done
+  for t in "${targets[@]}"; do
+    if ! wait "${pid[$t]}"; then failed+=("$t"); fi
+  done
+  printf '\n%-12s %14s %10s %8s\n' target executions exec/s corpus
+  for t in "${targets[@]}"; do
+    execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$run/logs/$t.log" | tail -1)
+    speed=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$run/logs/$t.log" | tail -1)
+    corpus=$(find "$run/corpus/$t" -type f | wc -l)
+    printf '%-12s %14s %10s %8s\n' "$t" "${execs:-?}" "${speed:-?}" "$corpus"
+  done
+  if ((${#failed[@]})); then
+    for t in "${failed[@]}"; do
+      echo
+      echo "hardening: fuzz_$t found a problem; last lines of $run/logs/$t.log:"
+      grep -v '^#' "$run/logs/$t.log" | tail -40
+    done
+    ls -l "$run/artifacts" >&2
+    echo "hardening: FAILED (${failed[*]})" >&2
+    exit 1
+  fi
+  echo "hardening: fuzzers found nothing in $((SECONDS - start)) s"
+fi
+echo "hardening: OK"
