@@ -302,7 +302,9 @@ void assemble(const std::vector<ComponentPartition>& parts, std::uint32_t unrefe
     auto base = static_cast<std::uint32_t>(stencil.size());
     for (std::uint32_t v : g.quads) quads.push_back(v + base);
     for (const GridLayout::Stencil& st : g.stencil) {
-      stencil.push_back({shift(st.w, base), shift(st.ww, base), shift(st.s, base), shift(st.sw, base)});
+      stencil.push_back({shift(st.w, base), shift(st.ww, base), shift(st.s, base), shift(st.sw, base),
+                         shift(st.far, base), st.far_dist, shift(st.e, base), shift(st.es, base),
+                         shift(st.n, base), shift(st.nw, base), st.e_dist, st.n_dist});
     }
   }
   for (std::uint32_t u = 0; u < unreferenced; ++u) {

@@ -86,7 +86,7 @@ class Reader {
 // Residual model: zigzag value u, coded as its bit length L (6-bit binary tree) and then the bits
 // below the leading one (the first two with adaptive contexts, the rest raw).
 
-constexpr int kKinds = 5;         // predictor kinds, see Kind
+constexpr int kKinds = 7;         // context kinds: Kind, plus kWest/kLinear with a far end (5, 6)
 constexpr int kBuckets = 24;      // neighbourhood magnitude classes
 constexpr int kModelledBits = 2;  // mantissa bits with their own contexts
 constexpr int kMaxTrailingZeros = 12;  // decimal integers: 10^12 < 2^40 < 10^13
@@ -178,8 +178,14 @@ enum Kind : std::uint8_t { kNone = 0, kWest = 1, kLinear = 2, kParallelogram = 3
 // s (0,-1), sw (-1,-1), and derived from other stencils: se (1,-1), ss (0,-2), sww (-2,-1), ssw (-1,-2).
 struct Hood {
   std::uint32_t w, ww, s, sw, se = kInvalid, ss = kInvalid, sww = kInvalid, ssw = kInvalid;
+  std::uint32_t far = kInvalid, far_dist = 0;  // edge points: the edge's far end, far_dist steps ahead
+  // patch-inner points: the patch sides ahead along the row (e, es) and the column (n, nw)
+  std::uint32_t e = kInvalid, es = kInvalid, n = kInvalid, nw = kInvalid, e_dist = 0, n_dist = 0;
   Kind kind;
+  std::uint8_t ctx;  // context kind: kind, or 5 / 6 for kWest / kLinear with a far end
 };
+
+constexpr std::uint32_t kMaxFarDist = 64;  // farther ends are ignored (and keep the products small)
 
 std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st) {
   const auto n = static_cast<std::uint32_t>(st.size());
@@ -198,6 +204,8 @@ std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st) {
     x.sw = s.w != kInvalid && s.s != kInvalid ? s.sw : kInvalid;
     if (full(i)) {
       x.kind = kParallelogram;
+      if (s.e != kInvalid && s.es != kInvalid && s.e_dist >= 1) x.e = s.e, x.es = s.es, x.e_dist = s.e_dist;
+      if (s.n != kInvalid && s.nw != kInvalid && s.n_dist >= 1) x.n = s.n, x.nw = s.nw, x.n_dist = s.n_dist;
       const std::uint32_t e = east[i];
       if (e != kInvalid && st[e].sw == s.s && st[e].s < i) x.se = st[e].s;
       x.ss = st[s.s].s;
@@ -207,27 +215,43 @@ std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st) {
       }
     } else if (s.w != kInvalid) {
       x.kind = s.ww != kInvalid ? kLinear : kWest;
+      if (s.far != kInvalid && s.far_dist >= 1 && s.far_dist <= kMaxFarDist) x.far = s.far, x.far_dist = s.far_dist;
     } else if (s.s != kInvalid) {
       x.kind = kSouth;
     } else {
       x.kind = kNone;
       x.w = i == 0 ? kInvalid : i - 1;  // the previous vertex stands in for w
     }
+    x.ctx = x.far != kInvalid ? static_cast<std::uint8_t>(x.kind + 4) : x.kind;
   }
   return h;
 }
 
 // Integer predictors. Blending them helps most where a coarse mesh bends (spot, blub): the
 // parallelogram alone misses curvature, the quadratic ones overshoot on noise.
-constexpr int kCandidates = 8;
+constexpr int kCandidates = 11;
 constexpr std::uint32_t kNoError = 0xFFFFFFFFu;
 
 // Which candidates vertex hood x has all neighbours for (bit k = candidate k).
 unsigned candidate_mask(const Hood& x) {
   const bool w = x.w != kInvalid, ww = x.ww != kInvalid, s = x.s != kInvalid, sw = x.sw != kInvalid;
+  const bool full = x.kind == kParallelogram;
   const bool se = x.se != kInvalid, ss = x.ss != kInvalid, sww = x.sww != kInvalid, ssw = x.ssw != kInvalid;
   return (w && s && sw) << 0 | (w && ww) << 1 | (w && ww && s && sw && se) << 2 | (s && ss) << 3 |
-         (w && ww && s && sw && sww) << 4 | (w && s && sw && ss && ssw) << 5 | w << 6 | (w && se && sw) << 7;
+         (w && ww && s && sw && sww) << 4 | (w && s && sw && ss && ssw) << 5 | w << 6 | (w && se && sw) << 7 |
+         (full && x.e != kInvalid) << 8 | (full && x.n != kInvalid) << 9 |
+         (full && x.e != kInvalid && x.n != kInvalid) << 10;
+}
+
+std::int64_t floor_div(std::int64_t a, std::int64_t b);
+// How the column step s - sw... at the row's end differs from w's, spread over the e_dist + 1 steps.
+std::int64_t row_correction(const Hood& x, const std::int64_t* v) {
+  const std::int64_t d = std::int64_t{x.e_dist} + 1, c = (v[x.e] - v[x.es]) - (v[x.w] - v[x.sw]);
+  return floor_div(2 * c + d, 2 * d);
+}
+std::int64_t column_correction(const Hood& x, const std::int64_t* v) {
+  const std::int64_t d = std::int64_t{x.n_dist} + 1, c = (v[x.n] - v[x.nw]) - (v[x.s] - v[x.sw]);
+  return floor_div(2 * c + d, 2 * d);
 }
 
 // Candidate k for vertex hood x on one axis (values v); its neighbours must exist (candidate_mask).
@@ -241,6 +265,9 @@ std::int64_t candidate(const Hood& x, const std::int64_t* v, int k) {
     case 5: return 2 * v[x.s] - v[x.ss] + v[x.w] - 2 * v[x.sw] + v[x.ssw];  // ... of column steps
     case 6: return v[x.w];                                    // west
     case 7: return v[x.w] + ((v[x.se] - v[x.sw]) >> 1);       // west + central difference below
+    case 8: return v[x.w] + v[x.s] - v[x.sw] + row_correction(x, v);     // parallelogram, column step
+    case 9: return v[x.w] + v[x.s] - v[x.sw] + column_correction(x, v);  // varying linearly to the sides
+    case 10: return v[x.w] + v[x.s] - v[x.sw] + row_correction(x, v) + column_correction(x, v);
   }
   return 0;
 }
@@ -303,8 +330,19 @@ int bucket_for(const std::uint8_t* lengths, const Hood& x) {
 std::int64_t predict_fixed(const Hood& x, const std::int64_t* v) {
   switch (x.kind) {
     case kParallelogram: return v[x.w] + v[x.s] - v[x.sw];
-    case kLinear: return 2 * v[x.w] - v[x.ww];
-    case kWest: return v[x.w];
+    case kLinear:
+      if (x.far != kInvalid) {  // the quadratic through ww (-2), w (-1) and far (D), at 0
+        const std::int64_t d = x.far_dist, den = (d + 1) * (d + 2);
+        const std::int64_t num = -d * (d + 1) * v[x.ww] + 2 * d * (d + 2) * v[x.w] + 2 * v[x.far];
+        return floor_div(2 * num + den, 2 * den);
+      }
+      return 2 * v[x.w] - v[x.ww];
+    case kWest:
+      if (x.far != kInvalid) {  // the line through w (-1) and far (D), at 0
+        const std::int64_t d = x.far_dist;
+        return floor_div(2 * (d * v[x.w] + v[x.far]) + d + 1, 2 * (d + 1));
+      }
+      return v[x.w];
     case kSouth: return v[x.s];
     case kNone: return x.w == kInvalid ? 0 : v[x.w];
   }
@@ -441,7 +479,7 @@ void check_stencil(std::span<const GridLayout::Stencil> stencil, std::size_t n) 
   if (stencil.size() != n) throw Error(ErrorCode::kInternal, "geometry: stencil count != vertex count");
   for (std::uint32_t i = 0; i < n; ++i) {
     const auto& s = stencil[i];
-    for (std::uint32_t j : {s.w, s.ww, s.s, s.sw}) {
+    for (std::uint32_t j : {s.w, s.ww, s.s, s.sw, s.far, s.e, s.es, s.n, s.nw}) {
       if (j != kInvalid && j >= i) throw Error(ErrorCode::kInternal, "geometry: stencil refers forward");
     }
   }
@@ -598,7 +636,7 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
             if (r > qmax / 2) r -= qmax + 1;
             u = zigzag64(r);
           } else {
-            u = model->decode(*dec, x.kind, bucket, h.max_length(a));
+            u = model->decode(*dec, x.ctx, bucket, h.max_length(a));
             v[i] = (pred + unzigzag64(u)) & qmax;
             (*out)[3 * std::size_t{i} + a] = h.grid.value(a, v[i]);
           }
@@ -619,7 +657,7 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
               u = zigzag64(v[i] - pred);
             }
           } else {
-            u = model->decode(*dec, x.kind, bucket, h.max_length(a));
+            u = model->decode(*dec, x.ctx, bucket, h.max_length(a));
             if (plan.trailing_zeros) {
               const int t = model->decode_zeros(*dec, digits);
               const std::int64_t unit = kPow10i[t];
@@ -640,7 +678,7 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
         if constexpr (kEncode) {
           u = zigzag64(static_cast<std::int64_t>(float_image(f[i])) - pred);
         } else {
-          u = model->decode(*dec, x.kind, bucket, h.max_length(a));
+          u = model->decode(*dec, x.ctx, bucket, h.max_length(a));
           const std::int64_t m = pred + unzigzag64(u);
           if (m < 0 || m > 0xFFFFFFFFll) fail("float residual out of range");
           f[i] = image_float(static_cast<std::uint32_t>(m));
@@ -648,7 +686,7 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
         }
       }
       if constexpr (kEncode) {
-        model->encode(*enc, u, x.kind, bucket);
+        model->encode(*enc, u, x.ctx, bucket);
         if (zeros >= 0) model->encode_zeros(*enc, zeros, digits);
       }
       lengths[a][i] = static_cast<std::uint8_t>(std::bit_width(u));

@@ -192,6 +192,8 @@ GridLayout grid_layout(const ComponentPartition& part) {
       auto& t = st[base + k - 1];
       t.w = k == 1 ? u : base + k - 2;
       t.ww = k == 1 ? kInvalid : (k == 2 ? u : base + k - 3);
+      t.far = s.dart_vertex[2 * e + 1];
+      t.far_dist = len - k;
     }
   }
   // Patch-inner points: all boundary points are numbered before them.
@@ -205,6 +207,8 @@ GridLayout grid_layout(const ComponentPartition& part) {
         t.ww = i >= 2 ? g.at(i - 2, j) : kInvalid;
         t.s = g.at(i, j - 1);
         t.sw = g.at(i - 1, j - 1);
+        t.e = g.at(g.a, j), t.es = g.at(g.a, j - 1), t.e_dist = g.a - i;
+        t.n = g.at(i, g.b), t.nw = g.at(i - 1, g.b), t.n_dist = g.b - j;
       }
   }
   return out;

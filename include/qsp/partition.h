@@ -103,8 +103,15 @@ struct GridLayout {
   std::vector<std::uint32_t> quads;  // 4 per face
   // Per vertex: grid neighbours already numbered before it, for geometry prediction (kInvalid if none):
   // w = previous along its row/edge, ww = the one before that, s = below, sw = below-left.
+  // far = for a point inside a schematic edge, the edge's end vertex ahead of it (numbered before it,
+  // like every schematic vertex), far_dist mesh edges away (>= 1); kInvalid and 0 elsewhere.
+  // For a patch-inner point (i, j) of an (a,b)-grid: e = (a, j) and es = (a, j-1) on the patch side
+  // ahead along its row, e_dist = a - i; n = (i, b) and nw = (i-1, b) on the side ahead along its
+  // column, n_dist = b - j. All are boundary points, numbered before every patch-inner point.
   struct Stencil {
     std::uint32_t w = kInvalid, ww = kInvalid, s = kInvalid, sw = kInvalid;
+    std::uint32_t far = kInvalid, far_dist = 0;
+    std::uint32_t e = kInvalid, es = kInvalid, n = kInvalid, nw = kInvalid, e_dist = 0, n_dist = 0;
   };
   std::vector<Stencil> stencil;
 };

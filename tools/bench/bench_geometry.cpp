@@ -42,7 +42,7 @@ Coded layout_order(const qsp::QuadMesh& mesh) {
     const auto base = static_cast<std::uint32_t>(c.stencil.size());
     for (std::uint32_t v = 0; v < layout.vertex_count; ++v) {
       GridLayout::Stencil s = layout.stencil[v];
-      for (std::uint32_t* j : {&s.w, &s.ww, &s.s, &s.sw})
+      for (std::uint32_t* j : {&s.w, &s.ww, &s.s, &s.sw, &s.far, &s.e, &s.es, &s.n, &s.nw})
         if (*j != kInvalid) *j += base;
       c.stencil.push_back(s);
       for (int a = 0; a < 3; ++a) c.positions.push_back(mesh.positions[3 * map.vertex[v] + a]);
