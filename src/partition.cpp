@@ -46,6 +46,16 @@ void structured_closed(const Adjacency& adj, ComponentPartition& part, std::uint
 
 }  // namespace
 
+const char* component_kind_name(ComponentKind kind) noexcept {
+  switch (kind) {
+    case ComponentKind::kUnstructured: return "unstructured";
+    case ComponentKind::kDisk: return "disk";
+    case ComponentKind::kAnnulus: return "annulus";
+    case ComponentKind::kTorus: return "torus";
+  }
+  return "?";
+}
+
 std::uint32_t Schematic::patch_count() const {
   return static_cast<std::uint32_t>(std::count(face_hole.begin(), face_hole.end(), 0));
 }

@@ -31,6 +31,9 @@ MotorcycleGraph trace_motorcycles(const Adjacency& adj, std::span<const std::uin
 // (Lemma 2): a disk is one patch; an annulus or torus has no schematic vertex and is stored by its sizes.
 enum class ComponentKind : std::uint8_t { kUnstructured = 0, kDisk = 1, kAnnulus = 2, kTorus = 3 };
 
+// "unstructured", "disk", "annulus", "torus" (as `qsp stats --verbose` and `qsp match` print them).
+const char* component_kind_name(ComponentKind kind) noexcept;
+
 // A schematic partition (§4) as a winged-edge structure stored by darts. Edge e has darts 2e and
 // 2e+1, running opposite ways (twin = d ^ 1); a dart's face lies on its left, so walking `dart_next`
 // goes counter-clockwise around a face. The wings of edge e are dart_next/dart_prev of its two darts.

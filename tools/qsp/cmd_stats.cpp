@@ -39,15 +39,6 @@ struct Row {
   std::vector<Comp> comps;
 };
 
-const char* kind_name(ComponentKind k) {
-  switch (k) {
-    case ComponentKind::kUnstructured: return "unstructured";
-    case ComponentKind::kDisk: return "disk";
-    case ComponentKind::kAnnulus: return "annulus";
-    case ComponentKind::kTorus: return "torus";
-  }
-  return "?";
-}
 
 void add_sizes(Row& r, const FileInfo& info) {
   r.has_bytes = true;
@@ -74,7 +65,7 @@ Row qsp_row(const std::string& file) {
   for (const auto& c : info.components) {
     const bool closed = c.kind == ComponentKind::kAnnulus || c.kind == ComponentKind::kTorus;
     // A .qsp does not store per-component edge or extraordinary counts; those columns read 0.
-    r.comps.push_back({kind_name(c.kind), c.vertices, 0, c.faces, 0, c.schematic_vertices, c.schematic_edges,
+    r.comps.push_back({component_kind_name(c.kind), c.vertices, 0, c.faces, 0, c.schematic_vertices, c.schematic_edges,
                        closed ? 1u : c.patches, 0});
   }
   add_sizes(r, info);
@@ -96,7 +87,7 @@ Row mesh_row(const std::string& file, const LoadedMesh& loaded, PartitionMode mo
   for (std::uint32_t c = 0; c < adj.component_count; ++c) {
     const auto& p = part.components[c];
     const bool closed = p.kind == ComponentKind::kAnnulus || p.kind == ComponentKind::kTorus;
-    Row::Comp k{kind_name(p.kind), info[c].vertices, info[c].edges, info[c].faces, info[c].extraordinary,
+    Row::Comp k{component_kind_name(p.kind), info[c].vertices, info[c].edges, info[c].faces, info[c].extraordinary,
                 closed ? 0 : p.schematic.vertex_count, closed ? 0 : p.schematic.edge_count(),
                 closed ? 1 : p.schematic.patch_count(), info[c].euler()};
     r.edges += k.edges;
