@@ -178,11 +178,14 @@ enum Kind : std::uint8_t { kNone = 0, kWest = 1, kLinear = 2, kParallelogram = 3
 // s (0,-1), sw (-1,-1), and derived from other stencils: se (1,-1), ss (0,-2), sww (-2,-1), ssw (-1,-2).
 struct Hood {
   std::uint32_t w, ww, s, sw, se = kInvalid, ss = kInvalid, sww = kInvalid, ssw = kInvalid;
-  std::uint32_t far = kInvalid, far_dist = 0;  // edge points: the edge's far end, far_dist steps ahead
-  // patch-inner points: the patch sides ahead along the row (e, es) and the column (n, nw)
-  std::uint32_t e = kInvalid, es = kInvalid, n = kInvalid, nw = kInvalid, e_dist = 0, n_dist = 0;
+  const GridLayout::Stencil* t = nullptr;  // its stencil, for the fields `sides` says count
   Kind kind;
   std::uint8_t ctx;  // context kind: kind, or 5 / 6 for kWest / kLinear with a far end
+  // Which of the stencil's far (edge points: the edge's far end, far_dist steps ahead), e/es (patch
+  // side ahead along the row, e_dist) and n/nw (along the column, n_dist) count.
+  std::uint8_t sides = 0;
+  static constexpr std::uint8_t kFar = 1, kEast = 2, kNorth = 4;
+  bool has(std::uint8_t side) const { return (sides & side) != 0; }
 };
 
 constexpr std::uint32_t kMaxFarDist = 64;  // farther ends are ignored (and keep the products small)
@@ -204,8 +207,8 @@ std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st) {
     x.sw = s.w != kInvalid && s.s != kInvalid ? s.sw : kInvalid;
     if (full(i)) {
       x.kind = kParallelogram;
-      if (s.e != kInvalid && s.es != kInvalid && s.e_dist >= 1) x.e = s.e, x.es = s.es, x.e_dist = s.e_dist;
-      if (s.n != kInvalid && s.nw != kInvalid && s.n_dist >= 1) x.n = s.n, x.nw = s.nw, x.n_dist = s.n_dist;
+      if (s.e != kInvalid && s.es != kInvalid && s.e_dist >= 1) x.sides |= Hood::kEast;
+      if (s.n != kInvalid && s.nw != kInvalid && s.n_dist >= 1) x.sides |= Hood::kNorth;
       const std::uint32_t e = east[i];
       if (e != kInvalid && st[e].sw == s.s && st[e].s < i) x.se = st[e].s;
       x.ss = st[s.s].s;
@@ -215,14 +218,15 @@ std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st) {
       }
     } else if (s.w != kInvalid) {
       x.kind = s.ww != kInvalid ? kLinear : kWest;
-      if (s.far != kInvalid && s.far_dist >= 1 && s.far_dist <= kMaxFarDist) x.far = s.far, x.far_dist = s.far_dist;
+      if (s.far != kInvalid && s.far_dist >= 1 && s.far_dist <= kMaxFarDist) x.sides |= Hood::kFar;
     } else if (s.s != kInvalid) {
       x.kind = kSouth;
     } else {
       x.kind = kNone;
       x.w = i == 0 ? kInvalid : i - 1;  // the previous vertex stands in for w
     }
-    x.ctx = x.far != kInvalid ? static_cast<std::uint8_t>(x.kind + 4) : x.kind;
+    x.t = &s;
+    x.ctx = x.has(Hood::kFar) ? static_cast<std::uint8_t>(x.kind + 4) : static_cast<std::uint8_t>(x.kind);
   }
   return h;
 }
@@ -239,18 +243,18 @@ unsigned candidate_mask(const Hood& x) {
   const bool se = x.se != kInvalid, ss = x.ss != kInvalid, sww = x.sww != kInvalid, ssw = x.ssw != kInvalid;
   return (w && s && sw) << 0 | (w && ww) << 1 | (w && ww && s && sw && se) << 2 | (s && ss) << 3 |
          (w && ww && s && sw && sww) << 4 | (w && s && sw && ss && ssw) << 5 | w << 6 | (w && se && sw) << 7 |
-         (full && x.e != kInvalid) << 8 | (full && x.n != kInvalid) << 9 |
-         (full && x.e != kInvalid && x.n != kInvalid) << 10;
+         (full && x.has(Hood::kEast)) << 8 | (full && x.has(Hood::kNorth)) << 9 |
+         (full && x.has(Hood::kEast) && x.has(Hood::kNorth)) << 10;
 }
 
 std::int64_t floor_div(std::int64_t a, std::int64_t b);
 // How the column step s - sw... at the row's end differs from w's, spread over the e_dist + 1 steps.
 std::int64_t row_correction(const Hood& x, const std::int64_t* v) {
-  const std::int64_t d = std::int64_t{x.e_dist} + 1, c = (v[x.e] - v[x.es]) - (v[x.w] - v[x.sw]);
+  const std::int64_t d = std::int64_t{x.t->e_dist} + 1, c = (v[x.t->e] - v[x.t->es]) - (v[x.w] - v[x.sw]);
   return floor_div(2 * c + d, 2 * d);
 }
 std::int64_t column_correction(const Hood& x, const std::int64_t* v) {
-  const std::int64_t d = std::int64_t{x.n_dist} + 1, c = (v[x.n] - v[x.nw]) - (v[x.s] - v[x.sw]);
+  const std::int64_t d = std::int64_t{x.t->n_dist} + 1, c = (v[x.t->n] - v[x.t->nw]) - (v[x.s] - v[x.sw]);
   return floor_div(2 * c + d, 2 * d);
 }
 
@@ -331,16 +335,16 @@ std::int64_t predict_fixed(const Hood& x, const std::int64_t* v) {
   switch (x.kind) {
     case kParallelogram: return v[x.w] + v[x.s] - v[x.sw];
     case kLinear:
-      if (x.far != kInvalid) {  // the quadratic through ww (-2), w (-1) and far (D), at 0
-        const std::int64_t d = x.far_dist, den = (d + 1) * (d + 2);
-        const std::int64_t num = -d * (d + 1) * v[x.ww] + 2 * d * (d + 2) * v[x.w] + 2 * v[x.far];
+      if (x.has(Hood::kFar)) {  // the quadratic through ww (-2), w (-1) and far (D), at 0
+        const std::int64_t d = x.t->far_dist, den = (d + 1) * (d + 2);
+        const std::int64_t num = -d * (d + 1) * v[x.ww] + 2 * d * (d + 2) * v[x.w] + 2 * v[x.t->far];
         return floor_div(2 * num + den, 2 * den);
       }
       return 2 * v[x.w] - v[x.ww];
     case kWest:
-      if (x.far != kInvalid) {  // the line through w (-1) and far (D), at 0
-        const std::int64_t d = x.far_dist;
-        return floor_div(2 * (d * v[x.w] + v[x.far]) + d + 1, 2 * (d + 1));
+      if (x.has(Hood::kFar)) {  // the line through w (-1) and far (D), at 0
+        const std::int64_t d = x.t->far_dist;
+        return floor_div(2 * (d * v[x.w] + v[x.t->far]) + d + 1, 2 * (d + 1));
       }
       return v[x.w];
     case kSouth: return v[x.s];
