@@ -154,12 +154,19 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
   std::vector<std::uint8_t> is_x(adj.vertex_count, 0);
   for (std::uint32_t v = 0; v < adj.vertex_count; ++v)
     if (adj.valence[v] != 0 && adj.deficiency(v) != 0) is_x[v] = 1;
-  // next_cut[h]: the cut half-edge after h around the face or region on h's left.
-  std::vector<std::uint32_t> next_cut(nh, kInvalid);
+  // Cut half-edges in increasing order, with the cut half-edge after each around the face or region
+  // on its left. Indexed by binary search, not by arrays over all half-edges: on a big mesh few
+  // edges are cut, and two 4-byte-per-half-edge arrays would cost more than the search.
+  std::vector<std::uint32_t> cut_list, cut_next;
+  auto cut_index = [&](std::uint32_t h) -> std::uint32_t {
+    const auto it = std::lower_bound(cut_list.begin(), cut_list.end(), h);
+    return it != cut_list.end() && *it == h ? static_cast<std::uint32_t>(it - cut_list.begin()) : kInvalid;
+  };
   for (std::uint32_t h = 0; h < nh; ++h) {
     if (!cut[h]) continue;
     if (adj.is_exterior(h)) {
-      next_cut[h] = adj.next(h);
+      cut_list.push_back(h);
+      cut_next.push_back(adj.next(h));
       continue;
     }
     if (!general(adj.face_component[h >> 2])) continue;
@@ -168,7 +175,8 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
       g = adj.next(adj.twin[g]);
       if (++faces > adj.valence[adj.origin[g]]) internal("region boundary walk does not close");
     }
-    next_cut[h] = g;
+    cut_list.push_back(h);
+    cut_next.push_back(g);
     if (faces == 1) {
       corner_here[g] = 1;
       is_x[adj.origin[g]] = 1;
@@ -176,23 +184,33 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
       internal("vertex " + std::to_string(adj.origin[g]) + " has negative deficiency in its patch");
     }
   }
+  auto next_cut = [&](std::uint32_t h) {
+    const std::uint32_t i = cut_index(h);
+    if (i == kInvalid) internal("cut path leaves the cut edges");
+    return cut_next[i];
+  };
 
   // Darts: maximal runs of cut half-edges between X vertices along each face/region loop.
-  std::vector<std::uint32_t> dart_at(nh, kInvalid);  // first half-edge of a run -> dart
+  std::vector<std::uint32_t> run_at(cut_list.size(), kInvalid);  // by cut index: run starting there
+  auto dart_at = [&](std::uint32_t h) {
+    const std::uint32_t i = cut_index(h);
+    return i == kInvalid ? kInvalid : run_at[i];
+  };
   struct Run {
     std::uint32_t first, last, length, comp;
   };
   std::vector<Run> runs;
-  for (std::uint32_t h = 0; h < nh; ++h) {
-    if (next_cut[h] == kInvalid || !is_x[adj.origin[h]]) continue;
+  for (std::uint32_t i = 0; i < cut_list.size(); ++i) {
+    const std::uint32_t h = cut_list[i];
+    if (!is_x[adj.origin[h]]) continue;
     const std::uint32_t comp = adj.face_component[adj.is_exterior(h) ? adj.face(adj.twin[h]) : adj.face(h)];
     if (!general(comp)) continue;
     std::uint32_t g = h, len = 1;
     while (!is_x[adj.dest(g)]) {
-      g = next_cut[g];
+      g = next_cut(g);
       if (++len > nh) internal("schematic edge does not end");
     }
-    dart_at[h] = static_cast<std::uint32_t>(runs.size());
+    run_at[i] = static_cast<std::uint32_t>(runs.size());
     runs.push_back({h, g, len, comp});
   }
   // Group runs by component and number them per component: twins become darts 2e, 2e+1.
@@ -207,7 +225,7 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
     std::uint32_t nd = 0;
     for (std::uint32_t r : comp_runs[c]) {
       if (run_dart[r] != kInvalid) continue;
-      const std::uint32_t t = dart_at[adj.twin[runs[r].last]];
+      const std::uint32_t t = dart_at(adj.twin[runs[r].last]);
       if (t == kInvalid || runs[t].length != runs[r].length || adj.twin[runs[t].last] != runs[r].first)
         internal("the two sides of a schematic edge disagree");
       if (t == r) internal("schematic edge is its own twin");
@@ -227,7 +245,7 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
       const std::uint32_t d = run_dart[r];
       s.dart_halfedge[d] = runs[r].first;
       s.dart_corner[d] = corner_here[runs[r].first];
-      const std::uint32_t nxt = dart_at[next_cut[runs[r].last]];
+      const std::uint32_t nxt = dart_at(next_cut(runs[r].last));
       if (nxt == kInvalid) internal("schematic face boundary breaks");
       s.dart_next[d] = run_dart[nxt];
       s.dart_prev[run_dart[nxt]] = d;
