@@ -28,10 +28,12 @@ log() { printf '\n== hardening: %s\n' "$*"; }
 
 QSP_WITH_FUZZ=$run_fuzz tools/setup.sh
 
+# Warnings are enforced (-Werror) by the release build in tools/test.sh; GCC's -Wmaybe-uninitialized
+# gives false positives in OpenMesh headers under -fsanitize, so the builds here do not use -Werror.
 if ((run_asan)); then
   log "test suite under ASan + UBSan (build-asan)"
   start=$SECONDS
-  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DQSP_SANITIZE=ON -DQSP_WERROR=ON >/dev/null
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DQSP_SANITIZE=ON -DQSP_WERROR=OFF >/dev/null
   cmake --build build-asan -j"$jobs"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1 \
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
@@ -43,7 +45,7 @@ if ((run_fuzz)); then
   log "fuzzers (build-fuzz, ${fuzz_time} s per target)"
   start=$SECONDS
   cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-    -DQSP_FUZZ=ON -DQSP_BUILD_TESTS=OFF -DQSP_WERROR=ON >/dev/null
+    -DQSP_FUZZ=ON -DQSP_BUILD_TESTS=OFF -DQSP_WERROR=OFF >/dev/null
   cmake --build build-fuzz --target qsp_fuzz -j"$jobs"
   run=build-fuzz/run
   rm -rf "$run/seeds" "$run/logs" "$run/artifacts"

@@ -1,8 +1,23 @@
 #!/usr/bin/env bash
-# Builds qsp and runs every test (the README's second command; .ci/run runs exactly this).
+# Builds qsp and runs every test (the README's second command; .ci/run runs exactly this), then the
+# hostile-input checks: the suite again under ASan + UBSan and each fuzzer for a minute
+# (tools/hardening.sh, docs/hardening.md).
+# Usage: tools/test.sh [--quick]   (--quick: the release build and its tests only)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+quick=0
+for arg in "$@"; do
+  case "$arg" in
+    --quick) quick=1 ;;
+    *) echo "usage: tools/test.sh [--quick]" >&2; exit 2 ;;
+  esac
+done
+start=$SECONDS
 tools/setup.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DQSP_WERROR=ON >/dev/null
 cmake --build build -j"$(nproc)"
 ctest --test-dir build --output-on-failure -j"$(nproc)"
+if ((!quick)); then
+  tools/hardening.sh
+fi
+echo "test.sh: all passed in $((SECONDS - start)) s"
