@@ -1,8 +1,11 @@
 // Writes the fuzzers' seed corpora from testdata/ (and ../shared/meshes when present) at run time, so
-// no corpus is committed: OUT/read_obj, OUT/read_off, OUT/roundtrip (mesh text) and OUT/decode_qsp
-// (.qsp files the current encoder writes, in every mode). Usage: qsp_fuzz_seeds OUT TESTDATA [SHARED]
+// no corpus is committed: OUT/read_obj, OUT/read_off, OUT/read_ply, OUT/roundtrip (meshes) and
+// OUT/decode_qsp (.qsp files the current encoder writes, in every mode). Usage: qsp_fuzz_seeds OUT TESTDATA [SHARED]
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -74,6 +77,42 @@ std::vector<qsp::QuadMesh> made_meshes() {
   return out;
 }
 
+// PLY in the three encodings, with an extra vertex property and a uchar/uint index list.
+std::string write_ply(const qsp::QuadMesh& m, int encoding) {
+  static const char* formats[] = {"ascii", "binary_little_endian", "binary_big_endian"};
+  std::string out = std::string("ply\nformat ") + formats[encoding] + " 1.0\ncomment qsp fuzz seed\nelement vertex " +
+                    std::to_string(m.vertex_count()) +
+                    "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                    std::to_string(m.face_count()) + "\nproperty list uchar uint vertex_indices\nend_header\n";
+  auto put32 = [&](std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) {
+      const int shift = encoding == 1 ? 8 * i : 8 * (3 - i);
+      out.push_back(static_cast<char>((v >> shift) & 0xFF));
+    }
+  };
+  for (std::size_t i = 0; i < m.positions.size(); i += 3) {
+    for (int k = 0; k < 3; ++k) {
+      if (encoding == 0) {
+        out += (k ? " " : "") + std::to_string(m.positions[i + k]);
+      } else {
+        put32(std::bit_cast<std::uint32_t>(m.positions[i + k]));
+      }
+    }
+    if (encoding == 0) out += "\n";
+  }
+  for (std::size_t f = 0; f < m.quads.size(); f += 4) {
+    if (encoding == 0) {
+      out += "4";
+      for (int c = 0; c < 4; ++c) out += " " + std::to_string(m.quads[f + c]);
+      out += "\n";
+    } else {
+      out.push_back(4);
+      for (int c = 0; c < 4; ++c) put32(m.quads[f + c]);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -82,8 +121,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path out = argv[1], testdata = argv[2];
-  const fs::path obj = out / "read_obj", off = out / "read_off", rt = out / "roundtrip", qspdir = out / "decode_qsp";
-  for (const auto& d : {obj, off, rt, qspdir}) fs::create_directories(d);
+  const fs::path obj = out / "read_obj", off = out / "read_off", ply = out / "read_ply", rt = out / "roundtrip",
+                 qspdir = out / "decode_qsp";
+  for (const auto& d : {obj, off, ply, rt, qspdir}) fs::create_directories(d);
 
   std::vector<fs::path> inputs = files(testdata, true);
   if (argc > 3) {
@@ -96,12 +136,12 @@ int main(int argc, char** argv) {
   int n = 0;
   for (const fs::path& p : inputs) {
     const std::string ext = p.extension().string();
-    if (ext != ".obj" && ext != ".off" && ext != ".qsp") continue;
+    if (ext != ".obj" && ext != ".off" && ext != ".qsp" && ext != ".ply") continue;
     if (fs::file_size(p) > 4 * kMaxSeed) continue;
     const std::string bytes = slurp(p);
     const std::string name = std::to_string(n++) + "_" + p.filename().string();
-    if (ext == ".qsp") {
-      put(qspdir, name, bytes, 2 * kMaxSeed);
+    if (ext == ".qsp" || ext == ".ply") {
+      put(ext == ".qsp" ? qspdir : ply, name, bytes, ext == ".qsp" ? 2 * kMaxSeed : kMaxSeed);
       continue;
     }
     put(ext == ".obj" ? obj : off, name, bytes);
@@ -117,6 +157,7 @@ int main(int argc, char** argv) {
   for (const qsp::QuadMesh& m : valid) {
     const std::string id = "m" + std::to_string(n++);
     put(off, id + ".off", qsp::write_off(m));
+    for (int encoding = 0; encoding < 3; ++encoding) put(ply, id + "_" + std::to_string(encoding) + ".ply", write_ply(m, encoding));
     put(rt, id + ".obj", qsp::write_obj(m));
     for (int mode = 0; mode < 3; ++mode) {
       qsp::EncodeOptions o;
