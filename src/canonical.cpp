@@ -94,7 +94,8 @@ Schematic schematic_from_next(std::vector<std::uint32_t> next, std::vector<std::
   s.edge_length = std::move(lengths);
   s.dart_prev.assign(nd, kInvalid);
   for (std::uint32_t d = 0; d < nd; ++d) {
-    if (s.dart_next[d] >= nd || s.dart_prev[s.dart_next[d]] != kInvalid) bad_code("next is not a permutation");
+    if (s.dart_next[d] >= nd || s.dart_prev[s.dart_next[d]] != kInvalid)
+      bad_code("next is not a permutation");
     s.dart_prev[s.dart_next[d]] = d;
   }
   s.dart_vertex.assign(nd, kInvalid);
@@ -137,7 +138,8 @@ int compare_codes(const TopologyCode& x, const TopologyCode& y) {
 }
 
 // Lexicographic comparison of positions (as float bits) along two vertex sequences.
-int compare_positions(const QuadMesh& mesh, const std::vector<std::uint32_t>& x, const std::vector<std::uint32_t>& y) {
+int compare_positions(const QuadMesh& mesh, const std::vector<std::uint32_t>& x,
+                      const std::vector<std::uint32_t>& y) {
   const std::size_t n = std::min(x.size(), y.size());
   for (std::size_t i = 0; i < n; ++i) {
     if (x[i] == y[i]) continue;
@@ -258,7 +260,8 @@ ComponentPartition relabel(const ComponentPartition& part, std::uint32_t root) {
   return p;
 }
 
-CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj, const ComponentPartition& part) {
+CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
+                                     const ComponentPartition& part) {
   CanonicalComponent out;
   out.code.kind = part.kind;
   const std::vector<std::uint32_t> tied = tied_roots(part.schematic, out.code);
@@ -317,8 +320,10 @@ std::vector<std::uint32_t> structured_anchors(const Adjacency& adj, const Compon
       stack.pop_back();
       for (std::uint32_t h = 4 * f; h < 4 * f + 4; ++h) {
         const std::uint32_t t = adj.twin[h];
-        if (adj.is_exterior(t)) anchors.push_back(h);
-        else if (seen.insert(t >> 2).second) stack.push_back(t >> 2);
+        if (adj.is_exterior(t))
+          anchors.push_back(h);
+        else if (seen.insert(t >> 2).second)
+          stack.push_back(t >> 2);
       }
     }
     return anchors;
@@ -372,7 +377,8 @@ ComponentPartition at_anchor(const Adjacency& adj, const ComponentPartition& bas
 
 // Annulus and torus: sizes are fixed by topology (torus: the smallest of the lattice's forms);
 // the anchor is chosen by positions among all anchors giving those sizes.
-CanonicalComponent canonical_structured(const QuadMesh& mesh, const Adjacency& adj, const ComponentPartition& part) {
+CanonicalComponent canonical_structured(const QuadMesh& mesh, const Adjacency& adj,
+                                        const ComponentPartition& part) {
   ComponentPartition base;
   const std::vector<std::uint32_t> anchors = structured_anchors(adj, part, base);
   // Smallest first position, then full comparison among those.
@@ -392,8 +398,10 @@ CanonicalComponent canonical_structured(const QuadMesh& mesh, const Adjacency& a
   std::vector<std::uint32_t> first;
   for (std::uint32_t h : anchors) {
     const int c = first.empty() ? -1 : less_pos(adj.origin[h], adj.origin[first[0]]);
-    if (c < 0) first.assign(1, h);
-    else if (c == 0) first.push_back(h);
+    if (c < 0)
+      first.assign(1, h);
+    else if (c == 0)
+      first.push_back(h);
   }
   for (std::uint32_t h : first) {
     ComponentPartition p = at_anchor(adj, base, h);
@@ -454,7 +462,8 @@ std::vector<std::uint32_t> canonical_starts(const Adjacency& adj, const Canonica
   return tied_roots(comp.part.schematic, best);
 }
 
-ComponentPartition canonical_from_start(const Adjacency& adj, const CanonicalComponent& comp, std::uint32_t start) {
+ComponentPartition canonical_from_start(const Adjacency& adj, const CanonicalComponent& comp,
+                                        std::uint32_t start) {
   if (comp.part.kind == ComponentKind::kAnnulus || comp.part.kind == ComponentKind::kTorus)
     return at_anchor(adj, comp.part, start);
   return relabel(comp.part, start);
@@ -474,7 +483,8 @@ ComponentPartition partition_from_code(const TopologyCode& code) {
     if (static_cast<std::uint64_t>(p.a) * (p.b + 1) > 0xFFFFFFF0u) bad_code("structured component too large");
     return p;
   }
-  if (code.kind != ComponentKind::kUnstructured && code.kind != ComponentKind::kDisk) bad_code("unknown component kind");
+  if (code.kind != ComponentKind::kUnstructured && code.kind != ComponentKind::kDisk)
+    bad_code("unknown component kind");
   const std::size_t nd = code.next_ref.size();
   if (nd < 2 || nd % 2 || code.corner.size() != nd || code.edge_length.size() * 2 != nd)
     bad_code("stream sizes disagree");

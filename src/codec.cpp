@@ -137,16 +137,20 @@ Parsed parse_container(std::string_view bytes, const DecodeLimits& limits) {
   std::uint8_t major = r.u8("version");
   p.minor = r.u8("version");
   if (major != kFormatMajor) {
-    throw Error(ErrorCode::kVersion,
-                "file is .qsp format " + std::to_string(major) + "." + std::to_string(p.minor) + "; this qsp reads format " +
-                    std::to_string(kFormatMajor) + ".x only" + (major > kFormatMajor ? " (upgrade qsp)" : "") + at(8));
+    throw Error(ErrorCode::kVersion, "file is .qsp format " + std::to_string(major) + "." +
+                                         std::to_string(p.minor) + "; this qsp reads format " +
+                                         std::to_string(kFormatMajor) + ".x only" +
+                                         (major > kFormatMajor ? " (upgrade qsp)" : "") + at(8));
   }
   std::uint8_t flags = r.u8("header flags");
   std::uint64_t declared = r.varint("file size");
   if (declared > n) {
-    format_error("truncated: header declares " + std::to_string(declared) + " bytes, file has " + std::to_string(n), n);
+    format_error(
+        "truncated: header declares " + std::to_string(declared) + " bytes, file has " + std::to_string(n),
+        n);
   }
-  if (declared < n) format_error(std::to_string(n - declared) + " trailing bytes after the end of the .qsp", declared);
+  if (declared < n)
+    format_error(std::to_string(n - declared) + " trailing bytes after the end of the .qsp", declared);
   if (n < r.pos() + kChecksumBytes) format_error("truncated: no room for the checksum", n);
   const std::size_t body_end = n - kChecksumBytes;
   std::uint64_t stored = 0;
@@ -191,7 +195,9 @@ Parsed parse_container(std::string_view bytes, const DecodeLimits& limits) {
     next_required = k + 1;
     p.sections.push_back(sec);
   }
-  if (next_required < 3) format_error("required section " + std::to_string(required_order[next_required]) + " is missing", body_end);
+  if (next_required < 3)
+    format_error("required section " + std::to_string(required_order[next_required]) + " is missing",
+                 body_end);
   for (const Section& sec : p.sections) {
     if (sec.tag == kTagTopology) p.topology = sec;
     if (sec.tag == kTagGeometry) p.geometry = sec;
@@ -199,14 +205,15 @@ Parsed parse_container(std::string_view bytes, const DecodeLimits& limits) {
   }
 
   // Counts: checked against the format and the caller's limits before anything is allocated.
-  const Section& cs = *std::find_if(p.sections.begin(), p.sections.end(), [](const Section& x) { return x.tag == kTagCounts; });
+  const Section& cs = *std::find_if(p.sections.begin(), p.sections.end(),
+                                    [](const Section& x) { return x.tag == kTagCounts; });
   Reader c(bytes, cs.payload_offset, cs.payload_offset + cs.payload.size());
   std::size_t off = c.pos();
   p.counts.vertices = c.varint("vertex count");
   if (p.counts.vertices > kFormatMaxVertices) format_error("vertex count exceeds the format's 2^32 - 2", off);
   if (p.counts.vertices > limits.max_vertices) {
-    throw Error(ErrorCode::kLimit, "vertex count " + std::to_string(p.counts.vertices) + " exceeds the limit " +
-                                       std::to_string(limits.max_vertices) + at(off));
+    throw Error(ErrorCode::kLimit, "vertex count " + std::to_string(p.counts.vertices) +
+                                       " exceeds the limit " + std::to_string(limits.max_vertices) + at(off));
   }
   off = c.pos();
   p.counts.faces = c.varint("face count");
@@ -220,10 +227,12 @@ Parsed parse_container(std::string_view bytes, const DecodeLimits& limits) {
   if (p.counts.components > p.counts.faces) format_error("more components than faces", off);
   off = c.pos();
   p.counts.unreferenced = c.varint("unreferenced vertex count");
-  if (p.counts.unreferenced > p.counts.vertices) format_error("more unreferenced vertices than vertices", off);
+  if (p.counts.unreferenced > p.counts.vertices)
+    format_error("more unreferenced vertices than vertices", off);
   off = c.pos();
   if (c.u8("counts flags") != 0) format_error("reserved counts flag bits are set (must be zero)", off);
-  if (c.left() != 0) format_error("counts section has " + std::to_string(c.left()) + " unexpected bytes", c.pos());
+  if (c.left() != 0)
+    format_error("counts section has " + std::to_string(c.left()) + " unexpected bytes", c.pos());
 
   // What the content can hold, checked before anything is allocated (docs/hardening.md), so a tiny
   // file cannot make the decoder reserve memory for a huge declared mesh. Every component has a quad
@@ -257,7 +266,9 @@ void decode_components(Parsed& p) {
       part = partition_from_code(code);
     } catch (const Error& e) {
       if (e.code() != ErrorCode::kFormat) throw;
-      format_error(std::string(e.what()) + " in component " + std::to_string(p.parts.size()) + " of the topology section", off);
+      format_error(std::string(e.what()) + " in component " + std::to_string(p.parts.size()) +
+                       " of the topology section",
+                   off);
     }
     std::uint64_t cv = 0, cf = 0;
     if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus) {
@@ -294,8 +305,8 @@ void decode_components(Parsed& p) {
 
 // Canonical quads and the stencils of all components, offset into one vertex numbering; unreferenced
 // vertices at the end predict from the previous vertex.
-void assemble(const std::vector<ComponentPartition>& parts, std::uint32_t unreferenced, std::vector<std::uint32_t>& quads,
-              std::vector<GridLayout::Stencil>& stencil) {
+void assemble(const std::vector<ComponentPartition>& parts, std::uint32_t unreferenced,
+              std::vector<std::uint32_t>& quads, std::vector<GridLayout::Stencil>& stencil) {
   auto shift = [](std::uint32_t v, std::uint32_t base) { return v == kInvalid ? kInvalid : v + base; };
   for (const ComponentPartition& part : parts) {
     GridLayout g = grid_layout(part);
@@ -360,7 +371,8 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
     fbase += static_cast<std::uint32_t>(cc.map.face.size());
   }
   for (std::uint32_t v : cm.unreferenced) {
-    if (v >= nv || order.vertex[v] != kInvalid) internal("unreferenced vertex listed twice or also in a face");
+    if (v >= nv || order.vertex[v] != kInvalid)
+      internal("unreferenced vertex listed twice or also in a face");
     order.vertex[v] = vbase++;
   }
   if (vbase != nv || fbase != nf) internal("canonical form does not cover every vertex and face");
@@ -368,7 +380,8 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
   std::vector<std::uint32_t> quads;
   std::vector<GridLayout::Stencil> stencil;
   assemble(parts, static_cast<std::uint32_t>(cm.unreferenced.size()), quads, stencil);
-  if (quads.size() != mesh.quads.size() || stencil.size() != nv) internal("layout sizes differ from the mesh");
+  if (quads.size() != mesh.quads.size() || stencil.size() != nv)
+    internal("layout sizes differ from the mesh");
   std::vector<std::uint32_t> canonical_to_input(nv);
   for (std::uint32_t v = 0; v < nv; ++v) canonical_to_input[order.vertex[v]] = v;
   for (std::uint32_t f = 0; f < nf; ++f) {
@@ -410,7 +423,8 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
   put_varint(out, total);
   out += body;
   std::uint64_t sum = XXH64(out.data(), out.size(), 0);
-  for (std::size_t i = 0; i < kChecksumBytes; ++i) out.push_back(static_cast<char>(static_cast<std::uint8_t>(sum >> (8 * i))));
+  for (std::size_t i = 0; i < kChecksumBytes; ++i)
+    out.push_back(static_cast<char>(static_cast<std::uint8_t>(sum >> (8 * i))));
   if (order_out) *order_out = std::move(order);
   return out;
 }
@@ -444,11 +458,13 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
   std::vector<std::uint32_t> canonical_to_input(nv);
   for (std::uint32_t v = 0; v < nv; ++v) {
     canonical_to_input[order.vertex[v]] = v;
-    std::copy_n(&canonical.positions[3 * std::size_t{order.vertex[v]}], 3, &out.positions[3 * std::size_t{v}]);
+    std::copy_n(&canonical.positions[3 * std::size_t{order.vertex[v]}], 3,
+                &out.positions[3 * std::size_t{v}]);
   }
   for (std::uint32_t f = 0; f < nf; ++f) {
     std::uint32_t cf = order.face[f], r = order.rotation[f];
-    for (std::uint32_t c = 0; c < 4; ++c) out.quads[4 * f + (c + r) % 4] = canonical_to_input[canonical.quads[4 * cf + c]];
+    for (std::uint32_t c = 0; c < 4; ++c)
+      out.quads[4 * f + (c + r) % 4] = canonical_to_input[canonical.quads[4 * cf + c]];
   }
   return out;
 }
@@ -469,10 +485,14 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
     std::uint64_t size = s.payload_offset + s.payload.size() - s.offset;
     in_sections += size;
     info.sections.push_back({s.tag, s.offset, size});
-    if (s.tag == kTagCounts || s.tag == kTagTopology) info.connectivity_bytes += size;
-    else if (s.tag == kTagGeometry) info.geometry_bytes += size;
-    else if (s.tag == kTagOrder) info.order_bytes += size;
-    else info.other_bytes += size;
+    if (s.tag == kTagCounts || s.tag == kTagTopology)
+      info.connectivity_bytes += size;
+    else if (s.tag == kTagGeometry)
+      info.geometry_bytes += size;
+    else if (s.tag == kTagOrder)
+      info.order_bytes += size;
+    else
+      info.other_bytes += size;
   }
   info.header_bytes = info.total_bytes - in_sections;
   for (std::size_t i = 0; i < p.parts.size(); ++i) {

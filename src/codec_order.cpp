@@ -30,11 +30,13 @@ struct PermutationCoder {
     previous_zero = code == 0;
     predicted = value + 1 == n ? 0 : value + 1;
   }
-  std::uint32_t decode(RangeDecoder& dec, std::uint32_t n, std::vector<std::uint8_t>& used, const char* what) {
+  std::uint32_t decode(RangeDecoder& dec, std::uint32_t n, std::vector<std::uint8_t>& used,
+                       const char* what) {
     std::uint32_t code = step[previous_zero].decode(dec);
     std::int64_t s = unzigzag(code);
     if (2 * s > n || 2 * s <= -static_cast<std::int64_t>(n)) {
-      throw Error(ErrorCode::kFormat, std::string("order section: ") + what + " step out of range (near byte offset " +
+      throw Error(ErrorCode::kFormat, std::string("order section: ") + what +
+                                          " step out of range (near byte offset " +
                                           std::to_string(dec.offset()) + ")");
     }
     auto value = static_cast<std::uint32_t>((static_cast<std::int64_t>(predicted) + s + n) % n);
@@ -84,7 +86,8 @@ OrderMap decode_order(std::string_view payload, std::uint64_t base_offset, std::
   std::array<BitModel, 3 * 4> rotation{};
   unsigned previous = 0;
   std::vector<std::uint8_t> used(vertex_count, 0);
-  for (std::uint32_t v = 0; v < vertex_count; ++v) order.vertex[v] = vertices.decode(dec, vertex_count, used, "vertex");
+  for (std::uint32_t v = 0; v < vertex_count; ++v)
+    order.vertex[v] = vertices.decode(dec, vertex_count, used, "vertex");
   used.assign(face_count, 0);
   for (std::uint32_t f = 0; f < face_count; ++f) {
     order.face[f] = faces.decode(dec, face_count, used, "face");

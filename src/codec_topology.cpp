@@ -18,7 +18,6 @@
 #include "qsp/entropy.h"
 #include "qsp/error.h"
 
-
 namespace qsp {
 namespace {
 
@@ -122,15 +121,15 @@ constexpr std::uint32_t cap(std::uint32_t v, std::uint32_t hi) { return v < hi ?
 struct Models {
   std::array<BitModel, 3> kind;
   IntModel size_a, size_b, twist;
-  std::array<BitModel, 5 * 5> is_new;      // by face chain length, vertex path length (capped)
-  std::array<BitModel, 5 * 5> is_vertex;   // closes the rotation around its end vertex
-  std::array<BitModel, 5 * 5> is_face;     // closes its own face
-  BitModel is_newest;                      // the most recently labelled dart without predecessor
-  IntModel other_step;                     // else: zigzag of its pool rank minus the visited dart's
-  IntModel hole_count;                     // per component
-  std::array<BitModel, 4> is_hole;         // by face size - 4 (capped), while holes are left
+  std::array<BitModel, 5 * 5> is_new;     // by face chain length, vertex path length (capped)
+  std::array<BitModel, 5 * 5> is_vertex;  // closes the rotation around its end vertex
+  std::array<BitModel, 5 * 5> is_face;    // closes its own face
+  BitModel is_newest;                     // the most recently labelled dart without predecessor
+  IntModel other_step;                    // else: zigzag of its pool rank minus the visited dart's
+  IntModel hole_count;                    // per component
+  std::array<BitModel, 4> is_hole;        // by face size - 4 (capped), while holes are left
   std::array<BitModel, 5 * 4 * 3 * 3> corner;
-  std::array<IntModel, 2> length;          // interior edge, edge on a hole
+  std::array<IntModel, 2> length;  // interior edge, edge on a hole
 };
 
 // The most recently labelled dart without predecessor other than the two candidates; the pool holds
@@ -187,8 +186,8 @@ Orbits orbits(const std::vector<std::uint32_t>& next) {
 // Per component, once next is known: which darts start a corner, and the bookkeeping of the context.
 struct CornerState {
   Orbits o;
-  std::vector<std::uint8_t> hole;         // per face
-  std::vector<std::uint8_t> corner;       // per dart
+  std::vector<std::uint8_t> hole;               // per face
+  std::vector<std::uint8_t> corner;             // per dart
   std::vector<std::uint8_t> v_corner, v_plain;  // per vertex: corners / non-corners known so far
 };
 
@@ -196,7 +195,7 @@ std::uint32_t corner_context(const CornerState& s, std::uint32_t d, std::uint32_
                              std::uint32_t remaining) {
   std::uint32_t v = s.o.vertex_of[d];
   std::uint32_t deg = cap(std::max<std::uint32_t>(s.o.vertex_degree[v], 2), 6) - 2;  // 0..4
-  std::uint32_t slack = cap(remaining - needed, 3) - 1;                             // 0..2
+  std::uint32_t slack = cap(remaining - needed, 3) - 1;                              // 0..2
   return ((deg * 4 + cap(s.v_corner[v], 3)) * 3 + cap(s.v_plain[v], 2)) * 3 + slack;
 }
 
@@ -219,7 +218,9 @@ void mark_holes(CornerState& s, const std::vector<std::uint32_t>& next) {
   }
 }
 
-std::string near(const RangeDecoder& dec) { return " (near byte offset " + std::to_string(dec.offset()) + ")"; }
+std::string near(const RangeDecoder& dec) {
+  return " (near byte offset " + std::to_string(dec.offset()) + ")";
+}
 
 // Patch side constraints: sum of lengths on side 0 == side 2, side 1 == side 3.
 struct LengthSolver {
@@ -229,12 +230,13 @@ struct LengthSolver {
   };
   std::vector<std::vector<Term>> constraint;
   std::vector<std::vector<Term>> of_edge;  // per edge: the constraints it appears in, with its coefficient
-  std::vector<std::uint32_t> unknown;               // per constraint
-  std::vector<std::int64_t> known_sum;              // per constraint
-  std::vector<std::uint8_t> known;                  // per edge
+  std::vector<std::uint32_t> unknown;      // per constraint
+  std::vector<std::int64_t> known_sum;     // per constraint
+  std::vector<std::uint8_t> known;         // per edge
 
-  LengthSolver(const Orbits& o, const std::vector<std::uint8_t>& hole, const std::vector<std::uint8_t>& corner,
-               const std::vector<std::uint32_t>& next, std::uint32_t edges) {
+  LengthSolver(const Orbits& o, const std::vector<std::uint8_t>& hole,
+               const std::vector<std::uint8_t>& corner, const std::vector<std::uint32_t>& next,
+               std::uint32_t edges) {
     of_edge.resize(edges);
     known.assign(edges, 0);
     for (std::uint32_t f = 0; f < o.face_first.size(); ++f) {
@@ -258,7 +260,8 @@ struct LengthSolver {
     }
     unknown.resize(constraint.size());
     known_sum.assign(constraint.size(), 0);
-    for (std::size_t c = 0; c < constraint.size(); ++c) unknown[c] = static_cast<std::uint32_t>(constraint[c].size());
+    for (std::size_t c = 0; c < constraint.size(); ++c)
+      unknown[c] = static_cast<std::uint32_t>(constraint[c].size());
   }
   void add(std::vector<Term> terms) {
     std::sort(terms.begin(), terms.end(), [](const Term& p, const Term& q) { return p.edge < q.edge; });
@@ -297,7 +300,8 @@ struct LengthSolver {
         for (const Term& t : constraint[c]) {
           if (known[t.edge]) continue;
           std::int64_t value = -known_sum[c] / t.coef;
-          if (value * t.coef != -known_sum[c] || value < 1 || static_cast<std::uint64_t>(value) > max_length) {
+          if (value * t.coef != -known_sum[c] || value < 1 ||
+              static_cast<std::uint64_t>(value) > max_length) {
             bad(encoding, "patch sides imply an impossible edge length", offset);
           }
           if (encoding && length[t.edge] != value) bad(true, "patch sides differ in length", offset);
@@ -433,7 +437,8 @@ std::string encode_topology(std::span<const TopologyCode> codes) {
     std::vector<std::uint32_t> length(c.edge_length.begin(), c.edge_length.end());
     for (std::uint32_t e = 0; e < edges; ++e) {
       if (solver.known[e]) continue;
-      if (length[e] < 1 || length[e] == 0xFFFFFFFFu) fail(ErrorCode::kInternal, "encode_topology: bad length");
+      if (length[e] < 1 || length[e] == 0xFFFFFFFFu)
+        fail(ErrorCode::kInternal, "encode_topology: bad length");
       bool on_hole = s.hole[s.o.face_of[2 * e]] || s.hole[s.o.face_of[2 * e + 1]];
       m.length[on_hole].encode(enc, length[e] - 1);
       solver.set(e, length, 0xFFFFFFFEu, true, 0);
@@ -467,8 +472,9 @@ std::vector<TopologyCode> decode_topology(std::string_view payload, std::uint64_
     Traversal& t = trav[ci];
     auto new_edge = [&]() {
       if (++edges_total > max_edges) {
-        fail(ErrorCode::kFormat, "topology: more schematic edges than the declared faces allow (near byte offset " +
-                                     std::to_string(dec.offset()) + ")");
+        fail(ErrorCode::kFormat,
+             "topology: more schematic edges than the declared faces allow (near byte offset " +
+                 std::to_string(dec.offset()) + ")");
       }
       return t.add_edge();
     };
@@ -497,8 +503,9 @@ std::vector<TopologyCode> decode_topology(std::string_view payload, std::uint64_
           std::int64_t r = std::int64_t{t.pool.rank(i)} + unzigzag(m.other_step.decode(dec));
           z = r >= 0 && r < t.pool.size() ? t.pool.select(static_cast<std::uint32_t>(r)) : kInvalid;
           if (z == kInvalid || z == vc || z == fc || z == newest) {
-            fail(ErrorCode::kFormat, "topology: dart reference out of range or not canonical (near byte offset " +
-                                         std::to_string(dec.offset()) + ")");
+            fail(ErrorCode::kFormat,
+                 "topology: dart reference out of range or not canonical (near byte offset " +
+                     std::to_string(dec.offset()) + ")");
           }
         }
       }

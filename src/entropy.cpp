@@ -74,7 +74,8 @@ void RangeEncoder::finish() {
 RangeDecoder::RangeDecoder(std::string_view bytes, std::uint64_t base_offset, const char* what)
     : bytes_(bytes), base_offset_(base_offset), what_(what) {
   if (next_byte() != 0) {
-    throw Error(ErrorCode::kFormat, std::string(what_) + ": range coder stream must start with a zero byte (at byte offset " +
+    throw Error(ErrorCode::kFormat, std::string(what_) +
+                                        ": range coder stream must start with a zero byte (at byte offset " +
                                         std::to_string(base_offset_) + ")");
   }
   for (int i = 0; i < 4; ++i) code_ = (code_ << 8) | next_byte();

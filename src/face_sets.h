@@ -11,8 +11,8 @@ namespace qsp::detail {
 // true, numbering sets by their first face. Scans the twins in order: a flood fill would chase them
 // at random, which dominates on large meshes. `first_face` receives each set's smallest face.
 template <class Joins>
-std::vector<std::uint32_t> label_face_sets(std::uint32_t nf, const std::vector<std::uint32_t>& twin, Joins joins,
-                                           std::vector<std::uint32_t>& first_face) {
+std::vector<std::uint32_t> label_face_sets(std::uint32_t nf, const std::vector<std::uint32_t>& twin,
+                                           Joins joins, std::vector<std::uint32_t>& first_face) {
   std::vector<std::uint32_t> parent(nf);
   for (std::uint32_t f = 0; f < nf; ++f) parent[f] = f;
   auto find = [&](std::uint32_t f) {

@@ -22,7 +22,9 @@
 namespace qsp {
 namespace {
 
-[[noreturn]] void fail(const char* what) { throw Error(ErrorCode::kFormat, std::string("geometry: ") + what); }
+[[noreturn]] void fail(const char* what) {
+  throw Error(ErrorCode::kFormat, std::string("geometry: ") + what);
+}
 
 // ---------------------------------------------------------------------------------------------
 // Bytes
@@ -86,9 +88,9 @@ class Reader {
 // Residual model: zigzag value u, coded as its bit length L (6-bit binary tree) and then the bits
 // below the leading one (the first two with adaptive contexts, the rest raw).
 
-constexpr int kKinds = 7;         // context kinds: Kind, plus kWest/kLinear with a far end (5, 6)
-constexpr int kBuckets = 24;      // neighbourhood magnitude classes
-constexpr int kModelledBits = 2;  // mantissa bits with their own contexts
+constexpr int kKinds = 7;              // context kinds: Kind, plus kWest/kLinear with a far end (5, 6)
+constexpr int kBuckets = 24;           // neighbourhood magnitude classes
+constexpr int kModelledBits = 2;       // mantissa bits with their own contexts
 constexpr int kMaxTrailingZeros = 12;  // decimal integers: 10^12 < 2^40 < 10^13
 
 // The three axes share contexts: on small meshes, learning three times faster beats separate models.
@@ -192,7 +194,9 @@ constexpr std::uint32_t kMaxFarDist = 64;  // farther ends are ignored (and keep
 
 std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st) {
   const auto n = static_cast<std::uint32_t>(st.size());
-  auto full = [&](std::uint32_t j) { return st[j].w != kInvalid && st[j].s != kInvalid && st[j].sw != kInvalid; };
+  auto full = [&](std::uint32_t j) {
+    return st[j].w != kInvalid && st[j].s != kInvalid && st[j].sw != kInvalid;
+  };
   // east[x]: the vertex whose w is x and whose s is east of x's s, i.e. x's right neighbour in a grid row.
   std::vector<std::uint32_t> east(n, kInvalid);
   for (std::uint32_t y = 0; y < n; ++y)
@@ -261,17 +265,28 @@ std::int64_t column_correction(const Hood& x, const std::int64_t* v) {
 // Candidate k for vertex hood x on one axis (values v); its neighbours must exist (candidate_mask).
 std::int64_t candidate(const Hood& x, const std::int64_t* v, int k) {
   switch (k) {
-    case 0: return v[x.w] + v[x.s] - v[x.sw];                 // parallelogram
-    case 1: return 2 * v[x.w] - v[x.ww];                      // linear along the row
-    case 2: return 2 * v[x.w] - v[x.ww] - 2 * v[x.s] + v[x.sw] + v[x.se];  // exact on quadratics
-    case 3: return 2 * v[x.s] - v[x.ss];                      // linear along the column
-    case 4: return 2 * v[x.w] - v[x.ww] + v[x.s] - 2 * v[x.sw] + v[x.sww];  // parallelogram of row steps
-    case 5: return 2 * v[x.s] - v[x.ss] + v[x.w] - 2 * v[x.sw] + v[x.ssw];  // ... of column steps
-    case 6: return v[x.w];                                    // west
-    case 7: return v[x.w] + ((v[x.se] - v[x.sw]) >> 1);       // west + central difference below
-    case 8: return v[x.w] + v[x.s] - v[x.sw] + row_correction(x, v);     // parallelogram, column step
-    case 9: return v[x.w] + v[x.s] - v[x.sw] + column_correction(x, v);  // varying linearly to the sides
-    case 10: return v[x.w] + v[x.s] - v[x.sw] + row_correction(x, v) + column_correction(x, v);
+    case 0:
+      return v[x.w] + v[x.s] - v[x.sw];  // parallelogram
+    case 1:
+      return 2 * v[x.w] - v[x.ww];  // linear along the row
+    case 2:
+      return 2 * v[x.w] - v[x.ww] - 2 * v[x.s] + v[x.sw] + v[x.se];  // exact on quadratics
+    case 3:
+      return 2 * v[x.s] - v[x.ss];  // linear along the column
+    case 4:
+      return 2 * v[x.w] - v[x.ww] + v[x.s] - 2 * v[x.sw] + v[x.sww];  // parallelogram of row steps
+    case 5:
+      return 2 * v[x.s] - v[x.ss] + v[x.w] - 2 * v[x.sw] + v[x.ssw];  // ... of column steps
+    case 6:
+      return v[x.w];  // west
+    case 7:
+      return v[x.w] + ((v[x.se] - v[x.sw]) >> 1);  // west + central difference below
+    case 8:
+      return v[x.w] + v[x.s] - v[x.sw] + row_correction(x, v);  // parallelogram, column step
+    case 9:
+      return v[x.w] + v[x.s] - v[x.sw] + column_correction(x, v);  // varying linearly to the sides
+    case 10:
+      return v[x.w] + v[x.s] - v[x.sw] + row_correction(x, v) + column_correction(x, v);
   }
   return 0;
 }
@@ -333,7 +348,8 @@ int bucket_for(const std::uint8_t* lengths, const Hood& x) {
 // The fixed predictor of kinds other than kParallelogram, and of float axes.
 std::int64_t predict_fixed(const Hood& x, const std::int64_t* v) {
   switch (x.kind) {
-    case kParallelogram: return v[x.w] + v[x.s] - v[x.sw];
+    case kParallelogram:
+      return v[x.w] + v[x.s] - v[x.sw];
     case kLinear:
       if (x.has(Hood::kFar)) {  // the quadratic through ww (-2), w (-1) and far (D), at 0
         const std::int64_t d = x.t->far_dist, den = (d + 1) * (d + 2);
@@ -347,8 +363,10 @@ std::int64_t predict_fixed(const Hood& x, const std::int64_t* v) {
         return floor_div(2 * (d * v[x.w] + v[x.t->far]) + d + 1, 2 * (d + 1));
       }
       return v[x.w];
-    case kSouth: return v[x.s];
-    case kNone: return x.w == kInvalid ? 0 : v[x.w];
+    case kSouth:
+      return v[x.s];
+    case kNone:
+      return x.w == kInvalid ? 0 : v[x.w];
   }
   return 0;
 }
@@ -358,18 +376,27 @@ std::uint32_t float_image(float f) {
   const std::uint32_t u = std::bit_cast<std::uint32_t>(f);
   return u ^ ((u >> 31) ? 0xFFFFFFFFu : 0x80000000u);
 }
-float image_float(std::uint32_t m) { return std::bit_cast<float>(m ^ ((m >> 31) ? 0x80000000u : 0xFFFFFFFFu)); }
+float image_float(std::uint32_t m) {
+  return std::bit_cast<float>(m ^ ((m >> 31) ? 0x80000000u : 0xFFFFFFFFu));
+}
 
 // Float-axis prediction: additions in binary64 (no products, so no FMA contraction can change it),
 // rounded once to binary32; if that is not finite (a NaN/inf operand or overflow), w's own bits.
 std::uint32_t predict_float(const Hood& x, const float* f) {
   double d;
   switch (x.kind) {
-    case kParallelogram: d = (double{f[x.w]} + double{f[x.s]}) - double{f[x.sw]}; break;
-    case kLinear: d = (double{f[x.w]} + double{f[x.w]}) - double{f[x.ww]}; break;
-    case kWest: return float_image(f[x.w]);
-    case kSouth: return float_image(f[x.s]);
-    default: return x.w == kInvalid ? float_image(0.0f) : float_image(f[x.w]);
+    case kParallelogram:
+      d = (double{f[x.w]} + double{f[x.s]}) - double{f[x.sw]};
+      break;
+    case kLinear:
+      d = (double{f[x.w]} + double{f[x.w]}) - double{f[x.ww]};
+      break;
+    case kWest:
+      return float_image(f[x.w]);
+    case kSouth:
+      return float_image(f[x.s]);
+    default:
+      return x.w == kInvalid ? float_image(0.0f) : float_image(f[x.w]);
   }
   const float r = static_cast<float>(d);
   return std::isfinite(r) ? float_image(r) : float_image(f[x.w]);
@@ -401,8 +428,8 @@ float decimal_float(std::int64_t n, int k) {
   const double d = static_cast<double>(n) / kPow10[k];
   const float f = static_cast<float>(d);
   if (static_cast<double>(f) != d) {
-    const float g = std::nextafter(f, d > f ? std::numeric_limits<float>::infinity()
-                                            : -std::numeric_limits<float>::infinity());
+    const float g = std::nextafter(
+        f, d > f ? std::numeric_limits<float>::infinity() : -std::numeric_limits<float>::infinity());
     if ((static_cast<double>(f) + static_cast<double>(g)) * 0.5 == d) return decimal_float_slow(n, k);
   }
   return f;
@@ -440,8 +467,8 @@ struct AxisPlan {
 constexpr std::uint8_t kTrailingFlag = 0x80;  // in the axis mode byte
 constexpr int kMaxTrailing = kMaxTrailingZeros;
 constexpr std::array<std::int64_t, kMaxTrailing + 1> kPow10i = {
-    1, 10, 100, 1000, 10000, 100000, 1000000, 10000000, 100000000, 1000000000, 10000000000, 100000000000,
-    1000000000000};
+    1,        10,        100,        1000,        10000,        100000,       1000000,
+    10000000, 100000000, 1000000000, 10000000000, 100000000000, 1000000000000};
 
 int trailing_zeros(std::int64_t n) {
   int t = 0;
@@ -549,7 +576,8 @@ struct Grid {
   std::int64_t quantize(int axis, float x, std::uint32_t bits) const {
     if (step == 0) return 0;
     const double top = static_cast<double>((std::uint64_t{1} << bits) - 1);
-    auto q = static_cast<std::int64_t>(std::clamp(std::nearbyint((double{x} - origin[axis]) / step), 0.0, top));
+    auto q =
+        static_cast<std::int64_t>(std::clamp(std::nearbyint((double{x} - origin[axis]) / step), 0.0, top));
     while (q > 0 && !std::isfinite(value(axis, q))) --q;
     return q;
   }
@@ -598,7 +626,8 @@ struct Header {
 };
 
 // Encoder: `ints` holds each integer axis's integers (decimal exceptions are set to their
-// prediction here) and `floats` each float axis's floats. Decoder: both are filled, and `out` gets the floats.
+// prediction here) and `floats` each float axis's floats. Decoder: both are filled, and `out` gets the
+// floats.
 template <bool kEncode>
 void code_vertices(const Header& h, const std::vector<Hood>& hood,
                    std::array<std::vector<std::int64_t>, 3>& ints, std::array<std::vector<float>, 3>& floats,
@@ -666,13 +695,15 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
               const int t = model->decode_zeros(*dec, digits);
               const std::int64_t unit = kPow10i[t];
               const std::int64_t m = floor_div(2 * pred + unit, 2 * unit) + unzigzag64(u);
-              if (m <= -kDecimalLimit / unit || m >= kDecimalLimit / unit) fail("decimal integer out of range");
+              if (m <= -kDecimalLimit / unit || m >= kDecimalLimit / unit)
+                fail("decimal integer out of range");
               v[i] = m * unit;
             } else {
               v[i] = pred + unzigzag64(u);
             }
             if (v[i] <= -kDecimalLimit || v[i] >= kDecimalLimit) fail("decimal integer out of range");
-            (*out)[3 * std::size_t{i} + a] = exception ? plan.exceptions[e].value : decimal_float(v[i], plan.mode - 1);
+            (*out)[3 * std::size_t{i} + a] =
+                exception ? plan.exceptions[e].value : decimal_float(v[i], plan.mode - 1);
           }
           if (exception) ++e;
         }
@@ -701,7 +732,9 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
       if (!((mask >> k) & 1)) continue;  // stays kNoError
       std::uint64_t err = 0;
       for (int a = 0; a < 3; ++a)
-        if (h.integer_axis(a)) err += static_cast<std::uint64_t>(std::min<std::int64_t>(std::abs(ints[a][i] - cand[a][k]), kNoError));
+        if (h.integer_axis(a))
+          err +=
+              static_cast<std::uint64_t>(std::min<std::int64_t>(std::abs(ints[a][i] - cand[a][k]), kNoError));
       slot = static_cast<std::uint32_t>(std::min<std::uint64_t>(err, kNoError - 1));
     }
   }
@@ -752,7 +785,8 @@ Header read_header(Reader& in, std::uint32_t count) {
     plan.mode = in.u8("truncated axis mode");
     plan.trailing_zeros = (plan.mode & kTrailingFlag) != 0;
     plan.mode &= static_cast<std::uint8_t>(~kTrailingFlag);
-    if (plan.mode > 1 + kMaxDecimals || (plan.trailing_zeros && plan.mode == kFloatBits)) fail("unknown axis mode");
+    if (plan.mode > 1 + kMaxDecimals || (plan.trailing_zeros && plan.mode == kFloatBits))
+      fail("unknown axis mode");
     if (plan.mode == kFloatBits) continue;
     const std::uint64_t n = in.varint("truncated exception count");
     if (n > count || n > in.left() / 5) fail("exception count exceeds the data");
@@ -763,7 +797,8 @@ Header read_header(Reader& in, std::uint32_t count) {
       const std::uint64_t v = e == 0 ? gap : prev + 1 + gap;
       if (gap >= count || v >= count) fail("exception vertex out of range");
       plan.exceptions[e].vertex = static_cast<std::uint32_t>(v);
-      plan.exceptions[e].value = std::bit_cast<float>(static_cast<std::uint32_t>(in.le(4, "truncated exception")));
+      plan.exceptions[e].value =
+          std::bit_cast<float>(static_cast<std::uint32_t>(in.le(4, "truncated exception")));
       prev = v;
     }
   }
@@ -845,7 +880,8 @@ std::vector<float> decode_geometry(std::string_view bytes, std::span<const GridL
   const std::vector<Hood> hood = neighbourhoods(stencil);
   std::array<std::vector<std::int64_t>, 3> ints;
   std::array<std::vector<float>, 3> floats;
-  for (int a = 0; a < 3; ++a) (h.integer_axis(a) ? ints[a].resize(vertex_count) : floats[a].resize(vertex_count));
+  for (int a = 0; a < 3; ++a)
+    (h.integer_axis(a) ? ints[a].resize(vertex_count) : floats[a].resize(vertex_count));
   std::vector<float> out(std::size_t{vertex_count} * 3);
   code_vertices<false>(h, hood, ints, floats, nullptr, &rc, &out);
   rc.finish();

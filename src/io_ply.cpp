@@ -65,9 +65,7 @@ int type_size(PlyType t) {
   return 0;
 }
 
-bool is_float_type(PlyType t) {
-  return t == PlyType::kFloat32 || t == PlyType::kFloat64;
-}
+bool is_float_type(PlyType t) { return t == PlyType::kFloat32 || t == PlyType::kFloat64; }
 
 struct PlyProperty {
   std::string name;
@@ -198,9 +196,7 @@ bool is_color(std::string_view n) {
 bool is_texcoord(std::string_view n) {
   return n == "u" || n == "v" || n == "s" || n == "t" || n.substr(0, 8) == "texture_" || n == "texcoord";
 }
-bool is_normal(std::string_view n) {
-  return n == "nx" || n == "ny" || n == "nz";
-}
+bool is_normal(std::string_view n) { return n == "nx" || n == "ny" || n == "nz"; }
 
 // What the header promises: counted extras, checked limits, and counts the data can hold.
 struct PlyLayout {

@@ -75,9 +75,7 @@ struct NonQuads {
   }
 };
 
-inline bool is_blank(char c) {
-  return c == ' ' || c == '\t' || c == '\r';
-}
+inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
 // Cursor over the text with line tracking. Blanks are spaces, tabs, CR and backslash-newline
 // continuations; a statement ends at '\n', '#' or the end of the text.

@@ -28,8 +28,8 @@ struct PatchGrid {
 
 // Numbering of a general schematic's vertices: X, then edge-inner, then patch-inner points.
 struct Numbering {
-  std::vector<std::uint32_t> edge_base;   // per edge: id of its first inner point
-  std::vector<PatchGrid> patches;         // per face (empty for holes)
+  std::vector<std::uint32_t> edge_base;  // per edge: id of its first inner point
+  std::vector<PatchGrid> patches;        // per face (empty for holes)
   std::uint32_t vertex_count = 0;
 };
 
@@ -57,7 +57,8 @@ std::string number_schematic(const Schematic& s, Numbering& n) {
         g.ring.push_back(n.edge_base[e] + ((d & 1) ? len - 1 - k : k - 1));
       d = s.dart_next[d];
     } while (d != s.face_dart[f]);
-    if (g.ring.size() != 2ull * (g.a + g.b)) return "patch " + std::to_string(f) + " has unequal opposite sides";
+    if (g.ring.size() != 2ull * (g.a + g.b))
+      return "patch " + std::to_string(f) + " has unequal opposite sides";
     g.interior_base = static_cast<std::uint32_t>(next);
     next += static_cast<std::uint64_t>(g.a - 1) * (g.b - 1);
     if (next > 0xFFFFFFF0u) return "too many vertices";
@@ -254,7 +255,8 @@ std::string validate(const ComponentPartition& part, const Adjacency* adj) {
     std::vector<std::uint32_t> seen(s.face_count(), 0);
     for (std::uint32_t f = 0; f < s.face_count(); ++f) {
       const std::uint32_t d0 = s.face_dart[f];
-      if (d0 >= nd || s.dart_face[d0] != f) return fail("face_dart of face " + std::to_string(f) + " is not in it");
+      if (d0 >= nd || s.dart_face[d0] != f)
+        return fail("face_dart of face " + std::to_string(f) + " is not in it");
       std::uint32_t corners = 0, len = 0, d = d0;
       do {
         corners += s.dart_corner[d];
@@ -277,7 +279,8 @@ std::string validate(const ComponentPartition& part, const Adjacency* adj) {
         } while (d != d0);
         if (side[0] != side[2] || side[1] != side[3])
           return fail("patch " + std::to_string(f) + " has sides " + std::to_string(side[0]) + "," +
-                      std::to_string(side[1]) + "," + std::to_string(side[2]) + "," + std::to_string(side[3]));
+                      std::to_string(side[1]) + "," + std::to_string(side[2]) + "," +
+                      std::to_string(side[3]));
       }
     }
     std::uint64_t total = 0;
@@ -309,7 +312,8 @@ std::string check_tiling(const ComponentPartition& part, const Adjacency& adj, c
     }
     face_seen[f] = 1;
   }
-  if (why.empty() && map.face.size() != adj.component_faces[part.component]) why = "patches do not cover the component";
+  if (why.empty() && map.face.size() != adj.component_faces[part.component])
+    why = "patches do not cover the component";
   for (std::uint32_t v : map.vertex) {
     if (!why.empty()) break;
     if (v == kInvalid) {

@@ -33,7 +33,8 @@ double dist2(const Vec3& x, const Vec3& y) {
 
 std::uint64_t mul_sat(std::uint64_t x, std::uint64_t y) {
   if (x == 0 || y == 0) return 0;
-  return x > std::numeric_limits<std::uint64_t>::max() / y ? std::numeric_limits<std::uint64_t>::max() : x * y;
+  return x > std::numeric_limits<std::uint64_t>::max() / y ? std::numeric_limits<std::uint64_t>::max()
+                                                           : x * y;
 }
 
 std::uint64_t factorial_sat(std::uint64_t k) {
@@ -44,10 +45,14 @@ std::uint64_t factorial_sat(std::uint64_t k) {
 
 const char* kind_name(ComponentKind k) {
   switch (k) {
-    case ComponentKind::kUnstructured: return "unstructured";
-    case ComponentKind::kDisk: return "disk";
-    case ComponentKind::kAnnulus: return "annulus";
-    case ComponentKind::kTorus: return "torus";
+    case ComponentKind::kUnstructured:
+      return "unstructured";
+    case ComponentKind::kDisk:
+      return "disk";
+    case ComponentKind::kAnnulus:
+      return "annulus";
+    case ComponentKind::kTorus:
+      return "torus";
   }
   return "?";
 }
@@ -85,10 +90,13 @@ std::uint32_t spread10(std::uint32_t x) {  // 10 bits -> every third bit of 30
 
 // Renumbers `m` in place; vertex_old / face_old receive new -> old. Corners are not rotated.
 void localize(QuadMesh& m, std::vector<std::uint32_t>& vertex_old, std::vector<std::uint32_t>& face_old) {
-  const auto nf = static_cast<std::uint32_t>(m.face_count()), nv = static_cast<std::uint32_t>(m.vertex_count());
+  const auto nf = static_cast<std::uint32_t>(m.face_count()),
+             nv = static_cast<std::uint32_t>(m.vertex_count());
   float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
   for (std::uint32_t v = 0; v < nv; ++v)
-    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], m.positions[3 * std::size_t(v) + k]), hi[k] = std::max(hi[k], m.positions[3 * std::size_t(v) + k]);
+    for (int k = 0; k < 3; ++k)
+      lo[k] = std::min(lo[k], m.positions[3 * std::size_t(v) + k]),
+      hi[k] = std::max(hi[k], m.positions[3 * std::size_t(v) + k]);
   float scale[3];
   for (int k = 0; k < 3; ++k) scale[k] = hi[k] > lo[k] ? 1023.0f / (hi[k] - lo[k]) : 0.0f;
   // 30-bit Morton keys, two 15-bit radix passes.
@@ -130,7 +138,8 @@ void localize(QuadMesh& m, std::vector<std::uint32_t>& vertex_old, std::vector<s
     if (fresh[v] == kInvalid) vertex_old.push_back(v);  // unreferenced, in their order
   std::vector<float> positions(m.positions.size());
   for (std::uint32_t i = 0; i < nv; ++i)
-    for (int k = 0; k < 3; ++k) positions[3 * std::size_t(i) + k] = m.positions[3 * std::size_t(vertex_old[i]) + k];
+    for (int k = 0; k < 3; ++k)
+      positions[3 * std::size_t(i) + k] = m.positions[3 * std::size_t(vertex_old[i]) + k];
   m.quads = std::move(quads);
   m.positions = std::move(positions);
 }
@@ -359,7 +368,8 @@ double cost_of(const QuadMesh& a, const std::uint32_t* av, const QuadMesh& b, co
   for (std::size_t i = 0; i < n; ++i) {
     const float* p = &a.positions[3 * std::size_t(av[i])];
     const float* q = &b.positions[3 * std::size_t(bv[i])];
-    const double dx = double(p[0]) - q[0] - t[0], dy = double(p[1]) - q[1] - t[1], dz = double(p[2]) - q[2] - t[2];
+    const double dx = double(p[0]) - q[0] - t[0], dy = double(p[1]) - q[1] - t[1],
+                 dz = double(p[2]) - q[2] - t[2];
     s += dx * dx + dy * dy + dz * dz;
   }
   return s;
@@ -387,8 +397,8 @@ Vec3 shift(const Prepared& pa, const CanonicalComponent& ca, const Prepared& pb,
   return {x[0] - y[0], x[1] - y[1], x[2] - y[2]};
 }
 
-PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepared& pb, const CanonicalComponent& cb,
-                  const MatchOptions& opt) {
+PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepared& pb,
+                  const CanonicalComponent& cb, const MatchOptions& opt) {
   const QuadMesh& a = pa.mesh;
   const QuadMesh& b = pb.mesh;
   const Adjacency& adj = pb.adjacency;
@@ -433,7 +443,8 @@ PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepar
     probe_b.clear();
     if (structured) {
       std::uint32_t h = s;
-      for (std::uint32_t x = 0; x < cb.part.a; ++x, h = adj.next(adj.twin[adj.next(h)])) probe_b.push_back(adj.origin[h]);
+      for (std::uint32_t x = 0; x < cb.part.a; ++x, h = adj.next(adj.twin[adj.next(h)]))
+        probe_b.push_back(adj.origin[h]);
       h = s;
       for (std::uint32_t y = 1; y < cb.part.b; ++y) {
         h = adj.twin[adj.next(adj.next(h))];
@@ -474,13 +485,20 @@ PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepar
 
 const char* match_level_name(MatchLevel level) noexcept {
   switch (level) {
-    case MatchLevel::kNone: return "none";
-    case MatchLevel::kComponentCount: return "component count";
-    case MatchLevel::kComponentSizes: return "component sizes";
-    case MatchLevel::kExtraordinary: return "extraordinary vertices";
-    case MatchLevel::kSchematic: return "schematic";
-    case MatchLevel::kCode: return "canonical code";
-    case MatchLevel::kUnreferenced: return "unreferenced vertices";
+    case MatchLevel::kNone:
+      return "none";
+    case MatchLevel::kComponentCount:
+      return "component count";
+    case MatchLevel::kComponentSizes:
+      return "component sizes";
+    case MatchLevel::kExtraordinary:
+      return "extraordinary vertices";
+    case MatchLevel::kSchematic:
+      return "schematic";
+    case MatchLevel::kCode:
+      return "canonical code";
+    case MatchLevel::kUnreferenced:
+      return "unreferenced vertices";
   }
   return "?";
 }
@@ -559,7 +577,8 @@ MatchResult match(const MatchInput& pa, const MatchInput& pb, const MatchOptions
     std::vector<Key> ka, kb;
     for (const auto& c : ca) ka.push_back(component_key(info_a, c));
     for (const auto& c : cb) kb.push_back(component_key(info_b, c));
-    for (MatchLevel level : {MatchLevel::kComponentSizes, MatchLevel::kExtraordinary, MatchLevel::kSchematic}) {
+    for (MatchLevel level :
+         {MatchLevel::kComponentSizes, MatchLevel::kExtraordinary, MatchLevel::kSchematic}) {
       std::string why = compare_keys(ka, kb, kKeyFields[static_cast<int>(level)]);
       if (!why.empty()) return differ(level, why);
     }
@@ -573,13 +592,15 @@ MatchResult match(const MatchInput& pa, const MatchInput& pb, const MatchOptions
     if (i < ca.size())
       for (std::size_t y = 0; y < cb.size(); ++y)
         if (kb[y] == ka[i])
-          return differ(MatchLevel::kCode, describe(ka[i], 9, false) + " of A: " + code_difference(ca[i].code, cb[y].code));
+          return differ(MatchLevel::kCode,
+                        describe(ka[i], 9, false) + " of A: " + code_difference(ca[i].code, cb[y].code));
     return differ(MatchLevel::kCode, "canonical codes differ");
   }
   const auto& ua = pa.canonical.unreferenced;
   const auto& ub = pb.canonical.unreferenced;
   if (ua.size() != ub.size())
-    return differ(MatchLevel::kUnreferenced, "A has " + std::to_string(ua.size()) + ", B has " + std::to_string(ub.size()));
+    return differ(MatchLevel::kUnreferenced,
+                  "A has " + std::to_string(ua.size()) + ", B has " + std::to_string(ub.size()));
 
   r.isomorphic = true;
   r.vertex.assign(a.vertex_count(), kInvalid);
@@ -673,11 +694,13 @@ bool verify_match(const QuadMesh& a, const QuadMesh& b, const MatchResult& m, st
   };
   if (!m.isomorphic) return fail("not isomorphic");
   if (a.vertex_count() != b.vertex_count() || a.face_count() != b.face_count()) return fail("sizes differ");
-  if (m.vertex.size() != a.vertex_count() || m.face.size() != a.face_count() || m.rotation.size() != a.face_count())
+  if (m.vertex.size() != a.vertex_count() || m.face.size() != a.face_count() ||
+      m.rotation.size() != a.face_count())
     return fail("map sizes differ from A's");
   std::vector<std::uint8_t> seen(b.vertex_count(), 0);
   for (std::size_t v = 0; v < m.vertex.size(); ++v) {
-    if (m.vertex[v] >= b.vertex_count() || seen[m.vertex[v]]) return fail("vertex map not a bijection at " + std::to_string(v));
+    if (m.vertex[v] >= b.vertex_count() || seen[m.vertex[v]])
+      return fail("vertex map not a bijection at " + std::to_string(v));
     seen[m.vertex[v]] = 1;
   }
   std::vector<std::uint8_t> fseen(b.face_count(), 0);

@@ -34,8 +34,9 @@ Adjacency build_adjacency(const QuadMesh& mesh) {
   for (std::uint32_t f = 0; f < nf; ++f) {
     for (int i = 0; i < 4; ++i) {
       if (q[4 * f + i] >= nv)
-        fail(ErrorCode::kBadIndex, face_str(f) + ": vertex index " + std::to_string(q[4 * f + i]) +
-                                       " out of range (" + std::to_string(nv) + " vertices)",
+        fail(ErrorCode::kBadIndex,
+             face_str(f) + ": vertex index " + std::to_string(q[4 * f + i]) + " out of range (" +
+                 std::to_string(nv) + " vertices)",
              f);
       for (int j = 0; j < i; ++j)
         if (q[4 * f + i] == q[4 * f + j])
@@ -78,17 +79,18 @@ Adjacency build_adjacency(const QuadMesh& mesh) {
       } else if (n == 2) {
         const std::uint32_t h1 = static_cast<std::uint32_t>(it[1]);
         if (q[h0] == q[h1])
-          fail(ErrorCode::kOrientation, face_str(h0 / 4) + " and " + face_str(h1 / 4) + " traverse edge " +
-                                            std::to_string(v) + "-" + std::to_string(other) +
-                                            " in the same direction (inconsistent orientation)",
+          fail(ErrorCode::kOrientation,
+               face_str(h0 / 4) + " and " + face_str(h1 / 4) + " traverse edge " + std::to_string(v) + "-" +
+                   std::to_string(other) + " in the same direction (inconsistent orientation)",
                h1 / 4);
         adj.twin[h0] = h1;
         adj.twin[h1] = h0;
       } else {
-        fail(ErrorCode::kNonManifold, "non-manifold edge " + std::to_string(v) + "-" + std::to_string(other) +
-                                          " has " + std::to_string(n) + " faces (first: " + face_str(h0 / 4) +
-                                          ", " + face_str(static_cast<std::uint32_t>(it[1]) / 4) + ", " +
-                                          face_str(static_cast<std::uint32_t>(it[2]) / 4) + ")",
+        fail(ErrorCode::kNonManifold,
+             "non-manifold edge " + std::to_string(v) + "-" + std::to_string(other) + " has " +
+                 std::to_string(n) + " faces (first: " + face_str(h0 / 4) + ", " +
+                 face_str(static_cast<std::uint32_t>(it[1]) / 4) + ", " +
+                 face_str(static_cast<std::uint32_t>(it[2]) / 4) + ")",
              static_cast<std::uint32_t>(it[2]) / 4);
       }
       it = run;
@@ -145,7 +147,8 @@ Adjacency build_adjacency(const QuadMesh& mesh) {
 
   // Components of faces, numbered by their first face.
   std::vector<std::uint32_t> first_face;
-  adj.face_component = detail::label_face_sets(nf, adj.twin, [](std::uint32_t) { return true; }, first_face);
+  adj.face_component = detail::label_face_sets(
+      nf, adj.twin, [](std::uint32_t) { return true; }, first_face);
   adj.component_count = static_cast<std::uint32_t>(first_face.size());
   adj.component_faces.assign(adj.component_count, 0);
   for (std::uint32_t f = 0; f < nf; ++f) ++adj.component_faces[adj.face_component[f]];

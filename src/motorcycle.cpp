@@ -108,7 +108,8 @@ MotorcycleGraph trace_motorcycles(const Adjacency& adj, std::span<const std::uin
             moving.push_back(straight(h2));
           } else {
             throw Error(ErrorCode::kInternal, "motorcycle: two particles meet at vertex " +
-                                                  std::to_string(v) + " neither head-on nor at a right angle");
+                                                  std::to_string(v) +
+                                                  " neither head-on nor at a right angle");
           }
         }
         // three or four arriving together: all stop

@@ -48,10 +48,14 @@ void structured_closed(const Adjacency& adj, ComponentPartition& part, std::uint
 
 const char* component_kind_name(ComponentKind kind) noexcept {
   switch (kind) {
-    case ComponentKind::kUnstructured: return "unstructured";
-    case ComponentKind::kDisk: return "disk";
-    case ComponentKind::kAnnulus: return "annulus";
-    case ComponentKind::kTorus: return "torus";
+    case ComponentKind::kUnstructured:
+      return "unstructured";
+    case ComponentKind::kDisk:
+      return "disk";
+    case ComponentKind::kAnnulus:
+      return "annulus";
+    case ComponentKind::kTorus:
+      return "torus";
   }
   return "?";
 }
@@ -93,8 +97,8 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
 
   // Regions: faces connected across uncut edges.
   std::vector<std::uint32_t> region_first_face;
-  const std::vector<std::uint32_t> region =
-      detail::label_face_sets(nf, adj.twin, [&](std::uint32_t h) { return !cut[h]; }, region_first_face);
+  const std::vector<std::uint32_t> region = detail::label_face_sets(
+      nf, adj.twin, [&](std::uint32_t h) { return !cut[h]; }, region_first_face);
 
   // Per component: counts that decide its kind.
   const std::uint32_t nc = adj.component_count;
@@ -120,7 +124,8 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
       // half-edge for a torus; for an annulus a boundary half-edge, found below.
       out.components[c].kind = comp_boundary[c] == 0 ? ComponentKind::kTorus : ComponentKind::kAnnulus;
     } else if (comp_x[c] == 0) {
-      if (comp_corners[c] != 4) internal("structured component with " + std::to_string(comp_corners[c]) + " corners");
+      if (comp_corners[c] != 4)
+        internal("structured component with " + std::to_string(comp_corners[c]) + " corners");
       out.components[c].kind = ComponentKind::kDisk;
     }
   }

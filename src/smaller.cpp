@@ -18,9 +18,7 @@ namespace {
   throw Error(ErrorCode::kInternal, "smaller partition: " + what + " (please report this mesh)");
 }
 
-bool general(ComponentKind k) {
-  return k == ComponentKind::kUnstructured || k == ComponentKind::kDisk;
-}
+bool general(ComponentKind k) { return k == ComponentKind::kUnstructured || k == ComponentKind::kDisk; }
 
 // The general components of `p` relabelled canonically (dart index = canonical label), indexed by
 // component id; structured components stay empty. Positions only break ties between roots that

@@ -40,7 +40,8 @@ void check_component(const QuadMesh& m, const CanonicalComponent& comp) {
   ASSERT_EQ(layout.quads.size(), 4 * comp.map.face.size());
   for (std::size_t f = 0; f < comp.map.face.size(); ++f)
     for (std::uint32_t k = 0; k < 4; ++k)
-      ASSERT_EQ(comp.map.vertex[layout.quads[4 * f + k]], m.quads[4 * comp.map.face[f] + (k + comp.map.rotation[f]) % 4])
+      ASSERT_EQ(comp.map.vertex[layout.quads[4 * f + k]],
+                m.quads[4 * comp.map.face[f] + (k + comp.map.rotation[f]) % 4])
           << "face " << f;
   for (std::uint32_t v = 0; v < layout.vertex_count; ++v) {
     const auto& s = layout.stencil[v];
@@ -107,7 +108,8 @@ TEST(Canonical, StructuredKinds) {
 }
 
 TEST(Canonical, StructuredLayoutsMatchTheMesh) {
-  for (auto [a, b, t, torus] : {std::tuple{8, 5, 0, true}, {9, 6, 2, true}, {7, 7, 3, true}, {8, 5, 0, false}, {5, 9, 0, false}}) {
+  for (auto [a, b, t, torus] :
+       {std::tuple{8, 5, 0, true}, {9, 6, 2, true}, {7, 7, 3, true}, {8, 5, 0, false}, {5, 9, 0, false}}) {
     const QuadMesh m = testing::periodic(a, b, torus, t);
     const CanonicalMesh c = canon(m);
     for (const auto& comp : c.components) check_component(m, comp);
@@ -126,8 +128,8 @@ TEST(Canonical, MirroredCopyDiffersUnlessSymmetric) {
   const QuadMesh f = testing::polyomino({"..####", "..####", "####..", "####..", "..##..", "..##.."});
   EXPECT_NE(topology_fingerprint(canon(f)), topology_fingerprint(canon(mirror(f))));
   // The diagonal-symmetric right-hand-rule shape matches its mirror image.
-  const QuadMesh rh = testing::polyomino({"######..", "######..", "########", "########", "########", "########",
-                                          "..######", "..######"});
+  const QuadMesh rh = testing::polyomino(
+      {"######..", "######..", "########", "########", "########", "########", "..######", "..######"});
   EXPECT_EQ(topology_fingerprint(canon(rh)), topology_fingerprint(canon(mirror(rh))));
 }
 

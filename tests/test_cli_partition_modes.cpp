@@ -25,7 +25,8 @@ std::string slurp(const fs::path& p) {
 TEST(CliPartitionModes, EveryModeRoundTripsToTheSameMesh) {
   const fs::path dir = fs::path(::testing::TempDir()) / ("qsp_modes_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  for (const char* name : {"keenan_spot_quadrangulated.obj", "multi_component.obj", "l_shape.obj", "cube_4.obj"}) {
+  for (const char* name :
+       {"keenan_spot_quadrangulated.obj", "multi_component.obj", "l_shape.obj", "cube_4.obj"}) {
     SCOPED_TRACE(name);
     const std::string in = std::string(QSP_TESTDATA_DIR) + "/" + name;
     const fs::path ref = dir / "ref.qsp";
@@ -33,8 +34,8 @@ TEST(CliPartitionModes, EveryModeRoundTripsToTheSameMesh) {
     for (const char* mode : {"greedy", "merge"}) {
       const fs::path q = dir / (std::string(mode) + ".qsp"), back = dir / (std::string(mode) + ".obj"),
                      again = dir / (std::string(mode) + "_again.qsp");
-      const auto c = run_qsp("compress -f --positions-only --partition " + std::string(mode) + " " + quote(in) + " " +
-                             quote(q.string()));
+      const auto c = run_qsp("compress -f --positions-only --partition " + std::string(mode) + " " +
+                             quote(in) + " " + quote(q.string()));
       ASSERT_EQ(c.exit_code, 0) << c.err;
       EXPECT_LE(fs::file_size(q), fs::file_size(ref)) << mode << " must keep the smaller partition";
       ASSERT_EQ(run_qsp("decompress -f " + quote(q.string()) + " " + quote(back.string())).exit_code, 0);

@@ -52,7 +52,8 @@ TEST(CliStats, JsonHasTheDocumentedFields) {
 // Reader and topology defects alike: exit 1, message with the expected code's text and location.
 TEST(CliStats, EveryInvalidMeshIsRefusedWithItsLocation) {
   int n = 0;
-  for (const auto& dir : {fs::path(QSP_TESTDATA_DIR) / "invalid", fs::path(QSP_TESTDATA_DIR) / "invalid" / "topology"}) {
+  for (const auto& dir :
+       {fs::path(QSP_TESTDATA_DIR) / "invalid", fs::path(QSP_TESTDATA_DIR) / "invalid" / "topology"}) {
     for (const auto& e : fs::directory_iterator(dir)) {
       const auto ext = e.path().extension();
       if (ext != ".obj" && ext != ".off" && ext != ".ply") continue;
@@ -73,8 +74,9 @@ TEST(CliStats, EveryInvalidMeshIsRefusedWithItsLocation) {
 TEST(CliStats, SharedInvalidCorpusIsRefusedClearly) {
   const fs::path dir = fs::path(QSP_SHARED_DIR) / "meshes";
   if (!fs::exists(dir)) GTEST_SKIP();
-  for (const char* name : {"osd_catmark_nonman_edges.obj", "osd_catmark_nonman_quadpole64.obj", "osd_catmark_nonquads.obj",
-                           "osd_catmark_bishop.obj", "keenan_spot_control_mesh.obj", "pmp_suzanne.obj"}) {
+  for (const char* name :
+       {"osd_catmark_nonman_edges.obj", "osd_catmark_nonman_quadpole64.obj", "osd_catmark_nonquads.obj",
+        "osd_catmark_bishop.obj", "keenan_spot_control_mesh.obj", "pmp_suzanne.obj"}) {
     const auto r = run_qsp("stats " + quote((dir / name).string()));
     EXPECT_EQ(r.exit_code, 1) << name << r.err;
     EXPECT_NE(r.err.find(std::string(name) + ":"), std::string::npos) << r.err;  // says where

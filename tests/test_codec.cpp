@@ -1,6 +1,5 @@
 // The .qsp codec: entropy coder, topology streams, round trips, canonical bytes, keep-order, CLI.
 #include <gtest/gtest.h>
-
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -146,7 +145,8 @@ std::vector<std::string> mesh_files(const std::string& dir) {
   if (!fs::is_directory(dir)) return out;
   for (const auto& e : fs::directory_iterator(dir)) {
     MeshFormat f = format_from_path(e.path().string());
-    if (f == MeshFormat::kObj || f == MeshFormat::kOff || f == MeshFormat::kPly) out.push_back(e.path().string());
+    if (f == MeshFormat::kObj || f == MeshFormat::kOff || f == MeshFormat::kPly)
+      out.push_back(e.path().string());
   }
   std::sort(out.begin(), out.end());
   return out;
@@ -155,7 +155,8 @@ std::vector<std::string> mesh_files(const std::string& dir) {
 bool same_float_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 // decoded is `mesh` renumbered by `order` (original -> canonical), every face rotated by its rotation.
-void expect_isomorphic(const QuadMesh& mesh, const QuadMesh& decoded, const OrderMap& order, bool exact_positions) {
+void expect_isomorphic(const QuadMesh& mesh, const QuadMesh& decoded, const OrderMap& order,
+                       bool exact_positions) {
   ASSERT_EQ(decoded.vertex_count(), mesh.vertex_count());
   ASSERT_EQ(decoded.face_count(), mesh.face_count());
   for (std::size_t f = 0; f < mesh.face_count(); ++f) {
@@ -235,7 +236,8 @@ QuadMesh shuffled(const QuadMesh& m, std::uint32_t seed) {
   std::shuffle(fperm.begin(), fperm.end(), rng);
   QuadMesh out;
   out.positions.resize(m.positions.size());
-  for (std::size_t v = 0; v < vperm.size(); ++v) std::copy_n(&m.positions[3 * v], 3, &out.positions[3 * vperm[v]]);
+  for (std::size_t v = 0; v < vperm.size(); ++v)
+    std::copy_n(&m.positions[3 * v], 3, &out.positions[3 * vperm[v]]);
   for (std::size_t i = 0; i < fperm.size(); ++i) {
     std::uint32_t f = fperm[i], r = rng() % 4;
     for (std::uint32_t c = 0; c < 4; ++c) out.quads.push_back(vperm[m.quads[4 * f + (c + r) % 4]]);
@@ -245,7 +247,8 @@ QuadMesh shuffled(const QuadMesh& m, std::uint32_t seed) {
 
 TEST(Codec, ShuffledCopiesGiveIdenticalBytes) {
   std::vector<std::string> files = mesh_files(QSP_TESTDATA_DIR);
-  for (const char* name : {"igl_horse_quad.obj", "mh_base.obj", "osd_catmark_car.obj", "pmp_hole_capsule.off"}) {
+  for (const char* name :
+       {"igl_horse_quad.obj", "mh_base.obj", "osd_catmark_car.obj", "pmp_hole_capsule.off"}) {
     std::string p = std::string(QSP_SHARED_DIR) + "/meshes/" + name;
     if (fs::exists(p)) files.push_back(p);
   }
@@ -313,8 +316,9 @@ TEST(Codec, InspectCountsTable1Row) {
   EXPECT_EQ(info.extraordinary, 8u);
   EXPECT_EQ(info.components.size(), 1u);
   EXPECT_GT(info.schematic_edges, 0u);
-  EXPECT_EQ(info.header_bytes + info.connectivity_bytes + info.geometry_bytes + info.order_bytes + info.other_bytes,
-            info.total_bytes);
+  EXPECT_EQ(
+      info.header_bytes + info.connectivity_bytes + info.geometry_bytes + info.order_bytes + info.other_bytes,
+      info.total_bytes);
 }
 
 // ---- CLI ----
@@ -405,8 +409,13 @@ TEST_F(CliTest, ExtraDataIsRefusedUnlessDropped) {
 }
 
 TEST_F(CliTest, StdinAndStdout) {
-  ASSERT_EQ(std::system((std::string(QSP_CLI_PATH) + " compress - - < " + p("cube.obj") + " > " + p("s.qsp")).c_str()), 0);
-  ASSERT_EQ(std::system((std::string(QSP_CLI_PATH) + " decompress - < " + p("s.qsp") + " > " + p("s.obj")).c_str()), 0);
+  ASSERT_EQ(
+      std::system(
+          (std::string(QSP_CLI_PATH) + " compress - - < " + p("cube.obj") + " > " + p("s.qsp")).c_str()),
+      0);
+  ASSERT_EQ(
+      std::system((std::string(QSP_CLI_PATH) + " decompress - < " + p("s.qsp") + " > " + p("s.obj")).c_str()),
+      0);
   EXPECT_EQ(encode(load(p("s.obj"))), encode(load(p("cube.obj"))));
 }
 
@@ -430,8 +439,8 @@ namespace {
 // Not a check: prints bytes and bits per vertex (connectivity and geometry apart) for the shared
 // meshes. Run: qsp_tests --gtest_also_run_disabled_tests --gtest_filter='*SizeTable*'
 TEST(Measure, DISABLED_SizeTable) {
-  std::printf("%-40s %8s %8s %7s %9s %7s %9s %7s\n", "mesh", "V", "F", "conn.B", "conn.bpv", "geom.B", "geom.bpv",
-              "q14.B");
+  std::printf("%-40s %8s %8s %7s %9s %7s %9s %7s\n", "mesh", "V", "F", "conn.B", "conn.bpv", "geom.B",
+              "geom.bpv", "q14.B");
   for (const auto& f : mesh_files(std::string(QSP_SHARED_DIR) + "/meshes")) {
     QuadMesh m;
     try {
@@ -446,9 +455,10 @@ TEST(Measure, DISABLED_SizeTable) {
     q.quantize_bits = 14;
     std::size_t q14 = encode(m, q).size();
     double v = static_cast<double>(m.vertex_count());
-    std::printf("%-40s %8zu %8zu %7llu %9.4f %7llu %9.3f %7zu\n", fs::path(f).filename().c_str(), m.vertex_count(),
-                m.face_count(), static_cast<unsigned long long>(info.connectivity_bytes), 8.0 * info.connectivity_bytes / v,
-                static_cast<unsigned long long>(info.geometry_bytes), 8.0 * info.geometry_bytes / v, q14);
+    std::printf("%-40s %8zu %8zu %7llu %9.4f %7llu %9.3f %7zu\n", fs::path(f).filename().c_str(),
+                m.vertex_count(), m.face_count(), static_cast<unsigned long long>(info.connectivity_bytes),
+                8.0 * info.connectivity_bytes / v, static_cast<unsigned long long>(info.geometry_bytes),
+                8.0 * info.geometry_bytes / v, q14);
   }
 }
 

@@ -176,7 +176,8 @@ std::map<std::string, Crafted> crafted() {
   out["qsp_high_bit_stripped"] = {seven, "format", "7-bit transfer"};
   Parts newer = p;
   newer.head11[8] = 2;
-  out["qsp_newer_major"] = {assemble(newer), "version", "file is .qsp format 2.0; this qsp reads format 1.x only"};
+  out["qsp_newer_major"] = {assemble(newer), "version",
+                            "file is .qsp format 2.0; this qsp reads format 1.x only"};
   std::string flipped = good;
   flipped[40] = static_cast<char>(flipped[40] ^ 0x04);
   out["qsp_checksum_mismatch"] = {flipped, "checksum", "checksum mismatch"};
@@ -190,7 +191,8 @@ std::map<std::string, Crafted> crafted() {
   {
     std::string sec = section(1, p.counts) + section(2, p.topology);
     sec += std::string(1, '\x03') + std::string(1, '\x7f') + p.geometry;  // geometry claims 127 bytes
-    out["qsp_section_longer_than_file"] = {seal(p.head11, sec), "format", "section declares 127 bytes but only 20 remain"};
+    out["qsp_section_longer_than_file"] = {seal(p.head11, sec), "format",
+                                           "section declares 127 bytes but only 20 remain"};
   }
   {
     std::string counts;
@@ -205,17 +207,20 @@ std::map<std::string, Crafted> crafted() {
     put_varint(counts, 5000);
     counts += std::string("\x01\x00\x00", 3);
     huge.counts = counts;
-    out["qsp_counts_larger_than_content"] = {assemble(huge), "format",
-                                             "topology describes 1 faces and 4 referenced vertices, the counts section 5000 and 5000"};
+    out["qsp_counts_larger_than_content"] = {
+        assemble(huge), "format",
+        "topology describes 1 faces and 4 referenced vertices, the counts section 5000 and 5000"};
   }
   {
     Parts more = p;
     more.counts[0] = 5;  // 5 vertices, but the topology has 4 and no unreferenced vertex
-    out["qsp_counts_mismatch"] = {assemble(more), "format", "topology describes 1 faces and 4 referenced vertices, the counts section 1 and 5"};
+    out["qsp_counts_mismatch"] = {
+        assemble(more), "format",
+        "topology describes 1 faces and 4 referenced vertices, the counts section 1 and 5"};
   }
-  out["qsp_unknown_required_section"] = {
-      seal(p.head11, section(1, p.counts) + section(2, p.topology) + section(5, "x") + section(3, p.geometry)),
-      "format", "unknown or out-of-order required section tag 0x05"};
+  out["qsp_unknown_required_section"] = {seal(p.head11, section(1, p.counts) + section(2, p.topology) +
+                                                            section(5, "x") + section(3, p.geometry)),
+                                         "format", "unknown or out-of-order required section tag 0x05"};
   out["qsp_missing_geometry"] = {seal(p.head11, section(1, p.counts) + section(2, p.topology)), "format",
                                  "required section 3 is missing"};
   {
@@ -226,7 +231,8 @@ std::map<std::string, Crafted> crafted() {
   {
     Parts junk = p;
     junk.topology += '\0';
-    out["qsp_topology_trailing_byte"] = {assemble(junk), "format", "topology section does not end where its symbols end"};
+    out["qsp_topology_trailing_byte"] = {assemble(junk), "format",
+                                         "topology section does not end where its symbols end"};
   }
   return out;
 }
@@ -275,8 +281,9 @@ TEST(Invalid, EveryQspIsRefusedWithItsExpectedError) {
 
 TEST(Invalid, UnknownOptionalSectionsAreSkipped) {
   const Parts p = split(slurp(kGolden + "/quad.qsp"));
-  std::string with_extra = seal(p.head11, section(1, p.counts) + section(0x81, "future data") +
-                                              section(2, p.topology) + section(3, p.geometry) + section(0xA0, ""));
+  std::string with_extra =
+      seal(p.head11, section(1, p.counts) + section(0x81, "future data") + section(2, p.topology) +
+                         section(3, p.geometry) + section(0xA0, ""));
   QuadMesh m = decode(with_extra);
   EXPECT_EQ(m.face_count(), 1u);
   FileInfo info = inspect(with_extra);

@@ -187,10 +187,10 @@ TEST(Geometry, RandomBitsAndSpecialValuesAreBitExact) {
   const auto st = grid_stencil(17, 13);
   std::vector<float> pos(st.size() * 3);
   for (float& f : pos) f = std::bit_cast<float>(static_cast<std::uint32_t>(rng()));
-  const std::vector<std::uint32_t> special = {
-      0x00000000u, 0x80000000u, 0x00000001u, 0x80000001u, 0x007FFFFFu, 0x807FFFFFu, 0x00800000u,
-      0x7F7FFFFFu, 0xFF7FFFFFu, 0x7F800000u, 0xFF800000u, 0x7FC00000u, 0xFFC00000u, 0x7F800001u,
-      0x7FBFFFFFu, 0xFFFFFFFFu, 0x3F800000u, 0xBF800000u};
+  const std::vector<std::uint32_t> special = {0x00000000u, 0x80000000u, 0x00000001u, 0x80000001u, 0x007FFFFFu,
+                                              0x807FFFFFu, 0x00800000u, 0x7F7FFFFFu, 0xFF7FFFFFu, 0x7F800000u,
+                                              0xFF800000u, 0x7FC00000u, 0xFFC00000u, 0x7F800001u, 0x7FBFFFFFu,
+                                              0xFFFFFFFFu, 0x3F800000u, 0xBF800000u};
   for (std::size_t i = 0; i < special.size(); ++i) pos[5 * i] = std::bit_cast<float>(special[i]);
   EXPECT_TRUE(bit_equal(round_trip(pos, st), pos));
   // All specials on one smooth row so predictions straddle them.
@@ -221,8 +221,10 @@ TEST(Geometry, MixedAxisModes) {
   std::mt19937 rng(5);
   const auto st = grid_stencil(20, 20);
   auto pos = smooth_positions(20, 20, 4);
-  for (std::size_t i = 1; i < pos.size(); i += 3) pos[i] = pos[i] + std::ldexp(static_cast<float>(rng() % 1000), -30);
-  for (std::size_t i = 2; i < pos.size(); i += 3) pos[i] = parse(std::to_string(static_cast<int>(rng() % 300)) + "e-2");
+  for (std::size_t i = 1; i < pos.size(); i += 3)
+    pos[i] = pos[i] + std::ldexp(static_cast<float>(rng() % 1000), -30);
+  for (std::size_t i = 2; i < pos.size(); i += 3)
+    pos[i] = parse(std::to_string(static_cast<int>(rng() % 300)) + "e-2");
   EXPECT_TRUE(bit_equal(round_trip(pos, st), pos));
   // Header: tag 1, varint 400, lossless, then per axis mode (+ exception count for decimal axes).
   const std::string b = qsp::encode_geometry(pos, st, {});
@@ -310,8 +312,8 @@ TEST(Geometry, CallerMistakesAreInternalErrors) {
 
 TEST(Geometry, RealMeshesAlongTheirPartition) {
   // The stencils the codec will pass: every component's grid layout, one after the other.
-  for (const char* name : {"keenan_spot_quadrangulated.obj", "quadriflow_gargoyle.obj", "mh_fedora.obj",
-                           "igl_horse_quad.obj"}) {
+  for (const char* name :
+       {"keenan_spot_quadrangulated.obj", "quadriflow_gargoyle.obj", "mh_fedora.obj", "igl_horse_quad.obj"}) {
     const std::filesystem::path path = std::filesystem::path(QSP_SHARED_DIR) / "meshes" / name;
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
     SCOPED_TRACE(name);

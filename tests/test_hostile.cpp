@@ -2,9 +2,8 @@
 // that says what and where; declared sizes are checked before anything is allocated; memory is
 // bounded by the declared content; output is atomic (kill, full disk, unwritable folder); nothing is
 // clobbered; every shared mesh round-trips or is refused cleanly; fuzzer findings stay fixed.
-#include <gtest/gtest.h>
-
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/resource.h>
@@ -106,7 +105,8 @@ void expect_refused(std::string_view bytes, ErrorCode code, std::initializer_lis
   const Caught c = decode_error(bytes, limits);
   ASSERT_TRUE(c.thrown) << "accepted";
   EXPECT_EQ(error_name(c.code), std::string(error_name(code))) << c.message;
-  for (std::string_view p : parts) EXPECT_NE(c.message.find(p), std::string::npos) << "'" << p << "' not in: " << c.message;
+  for (std::string_view p : parts)
+    EXPECT_NE(c.message.find(p), std::string::npos) << "'" << p << "' not in: " << c.message;
   // inspect() parses the same container and must refuse it the same way.
   try {
     (void)inspect(bytes, limits);
@@ -166,7 +166,8 @@ TEST(HostileQsp, BadMagic) {
 TEST(HostileQsp, NewerOrOlderMajorVersion) {
   craft::Parts p;
   ASSERT_TRUE(craft::split(cube_qsp(), p));
-  expect_refused(craft::seal(2, 0, 0, p.body), ErrorCode::kVersion, {"format 2.0", "upgrade qsp", "byte offset 8"});
+  expect_refused(craft::seal(2, 0, 0, p.body), ErrorCode::kVersion,
+                 {"format 2.0", "upgrade qsp", "byte offset 8"});
   expect_refused(craft::seal(255, 3, 0, p.body), ErrorCode::kVersion, {"format 255.3"});
   expect_refused(craft::seal(0, 9, 0, p.body), ErrorCode::kVersion, {"format 0.9"});
   // A newer minor of the same major is readable (it may only add optional sections).
@@ -195,7 +196,8 @@ TEST(HostileQsp, ReservedBitsSet) {
   const std::string good = cube_qsp();
   std::string counts = section_payload(good, craft::kTagCounts);
   counts.back() = static_cast<char>(0x80);
-  expect_refused(with_section(good, craft::kTagCounts, counts), ErrorCode::kFormat, {"reserved counts flag", "byte offset"});
+  expect_refused(with_section(good, craft::kTagCounts, counts), ErrorCode::kFormat,
+                 {"reserved counts flag", "byte offset"});
 }
 
 TEST(HostileQsp, TrailingBytes) {
@@ -205,9 +207,11 @@ TEST(HostileQsp, TrailingBytes) {
   expect_refused(good + good, ErrorCode::kFormat, {std::to_string(good.size()) + " trailing bytes"});
   // Inside a section: the entropy-coded stream must end exactly where its symbols end.
   std::string topo = section_payload(good, craft::kTagTopology) + std::string(3, '\0');
-  expect_refused(with_section(good, craft::kTagTopology, topo), ErrorCode::kFormat, {"topology", "byte offset"});
+  expect_refused(with_section(good, craft::kTagTopology, topo), ErrorCode::kFormat,
+                 {"topology", "byte offset"});
   std::string counts = section_payload(good, craft::kTagCounts) + "x";
-  expect_refused(with_section(good, craft::kTagCounts, counts), ErrorCode::kFormat, {"counts section has 1 unexpected bytes"});
+  expect_refused(with_section(good, craft::kTagCounts, counts), ErrorCode::kFormat,
+                 {"counts section has 1 unexpected bytes"});
 }
 
 TEST(HostileQsp, CountsLargerThanTheFile) {
@@ -223,11 +227,13 @@ TEST(HostileQsp, CountsLargerThanTheFile) {
                   std::to_string(good.size())});
   // A section length beyond the end of the body.
   auto secs = craft::sections(p.body);
-  std::string body = p.body.substr(0, secs.back().offset) + std::string(1, static_cast<char>(secs.back().tag));
+  std::string body =
+      p.body.substr(0, secs.back().offset) + std::string(1, static_cast<char>(secs.back().tag));
   craft::put_varint(body, secs.back().payload.size() + 10);
   body += secs.back().payload;
   expect_refused(craft::seal(1, 0, 0, body), ErrorCode::kFormat,
-                 {"declares " + std::to_string(secs.back().payload.size() + 10) + " bytes but only", "remain", "byte offset"});
+                 {"declares " + std::to_string(secs.back().payload.size() + 10) + " bytes but only", "remain",
+                  "byte offset"});
   std::string huge_len = std::string(1, static_cast<char>(craft::kTagGeometry)) + "\xff\xff\xff\xff\x0f";
   expect_refused(craft::seal(1, 0, 0, p.body.substr(0, secs.back().offset) + huge_len), ErrorCode::kFormat,
                  {"declares 4294967295 bytes but only 0 remain"});
@@ -235,13 +241,18 @@ TEST(HostileQsp, CountsLargerThanTheFile) {
   auto with_counts = [&](std::uint64_t v, std::uint64_t f, std::uint64_t c, std::uint64_t u) {
     return with_section(good, craft::kTagCounts, craft::counts_payload(v, f, c, u));
   };
-  expect_refused(with_counts(std::uint64_t{1} << 40, 96, 1, 0), ErrorCode::kFormat, {"vertex count exceeds the format"});
-  expect_refused(with_counts(98, std::uint64_t{1} << 40, 1, 0), ErrorCode::kFormat, {"face count exceeds the format"});
+  expect_refused(with_counts(std::uint64_t{1} << 40, 96, 1, 0), ErrorCode::kFormat,
+                 {"vertex count exceeds the format"});
+  expect_refused(with_counts(98, std::uint64_t{1} << 40, 1, 0), ErrorCode::kFormat,
+                 {"face count exceeds the format"});
   expect_refused(with_counts(DecodeLimits{}.max_vertices + 1, 96, 1, 0), ErrorCode::kLimit,
-                 {"vertex count " + std::to_string(DecodeLimits{}.max_vertices + 1) + " exceeds the limit", "byte offset"});
-  expect_refused(with_counts(98, DecodeLimits{}.max_faces + 1, 1, 0), ErrorCode::kLimit, {"face count", "exceeds the limit"});
+                 {"vertex count " + std::to_string(DecodeLimits{}.max_vertices + 1) + " exceeds the limit",
+                  "byte offset"});
+  expect_refused(with_counts(98, DecodeLimits{}.max_faces + 1, 1, 0), ErrorCode::kLimit,
+                 {"face count", "exceeds the limit"});
   expect_refused(with_counts(98, 96, 97, 0), ErrorCode::kFormat, {"more components than faces"});
-  expect_refused(with_counts(98, 96, 1, 99), ErrorCode::kFormat, {"more unreferenced vertices than vertices"});
+  expect_refused(with_counts(98, 96, 1, 99), ErrorCode::kFormat,
+                 {"more unreferenced vertices than vertices"});
   expect_refused(with_counts(99, 96, 1, 0), ErrorCode::kFormat, {"topology describes", "byte offset"});
   expect_refused(with_counts(98, 97, 1, 0), ErrorCode::kFormat, {"byte offset"});
   expect_refused(with_counts(98, 96, 2, 0), ErrorCode::kFormat, {"byte offset"});
@@ -259,13 +270,15 @@ TEST(HostileQsp, UnknownAndMissingSections) {
   // An optional section (tag bit 7) this decoder does not know is skipped, wherever it is.
   for (std::size_t at = 0; at <= secs.size(); ++at) {
     auto more = secs;
-    more.insert(more.begin() + static_cast<std::ptrdiff_t>(at), craft::SectionView{0x85, 0, 0, "future data"});
+    more.insert(more.begin() + static_cast<std::ptrdiff_t>(at),
+                craft::SectionView{0x85, 0, 0, "future data"});
     EXPECT_EQ(decode(craft::seal(1, 0, 0, craft::join(more))).quads, decode(good).quads) << at;
   }
   // An unknown required section is refused, as are missing, repeated and reordered ones.
   auto unknown = secs;
   unknown.push_back({0x05, 0, 0, "x"});
-  expect_refused(craft::seal(1, 0, 0, craft::join(unknown)), ErrorCode::kFormat, {"required section tag 0x05", "byte offset"});
+  expect_refused(craft::seal(1, 0, 0, craft::join(unknown)), ErrorCode::kFormat,
+                 {"required section tag 0x05", "byte offset"});
   for (std::size_t drop = 0; drop < secs.size(); ++drop) {
     auto fewer = secs;
     fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(drop));
@@ -328,7 +341,8 @@ TEST(HostileQsp, EveryResealedBitFlipAndCutIsCleanOrValid) {
       for (int b = 0; b < 8; ++b) {
         std::string body = p.body;
         body[i] = static_cast<char>(body[i] ^ (1 << b));
-        expect_clean(craft::seal(1, 0, 0, body), name + " flip " + std::to_string(i) + "." + std::to_string(b));
+        expect_clean(craft::seal(1, 0, 0, body),
+                     name + " flip " + std::to_string(i) + "." + std::to_string(b));
       }
       expect_clean(craft::seal(1, 0, 0, p.body.substr(0, i)), name + " cut " + std::to_string(i));
     }
@@ -421,12 +435,14 @@ TEST_F(Limits, TinyFileDeclaringAHugeMeshIsRefusedBeforeAllocating) {
     ErrorCode code;
   };
   const std::vector<Case> cases = {
-      {"2^40 faces", file(craft::counts_payload(4, std::uint64_t{1} << 40, 1, 0), "", ""), ErrorCode::kFormat},
+      {"2^40 faces", file(craft::counts_payload(4, std::uint64_t{1} << 40, 1, 0), "", ""),
+       ErrorCode::kFormat},
       {"vertices past the limit", file(craft::counts_payload(big + 1, 1, 1, 0), "", ""), ErrorCode::kLimit},
-      {"2^26 components", file(craft::counts_payload(big, big, big, 0), std::string(12, '\0'), small_geometry),
+      {"2^26 components",
+       file(craft::counts_payload(big, big, big, 0), std::string(12, '\0'), small_geometry),
        ErrorCode::kFormat},
-      {"2^26 unreferenced vertices", file(craft::counts_payload(big, 0, 0, big), empty_topology, small_geometry),
-       ErrorCode::kFormat},
+      {"2^26 unreferenced vertices",
+       file(craft::counts_payload(big, 0, 0, big), empty_topology, small_geometry), ErrorCode::kFormat},
       {"8192 x 8192 torus", file(craft::counts_payload(big, big, 1, 0), torus_topology, small_geometry),
        ErrorCode::kFormat},
   };
@@ -505,9 +521,11 @@ TEST_F(Limits, DecoderMemoryIsBoundedByTheDeclaredContent) {
     const double v = double(read_varint(secs[0].payload, pos)), f = double(read_varint(secs[0].payload, pos));
     const double io = double(fs::file_size(q) + fs::file_size(out));
     const double bound_kb = double(base.peak_rss_kb) + (kPerVertex * v + kPerFace * f + io) / 1024;
-    std::printf("%s: V=%.0f F=%.0f peak %ld KiB (base %ld), bound %.0f KiB; %.0f bytes per vertex beyond base and I/O\n",
-                fs::path(m).filename().c_str(), v, f, r.peak_rss_kb, base.peak_rss_kb, bound_kb,
-                (double(r.peak_rss_kb - base.peak_rss_kb) * 1024 - io) / v);
+    std::printf(
+        "%s: V=%.0f F=%.0f peak %ld KiB (base %ld), bound %.0f KiB; %.0f bytes per vertex beyond base and "
+        "I/O\n",
+        fs::path(m).filename().c_str(), v, f, r.peak_rss_kb, base.peak_rss_kb, bound_kb,
+        (double(r.peak_rss_kb - base.peak_rss_kb) * 1024 - io) / v);
     EXPECT_LT(double(r.peak_rss_kb), bound_kb);
   }
 }
@@ -523,8 +541,8 @@ TEST(LimitsBound, CheapestGeometryFitsTheContentBound) {
   EncodeOptions quant;
   quant.quantize_bits = 1;
   for (const auto& [name, bytes] : {std::pair<std::string, std::string>{"flat grid", encode(flat)},
-                                   {"all zero", encode(zero)},
-                                   {"all zero, 1 bit", encode(zero, quant)}}) {
+                                    {"all zero", encode(zero)},
+                                    {"all zero, 1 bit", encode(zero, quant)}}) {
     const std::string geometry = section_payload(bytes, craft::kTagGeometry);
     const double per_byte = double(flat.vertex_count()) / double(geometry.size());
     std::printf("%s: %.0f vertices per geometry byte\n", name.c_str(), per_byte);
@@ -556,7 +574,8 @@ using CliFailures = TempDir;
 
 TEST_F(CliFailures, EveryInvalidMeshIsRefusedByCompress) {
   int n = 0;
-  for (const auto& dir : {fs::path(QSP_TESTDATA_DIR) / "invalid", fs::path(QSP_TESTDATA_DIR) / "invalid" / "topology"}) {
+  for (const auto& dir :
+       {fs::path(QSP_TESTDATA_DIR) / "invalid", fs::path(QSP_TESTDATA_DIR) / "invalid" / "topology"}) {
     for (const auto& e : fs::directory_iterator(dir)) {
       const auto ext = e.path().extension();
       if (ext != ".obj" && ext != ".off" && ext != ".ply") continue;
@@ -566,7 +585,8 @@ TEST_F(CliFailures, EveryInvalidMeshIsRefusedByCompress) {
       const auto r = run_qsp("compress --positions-only " + quote(e.path().string()) + " " + quote(out));
       EXPECT_EQ(r.exit_code, 1) << r.err;
       EXPECT_EQ(r.err.rfind("qsp: error: ", 0), 0u) << r.err;
-      EXPECT_NE(r.err.find(expect.at("message")), std::string::npos) << r.err << "\nexpected: " << expect.at("message");
+      EXPECT_NE(r.err.find(expect.at("message")), std::string::npos)
+          << r.err << "\nexpected: " << expect.at("message");
       EXPECT_EQ(listing(dir_), std::vector<std::string>{}) << "output left behind";
       ++n;
     }
@@ -673,7 +693,8 @@ TEST_F(AtomicOutput, KilledAtAnyMomentLeavesNoPartialOrTemporaryFile) {
     fs::remove(p("out.obj"));
   }
   EXPECT_GT(killed, 0);
-  std::printf("killed %d runs, %d finished first (a full run takes %.3f s)\n", killed, finished, full.seconds);
+  std::printf("killed %d runs, %d finished first (a full run takes %.3f s)\n", killed, finished,
+              full.seconds);
 }
 
 // A write that fails part-way (file size limit: EFBIG, as a full disk gives ENOSPC) is reported, the
@@ -699,9 +720,9 @@ TEST_F(AtomicOutput, WriteErrorRemovesTheTemporaryFile) {
 TEST_F(AtomicOutput, FullDeviceGivesAClearError) {
   spit(p("c.qsp"), cube_qsp());
   // Standard output on a full device.
-  int status = std::system((quote(QSP_CLI_PATH) + " decompress " + quote(p("c.qsp")) + " - >/dev/full 2>" +
-                            quote(p("err.txt")))
-                               .c_str());
+  int status = std::system(
+      (quote(QSP_CLI_PATH) + " decompress " + quote(p("c.qsp")) + " - >/dev/full 2>" + quote(p("err.txt")))
+          .c_str());
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 3);
   EXPECT_NE(slurp(p("err.txt")).find("No space left on device"), std::string::npos) << slurp(p("err.txt"));
   fs::remove(p("err.txt"));
@@ -765,7 +786,8 @@ TEST_F(AtomicOutput, ExistingFilesAreNeverClobberedWithoutForce) {
   EXPECT_FALSE(fs::exists(p("elsewhere.txt")));
   EXPECT_EQ(run_qsp("decompress -f " + quote(p("c.qsp")) + " " + quote(p("out.obj"))).exit_code, 0);
   EXPECT_EQ(encode(read_mesh_file(p("out.obj"))), slurp(p("c.qsp")));
-  EXPECT_EQ(listing(dir_), (std::vector<std::string>{"c.qsp", "cube.obj", "dangling.obj", "out.obj", "out.qsp"}));
+  EXPECT_EQ(listing(dir_),
+            (std::vector<std::string>{"c.qsp", "cube.obj", "dangling.obj", "out.obj", "out.qsp"}));
 }
 
 TEST_F(AtomicOutput, TheInputIsNeverOverwrittenEvenWithForce) {
@@ -776,13 +798,12 @@ TEST_F(AtomicOutput, TheInputIsNeverOverwrittenEvenWithForce) {
   fs::create_hard_link(p("cube.obj"), p("hard.obj"));
   fs::create_symlink(p("cube.obj"), p("soft.obj"));
   fs::create_hard_link(p("c.qsp"), p("c_link.obj"));
-  for (const std::string& cmd :
-       {"compress -f " + quote(p("cube.obj")) + " " + quote(p("cube.obj")),
-        "compress -f " + quote(p("cube.obj")) + " -o " + quote(p("sub/../cube.obj")),
-        "compress -f " + quote(p("cube.obj")) + " " + quote(p("hard.obj")),
-        "compress -f " + quote(p("cube.obj")) + " " + quote(p("soft.obj")),
-        "compress -f " + quote(p("soft.obj")) + " " + quote(p("cube.obj")),
-        "decompress -f " + quote(p("c.qsp")) + " " + quote(p("c_link.obj"))}) {
+  for (const std::string& cmd : {"compress -f " + quote(p("cube.obj")) + " " + quote(p("cube.obj")),
+                                 "compress -f " + quote(p("cube.obj")) + " -o " + quote(p("sub/../cube.obj")),
+                                 "compress -f " + quote(p("cube.obj")) + " " + quote(p("hard.obj")),
+                                 "compress -f " + quote(p("cube.obj")) + " " + quote(p("soft.obj")),
+                                 "compress -f " + quote(p("soft.obj")) + " " + quote(p("cube.obj")),
+                                 "decompress -f " + quote(p("c.qsp")) + " " + quote(p("c_link.obj"))}) {
     SCOPED_TRACE(cmd);
     const auto r = run_qsp(cmd);
     EXPECT_EQ(r.exit_code, 3) << r.err;
@@ -865,7 +886,8 @@ TEST(FuzzRegressions, EachFindingStaysFixed) {
         (void)build_adjacency(m);
         fuzz::check_round_trip(m, "decoded finding");
       } else {
-        QuadMesh m = ext == ".off" ? read_off(bytes, f.filename().string()) : read_obj(bytes, f.filename().string());
+        QuadMesh m =
+            ext == ".off" ? read_off(bytes, f.filename().string()) : read_obj(bytes, f.filename().string());
         fuzz::check_round_trip(m, "finding");
         if (expect["code"] != "ok") (void)build_adjacency(m);
       }
@@ -877,7 +899,8 @@ TEST(FuzzRegressions, EachFindingStaysFixed) {
     } else {
       ASSERT_TRUE(c.thrown) << "accepted";
       EXPECT_EQ(error_name(c.code), expect["code"]) << c.message;
-      EXPECT_NE(c.message.find(expect["message"]), std::string::npos) << c.message << "\nexpected: " << expect["message"];
+      EXPECT_NE(c.message.find(expect["message"]), std::string::npos)
+          << c.message << "\nexpected: " << expect["message"];
     }
     ++checked;
   }

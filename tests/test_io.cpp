@@ -80,9 +80,7 @@ class TempDir {
   fs::path path_;
 };
 
-std::vector<std::uint32_t> quads(const qsp::QuadMesh& m) {
-  return m.quads;
-}
+std::vector<std::uint32_t> quads(const qsp::QuadMesh& m) { return m.quads; }
 
 }  // namespace
 

@@ -119,7 +119,8 @@ QuadMesh mirrored(QuadMesh m) {
 QuadMesh transformed(QuadMesh m, const std::array<int, 9>& r, std::array<float, 3> t = {0, 0, 0}) {
   for (std::size_t v = 0; v < m.vertex_count(); ++v) {
     const float x = m.positions[3 * v], y = m.positions[3 * v + 1], z = m.positions[3 * v + 2];
-    for (int k = 0; k < 3; ++k) m.positions[3 * v + k] = r[3 * k] * x + r[3 * k + 1] * y + r[3 * k + 2] * z + t[k];
+    for (int k = 0; k < 3; ++k)
+      m.positions[3 * v + k] = r[3 * k] * x + r[3 * k + 1] * y + r[3 * k + 2] * z + t[k];
   }
   return m;
 }
@@ -171,14 +172,18 @@ TEST(Match, ShuffledCorpusMeshesMatchFaceByFace) {
     ++n;
   }
   EXPECT_GT(n, 10);
-  std::printf("[ match    ] %d corpus meshes, %d with several isomorphisms, %d of them ambiguous\n", n, symmetric,
-              ambiguous);
+  std::printf("[ match    ] %d corpus meshes, %d with several isomorphisms, %d of them ambiguous\n", n,
+              symmetric, ambiguous);
 }
 
 TEST(Match, GeneratedMeshesMatchTheirShuffles) {
-  std::vector<QuadMesh> meshes = {testing::cube(3), testing::grid(4, 7), testing::periodic(8, 5, true, 0),
-                                  testing::periodic(9, 6, true, 2), testing::periodic(7, 3, false, 0),
-                                  box(1, 2, 3), sheared_cube(4, 2, 1)};
+  std::vector<QuadMesh> meshes = {testing::cube(3),
+                                  testing::grid(4, 7),
+                                  testing::periodic(8, 5, true, 0),
+                                  testing::periodic(9, 6, true, 2),
+                                  testing::periodic(7, 3, false, 0),
+                                  box(1, 2, 3),
+                                  sheared_cube(4, 2, 1)};
   QuadMesh several = testing::cube(2);
   testing::append(several, testing::cube(2), 5);
   testing::append(several, testing::grid(3, 2), 12);
@@ -210,7 +215,8 @@ double component_centered_cost(const QuadMesh& a, const QuadMesh& b, const std::
     auto& m = sum[none];
     for (int k = 0; k < 3; ++k) {
       s[k] += a.positions[3 * v + k], s[3 + k] += b.positions[3 * std::size_t(to[v]) + k];
-      if (comp[v] != none) m[k] += a.positions[3 * v + k], m[3 + k] += b.positions[3 * std::size_t(to[v]) + k];
+      if (comp[v] != none)
+        m[k] += a.positions[3 * v + k], m[3 + k] += b.positions[3 * std::size_t(to[v]) + k];
     }
     s[6] += 1;
     if (comp[v] != none) sum[none][6] += 1;
@@ -219,7 +225,8 @@ double component_centered_cost(const QuadMesh& a, const QuadMesh& b, const std::
   for (std::uint32_t v = 0; v < a.vertex_count(); ++v) {
     const auto& s = sum[comp[v]];
     for (int k = 0; k < 3; ++k) {
-      const double d = (a.positions[3 * v + k] - s[k] / s[6]) - (b.positions[3 * std::size_t(to[v]) + k] - s[3 + k] / s[6]);
+      const double d = (a.positions[3 * v + k] - s[k] / s[6]) -
+                       (b.positions[3 * std::size_t(to[v]) + k] - s[3 + k] / s[6]);
       cost += d * d;
     }
   }
@@ -251,8 +258,8 @@ TEST(Match, MakeHumanBaseMatchesItsMorphs) {
     std::size_t moved = 0;
     for (std::uint32_t v = 0; v < identity.size(); ++v) moved += r.vertex[v] != v;
     EXPECT_LT(moved, base.vertex_count() / 100);
-    std::printf("[ match    ] %s: %zu of %zu vertices not identity, cost %.4g vs identity %.4g\n", name.c_str(),
-                moved, base.vertex_count(), r.cost, id_cost);
+    std::printf("[ match    ] %s: %zu of %zu vertices not identity, cost %.4g vs identity %.4g\n",
+                name.c_str(), moved, base.vertex_count(), r.cost, id_cost);
     // Renumbering the morph renumbers the answer and changes nothing else.
     std::vector<std::uint32_t> old;
     const QuadMesh shuffled_morph = testing::shuffled(morph, 5, &old);
@@ -275,7 +282,8 @@ TEST(Match, MirroredCopyMatchesOnlyWithAMirrorSymmetry) {
   };
   const std::vector<Case> cases = {
       {"L with equal arms", testing::polyomino({"##..", "##..", "####", "####"}), true},
-      {"F pentomino", testing::polyomino({"..####", "..####", "####..", "####..", "..##..", "..##.."}), false},
+      {"F pentomino", testing::polyomino({"..####", "..####", "####..", "####..", "..##..", "..##.."}),
+       false},
       {"cube", testing::cube(3), true},
       {"box 1x2x3", box(1, 2, 3), true},
       {"torus, no twist", testing::periodic(9, 6, true, 0), true},
@@ -554,7 +562,8 @@ TEST_F(MatchCli, MatchWritesTheMapAndExitsByResult) {
   const QuadMesh a = testing::cube(3);
   std::vector<std::uint32_t> old;
   const QuadMesh b = testing::shuffled(a, 8, &old);
-  const std::string pa = write("a.obj", a), pb = write("b.obj", b), map = path("map.txt"), fmap = path("faces.txt");
+  const std::string pa = write("a.obj", a), pb = write("b.obj", b), map = path("map.txt"),
+                    fmap = path("faces.txt");
   auto r = run_qsp("match " + quote(pa) + " " + quote(pb) + " -o " + quote(map) + " --faces " + quote(fmap));
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("isomorphic"), std::string::npos) << r.out;
@@ -597,7 +606,8 @@ TEST_F(MatchCli, MatchWritesTheMapAndExitsByResult) {
 }
 
 TEST_F(MatchCli, FingerprintGroupsFilesByTopology) {
-  const std::string p1 = write("one.obj", testing::cube(2)), p2 = write("two.obj", testing::shuffled(testing::cube(2), 3)),
+  const std::string p1 = write("one.obj", testing::cube(2)),
+                    p2 = write("two.obj", testing::shuffled(testing::cube(2), 3)),
                     p3 = write("three.obj", box(1, 2, 3));
   auto r = run_qsp("fingerprint " + quote(p1) + " " + quote(p2) + " " + quote(p3));
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -626,19 +636,21 @@ TEST_F(MatchCli, ReorderGivesTheReferenceOrder) {
   EXPECT_EQ(got.quads, ref.quads);  // REF's faces, corners and vertex numbers
   const auto truth = truth_of(old);
   ASSERT_EQ(got.vertex_count(), ref.vertex_count());
-  for (std::uint32_t v = 0; v < ref.vertex_count(); ++v) ASSERT_TRUE(same_position(got, v, in, truth[v])) << v;
+  for (std::uint32_t v = 0; v < ref.vertex_count(); ++v)
+    ASSERT_TRUE(same_position(got, v, in, truth[v])) << v;
   // Refuses to overwrite without -f; -f replaces.
   EXPECT_EQ(run_qsp("reorder --like " + quote(pr) + " " + quote(pi) + " -o " + quote(out)).exit_code, 3);
   EXPECT_EQ(run_qsp("reorder --like " + quote(pr) + " " + quote(pi) + " -f -o " + quote(out)).exit_code, 0);
   // Not isomorphic: 1.
   const std::string pc = write("c.obj", box(1, 2, 3));
-  EXPECT_EQ(run_qsp("reorder --like " + quote(pr) + " " + quote(pc) + " -o " + quote(path("x.obj"))).exit_code, 1);
+  EXPECT_EQ(
+      run_qsp("reorder --like " + quote(pr) + " " + quote(pc) + " -o " + quote(path("x.obj"))).exit_code, 1);
 }
 
 TEST_F(MatchCli, QspFilesFingerprintMatchAndReorder) {
   // A shape whose greedy partition (compress --partition greedy) differs from the motorcycle graph.
-  const QuadMesh m = testing::polyomino(std::vector<std::string>{"######..", "######..", "########", "########",
-                                                                  "########", "########", "..######", "..######"});
+  const QuadMesh m = testing::polyomino(std::vector<std::string>{
+      "######..", "######..", "########", "########", "########", "########", "..######", "..######"});
   std::vector<std::uint32_t> old;
   const QuadMesh s = testing::shuffled(m, 12, &old);
   const std::string pm = write("m.obj", m), ps = write("s.obj", s), qm = path("m.qsp"), qg = path("g.qsp");
@@ -647,7 +659,8 @@ TEST_F(MatchCli, QspFilesFingerprintMatchAndReorder) {
   auto r = run_qsp("fingerprint " + quote(pm) + " " + quote(qm) + " " + quote(qg) + " " + quote(ps));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string fp = r.out.substr(0, 16);
-  EXPECT_EQ(r.out, fp + "  " + pm + "\n" + fp + "  " + qm + "\n" + fp + "  " + qg + "\n" + fp + "  " + ps + "\n");
+  EXPECT_EQ(r.out,
+            fp + "  " + pm + "\n" + fp + "  " + qm + "\n" + fp + "  " + qg + "\n" + fp + "  " + ps + "\n");
   // match on a .qsp numbers its vertices as decompress writes them.
   const std::string back = path("back.obj");
   ASSERT_EQ(run_qsp("decompress " + quote(qm) + " " + quote(back)).exit_code, 0);

@@ -66,7 +66,11 @@ TEST(KnownAnswers, SharedHandWorkedCases) {
   const std::vector<Case> cases = {
       {"right_hand_rule.obj", 2, 12, 16, {{2, 4}, {2, 4}, {2, 6}, {2, 6}, {4, 4}}},
       {"head_on_vertex.obj", 2, 10, 13, {{2, 2}, {2, 4}, {2, 4}, {2, 4}}},
-      {"stop_point_blocks.obj", 5, 20, 28, {{1, 2}, {1, 2}, {1, 3}, {2, 2}, {2, 2}, {2, 2}, {2, 3}, {2, 3}, {2, 3}}},
+      {"stop_point_blocks.obj",
+       5,
+       20,
+       28,
+       {{1, 2}, {1, 2}, {1, 3}, {2, 2}, {2, 2}, {2, 2}, {2, 3}, {2, 3}, {2, 3}}},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.file);
@@ -91,8 +95,13 @@ TEST(Partition, HandCheckedPolyominoes) {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> sizes;
   };
   const std::vector<Case> cases = {
-      {testing::polyomino({"###...", "###...", "###...", "######", "######", "######"}), 8, 10, {{3, 3}, {3, 3}, {3, 3}}},
-      {testing::polyomino({"##....", "##....", "####..", "####..", "######", "######"}), 12, 16,
+      {testing::polyomino({"###...", "###...", "###...", "######", "######", "######"}),
+       8,
+       10,
+       {{3, 3}, {3, 3}, {3, 3}}},
+      {testing::polyomino({"##....", "##....", "####..", "####..", "######", "######"}),
+       12,
+       16,
        {{2, 2}, {2, 2}, {2, 2}, {2, 2}, {2, 4}}},
       {testing::grid(5, 3), 4, 4, {{3, 5}}},
   };
@@ -153,8 +162,8 @@ TEST(Partition, RefinedCubeHasSixSquarePatches) {
 using testing::corpus;
 
 // Traced edges as sorted pairs of vertex ids mapped through `to_original`.
-std::vector<std::pair<std::uint32_t, std::uint32_t>> traced_pairs(const Adjacency& adj,
-                                                                  const std::vector<std::uint32_t>* to_original) {
+std::vector<std::pair<std::uint32_t, std::uint32_t>> traced_pairs(
+    const Adjacency& adj, const std::vector<std::uint32_t>* to_original) {
   const MotorcycleGraph g = trace_motorcycles(adj, extraordinary_vertices(adj));
   std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
   for (std::uint32_t h : g.traced) {
@@ -172,7 +181,8 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> traced_pairs(const Adjacenc
 // on closed components P = 4n - 4chi and these are exactly 5n - 4chi, 8n - 8chi, 3n - 3chi.
 void check_bounds(const Adjacency& adj, const Partition& p) {
   const auto info = component_info(adj);
-  std::vector<std::int64_t> particles(adj.component_count, 0), nb(adj.component_count, 0), corners(adj.component_count, 0);
+  std::vector<std::int64_t> particles(adj.component_count, 0), nb(adj.component_count, 0),
+      corners(adj.component_count, 0);
   for (std::uint32_t v = 0; v < adj.vertex_count; ++v) {
     if (adj.valence[v] == 0) continue;
     const std::uint32_t h = adj.vertex_halfedge[v];

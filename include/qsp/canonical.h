@@ -16,7 +16,7 @@ namespace qsp {
 // darts are visited in label order and each says where its `next` goes. Decodable on its own.
 struct TopologyCode {
   ComponentKind kind = ComponentKind::kUnstructured;
-  std::uint32_t a = 0, b = 0, twist = 0;   // kAnnulus / kTorus sizes (see ComponentPartition)
+  std::uint32_t a = 0, b = 0, twist = 0;  // kAnnulus / kTorus sizes (see ComponentPartition)
   // Per dart in label order: 0 = next is a new edge (labelled now: next gets 2E, its twin 2E+1),
   // k > 0 = next is the k-th (1-based, by label) dart that has no predecessor yet.
   std::vector<std::uint32_t> next_ref;
@@ -30,8 +30,8 @@ bool operator<(const TopologyCode& x, const TopologyCode& y);
 
 struct CanonicalComponent {
   TopologyCode code;
-  ComponentPartition part;  // relabelled in canonical order; still linked to the input mesh
-  LayoutMap map;            // grid_layout(part) vertex/face -> input mesh vertex/face
+  ComponentPartition part;          // relabelled in canonical order; still linked to the input mesh
+  LayoutMap map;                    // grid_layout(part) vertex/face -> input mesh vertex/face
   std::uint32_t automorphisms = 1;  // orientation-preserving self-isomorphisms found (root ties)
 };
 
@@ -56,7 +56,8 @@ std::vector<std::uint32_t> canonical_starts(const Adjacency& adj, const Canonica
 
 // comp.part with its traversal started at `start` (one of canonical_starts): same code, same layout,
 // linked to the mesh through another automorphism. layout_to_mesh(result, adj) gives its LayoutMap.
-ComponentPartition canonical_from_start(const Adjacency& adj, const CanonicalComponent& comp, std::uint32_t start);
+ComponentPartition canonical_from_start(const Adjacency& adj, const CanonicalComponent& comp,
+                                        std::uint32_t start);
 
 // Rebuilds the component a code describes, in canonical numbering (not linked to any mesh).
 // Throws Error(kFormat) if the code is not a valid schematic partition. Safe on untrusted input.

@@ -75,8 +75,8 @@ struct FileInfo {
   std::uint64_t header_bytes = 0;        // magic, version, flags, size, checksum
   std::uint64_t connectivity_bytes = 0;  // counts + topology sections
   std::uint64_t geometry_bytes = 0;
-  std::uint64_t order_bytes = 0;         // keep-order permutations (0 if absent)
-  std::uint64_t other_bytes = 0;         // optional sections this decoder skipped
+  std::uint64_t order_bytes = 0;  // keep-order permutations (0 if absent)
+  std::uint64_t other_bytes = 0;  // optional sections this decoder skipped
   std::uint64_t vertices = 0, edges = 0, faces = 0, unreferenced = 0, extraordinary = 0;
   std::uint64_t schematic_vertices = 0, schematic_edges = 0, patches = 0;
   std::array<std::uint32_t, 4> kind_counts{};  // by ComponentKind

@@ -20,8 +20,8 @@ struct GeometryOptions {
 // already-coded neighbours. Lossless mode is bit-exact for every float, NaN payloads and -0 included;
 // it detects decimal-grid data (e.g. every coordinate written with 4 decimals) and codes its integers.
 // Returns self-delimiting bytes (see format-spec/qsp_format.md, "Geometry section").
-std::string encode_geometry(std::span<const float> positions,
-                            std::span<const GridLayout::Stencil> stencil, const GeometryOptions& options);
+std::string encode_geometry(std::span<const float> positions, std::span<const GridLayout::Stencil> stencil,
+                            const GeometryOptions& options);
 
 // Inverse of encode_geometry for `vertex_count` vertices and the same stencils. Throws Error(kFormat)
 // on any inconsistency; never reads outside `bytes`. Safe on untrusted input.

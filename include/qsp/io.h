@@ -24,18 +24,18 @@ MeshFormat format_from_path(std::string_view path);
 // What a reader saw besides positions and quads. qsp stores none of it yet; the CLI refuses input
 // that has any unless the user asks to drop it (`--positions-only`), so nothing is lost silently.
 struct ReadReport {
-  std::uint64_t texcoords = 0;       // `vt` lines
-  std::uint64_t normals = 0;         // `vn` lines
-  std::uint64_t face_attribute_refs = 0; // faces written v/vt, v//vn or v/vt/vn
-  std::uint64_t groups = 0;          // `g` and `o` lines
-  std::uint64_t materials = 0;       // `usemtl`, `mtllib` (and old `usemap`, `maplib`) lines
-  std::uint64_t smoothing = 0;       // `s` lines
-  std::uint64_t tags = 0;            // OpenSubdiv `t` lines (creases, corners, ...)
-  std::uint64_t vertex_colors = 0;   // colours after x y z on `v` lines, or PLY/OFF colour properties
-  std::uint64_t face_colors = 0;     // OFF colour after a face's indices, PLY face colour properties
-  std::uint64_t parameter_vertices = 0; // OBJ `vp` lines
-  std::uint64_t other_properties = 0;   // PLY vertex/face properties qsp does not know (one per element)
-  std::vector<std::uint32_t> face_line; // per face: 1-based line it starts on (0 if not from text)
+  std::uint64_t texcoords = 0;            // `vt` lines
+  std::uint64_t normals = 0;              // `vn` lines
+  std::uint64_t face_attribute_refs = 0;  // faces written v/vt, v//vn or v/vt/vn
+  std::uint64_t groups = 0;               // `g` and `o` lines
+  std::uint64_t materials = 0;            // `usemtl`, `mtllib` (and old `usemap`, `maplib`) lines
+  std::uint64_t smoothing = 0;            // `s` lines
+  std::uint64_t tags = 0;                 // OpenSubdiv `t` lines (creases, corners, ...)
+  std::uint64_t vertex_colors = 0;        // colours after x y z on `v` lines, or PLY/OFF colour properties
+  std::uint64_t face_colors = 0;          // OFF colour after a face's indices, PLY face colour properties
+  std::uint64_t parameter_vertices = 0;   // OBJ `vp` lines
+  std::uint64_t other_properties = 0;     // PLY vertex/face properties qsp does not know (one per element)
+  std::vector<std::uint32_t> face_line;   // per face: 1-based line it starts on (0 if not from text)
 
   bool has_extra_data() const {
     return texcoords || normals || face_attribute_refs || groups || materials || smoothing || tags ||

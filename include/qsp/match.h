@@ -50,12 +50,12 @@ const char* match_level_name(MatchLevel level) noexcept;
 
 // Per matched component pair.
 struct ComponentMatch {
-  std::uint32_t a_faces = 0;             // size, to name it in messages
-  std::uint64_t isomorphisms = 0;        // orientation-preserving isomorphisms of this pair (= symmetries)
-  std::uint32_t scored = 0;              // of them, scored on all vertices
-  bool ambiguous = false;                // another isomorphism is as near as the chosen one
-  bool exhaustive = true;                // false: the cap stopped the search (then also ambiguous)
-  double cost = 0;                       // sum of squared distances of the chosen isomorphism
+  std::uint32_t a_faces = 0;       // size, to name it in messages
+  std::uint64_t isomorphisms = 0;  // orientation-preserving isomorphisms of this pair (= symmetries)
+  std::uint32_t scored = 0;        // of them, scored on all vertices
+  bool ambiguous = false;          // another isomorphism is as near as the chosen one
+  bool exhaustive = true;          // false: the cap stopped the search (then also ambiguous)
+  double cost = 0;                 // sum of squared distances of the chosen isomorphism
 };
 
 struct MatchResult {
@@ -73,9 +73,9 @@ struct MatchResult {
   // Number of isomorphisms A -> B: product of the components' symmetry counts, times k! for every k
   // interchangeable components and for the k unreferenced vertices. Saturates at UINT64_MAX.
   std::uint64_t isomorphisms = 0;
-  bool ambiguous = false;   // some choice (a component's isomorphism, a pairing) had an equally near rival
-  bool exhaustive = true;   // false when a cap stopped a search early, or a large pairing was greedy
-  double cost = 0;          // sum over all vertices of squared distances (as compared, see Centering)
+  bool ambiguous = false;  // some choice (a component's isomorphism, a pairing) had an equally near rival
+  bool exhaustive = true;  // false when a cap stopped a search early, or a large pairing was greedy
+  double cost = 0;         // sum over all vertices of squared distances (as compared, see Centering)
   std::vector<ComponentMatch> components;  // in canonical component order
 };
 

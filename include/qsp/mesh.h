@@ -12,8 +12,9 @@ inline constexpr std::uint32_t kInvalid = 0xFFFFFFFFu;
 // A quad mesh exactly as read: float32 positions as parsed, faces in file order. Unreferenced vertices
 // are kept (they carry data); nothing is inferred or dropped.
 struct QuadMesh {
-  std::vector<float> positions;     // 3 per vertex: x, y, z
-  std::vector<std::uint32_t> quads; // 4 per face, 0-based vertex indices, counter-clockwise seen from outside
+  std::vector<float> positions;  // 3 per vertex: x, y, z
+  std::vector<std::uint32_t>
+      quads;  // 4 per face, 0-based vertex indices, counter-clockwise seen from outside
 
   std::size_t vertex_count() const { return positions.size() / 3; }
   std::size_t face_count() const { return quads.size() / 4; }
@@ -26,14 +27,16 @@ struct QuadMesh {
 struct Adjacency {
   std::uint32_t vertex_count = 0;
   std::uint32_t face_count = 0;
-  std::vector<std::uint32_t> twin;            // per half-edge: the half-edge on the other side of its edge
-  std::vector<std::uint32_t> origin;          // per half-edge: the vertex it leaves
-  std::vector<std::uint32_t> exterior_next;   // per exterior half-edge (index h - 4F): next one around its hole
-  std::vector<std::uint32_t> vertex_halfedge; // per vertex: one outgoing half-edge (the exterior one on the boundary), kInvalid if unreferenced
-  std::vector<std::uint32_t> valence;         // per vertex: number of incident edges (0 if unreferenced)
-  std::vector<std::uint8_t> boundary;         // per vertex: 1 if on the mesh boundary
-  std::vector<std::uint32_t> face_component;  // per face: connected component id, numbered by first face
-  std::vector<std::uint32_t> component_faces; // per component: its number of faces
+  std::vector<std::uint32_t> twin;    // per half-edge: the half-edge on the other side of its edge
+  std::vector<std::uint32_t> origin;  // per half-edge: the vertex it leaves
+  std::vector<std::uint32_t>
+      exterior_next;  // per exterior half-edge (index h - 4F): next one around its hole
+  std::vector<std::uint32_t> vertex_halfedge;  // per vertex: one outgoing half-edge (the exterior one on the
+                                               // boundary), kInvalid if unreferenced
+  std::vector<std::uint32_t> valence;          // per vertex: number of incident edges (0 if unreferenced)
+  std::vector<std::uint8_t> boundary;          // per vertex: 1 if on the mesh boundary
+  std::vector<std::uint32_t> face_component;   // per face: connected component id, numbered by first face
+  std::vector<std::uint32_t> component_faces;  // per component: its number of faces
   std::uint32_t component_count = 0;
 
   std::uint32_t halfedge_count() const { return static_cast<std::uint32_t>(twin.size()); }

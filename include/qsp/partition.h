@@ -70,7 +70,7 @@ struct ComponentPartition {
   ComponentKind kind = ComponentKind::kUnstructured;
   std::uint32_t component = 0;  // component id in Adjacency::face_component
   std::uint32_t extraordinary = 0;
-  Schematic schematic;          // kUnstructured and kDisk
+  Schematic schematic;  // kUnstructured and kDisk
   // kAnnulus: a = edges around, b = rows; kTorus: the lattice {(a,0),(twist,b)}, 0 <= twist < a.
   std::uint32_t a = 0, b = 0, twist = 0;
   // kAnnulus/kTorus: the mesh half-edge at grid origin, running along +x with cell (0,0) on its left.

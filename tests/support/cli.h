@@ -18,9 +18,10 @@ struct CliResult {
 // Runs `qsp ARGS` through the shell (ARGS must be shell-quoted by the caller).
 inline CliResult run_qsp(const std::string& args) {
   static int counter = 0;
-  const std::string base = ::testing::TempDir() + "qsp_cli_" + std::to_string(::getpid()) + "_" +
-                           std::to_string(counter++);
-  const std::string cmd = std::string("'") + QSP_CLI_PATH + "' " + args + " >'" + base + ".out' 2>'" + base + ".err'";
+  const std::string base =
+      ::testing::TempDir() + "qsp_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++);
+  const std::string cmd =
+      std::string("'") + QSP_CLI_PATH + "' " + args + " >'" + base + ".out' 2>'" + base + ".err'";
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

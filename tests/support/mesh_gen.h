@@ -40,8 +40,9 @@ class MeshBuilder {
 inline QuadMesh cube(int n) {
   MeshBuilder b;
   // origin, u, v with u x v = outward normal
-  const int sides[6][9] = {{0, 0, n, 1, 0, 0, 0, 1, 0}, {0, 0, 0, 0, 1, 0, 1, 0, 0}, {n, 0, 0, 0, 1, 0, 0, 0, 1},
-                           {0, 0, 0, 0, 0, 1, 0, 1, 0}, {0, n, 0, 0, 0, 1, 1, 0, 0}, {0, 0, 0, 1, 0, 0, 0, 0, 1}};
+  const int sides[6][9] = {{0, 0, n, 1, 0, 0, 0, 1, 0}, {0, 0, 0, 0, 1, 0, 1, 0, 0},
+                           {n, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 0, 0, 0, 0, 1, 0, 1, 0},
+                           {0, n, 0, 0, 0, 1, 1, 0, 0}, {0, 0, 0, 1, 0, 0, 0, 0, 1}};
   for (const auto& s : sides)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
@@ -85,7 +86,8 @@ inline QuadMesh periodic(int a, int b, bool torus, int twist) {
     for (int x = 0; x < a; ++x) {
       const float t = 6.2831853f * x / a, s = 6.2831853f * y / b;
       const float r = torus ? 3.0f + std::cos(s) : 2.0f;
-      m.positions.insert(m.positions.end(), {r * std::cos(t), r * std::sin(t), torus ? std::sin(s) : float(y)});
+      m.positions.insert(m.positions.end(),
+                         {r * std::cos(t), r * std::sin(t), torus ? std::sin(s) : float(y)});
     }
   auto P = [&](int x, int y) -> std::uint32_t {
     if (torus && y == b) {
@@ -95,22 +97,26 @@ inline QuadMesh periodic(int a, int b, bool torus, int twist) {
     return static_cast<std::uint32_t>(y * a + ((x % a) + a) % a);
   };
   for (int y = 0; y < b; ++y)
-    for (int x = 0; x < a; ++x) m.quads.insert(m.quads.end(), {P(x, y), P(x + 1, y), P(x + 1, y + 1), P(x, y + 1)});
+    for (int x = 0; x < a; ++x)
+      m.quads.insert(m.quads.end(), {P(x, y), P(x + 1, y), P(x + 1, y + 1), P(x, y + 1)});
   return m;
 }
 
 // Appends `b` to `a` as another component.
 inline void append(QuadMesh& a, const QuadMesh& b, float dx = 0) {
   const auto base = static_cast<std::uint32_t>(a.vertex_count());
-  for (std::size_t i = 0; i < b.positions.size(); ++i) a.positions.push_back(b.positions[i] + (i % 3 == 0 ? dx : 0));
+  for (std::size_t i = 0; i < b.positions.size(); ++i)
+    a.positions.push_back(b.positions[i] + (i % 3 == 0 ? dx : 0));
   for (auto v : b.quads) a.quads.push_back(v + base);
 }
 
 // A random renumbering of vertices, reordering of faces and rotation of each face's corners.
 // Returns the new-to-old vertex map in `vertex_old` when given.
-inline QuadMesh shuffled(const QuadMesh& m, std::uint64_t seed, std::vector<std::uint32_t>* vertex_old = nullptr) {
+inline QuadMesh shuffled(const QuadMesh& m, std::uint64_t seed,
+                         std::vector<std::uint32_t>* vertex_old = nullptr) {
   std::mt19937_64 rng(seed);
-  const auto nv = static_cast<std::uint32_t>(m.vertex_count()), nf = static_cast<std::uint32_t>(m.face_count());
+  const auto nv = static_cast<std::uint32_t>(m.vertex_count()),
+             nf = static_cast<std::uint32_t>(m.face_count());
   std::vector<std::uint32_t> vperm(nv), fperm(nf), inv(nv);
   std::iota(vperm.begin(), vperm.end(), 0);
   std::iota(fperm.begin(), fperm.end(), 0);

@@ -16,8 +16,8 @@ namespace {
 
 struct CompressOptions {
   std::string input;
-  std::string output;       // positional OUT
-  std::string output_flag;  // -o OUT
+  std::string output;        // positional OUT
+  std::string output_flag;   // -o OUT
   std::string input_format;  // for standard input: obj, off
   bool force = false;
   std::uint32_t quantize = 0;
@@ -30,7 +30,8 @@ struct CompressOptions {
 // different spellings of one path are caught).
 bool same_file(const std::string& in, const std::string& out) {
   if (in == "-" || out == "-") return false;
-  struct stat a {}, b {};
+  struct stat a {
+  }, b{};
   if (::stat(in.c_str(), &a) != 0 || ::stat(out.c_str(), &b) != 0) return false;
   return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
 }
@@ -39,9 +40,11 @@ void run(const CompressOptions& o) {
   if (!o.output.empty() && !o.output_flag.empty()) throw CLI::ValidationError("give OUT or -o OUT, not both");
   std::string out = !o.output_flag.empty() ? o.output_flag : o.output;
   if (out.empty()) out = o.input == "-" ? "-" : o.input + ".qsp";
-  if (same_file(o.input, out)) throw Error(ErrorCode::kIo, out + ": is the input file; refusing to write over it");
+  if (same_file(o.input, out))
+    throw Error(ErrorCode::kIo, out + ": is the input file; refusing to write over it");
   if (out == "-" && ::isatty(STDOUT_FILENO)) {
-    throw Error(ErrorCode::kIo, "-: refusing to write compressed data to a terminal (redirect it or give OUT)");
+    throw Error(ErrorCode::kIo,
+                "-: refusing to write compressed data to a terminal (redirect it or give OUT)");
   }
 
   MeshFormat format = MeshFormat::kUnknown;
@@ -57,8 +60,9 @@ void run(const CompressOptions& o) {
   QuadMesh mesh = read_mesh_file(o.input, &report, format);
   if (report.has_extra_data()) {
     if (!o.positions_only) {
-      throw Error(ErrorCode::kUnsupported, o.input + ": has " + report.describe_extra_data() +
-                                               ", which .qsp does not store; pass --positions-only to drop them");
+      throw Error(ErrorCode::kUnsupported,
+                  o.input + ": has " + report.describe_extra_data() +
+                      ", which .qsp does not store; pass --positions-only to drop them");
     }
     std::fprintf(stderr, "qsp: %s: dropped %s (--positions-only)\n", o.input.c_str(),
                  report.describe_extra_data().c_str());
@@ -76,7 +80,8 @@ void run(const CompressOptions& o) {
       mo.partition = PartitionMode::kMotorcycle;
       std::string alt = encode(mesh, mo);
       if (alt.size() < bytes.size()) {
-        std::fprintf(stderr, "qsp: %s: the motorcycle partition gives a smaller file (%zu < %zu bytes); keeping it\n",
+        std::fprintf(stderr,
+                     "qsp: %s: the motorcycle partition gives a smaller file (%zu < %zu bytes); keeping it\n",
                      o.input.c_str(), alt.size(), bytes.size());
         bytes.swap(alt);
       }
@@ -97,10 +102,12 @@ void register_compress(CLI::App& app, int& exit_code) {
   sub->add_option("-o,--output", opt->output_flag, "Output file (same as OUT)");
   sub->add_option("--format", opt->input_format, "Format of standard input: obj, off or ply");
   sub->add_option("--partition", opt->partition,
-                  "Structured partition to store: motorcycle (default, canonical), greedy or merge (smaller; also canonical)")
+                  "Structured partition to store: motorcycle (default, canonical), greedy or merge (smaller; "
+                  "also canonical)")
       ->check(CLI::IsMember({"motorcycle", "greedy", "merge"}));
   sub->add_flag("-f,--force", opt->force, "Replace OUT if it exists (never the input)");
-  sub->add_option("--quantize", opt->quantize, "Lossy: quantize positions to BITS bits over the bounding box (1-30)")
+  sub->add_option("--quantize", opt->quantize,
+                  "Lossy: quantize positions to BITS bits over the bounding box (1-30)")
       ->check(CLI::Range(1, 30));
   sub->add_flag("--keep-order", opt->keep_order, "Also store the vertex order, face order and first corners");
   sub->add_flag("--positions-only", opt->positions_only,

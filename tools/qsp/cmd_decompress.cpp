@@ -22,7 +22,8 @@ struct DecompressOptions {
 
 bool same_file(const std::string& in, const std::string& out) {
   if (in == "-" || out == "-") return false;
-  struct stat a {}, b {};
+  struct stat a {
+  }, b{};
   if (::stat(in.c_str(), &a) != 0 || ::stat(out.c_str(), &b) != 0) return false;
   return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
 }
@@ -46,7 +47,8 @@ void run(const DecompressOptions& o) {
   if (format != MeshFormat::kObj && format != MeshFormat::kOff) {
     throw Error(ErrorCode::kUnsupported, out + ": can write .obj or .off only");
   }
-  if (same_file(o.input, out)) throw Error(ErrorCode::kIo, out + ": is the input file; refusing to write over it");
+  if (same_file(o.input, out))
+    throw Error(ErrorCode::kIo, out + ": is the input file; refusing to write over it");
 
   const std::string bytes = read_file_bytes(o.input);
   DecodeLimits limits;
@@ -67,7 +69,8 @@ void register_decompress(CLI::App& app, int& exit_code) {
   auto opt = std::make_shared<DecompressOptions>();
   CLI::App* sub = app.add_subcommand("decompress", "Decompress a .qsp file into a mesh (.obj or .off)");
   sub->add_option("IN", opt->input, "Input .qsp, or - for standard input")->required();
-  sub->add_option("OUT", opt->output, "Output mesh (default: IN without .qsp, .obj added if needed; - for stdout)");
+  sub->add_option("OUT", opt->output,
+                  "Output mesh (default: IN without .qsp, .obj added if needed; - for stdout)");
   sub->add_option("-o,--output", opt->output_flag, "Output mesh (same as OUT)");
   sub->add_flag("-f,--force", opt->force, "Replace OUT if it exists (never the input)");
   sub->add_option("--max-vertices", opt->max_vertices, "Refuse files declaring more vertices (default 2^26)");

@@ -26,7 +26,9 @@ struct FingerprintOptions {
 };
 
 // prepare_match: the canonical form, computed on a locality-friendly numbering if the file's is scrambled.
-std::uint64_t mesh_fingerprint(QuadMesh mesh) { return topology_fingerprint(prepare_match(std::move(mesh)).canonical); }
+std::uint64_t mesh_fingerprint(QuadMesh mesh) {
+  return topology_fingerprint(prepare_match(std::move(mesh)).canonical);
+}
 
 // A .qsp without its geometry: inspect() checks the whole file (checksum, counts, topology), then the
 // topology section's codes are rebuilt into the mesh's connectivity (canonical numbering, positions
@@ -108,9 +110,13 @@ void run(const FingerprintOptions& o) {
 
 void register_fingerprint(CLI::App& app, int& exit_code) {
   auto opt = std::make_shared<FingerprintOptions>();
-  CLI::App* cmd = app.add_subcommand("fingerprint", "Print a topology fingerprint per file (equal = isomorphic meshes)");
-  cmd->add_option("files", opt->files, "Mesh files (.obj .off .ply), or .qsp (read without decoding positions)")->required();
-  cmd->add_flag("--group", opt->group, "List files with equal fingerprints together, groups separated by a blank line");
+  CLI::App* cmd =
+      app.add_subcommand("fingerprint", "Print a topology fingerprint per file (equal = isomorphic meshes)");
+  cmd->add_option("files", opt->files,
+                  "Mesh files (.obj .off .ply), or .qsp (read without decoding positions)")
+      ->required();
+  cmd->add_flag("--group", opt->group,
+                "List files with equal fingerprints together, groups separated by a blank line");
   cmd->callback([opt, &exit_code] {
     run(*opt);
     exit_code = 0;

@@ -20,8 +20,8 @@ namespace {
 
 struct MatchCliOptions {
   std::string a, b;
-  std::string map;        // -o: vertex map
-  std::string face_map;   // --faces
+  std::string map;       // -o: vertex map
+  std::string face_map;  // --faces
   std::string centering = "component";
   std::uint32_t max_evaluations = MatchOptions{}.max_full_evaluations;
   bool force = false;
@@ -128,9 +128,11 @@ int run(const MatchCliOptions& o) {
   if (!o.face_map.empty()) write_file_atomic(o.face_map, face_map_text(r), o.force);
   if (!o.quiet) {
     const double rms = r.vertex.empty() ? 0.0 : std::sqrt(r.cost / double(r.vertex.size()));
-    std::fprintf(report, "isomorphic: %s; chose the nearest, rms distance %.6g", count_text(r.isomorphisms).c_str(), rms);
+    std::fprintf(report, "isomorphic: %s; chose the nearest, rms distance %.6g",
+                 count_text(r.isomorphisms).c_str(), rms);
     if (r.ambiguous) std::fprintf(report, "; ambiguous: another isomorphism is as near");
-    if (!r.exhaustive) std::fprintf(report, "; nearest not proven (search capped, or many equal components paired greedily)");
+    if (!r.exhaustive)
+      std::fprintf(report, "; nearest not proven (search capped, or many equal components paired greedily)");
     std::fprintf(report, "\n");
   }
   return 0;
@@ -140,16 +142,20 @@ int run(const MatchCliOptions& o) {
 
 void register_match(CLI::App& app, int& exit_code) {
   auto opt = std::make_shared<MatchCliOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "match", "Find the vertex correspondence between two isomorphic quad meshes (exit 0 isomorphic, 1 not, 2+ error)");
+  CLI::App* cmd = app.add_subcommand("match",
+                                     "Find the vertex correspondence between two isomorphic quad meshes "
+                                     "(exit 0 isomorphic, 1 not, 2+ error)");
   cmd->add_option("A", opt->a, "First mesh (.obj .off .ply .qsp)")->required();
   cmd->add_option("B", opt->b, "Second mesh")->required();
-  cmd->add_option("-o,--output", opt->map, "Write the vertex map: line i = B's vertex for A's vertex i (- = stdout)");
-  cmd->add_option("--faces", opt->face_map,
-                  "Write the face map: line f = \"G R\", A's face f is B's face G, corner c is B's corner (c+R)%4");
+  cmd->add_option("-o,--output", opt->map,
+                  "Write the vertex map: line i = B's vertex for A's vertex i (- = stdout)");
+  cmd->add_option(
+      "--faces", opt->face_map,
+      "Write the face map: line f = \"G R\", A's face f is B's face G, corner c is B's corner (c+R)%4");
   cmd->add_flag("-f,--force", opt->force, "Replace MAP / FACEMAP if they exist");
-  cmd->add_option("--centering", opt->centering,
-                  "Positions compared to choose among symmetric isomorphisms: component (default), mesh, none")
+  cmd->add_option(
+         "--centering", opt->centering,
+         "Positions compared to choose among symmetric isomorphisms: component (default), mesh, none")
       ->check(CLI::IsMember({"component", "mesh", "none"}));
   cmd->add_option("--max-evaluations", opt->max_evaluations,
                   "Per component, isomorphisms scored on all vertices at most (default 64)")
@@ -159,7 +165,8 @@ void register_match(CLI::App& app, int& exit_code) {
     try {
       exit_code = run(*opt);
     } catch (const Error& e) {
-      // I/O (3) and internal (4) errors keep main's codes; an invalid mesh must not look like "not isomorphic".
+      // I/O (3) and internal (4) errors keep main's codes; an invalid mesh must not look like "not
+      // isomorphic".
       if (e.code() == ErrorCode::kIo || e.code() == ErrorCode::kInternal) throw;
       std::fprintf(stderr, "qsp: error: %s\n", e.what());
       exit_code = 2;

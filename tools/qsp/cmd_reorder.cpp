@@ -25,7 +25,8 @@ struct ReorderOptions {
 
 bool same_file(const std::string& x, const std::string& y) {
   if (x == "-" || y == "-") return false;
-  struct stat a {}, b {};
+  struct stat a {
+  }, b{};
   if (::stat(x.c_str(), &a) != 0 || ::stat(y.c_str(), &b) != 0) return false;
   return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
 }
@@ -64,28 +65,33 @@ int run(const ReorderOptions& o) {
   if (format != MeshFormat::kObj && format != MeshFormat::kOff && format != MeshFormat::kQsp)
     throw Error(ErrorCode::kUnsupported, o.output + ": can write .obj, .off or .qsp only");
   for (const std::string* in : {&o.ref, &o.input})
-    if (same_file(*in, o.output)) throw Error(ErrorCode::kIo, o.output + ": is an input file; refusing to write over it");
+    if (same_file(*in, o.output))
+      throw Error(ErrorCode::kIo, o.output + ": is an input file; refusing to write over it");
 
   const Read ref = read_any(o.ref);
   const Read in = read_any(o.input);
   // Only IN's data reaches OUT; REF contributes its order alone.
   if (in.report.has_extra_data()) {
     if (!o.positions_only)
-      throw Error(ErrorCode::kUnsupported, o.input + ": has " + in.report.describe_extra_data() +
-                                               ", which reorder does not carry over; pass --positions-only to drop them");
+      throw Error(ErrorCode::kUnsupported,
+                  o.input + ": has " + in.report.describe_extra_data() +
+                      ", which reorder does not carry over; pass --positions-only to drop them");
     std::fprintf(stderr, "qsp: %s: dropped %s (--positions-only)\n", o.input.c_str(),
                  in.report.describe_extra_data().c_str());
   }
   MatchOptions mo;
-  mo.centering = o.centering == "mesh" ? Centering::kMesh : o.centering == "none" ? Centering::kNone : Centering::kComponent;
+  mo.centering = o.centering == "mesh"   ? Centering::kMesh
+                 : o.centering == "none" ? Centering::kNone
+                                         : Centering::kComponent;
   const MatchResult r = match(prepare_located(ref, o.ref), prepare_located(in, o.input), mo);
   if (!r.isomorphic) {
-    std::fprintf(stderr, "qsp: %s is not isomorphic to %s: %s\n", o.input.c_str(), o.ref.c_str(), r.reason.c_str());
+    std::fprintf(stderr, "qsp: %s is not isomorphic to %s: %s\n", o.input.c_str(), o.ref.c_str(),
+                 r.reason.c_str());
     return 1;
   }
   if (r.ambiguous)
-    std::fprintf(stderr, "qsp: warning: %s: the correspondence is ambiguous (symmetric mesh, %s)\n", o.input.c_str(),
-                 r.exhaustive ? "equally near isomorphisms" : "search capped");
+    std::fprintf(stderr, "qsp: warning: %s: the correspondence is ambiguous (symmetric mesh, %s)\n",
+                 o.input.c_str(), r.exhaustive ? "equally near isomorphisms" : "search capped");
 
   // OUT vertex i = IN vertex r.vertex[i]; OUT face f = IN face r.face[f] turned so that its corner c
   // is IN's corner (c + rotation) -- which is REF's face f, renumbered to OUT's vertices.
@@ -101,7 +107,8 @@ int run(const ReorderOptions& o) {
   for (std::size_t f = 0; f < nf; ++f)
     for (std::uint32_t c = 0; c < 4; ++c)
       out.quads[4 * f + c] = out_of[src.quads[4 * std::size_t(r.face[f]) + ((c + r.rotation[f]) & 3u)]];
-  if (out.quads != ref.mesh.quads) throw Error(ErrorCode::kInternal, "reorder: faces do not come out in REF's order");
+  if (out.quads != ref.mesh.quads)
+    throw Error(ErrorCode::kInternal, "reorder: faces do not come out in REF's order");
   std::string bytes;
   if (format == MeshFormat::kQsp) {
     // Keep the order in the file, so decompressing gives REF's order.
@@ -119,13 +126,17 @@ int run(const ReorderOptions& o) {
 
 void register_reorder(CLI::App& app, int& exit_code) {
   auto opt = std::make_shared<ReorderOptions>();
-  CLI::App* cmd = app.add_subcommand("reorder", "Write IN with REF's vertex and face order (IN isomorphic to REF)");
+  CLI::App* cmd =
+      app.add_subcommand("reorder", "Write IN with REF's vertex and face order (IN isomorphic to REF)");
   cmd->add_option("--like", opt->ref, "Reference mesh whose order OUT takes")->required();
   cmd->add_option("IN", opt->input, "Mesh to reorder (.obj .off .ply .qsp)")->required();
-  cmd->add_option("-o,--output", opt->output, "Output .obj, .off or .qsp (keeps the order) (- = OBJ on stdout)")->required();
+  cmd->add_option("-o,--output", opt->output,
+                  "Output .obj, .off or .qsp (keeps the order) (- = OBJ on stdout)")
+      ->required();
   cmd->add_flag("-f,--force", opt->force, "Replace OUT if it exists (never an input)");
-  cmd->add_option("--centering", opt->centering,
-                  "Positions compared to choose among symmetric isomorphisms: component (default), mesh, none")
+  cmd->add_option(
+         "--centering", opt->centering,
+         "Positions compared to choose among symmetric isomorphisms: component (default), mesh, none")
       ->check(CLI::IsMember({"component", "mesh", "none"}));
   cmd->add_flag("--positions-only", opt->positions_only,
                 "Drop IN's texture coordinates, normals, groups, ... instead of refusing");

@@ -39,7 +39,6 @@ struct Row {
   std::vector<Comp> comps;
 };
 
-
 void add_sizes(Row& r, const FileInfo& info) {
   r.has_bytes = true;
   r.total_bytes = info.total_bytes;
@@ -65,8 +64,8 @@ Row qsp_row(const std::string& file) {
   for (const auto& c : info.components) {
     const bool closed = c.kind == ComponentKind::kAnnulus || c.kind == ComponentKind::kTorus;
     // A .qsp does not store per-component edge or extraordinary counts; those columns read 0.
-    r.comps.push_back({component_kind_name(c.kind), c.vertices, 0, c.faces, 0, c.schematic_vertices, c.schematic_edges,
-                       closed ? 1u : c.patches, 0});
+    r.comps.push_back({component_kind_name(c.kind), c.vertices, 0, c.faces, 0, c.schematic_vertices,
+                       c.schematic_edges, closed ? 1u : c.patches, 0});
   }
   add_sizes(r, info);
   return r;
@@ -87,9 +86,15 @@ Row mesh_row(const std::string& file, const LoadedMesh& loaded, PartitionMode mo
   for (std::uint32_t c = 0; c < adj.component_count; ++c) {
     const auto& p = part.components[c];
     const bool closed = p.kind == ComponentKind::kAnnulus || p.kind == ComponentKind::kTorus;
-    Row::Comp k{component_kind_name(p.kind), info[c].vertices, info[c].edges, info[c].faces, info[c].extraordinary,
-                closed ? 0 : p.schematic.vertex_count, closed ? 0 : p.schematic.edge_count(),
-                closed ? 1 : p.schematic.patch_count(), info[c].euler()};
+    Row::Comp k{component_kind_name(p.kind),
+                info[c].vertices,
+                info[c].edges,
+                info[c].faces,
+                info[c].extraordinary,
+                closed ? 0 : p.schematic.vertex_count,
+                closed ? 0 : p.schematic.edge_count(),
+                closed ? 1 : p.schematic.patch_count(),
+                info[c].euler()};
     r.edges += k.edges;
     r.extraordinary += k.extraordinary;
     r.sx += k.sx;
@@ -129,30 +134,35 @@ void print_json(const std::vector<Row>& rows, bool verbose) {
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const Row& r = rows[i];
     std::printf(
-        "{\"file\": %s, \"partition\": \"%s\", \"mesh\": {\"vertices\": %llu, \"edges\": %llu, \"faces\": %llu, \"components\": %llu, "
-        "\"extraordinary\": %llu, \"unreferenced\": %llu}, \"schematic\": {\"vertices\": %llu, \"edges\": %llu, "
+        "{\"file\": %s, \"partition\": \"%s\", \"mesh\": {\"vertices\": %llu, \"edges\": %llu, \"faces\": "
+        "%llu, \"components\": %llu, "
+        "\"extraordinary\": %llu, \"unreferenced\": %llu}, \"schematic\": {\"vertices\": %llu, \"edges\": "
+        "%llu, "
         "\"patches\": %llu}, \"relative\": {\"vertices\": %.4f, \"edges\": %.4f}",
-        json_string(r.file).c_str(), r.partition.c_str(), (unsigned long long)r.vertices, (unsigned long long)r.edges,
-        (unsigned long long)r.faces, (unsigned long long)r.components, (unsigned long long)r.extraordinary,
-        (unsigned long long)r.unreferenced, (unsigned long long)r.sx, (unsigned long long)r.se,
-        (unsigned long long)r.patches, pct(r.sx, r.vertices), pct(r.se, r.edges));
+        json_string(r.file).c_str(), r.partition.c_str(), (unsigned long long)r.vertices,
+        (unsigned long long)r.edges, (unsigned long long)r.faces, (unsigned long long)r.components,
+        (unsigned long long)r.extraordinary, (unsigned long long)r.unreferenced, (unsigned long long)r.sx,
+        (unsigned long long)r.se, (unsigned long long)r.patches, pct(r.sx, r.vertices), pct(r.se, r.edges));
     if (r.has_bytes) {
       const double v = r.vertices ? double(r.vertices) : 1.0;
-      std::printf(", \"bytes\": {\"total\": %llu, \"connectivity\": %llu, \"geometry\": %llu}, "
-                  "\"bits_per_vertex\": {\"total\": %.4f, \"connectivity\": %.4f, \"geometry\": %.4f}",
-                  (unsigned long long)r.total_bytes, (unsigned long long)r.connectivity_bytes,
-                  (unsigned long long)r.geometry_bytes, 8.0 * r.total_bytes / v, 8.0 * r.connectivity_bytes / v,
-                  8.0 * r.geometry_bytes / v);
+      std::printf(
+          ", \"bytes\": {\"total\": %llu, \"connectivity\": %llu, \"geometry\": %llu}, "
+          "\"bits_per_vertex\": {\"total\": %.4f, \"connectivity\": %.4f, \"geometry\": %.4f}",
+          (unsigned long long)r.total_bytes, (unsigned long long)r.connectivity_bytes,
+          (unsigned long long)r.geometry_bytes, 8.0 * r.total_bytes / v, 8.0 * r.connectivity_bytes / v,
+          8.0 * r.geometry_bytes / v);
     }
     if (verbose) {
       std::printf(", \"components\": [");
       for (std::size_t c = 0; c < r.comps.size(); ++c) {
         const auto& k = r.comps[c];
-        std::printf("%s{\"kind\": \"%s\", \"vertices\": %llu, \"edges\": %llu, \"faces\": %llu, \"euler\": %lld, "
-                    "\"extraordinary\": %llu, \"schematic\": {\"vertices\": %llu, \"edges\": %llu, \"patches\": %llu}}",
-                    c ? ", " : "", k.kind, (unsigned long long)k.vertices, (unsigned long long)k.edges,
-                    (unsigned long long)k.faces, (long long)k.euler, (unsigned long long)k.extraordinary,
-                    (unsigned long long)k.sx, (unsigned long long)k.se, (unsigned long long)k.patches);
+        std::printf(
+            "%s{\"kind\": \"%s\", \"vertices\": %llu, \"edges\": %llu, \"faces\": %llu, \"euler\": %lld, "
+            "\"extraordinary\": %llu, \"schematic\": {\"vertices\": %llu, \"edges\": %llu, \"patches\": "
+            "%llu}}",
+            c ? ", " : "", k.kind, (unsigned long long)k.vertices, (unsigned long long)k.edges,
+            (unsigned long long)k.faces, (long long)k.euler, (unsigned long long)k.extraordinary,
+            (unsigned long long)k.sx, (unsigned long long)k.se, (unsigned long long)k.patches);
       }
       std::printf("]");
     }
@@ -167,8 +177,8 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
     const std::size_t n = r.file.size() + (r.partition == "motorcycle" ? 0 : r.partition.size() + 3);
     width = std::max(width, static_cast<int>(n));
   }
-  std::printf("%-*s %9s %9s %9s %6s | %7s %7s %7s | %7s %7s\n", width, "model", "V", "E", "F", "xord", "sch.V", "sch.E",
-              "patches", "V%", "E%");
+  std::printf("%-*s %9s %9s %9s %6s | %7s %7s %7s | %7s %7s\n", width, "model", "V", "E", "F", "xord",
+              "sch.V", "sch.E", "patches", "V%", "E%");
   for (const Row& r : rows) {
     const std::string model = r.partition == "motorcycle" ? r.file : r.file + " [" + r.partition + "]";
     std::printf("%-*s %9llu %9llu %9llu %6llu | %7llu %7llu %7llu | %6.2f%% %6.2f%%\n", width, model.c_str(),
@@ -177,17 +187,18 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
                 (unsigned long long)r.patches, pct(r.sx, r.vertices), pct(r.se, r.edges));
     if (r.has_bytes) {
       const double v = r.vertices ? double(r.vertices) : 1.0;
-      std::printf("  bytes: %llu total = %llu connectivity (%.3f bits/vertex) + %llu geometry (%.2f bits/vertex)\n",
-                  (unsigned long long)r.total_bytes, (unsigned long long)r.connectivity_bytes,
-                  8.0 * r.connectivity_bytes / v, (unsigned long long)r.geometry_bytes, 8.0 * r.geometry_bytes / v);
+      std::printf(
+          "  bytes: %llu total = %llu connectivity (%.3f bits/vertex) + %llu geometry (%.2f bits/vertex)\n",
+          (unsigned long long)r.total_bytes, (unsigned long long)r.connectivity_bytes,
+          8.0 * r.connectivity_bytes / v, (unsigned long long)r.geometry_bytes, 8.0 * r.geometry_bytes / v);
     }
     if (!verbose) continue;
     for (std::size_t c = 0; c < r.comps.size(); ++c) {
       const auto& k = r.comps[c];
-      std::printf("  component %-4zu %-12s %9llu %9llu %9llu %6llu | %7llu %7llu %7llu | chi %lld\n", c, k.kind,
-                  (unsigned long long)k.vertices, (unsigned long long)k.edges, (unsigned long long)k.faces,
-                  (unsigned long long)k.extraordinary, (unsigned long long)k.sx, (unsigned long long)k.se,
-                  (unsigned long long)k.patches, (long long)k.euler);
+      std::printf("  component %-4zu %-12s %9llu %9llu %9llu %6llu | %7llu %7llu %7llu | chi %lld\n", c,
+                  k.kind, (unsigned long long)k.vertices, (unsigned long long)k.edges,
+                  (unsigned long long)k.faces, (unsigned long long)k.extraordinary, (unsigned long long)k.sx,
+                  (unsigned long long)k.se, (unsigned long long)k.patches, (long long)k.euler);
     }
   }
 }
@@ -196,12 +207,14 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
 
 void register_stats(CLI::App& app, int& exit_code) {
   auto opt = std::make_shared<StatsOptions>();
-  CLI::App* cmd = app.add_subcommand("stats", "Print the paper's Table-1 row (mesh vs schematic partition) per file");
+  CLI::App* cmd =
+      app.add_subcommand("stats", "Print the paper's Table-1 row (mesh vs schematic partition) per file");
   cmd->add_option("files", opt->files, "Mesh files (.obj .off .ply) or .qsp files")->required();
   cmd->add_flag("--json", opt->json, "One JSON object per file (an array for several files)");
   cmd->add_flag("--verbose", opt->verbose, "Add a per-component breakdown");
   cmd->add_flag("--sizes", opt->sizes, "For meshes: compress in memory and report the .qsp sizes");
-  cmd->add_option("--partition", opt->partition, "Partition: motorcycle (default), greedy, merge, or all (a row each)")
+  cmd->add_option("--partition", opt->partition,
+                  "Partition: motorcycle (default), greedy, merge, or all (a row each)")
       ->check(CLI::IsMember({"motorcycle", "greedy", "merge", "all"}));
   cmd->callback([opt, &exit_code] {
     std::vector<Row> rows;
