@@ -312,10 +312,11 @@ void assemble(const std::vector<ComponentPartition>& parts, std::uint32_t unrefe
     GridLayout g = grid_layout(part);
     auto base = static_cast<std::uint32_t>(stencil.size());
     for (std::uint32_t v : g.quads) quads.push_back(v + base);
-    for (const GridLayout::Stencil& st : g.stencil) {
-      stencil.push_back({shift(st.w, base), shift(st.ww, base), shift(st.s, base), shift(st.sw, base),
-                         shift(st.far, base), st.far_dist, shift(st.e, base), shift(st.es, base),
-                         shift(st.n, base), shift(st.nw, base), st.e_dist, st.n_dist});
+    for (GridLayout::Stencil st : g.stencil) {
+      for (std::uint32_t* j : {&st.w, &st.ww, &st.s, &st.sw, &st.far, &st.e, &st.es, &st.n, &st.nw, &st.o,
+                               &st.ow, &st.ofar, &st.x0, &st.x1, &st.x2})
+        *j = shift(*j, base);
+      stencil.push_back(st);
     }
   }
   for (std::uint32_t u = 0; u < unreferenced; ++u) {

@@ -1,5 +1,6 @@
 // Geometry coding: per-vertex prediction from grid neighbours, residuals through an adaptive binary
-// range coder. The byte layout is specified in format-spec/geometry_section.md; keep them in sync.
+// range coder. The byte layout is specified in format-spec/qsp_format.md, "Geometry section"; keep
+// them in sync.
 //
 // Determinism: integer axes (decimal grids, quantized) predict with integer arithmetic only. Float
 // axes predict with additions in binary64 and one rounding to binary32, and dequantization multiplies
@@ -88,7 +89,8 @@ class Reader {
 // Residual model: zigzag value u, coded as its bit length L (6-bit binary tree) and then the bits
 // below the leading one (the first two with adaptive contexts, the rest raw).
 
-constexpr int kKinds = 7;              // context kinds: Kind, plus kWest/kLinear with a far end (5, 6)
+constexpr int kKinds =
+    9;  // context kinds: Kind 0..4, kWest/kLinear with a far end (5, 6), kOpposite (7), kCorners (8)
 constexpr int kBuckets = 24;           // neighbourhood magnitude classes
 constexpr int kModelledBits = 2;       // mantissa bits with their own contexts
 constexpr int kMaxTrailingZeros = 12;  // decimal integers: 10^12 < 2^40 < 10^13
@@ -174,7 +176,15 @@ std::int64_t unzigzag64(std::uint64_t u) {
 // ---------------------------------------------------------------------------------------------
 // Prediction. Everything here depends only on the stencils, so both sides agree without signalling.
 
-enum Kind : std::uint8_t { kNone = 0, kWest = 1, kLinear = 2, kParallelogram = 3, kSouth = 4 };
+enum Kind : std::uint8_t {
+  kNone = 0,
+  kWest = 1,
+  kLinear = 2,
+  kParallelogram = 3,
+  kSouth = 4,
+  kOpposite = 5,
+  kCorners = 6
+};
 
 // A vertex's coded neighbours on its grid, (column, row) offsets from it: w (-1,0), ww (-2,0),
 // s (0,-1), sw (-1,-1), and derived from other stencils: se (1,-1), ss (0,-2), sww (-2,-1), ssw (-1,-2).
@@ -182,17 +192,20 @@ struct Hood {
   std::uint32_t w, ww, s, sw, se = kInvalid, ss = kInvalid, sww = kInvalid, ssw = kInvalid;
   const GridLayout::Stencil* t = nullptr;  // its stencil, for the fields `sides` says count
   Kind kind;
-  std::uint8_t ctx;  // context kind: kind, or 5 / 6 for kWest / kLinear with a far end
+  Kind fallback;     // for kOpposite / kCorners: the kind it would have along its own edge
+  std::uint8_t ctx;  // context kind: kind, 5 / 6 for kWest / kLinear with a far end, 7 kOpposite, 8 kCorners
   // Which of the stencil's far (edge points: the edge's far end, far_dist steps ahead), e/es (patch
   // side ahead along the row, e_dist) and n/nw (along the column, n_dist) count.
   std::uint8_t sides = 0;
-  static constexpr std::uint8_t kFar = 1, kEast = 2, kNorth = 4;
+  static constexpr std::uint8_t kFar = 1, kEast = 2, kNorth = 4, kOppositeFar = 8;
   bool has(std::uint8_t side) const { return (sides & side) != 0; }
 };
 
 constexpr std::uint32_t kMaxFarDist = 64;  // farther ends are ignored (and keep the products small)
 
-std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st) {
+// Revision 1 (format 1.0) files predate the across-patch predictors: their vertices never get kOpposite /
+// kCorners.
+std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st, int revision) {
   const auto n = static_cast<std::uint32_t>(st.size());
   auto full = [&](std::uint32_t j) {
     return st[j].w != kInvalid && st[j].s != kInvalid && st[j].sw != kInvalid;
@@ -223,14 +236,29 @@ std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st) {
     } else if (s.w != kInvalid) {
       x.kind = s.ww != kInvalid ? kLinear : kWest;
       if (s.far != kInvalid && s.far_dist >= 1 && s.far_dist <= kMaxFarDist) x.sides |= Hood::kFar;
+      x.fallback = x.kind;
+      if (revision < 2) {
+        // format 1.0: along the edge only
+      } else if (s.o != kInvalid && s.ow != kInvalid) {
+        x.kind = kOpposite;  // an edge point, also predicted from the patch side across
+        if (s.far != kInvalid && s.ofar != kInvalid && s.far_dist >= 1 && s.far_dist <= kMaxFarDist)
+          x.sides |= Hood::kOppositeFar;
+      } else if (s.x0 != kInvalid && s.x1 != kInvalid &&
+                 (s.x2 != kInvalid || (s.xden >= 1 && s.xnum <= s.xden))) {
+        x.kind = kCorners;  // a schematic vertex, also predicted from its patch's corners
+      }
     } else if (s.s != kInvalid) {
       x.kind = kSouth;
     } else {
       x.kind = kNone;
       x.w = i == 0 ? kInvalid : i - 1;  // the previous vertex stands in for w
     }
+    if (x.kind != kOpposite && x.kind != kCorners) x.fallback = x.kind;
     x.t = &s;
-    x.ctx = x.has(Hood::kFar) ? static_cast<std::uint8_t>(x.kind + 4) : static_cast<std::uint8_t>(x.kind);
+    x.ctx = x.kind == kOpposite  ? 7
+            : x.kind == kCorners ? 8
+            : x.has(Hood::kFar)  ? static_cast<std::uint8_t>(x.kind + 4)
+                                 : static_cast<std::uint8_t>(x.kind);
   }
   return h;
 }
@@ -294,6 +322,9 @@ std::int64_t candidate(const Hood& x, const std::int64_t* v, int k) {
 std::int64_t floor_div(std::int64_t a, std::int64_t b) {  // b > 0
   return a >= 0 ? a / b : -((-a + b - 1) / b);
 }
+__int128 floor_div128(__int128 a, __int128 b) {  // b > 0
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
 
 // Weights of the candidates at a parallelogram vertex: the inverse square of each one's mean error
 // at the coded neighbours w, s, sw, se (integer axes summed). 0 for a missing candidate. <= 2^30.
@@ -346,8 +377,8 @@ int bucket_for(const std::uint8_t* lengths, const Hood& x) {
 }
 
 // The fixed predictor of kinds other than kParallelogram, and of float axes.
-std::int64_t predict_fixed(const Hood& x, const std::int64_t* v) {
-  switch (x.kind) {
+std::int64_t predict_kind(const Hood& x, Kind kind, const std::int64_t* v) {
+  switch (kind) {
     case kParallelogram:
       return v[x.w] + v[x.s] - v[x.sw];
     case kLinear:
@@ -367,6 +398,20 @@ std::int64_t predict_fixed(const Hood& x, const std::int64_t* v) {
       return v[x.s];
     case kNone:
       return x.w == kInvalid ? 0 : v[x.w];
+    case kOpposite: {
+      const GridLayout::Stencil& t = *x.t;
+      if (x.has(Hood::kOppositeFar)) {  // the offset to the side across, interpolated between w and far
+        const std::int64_t d = t.far_dist;
+        return v[t.o] + floor_div(2 * (d * (v[x.w] - v[t.ow]) + (v[t.far] - v[t.ofar])) + d + 1, 2 * (d + 1));
+      }
+      return v[x.w] + v[t.o] - v[t.ow];
+    }
+    case kCorners: {
+      const GridLayout::Stencil& t = *x.t;
+      if (t.x2 != kInvalid) return v[t.x1] + v[t.x2] - v[t.x0];
+      const __int128 num = static_cast<__int128>(v[t.x1] - v[t.x0]) * t.xnum;
+      return v[t.x0] + static_cast<std::int64_t>(floor_div128(2 * num + t.xden, 2 * __int128{t.xden}));
+    }
   }
   return 0;
 }
@@ -382,9 +427,9 @@ float image_float(std::uint32_t m) {
 
 // Float-axis prediction: additions in binary64 (no products, so no FMA contraction can change it),
 // rounded once to binary32; if that is not finite (a NaN/inf operand or overflow), w's own bits.
-std::uint32_t predict_float(const Hood& x, const float* f) {
+std::uint32_t predict_float(const Hood& x, Kind kind, const float* f) {
   double d;
-  switch (x.kind) {
+  switch (kind) {
     case kParallelogram:
       d = (double{f[x.w]} + double{f[x.s]}) - double{f[x.sw]};
       break;
@@ -395,6 +440,13 @@ std::uint32_t predict_float(const Hood& x, const float* f) {
       return float_image(f[x.w]);
     case kSouth:
       return float_image(f[x.s]);
+    case kOpposite:
+      d = (double{f[x.w]} + double{f[x.t->o]}) - double{f[x.t->ow]};
+      break;
+    case kCorners:
+      if (x.t->x2 == kInvalid) return float_image(f[x.w]);
+      d = (double{f[x.t->x1]} + double{f[x.t->x2]}) - double{f[x.t->x0]};
+      break;
     default:
       return x.w == kInvalid ? float_image(0.0f) : float_image(f[x.w]);
   }
@@ -510,7 +562,8 @@ void check_stencil(std::span<const GridLayout::Stencil> stencil, std::size_t n) 
   if (stencil.size() != n) throw Error(ErrorCode::kInternal, "geometry: stencil count != vertex count");
   for (std::uint32_t i = 0; i < n; ++i) {
     const auto& s = stencil[i];
-    for (std::uint32_t j : {s.w, s.ww, s.s, s.sw, s.far, s.e, s.es, s.n, s.nw}) {
+    for (std::uint32_t j :
+         {s.w, s.ww, s.s, s.sw, s.far, s.e, s.es, s.n, s.nw, s.o, s.ow, s.ofar, s.x0, s.x1, s.x2}) {
       if (j != kInvalid && j >= i) throw Error(ErrorCode::kInternal, "geometry: stencil refers forward");
     }
   }
@@ -613,9 +666,11 @@ Grid make_grid(std::span<const float> pos, std::uint32_t bits) {
 // ---------------------------------------------------------------------------------------------
 // Coding loop, shared by encoder and decoder so the two cannot drift apart.
 
-constexpr std::uint8_t kFormatTag = 1;  // first byte: geometry coding revision
+// First byte: geometry coding revision. 1 = format 1.0 (no across-patch kinds), still decoded.
+constexpr std::uint8_t kFormatTag = 2;
 
 struct Header {
+  int revision = kFormatTag;
   std::uint32_t bits = 0;  // 0 lossless, else quantized
   std::array<AxisPlan, 3> plans;
   Grid grid;
@@ -642,11 +697,18 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
   auto model = std::make_unique<ResidualModel>();
   std::array<std::int64_t, kCandidates> weight{};
   std::array<std::array<std::int64_t, kCandidates>, 3> cand{};
+  // Across-patch vertices: running means (x16) of the errors of the across prediction [0] and of the
+  // prediction along the vertex's own edge [1], per class; the one with the smaller mean is used.
+  // (Blending the two was worse: on CAD-like meshes the across prediction is often exact.)
+  std::array<std::array<std::uint64_t, 2>, 4> across_err{};
+  std::array<std::array<std::int64_t, 2>, 3> across_pred{};
   for (std::uint32_t i = 0; i < count; ++i) {
     const Hood& x = hood[i];
     const unsigned mask = any_int ? candidate_mask(x) : 0;
     const bool blended = any_int && x.kind == kParallelogram;
     const int blend_class = blended ? blend_weights(x, mask, errors.data(), weight) : 0;
+    const bool across = x.kind == kOpposite || x.kind == kCorners;
+    const int cls = x.kind == kOpposite ? (x.has(Hood::kOppositeFar) ? 0 : 1) : (x.t->x2 != kInvalid ? 2 : 3);
     for (int a = 0; a < 3; ++a) {
       if (!h.integer_axis(a)) continue;
       for (int k = 0; k < kCandidates; ++k)
@@ -660,7 +722,16 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
       int zeros = -1, digits = 0;  // trailing-zero coding: t, and the digit count of |prediction|
       if (h.integer_axis(a)) {
         std::int64_t* v = ints[a].data();
-        std::int64_t pred = blended ? blend(cand[a], mask, weight) : predict_fixed(x, v);
+        std::int64_t pred;
+        if (blended) {
+          pred = blend(cand[a], mask, weight);
+        } else if (across) {
+          const std::int64_t pa = predict_kind(x, x.kind, v), pf = predict_kind(x, x.fallback, v);
+          across_pred[a] = {pa, pf};
+          pred = across_err[cls][0] <= across_err[cls][1] ? pa : pf;
+        } else {
+          pred = predict_kind(x, x.kind, v);
+        }
         if (h.bits) {
           pred = std::clamp<std::int64_t>(pred, 0, qmax);
           // Residual modulo 2^bits, taken in [-2^(bits-1), 2^(bits-1)).
@@ -709,7 +780,9 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
         }
       } else {
         float* f = floats[a].data();
-        const std::int64_t pred = predict_float(x, f);
+        const std::uint32_t pa = predict_float(x, x.kind, f), pf = predict_float(x, x.fallback, f);
+        across_pred[a] = {pa, pf};
+        const std::int64_t pred = !across || across_err[cls][0] <= across_err[cls][1] ? pa : pf;
         if constexpr (kEncode) {
           u = zigzag64(static_cast<std::int64_t>(float_image(f[i])) - pred);
         } else {
@@ -725,6 +798,19 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
         if (zeros >= 0) model->encode_zeros(*enc, zeros, digits);
       }
       lengths[a][i] = static_cast<std::uint8_t>(std::bit_width(u));
+    }
+    if (across) {
+      for (int p = 0; p < 2; ++p) {
+        std::uint64_t err = 0;
+        for (int a = 0; a < 3; ++a) {
+          if (any_int && !h.integer_axis(a)) continue;
+          const std::int64_t value =
+              h.integer_axis(a) ? ints[a][i] : static_cast<std::int64_t>(float_image(floats[a][i]));
+          err += static_cast<std::uint64_t>(
+              std::min<std::int64_t>(std::abs(value - across_pred[a][p]), kNoError));
+        }
+        across_err[cls][p] += err - (across_err[cls][p] >> 4);
+      }
     }
     if (!any_int) continue;
     for (int k = 0; k < kCandidates; ++k) {
@@ -765,7 +851,8 @@ void write_header(std::string& out, const Header& h, std::uint32_t count) {
 
 Header read_header(Reader& in, std::uint32_t count) {
   Header h;
-  if (in.u8("truncated header") != kFormatTag) fail("unknown geometry coding revision");
+  h.revision = in.u8("truncated header");
+  if (h.revision < 1 || h.revision > kFormatTag) fail("unknown geometry coding revision");
   if (in.varint("truncated vertex count") != count) fail("vertex count does not match the mesh");
   h.bits = in.u8("truncated header");
   if (h.bits > 30) fail("quantization bits out of range");
@@ -852,7 +939,7 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
   }
   if (options.quantize_bits > 30) throw Error(ErrorCode::kInternal, "geometry: quantize_bits must be 0..30");
   check_stencil(stencil, positions.size() / 3);
-  const std::vector<Hood> hood = neighbourhoods(stencil);
+  const std::vector<Hood> hood = neighbourhoods(stencil, kFormatTag);
   Header h;
   if (options.quantize_bits) {
     h.bits = options.quantize_bits;
@@ -877,7 +964,7 @@ std::vector<float> decode_geometry(std::string_view bytes, std::span<const GridL
   const std::uint64_t payload_size = in.varint("truncated payload size");
   if (payload_size != in.left()) fail("payload size does not match the section");
   RangeDecoder rc(in.take(payload_size, "truncated payload"), 0, "geometry: payload");
-  const std::vector<Hood> hood = neighbourhoods(stencil);
+  const std::vector<Hood> hood = neighbourhoods(stencil, h.revision);
   std::array<std::vector<std::int64_t>, 3> ints;
   std::array<std::vector<float>, 3> floats;
   for (int a = 0; a < 3; ++a)

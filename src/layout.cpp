@@ -1,6 +1,8 @@
 // From a schematic to the mesh it stands for (grid_layout), the link back to the input mesh
 // (layout_to_mesh), and the checks of §4's definition (validate).
 #include <algorithm>
+#include <cstdint>
+#include <numeric>
 #include <string>
 
 #include "qsp/error.h"
@@ -149,6 +151,82 @@ std::string link(const ComponentPartition& part, const Adjacency& adj, LayoutMap
   return why;
 }
 
+// Boundary point r of a patch ring as grid coordinates, and the side it is on (0 bottom, 1 right,
+// 2 top, 3 left; a corner counts as the side that starts at it).
+struct RingPoint {
+  std::int64_t i, j;
+  int side;
+};
+RingPoint ring_point(const PatchGrid& g, std::int64_t r) {
+  const std::int64_t a = g.a, b = g.b;
+  if (r < a) return {r, 0, 0};
+  if (r < a + b) return {a, r - a, 1};
+  if (r < 2 * a + b) return {2 * a + b - r, b, 2};
+  return {0, 2 * a + 2 * b - r, 3};
+}
+
+// The stencil fields o/ow/ofar (edge points) and x0/x1/x2/xnum/xden (schematic vertices): the
+// opposite side of a patch, or its corners, predict a point far better than its own edge can when
+// patches are small (coarse meshes with many extraordinary vertices).
+void across_patches(const Schematic& s, const Numbering& n, std::vector<GridLayout::Stencil>& st) {
+  const std::uint32_t edge_end =
+      s.vertex_count +
+      static_cast<std::uint32_t>(
+          std::accumulate(s.edge_length.begin(), s.edge_length.end(), std::uint64_t{0}) - s.edge_count());
+  std::vector<std::uint32_t> across(edge_end, kInvalid);  // patch distance to o, for the nearest patch
+  for (std::uint32_t f = 0; f < s.face_count(); ++f) {
+    if (s.face_hole[f]) continue;
+    const PatchGrid& g = n.patches[f];
+    const auto ring = static_cast<std::int64_t>(g.ring.size());
+    const std::int64_t a = g.a, b = g.b;
+    static constexpr std::int64_t kStep[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    for (std::int64_t r = 0; r < ring; ++r) {
+      const std::uint32_t x = g.ring[r];
+      const RingPoint p = ring_point(g, r);
+      auto at = [&](std::int64_t i, std::int64_t j) {
+        return g.at(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
+      };
+      GridLayout::Stencil& t = st[x];
+      if (x < s.vertex_count) {
+        const bool corner = (p.i == 0 || p.i == a) && (p.j == 0 || p.j == b);
+        if (corner) {
+          if (t.x2 != kInvalid) continue;
+          const std::uint32_t c1 = at(a - p.i, p.j), c2 = at(p.i, b - p.j), c0 = at(a - p.i, b - p.j);
+          if (c0 < x && c1 < x && c2 < x) t.x0 = c0, t.x1 = c1, t.x2 = c2, t.xnum = t.xden = 0;
+        } else if (t.x0 == kInvalid) {
+          // On a side: the lerp between that side's corners.
+          const bool horizontal = p.side == 0 || p.side == 2;
+          const std::uint32_t c0 = horizontal ? at(0, p.j) : at(p.i, 0),
+                              c1 = horizontal ? at(a, p.j) : at(p.i, b);
+          if (c0 < x && c1 < x) {
+            t.x0 = c0, t.x1 = c1;
+            t.xnum = static_cast<std::uint32_t>(horizontal ? p.i : p.j);
+            t.xden = static_cast<std::uint32_t>(horizontal ? a : b);
+          }
+        }
+        continue;
+      }
+      if (x >= edge_end) continue;
+      // Edge point: w is one ring step away, far the other way; map all three across the patch.
+      const std::int64_t dir = g.ring[(r + ring - 1) % ring] == t.w ? -1 : 1;
+      const std::int64_t di = kStep[p.side][0], dj = kStep[p.side][1];
+      auto opposite = [&](std::int64_t i, std::int64_t j) {
+        return p.side == 0 || p.side == 2 ? at(i, b - j) : at(a - i, j);
+      };
+      const std::int64_t fd = t.far_dist, wi = p.i + dir * di, wj = p.j + dir * dj;
+      const std::int64_t fi = p.i - dir * fd * di, fj = p.j - dir * fd * dj;
+      if (wi < 0 || wi > a || wj < 0 || wj > b || fi < 0 || fi > a || fj < 0 || fj > b) continue;
+      const std::uint32_t o = opposite(p.i, p.j), ow = opposite(wi, wj), of = opposite(fi, fj);
+      if (o >= x || ow >= x) continue;
+      const std::uint32_t dist =
+          static_cast<std::uint32_t>(p.side == 0 || p.side == 2 ? b : a) * 2 + (of < x ? 0 : 1);
+      if (dist >= across[x]) continue;
+      across[x] = dist;
+      t.o = o, t.ow = ow, t.ofar = of < x ? of : kInvalid;
+    }
+  }
+}
+
 }  // namespace
 
 GridLayout grid_layout(const ComponentPartition& part) {
@@ -212,6 +290,7 @@ GridLayout grid_layout(const ComponentPartition& part) {
         t.n = g.at(i, g.b), t.nw = g.at(i - 1, g.b), t.n_dist = g.b - j;
       }
   }
+  across_patches(s, n, st);
   return out;
 }
 

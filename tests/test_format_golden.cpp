@@ -67,11 +67,33 @@ TEST(Golden, BytesArePinned) {
   }
 }
 
-// Every strict prefix and every single-bit flip of every golden file is refused with a typed error.
-TEST(Golden, EveryPrefixAndBitFlipIsRefused) {
+// Files of format 1.0 (testdata/golden/v1.0: the same meshes, geometry coding revision 1) still
+// decode, to exactly the mesh the current file of the same name gives.
+TEST(Golden, Version10FilesStillDecode) {
+  int seen = 0;
   for (const auto& name : golden_names()) {
     SCOPED_TRACE(name);
-    const std::string good = slurp(kGolden + "/" + name + ".qsp");
+    const std::string old = slurp(kGolden + "/v1.0/" + name + ".qsp");
+    ASSERT_EQ(old[9], 0) << "not a 1.0 file";
+    const QuadMesh then = decode(old), now = decode(slurp(kGolden + "/" + name + ".qsp"));
+    EXPECT_EQ(then.quads, now.quads);
+    EXPECT_EQ(then.positions, now.positions);
+    ++seen;
+  }
+  EXPECT_GE(seen, 5);
+}
+
+// Every strict prefix and every single-bit flip of every golden file (both versions) is refused with
+// a typed error.
+TEST(Golden, EveryPrefixAndBitFlipIsRefused) {
+  std::vector<std::string> paths;
+  for (const auto& name : golden_names()) {
+    paths.push_back(kGolden + "/" + name + ".qsp");
+    paths.push_back(kGolden + "/v1.0/" + name + ".qsp");
+  }
+  for (const auto& path : paths) {
+    SCOPED_TRACE(path);
+    const std::string good = slurp(path);
     for (std::size_t n = 0; n < good.size(); ++n) {
       try {
         decode(std::string_view(good).substr(0, n));
@@ -164,7 +186,7 @@ std::map<std::string, Crafted> crafted() {
   const Parts p = split(good);
   std::map<std::string, Crafted> out;
   out["qsp_empty"] = {"", "format", "truncated"};
-  out["qsp_truncated"] = {good.substr(0, 40), "format", "truncated: header declares 58 bytes, file has 40"};
+  out["qsp_truncated"] = {good.substr(0, 40), "format", "truncated: header declares 59 bytes, file has 40"};
   std::string bad_magic = good;
   bad_magic[1] = 'X';
   out["qsp_bad_magic"] = {bad_magic, "format", "bad magic number"};
@@ -177,7 +199,7 @@ std::map<std::string, Crafted> crafted() {
   Parts newer = p;
   newer.head11[8] = 2;
   out["qsp_newer_major"] = {assemble(newer), "version",
-                            "file is .qsp format 2.0; this qsp reads format 1.x only"};
+                            "file is .qsp format 2.1; this qsp reads format 1.x only"};
   std::string flipped = good;
   flipped[40] = static_cast<char>(flipped[40] ^ 0x04);
   out["qsp_checksum_mismatch"] = {flipped, "checksum", "checksum mismatch"};
@@ -192,7 +214,7 @@ std::map<std::string, Crafted> crafted() {
     std::string sec = section(1, p.counts) + section(2, p.topology);
     sec += std::string(1, '\x03') + std::string(1, '\x7f') + p.geometry;  // geometry claims 127 bytes
     out["qsp_section_longer_than_file"] = {seal(p.head11, sec), "format",
-                                           "section declares 127 bytes but only 20 remain"};
+                                           "section declares 127 bytes but only 21 remain"};
   }
   {
     std::string counts;

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <random>
@@ -226,13 +227,13 @@ TEST(Geometry, MixedAxisModes) {
   for (std::size_t i = 2; i < pos.size(); i += 3)
     pos[i] = parse(std::to_string(static_cast<int>(rng() % 300)) + "e-2");
   EXPECT_TRUE(bit_equal(round_trip(pos, st), pos));
-  // Header: tag 1, varint 400, lossless, then per axis mode (+ exception count for decimal axes).
+  // Header: revision 2, varint 400, lossless, then per axis mode (+ exception count for decimal axes).
   const std::string b = qsp::encode_geometry(pos, st, {});
   // (Bit 7 of a mode byte, trailing-zero coding, is the encoder's choice.)
   std::string header = b.substr(0, 9);
   header[4] = static_cast<char>(header[4] & 0x7F);
   header[7] = static_cast<char>(header[7] & 0x7F);
-  EXPECT_EQ(header, std::string("\x01\x90\x03\x00\x05\x00\x00\x03\x00", 9));
+  EXPECT_EQ(header, std::string("\x02\x90\x03\x00\x05\x00\x00\x03\x00", 9));
 }
 
 TEST(Geometry, PartialStencils) {
@@ -310,30 +311,39 @@ TEST(Geometry, CallerMistakesAreInternalErrors) {
   EXPECT_THROW(qsp::max_geometry_error(pos, std::vector<float>(3)), qsp::Error);
 }
 
+// The stencils the codec will pass for a shared mesh: every component's grid layout, one after the
+// other, with the positions in that order.
+// False if ../shared/meshes/NAME is not there.
+bool shared_mesh_along_partition(const char* name, std::vector<float>& pos,
+                                 std::vector<GridLayout::Stencil>& st) {
+  const std::filesystem::path path = std::filesystem::path(QSP_SHARED_DIR) / "meshes" / name;
+  if (!std::filesystem::exists(path)) return false;
+  const qsp::QuadMesh mesh = qsp::read_mesh_file(path.string());
+  const qsp::Adjacency adj = qsp::build_adjacency(mesh);
+  const qsp::Partition part = qsp::partition_motorcycle(adj);
+  for (const auto& comp : part.components) {
+    const GridLayout layout = qsp::grid_layout(comp);
+    const qsp::LayoutMap map = qsp::layout_to_mesh(comp, adj);
+    const auto base = static_cast<std::uint32_t>(st.size());
+    for (std::uint32_t v = 0; v < layout.vertex_count; ++v) {
+      GridLayout::Stencil s = layout.stencil[v];
+      for (std::uint32_t* j : {&s.w, &s.ww, &s.s, &s.sw, &s.far, &s.e, &s.es, &s.n, &s.nw, &s.o, &s.ow,
+                               &s.ofar, &s.x0, &s.x1, &s.x2})
+        if (*j != kInvalid) *j += base;
+      st.push_back(s);
+      for (int a = 0; a < 3; ++a) pos.push_back(mesh.positions[3 * std::size_t{map.vertex[v]} + a]);
+    }
+  }
+  return true;
+}
+
 TEST(Geometry, RealMeshesAlongTheirPartition) {
-  // The stencils the codec will pass: every component's grid layout, one after the other.
   for (const char* name :
        {"keenan_spot_quadrangulated.obj", "quadriflow_gargoyle.obj", "mh_fedora.obj", "igl_horse_quad.obj"}) {
-    const std::filesystem::path path = std::filesystem::path(QSP_SHARED_DIR) / "meshes" / name;
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path;
     SCOPED_TRACE(name);
-    const qsp::QuadMesh mesh = qsp::read_mesh_file(path.string());
-    const qsp::Adjacency adj = qsp::build_adjacency(mesh);
-    const qsp::Partition part = qsp::partition_motorcycle(adj);
     std::vector<float> pos;
     std::vector<GridLayout::Stencil> st;
-    for (const auto& comp : part.components) {
-      const GridLayout layout = qsp::grid_layout(comp);
-      const qsp::LayoutMap map = qsp::layout_to_mesh(comp, adj);
-      const auto base = static_cast<std::uint32_t>(st.size());
-      for (std::uint32_t v = 0; v < layout.vertex_count; ++v) {
-        GridLayout::Stencil s = layout.stencil[v];
-        for (std::uint32_t* j : {&s.w, &s.ww, &s.s, &s.sw})
-          if (*j != kInvalid) *j += base;
-        st.push_back(s);
-        for (int a = 0; a < 3; ++a) pos.push_back(mesh.positions[3 * std::size_t{map.vertex[v]} + a]);
-      }
-    }
+    if (!shared_mesh_along_partition(name, pos, st)) GTEST_SKIP() << "no shared mesh " << name;
     std::size_t lossless = 0, q14 = 0;
     EXPECT_TRUE(bit_equal(round_trip(pos, st, 0, &lossless), pos));
     EXPECT_LT(lossless * 8.0 / st.size(), 60.0);  // raw floats: 96
@@ -342,6 +352,36 @@ TEST(Geometry, RealMeshesAlongTheirPartition) {
     float lo = pos[0], hi = pos[0];
     for (float f : pos) lo = std::min(lo, f), hi = std::max(hi, f);
     EXPECT_LE(qsp::max_geometry_error(pos, q), (double{hi} - lo) / 16383 * 0.51);
+  }
+}
+
+// Predicting edge points and schematic vertices across their patch (o/ow/ofar, x0..x2) pays where
+// patches are small: CAD-like subdivision cages, where the opposite side of a patch is often an
+// exact copy. Without those fields the coder falls back to predicting along the edge.
+TEST(Geometry, AcrossPatchPredictionPaysOnSmallPatches) {
+  for (const char* name : {"osd_catmark_pawn.obj", "osd_catmark_car.obj", "osd_catmark_lefthanded.obj"}) {
+    SCOPED_TRACE(name);
+    std::vector<float> pos;
+    std::vector<GridLayout::Stencil> st;
+    if (!shared_mesh_along_partition(name, pos, st)) GTEST_SKIP() << "no shared mesh " << name;
+    auto along = st;
+    std::size_t used = 0;
+    for (auto& s : along) {
+      used += s.o != kInvalid || s.x0 != kInvalid;
+      s.o = s.ow = s.ofar = s.x0 = s.x1 = s.x2 = kInvalid;
+    }
+    EXPECT_GT(used, st.size() / 4);
+    for (std::uint32_t bits : {0u, 14u}) {
+      SCOPED_TRACE(bits);
+      std::size_t with = 0, without = 0;
+      const auto back = round_trip(pos, st, bits, &with);
+      if (bits == 0) {
+        EXPECT_TRUE(bit_equal(back, pos));
+      }
+      round_trip(pos, along, bits, &without);
+      std::printf("%s %u bits: %zu bytes across, %zu along\n", name, bits, with, without);
+      EXPECT_LT(static_cast<double>(with), 0.96 * static_cast<double>(without));
+    }
   }
 }
 

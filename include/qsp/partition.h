@@ -111,10 +111,17 @@ struct GridLayout {
   // For a patch-inner point (i, j) of an (a,b)-grid: e = (a, j) and es = (a, j-1) on the patch side
   // ahead along its row, e_dist = a - i; n = (i, b) and nw = (i-1, b) on the side ahead along its
   // column, n_dist = b - j. All are boundary points, numbered before every patch-inner point.
+  // Across a patch (edge points and schematic vertices), points numbered before it that a bilinear
+  // patch relates to it: for an edge point, o / ow / ofar = the points opposite it, opposite w and
+  // opposite far on the patch's other side (ofar may be kInvalid). For a schematic vertex, x1 + x2 - x0
+  // (the patch's other three corners) when x2 is set, else the lerp x0 + (x1 - x0) * xnum / xden
+  // between the two corners of the patch side it lies on.
   struct Stencil {
     std::uint32_t w = kInvalid, ww = kInvalid, s = kInvalid, sw = kInvalid;
     std::uint32_t far = kInvalid, far_dist = 0;
     std::uint32_t e = kInvalid, es = kInvalid, n = kInvalid, nw = kInvalid, e_dist = 0, n_dist = 0;
+    std::uint32_t o = kInvalid, ow = kInvalid, ofar = kInvalid;
+    std::uint32_t x0 = kInvalid, x1 = kInvalid, x2 = kInvalid, xnum = 0, xden = 0;
   };
   std::vector<Stencil> stencil;
 };
