@@ -236,13 +236,13 @@ Parsed parse_container(std::string_view bytes, const DecodeLimits& limits) {
 
   // What the content can hold, checked before anything is allocated (docs/hardening.md), so a tiny
   // file cannot make the decoder reserve memory for a huge declared mesh. Every component has a quad
-  // (4 vertices). Every vertex costs at least 18 adaptive binary decisions in the geometry section
-  // (three residual lengths of six each) and no decision costs less than log2(65536 / 65465) bits, so
-  // a geometry section of B bytes holds at most ~284 * B vertices.
+  // (4 vertices). Every vertex costs at least 6 adaptive binary decisions in the geometry section (per
+  // axis a residual length of six, or a repeat flag and a rank of one or more) and no decision costs
+  // less than log2(65536 / 65465) bits, so a geometry section of B bytes holds at most ~853 * B vertices.
   if (p.counts.components > (p.counts.vertices - p.counts.unreferenced) / 4) {
     format_error("more components than the referenced vertices allow (4 each)", cs.payload_offset);
   }
-  constexpr std::uint64_t kMaxVerticesPerGeometryByte = 512;
+  constexpr std::uint64_t kMaxVerticesPerGeometryByte = 1536;
   if (p.counts.vertices > kMaxVerticesPerGeometryByte * (p.geometry->payload.size() + 8)) {
     format_error("counts section declares " + std::to_string(p.counts.vertices) + " vertices but the " +
                      std::to_string(p.geometry->payload.size()) + "-byte geometry section cannot hold them",

@@ -186,7 +186,9 @@ std::map<std::string, Crafted> crafted() {
   const Parts p = split(good);
   std::map<std::string, Crafted> out;
   out["qsp_empty"] = {"", "format", "truncated"};
-  out["qsp_truncated"] = {good.substr(0, 40), "format", "truncated: header declares 59 bytes, file has 40"};
+  out["qsp_truncated"] = {
+      good.substr(0, 40), "format",
+      "truncated: header declares " + std::to_string(good.size()) + " bytes, file has 40"};
   std::string bad_magic = good;
   bad_magic[1] = 'X';
   out["qsp_bad_magic"] = {bad_magic, "format", "bad magic number"};
@@ -213,8 +215,9 @@ std::map<std::string, Crafted> crafted() {
   {
     std::string sec = section(1, p.counts) + section(2, p.topology);
     sec += std::string(1, '\x03') + std::string(1, '\x7f') + p.geometry;  // geometry claims 127 bytes
-    out["qsp_section_longer_than_file"] = {seal(p.head11, sec), "format",
-                                           "section declares 127 bytes but only 21 remain"};
+    out["qsp_section_longer_than_file"] = {
+        seal(p.head11, sec), "format",
+        "section declares 127 bytes but only " + std::to_string(p.geometry.size()) + " remain"};
   }
   {
     std::string counts;

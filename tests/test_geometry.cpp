@@ -67,8 +67,9 @@ std::vector<float> significant_positions(std::uint32_t a, std::uint32_t b) {
   char buf[64];
   for (std::uint32_t r = 0; r < b; ++r)
     for (std::uint32_t c = 0; c < a; ++c)
-      for (double x : {0.45 * std::sin(c * 0.1 + 0.05) * std::pow(10.0, -static_cast<double>(r % 3)),
-                       0.8 * std::sin(r * 0.05) + 0.001 * c, 0.02 * r + 0.01 * c - 0.3}) {
+      for (double x :
+           {0.45 * std::sin(c * 0.1 + 0.05 + r * 0.013) * std::pow(10.0, -static_cast<double>(r % 3)),
+            0.8 * std::sin(r * 0.05) + 0.001 * c, 0.02 * r + 0.01 * c - 0.3}) {
         std::snprintf(buf, sizeof buf, "%g", x);
         p.push_back(parse(buf));
       }
@@ -153,10 +154,10 @@ TEST(Geometry, SignificantDigitsUseTrailingZeros) {
   const std::vector<float> pos = significant_positions(30, 30);
   const std::string b = qsp::encode_geometry(pos, st, {});
   EXPECT_TRUE(bit_equal(qsp::decode_geometry(b, st, 900), pos));
-  EXPECT_EQ(static_cast<std::uint8_t>(b[4]) & 0x80, 0x80);  // x: trailing-zero coding
+  EXPECT_EQ(static_cast<std::uint8_t>(b[5]) & 0x80, 0x80);  // x: trailing-zero coding
   // The mode bit alone must not be accepted on a float-bits axis.
   std::string bad = b;
-  bad[4] = static_cast<char>(0x80);
+  bad[5] = static_cast<char>(0x80);
   expect_format_error(bad, st, 900);
 }
 
@@ -227,13 +228,15 @@ TEST(Geometry, MixedAxisModes) {
   for (std::size_t i = 2; i < pos.size(); i += 3)
     pos[i] = parse(std::to_string(static_cast<int>(rng() % 300)) + "e-2");
   EXPECT_TRUE(bit_equal(round_trip(pos, st), pos));
-  // Header: revision 2, varint 400, lossless, then per axis mode (+ exception count for decimal axes).
+  // Header: revision 2, varint 400, lossless, flags, then per axis mode (+ exception count for
+  // decimal axes).
   const std::string b = qsp::encode_geometry(pos, st, {});
-  // (Bit 7 of a mode byte, trailing-zero coding, is the encoder's choice.)
-  std::string header = b.substr(0, 9);
-  header[4] = static_cast<char>(header[4] & 0x7F);
-  header[7] = static_cast<char>(header[7] & 0x7F);
-  EXPECT_EQ(header, std::string("\x02\x90\x03\x00\x05\x00\x00\x03\x00", 9));
+  // (Bit 7 of a mode byte, trailing-zero coding, and flag bit 0, value repeats, are the encoder's choice.)
+  std::string header = b.substr(0, 10);
+  header[4] = static_cast<char>(header[4] & 0xFE);
+  header[5] = static_cast<char>(header[5] & 0x7F);
+  header[8] = static_cast<char>(header[8] & 0x7F);
+  EXPECT_EQ(header, std::string("\x02\x90\x03\x00\x00\x05\x00\x00\x03\x00", 10));
 }
 
 TEST(Geometry, PartialStencils) {
@@ -352,6 +355,26 @@ TEST(Geometry, RealMeshesAlongTheirPartition) {
     float lo = pos[0], hi = pos[0];
     for (float f : pos) lo = std::min(lo, f), hi = std::max(hi, f);
     EXPECT_LE(qsp::max_geometry_error(pos, q), (double{hi} - lo) / 16383 * 0.51);
+  }
+}
+
+// Coordinates drawn from a few values (CAD-like, symmetric) are coded as repeats: the rank of the value
+// among those seen on the axis, nearest to the prediction first, instead of an unpredictable residual.
+TEST(Geometry, RepeatedValuesCostTheirRank) {
+  const auto st = grid_stencil(40, 40);
+  std::mt19937 rng(11);
+  std::vector<float> pos(st.size() * 3);
+  for (float& f : pos) f = static_cast<float>(1000 * static_cast<int>(rng() % 8) - 3500);
+  for (std::uint32_t bits : {0u, 16u}) {
+    std::size_t size = 0;
+    const auto back = round_trip(pos, st, bits, &size);
+    if (bits == 0) {
+      EXPECT_TRUE(bit_equal(back, pos));
+    } else {
+      EXPECT_LE(qsp::max_geometry_error(pos, back), 7000.0 / 65535);
+    }
+    // log2(8) = 3 bits of rank per coordinate; a residual of these jumps costs ~13 bits.
+    EXPECT_LT(size * 8.0 / st.size(), 3 * 4.5) << bits;
   }
 }
 

@@ -531,9 +531,9 @@ TEST_F(Limits, DecoderMemoryIsBoundedByTheDeclaredContent) {
 }
 
 // The decoder refuses a file whose geometry section is too short for its vertex count (src/codec.cpp:
-// at most 512 vertices per byte; the coder's floor is ~286). The cheapest geometry there is (every
-// residual zero) must stay well inside that, or valid files would be refused: if the geometry coder
-// ever codes a vertex in fewer than 18 adaptive decisions, this fails and the bound must move.
+// at most 1536 vertices per byte; the coder's floor is ~853). The cheapest geometry there is (every
+// coordinate a repeat of rank 0) must stay well inside that, or valid files would be refused: if the
+// geometry coder ever codes a vertex in fewer than 6 adaptive decisions, this fails and the bound must move.
 TEST(LimitsBound, CheapestGeometryFitsTheContentBound) {
   QuadMesh flat = testing::grid(300, 200);
   QuadMesh zero = flat;
@@ -546,7 +546,7 @@ TEST(LimitsBound, CheapestGeometryFitsTheContentBound) {
     const std::string geometry = section_payload(bytes, craft::kTagGeometry);
     const double per_byte = double(flat.vertex_count()) / double(geometry.size());
     std::printf("%s: %.0f vertices per geometry byte\n", name.c_str(), per_byte);
-    EXPECT_LT(per_byte, 512.0 / 1.5) << name;
+    EXPECT_LT(per_byte, 1536.0 / 1.5) << name;
     EXPECT_EQ(decode(bytes).vertex_count(), flat.vertex_count()) << name;
   }
 }
