@@ -311,6 +311,11 @@ void assemble(const std::vector<ComponentPartition>& parts, std::uint32_t unrefe
   for (const ComponentPartition& part : parts) {
     GridLayout g = grid_layout(part);
     auto base = static_cast<std::uint32_t>(stencil.size());
+    if (base == 0 && quads.empty()) {  // the first component needs no shift: move, not copy (peak memory)
+      quads = std::move(g.quads);
+      stencil = std::move(g.stencil);
+      continue;
+    }
     for (std::uint32_t v : g.quads) quads.push_back(v + base);
     for (GridLayout::Stencil st : g.stencil) {
       for (std::uint32_t* j : {&st.w, &st.ww, &st.s, &st.sw, &st.far, &st.e, &st.es, &st.n, &st.nw, &st.o,

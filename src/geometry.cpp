@@ -16,7 +16,6 @@
 #include <cstring>
 #include <limits>
 #include <memory>
-#include <set>
 
 #include "qsp/entropy.h"
 #include "qsp/error.h"
@@ -689,21 +688,55 @@ struct Header {
 // Values already coded on one axis, for coordinates that repeat one exactly (CAD cages, symmetric
 // and revolved shapes: OpenSubdiv's pawn repeats 77% of its coordinates). Candidates are ranked by
 // distance to the prediction (ties: the smaller value first), so a repeat costs the rank of the
-// value among those about as close, usually 0 or 1. Decoder side: the values in order.
+// value among those about as close, usually 0 or 1. Decoder side: the values in order, in sorted
+// blocks of at most kBlock (a std::set cost 2x the whole lossless decode of a 222k-vertex scan).
 class Repeats {
  public:
   static constexpr std::uint32_t kMaxRank = 63;  // 255 saved 0.1% more and walked 4x as far
-  bool empty() const { return seen_.empty(); }
-  void insert(std::int64_t v) { seen_.insert(v); }
+  bool empty() const { return blocks_.empty(); }
+  void insert(std::int64_t v) {
+    if (blocks_.empty()) {
+      blocks_.push_back({v});
+      last_.push_back(v);
+      return;
+    }
+    std::size_t b = block_of(v);
+    if (b == blocks_.size()) --b;  // beyond every block: append to the last
+    std::vector<std::int64_t>& blk = blocks_[b];
+    auto it = std::lower_bound(blk.begin(), blk.end(), v);
+    if (it != blk.end() && *it == v) return;
+    blk.insert(it, v);
+    last_[b] = blk.back();
+    if (blk.size() > kBlock) {  // split in two halves
+      std::vector<std::int64_t> upper(blk.begin() + kBlock / 2, blk.end());
+      blk.resize(kBlock / 2);
+      last_[b] = blk.back();
+      last_.insert(last_.begin() + static_cast<std::ptrdiff_t>(b) + 1, upper.back());
+      blocks_.insert(blocks_.begin() + static_cast<std::ptrdiff_t>(b) + 1, std::move(upper));
+    }
+  }
   // The value of rank k; false if there are not that many.
   bool nth(std::int64_t pred, std::uint32_t k, std::int64_t& v) const {
-    auto hi = seen_.lower_bound(pred), lo = hi;
+    // hi = first value >= pred, lo = the one before it, as (block, index) cursors.
+    std::size_t hb = block_of(pred), hi = 0;
+    if (hb < blocks_.size()) {
+      const auto& blk = blocks_[hb];
+      hi = static_cast<std::size_t>(std::lower_bound(blk.begin(), blk.end(), pred) - blk.begin());
+    }
+    std::size_t lb = hb, lo = hi;  // lo cursor points one past the next lower value
     for (std::uint32_t i = 0;; ++i) {
-      const bool has_lo = lo != seen_.begin(), has_hi = hi != seen_.end();
+      while (lb > 0 && lo == 0) lo = blocks_[--lb].size();
+      const bool has_lo = lo > 0, has_hi = hb < blocks_.size();
       if (!has_lo && !has_hi) return false;
       bool take_lo = has_lo;
-      if (has_lo && has_hi) take_lo = pred - *std::prev(lo) <= *hi - pred;
-      const std::int64_t c = take_lo ? *--lo : *hi++;
+      if (has_lo && has_hi) take_lo = pred - blocks_[lb][lo - 1] <= blocks_[hb][hi] - pred;
+      std::int64_t c;
+      if (take_lo) {
+        c = blocks_[lb][--lo];
+      } else {
+        c = blocks_[hb][hi++];
+        if (hi == blocks_[hb].size()) ++hb, hi = 0;
+      }
       if (i == k) {
         v = c;
         return true;
@@ -712,7 +745,13 @@ class Repeats {
   }
 
  private:
-  std::set<std::int64_t> seen_;
+  static constexpr std::size_t kBlock = 256;
+  // The first block whose last value is >= v (blocks_.size() if none).
+  std::size_t block_of(std::int64_t v) const {
+    return static_cast<std::size_t>(std::lower_bound(last_.begin(), last_.end(), v) - last_.begin());
+  }
+  std::vector<std::vector<std::int64_t>> blocks_;  // sorted, disjoint, in order; none empty
+  std::vector<std::int64_t> last_;                 // each block's largest value
 };
 
 // Encoder side: every value the axis will insert is known up front, so a Fenwick tree over their
@@ -841,8 +880,19 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
     const int cls = x.kind == kOpposite ? (x.has(Hood::kOppositeFar) ? 0 : 1) : (x.t->x2 != kInvalid ? 2 : 3);
     for (int a = 0; a < 3; ++a) {
       if (!h.integer_axis(a)) continue;
+      const std::int64_t* v = ints[a].data();
+      std::array<std::int64_t, kCandidates>& c = cand[a];
+      if ((mask & 0x7F) == 0x7F) {  // candidates 0-6, the common full stencil: straight-line code
+        const std::int64_t w = v[x.w], ww = v[x.ww], sv = v[x.s], sw = v[x.sw], se = v[x.se], ss = v[x.ss];
+        c[0] = w + sv - sw, c[1] = 2 * w - ww, c[2] = c[1] - 2 * sv + sw + se, c[3] = 2 * sv - ss;
+        c[4] = c[1] + sv - 2 * sw + v[x.sww], c[5] = c[3] + w - 2 * sw + v[x.ssw], c[6] = w;
+        if (mask & 0x80) c[7] = w + ((se - sw) >> 1);
+        for (int k = 8; k < kCandidates; ++k)
+          if ((mask >> k) & 1) c[k] = candidate(x, v, k);
+        continue;
+      }
       for (int k = 0; k < kCandidates; ++k)
-        if ((mask >> k) & 1) cand[a][k] = candidate(x, ints[a].data(), k);
+        if ((mask >> k) & 1) c[k] = candidate(x, v, k);
     }
     for (int a = 0; a < 3; ++a) {
       // Magnitude class: neighbours' residual lengths, averaged with the blend's expected error.
@@ -1104,21 +1154,34 @@ std::string encode_with(std::span<const float> pos, const std::vector<Hood>& hoo
   return out;
 }
 
-// With and without value repeats, whichever is smaller: repeats pay on CAD-like meshes (pawn -37%
-// at 14 bits) and cost a few percent where coordinates only repeat by chance. Large meshes decide on
-// their first kSample vertices (stencils only look back, so a prefix codes on its own) and are coded once.
-std::string encode_best(std::span<const float> pos, const std::vector<Hood>& hood, Header h) {
-  constexpr std::size_t kTryBoth = 32768, kSample = 16384;
-  Header off = h;
-  off.repeats = false;
-  h.repeats = true;
-  if (hood.size() <= kTryBoth) {
-    std::string with = encode_with(pos, hood, h), without = encode_with(pos, hood, off);
-    return with.size() < without.size() ? with : without;
+// The smallest of the candidate headers (value repeats on and off; for lossless, the decimal plan and
+// plain float bits): repeats pay on CAD-like meshes (pawn -37% at 14 bits) and cost a few percent where
+// coordinates only repeat by chance. Meshes of more than kTryAll vertices choose on their first
+// kSample (stencils only look back, so a prefix codes on its own), scaling the payload to the whole
+// mesh, and are coded once.
+std::string encode_best(std::span<const float> pos, const std::vector<Hood>& hood,
+                        const std::vector<Header>& options) {
+  constexpr std::size_t kTryAll = 32768, kSample = 4096;
+  if (hood.size() <= kTryAll) {
+    std::string best;
+    for (const Header& h : options) {
+      std::string bytes = encode_with(pos, hood, h);
+      if (best.empty() || bytes.size() < best.size()) best = std::move(bytes);
+    }
+    return best;
   }
   const std::vector<Hood> prefix(hood.begin(), hood.begin() + kSample);
-  const bool repeats = encode_with(pos, prefix, h).size() < encode_with(pos, prefix, off).size();
-  return encode_with(pos, hood, repeats ? h : off);
+  const double scale = static_cast<double>(hood.size()) / kSample;
+  const Header* best = nullptr;
+  double best_size = 0;
+  for (const Header& h : options) {
+    std::string head;
+    write_header(head, h, static_cast<std::uint32_t>(hood.size()));
+    const double size = static_cast<double>(head.size()) +
+                        scale * static_cast<double>(encode_with(pos, prefix, h).size() - head.size());
+    if (!best || size < best_size) best = &h, best_size = size;
+  }
+  return encode_with(pos, hood, *best);
 }
 
 }  // namespace
@@ -1133,19 +1196,23 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
   check_stencil(stencil, positions.size() / 3);
   const std::vector<Hood> hood = neighbourhoods(stencil, kFormatTag);
   Header h;
+  std::vector<Header> options_to_try;
   if (options.quantize_bits) {
     h.bits = options.quantize_bits;
     h.grid = make_grid(positions, h.bits);
-    return encode_best(positions, hood, h);
+    options_to_try = {h};
+  } else {
+    for (int a = 0; a < 3; ++a) h.plans[a] = plan_axis(positions, a);
+    options_to_try = {h};
+    // The decimal estimate is a heuristic: never do worse than plain float bits.
+    if (std::any_of(h.plans.begin(), h.plans.end(), [](const AxisPlan& p) { return p.mode != kFloatBits; }))
+      options_to_try.push_back(Header{});
   }
-  for (int a = 0; a < 3; ++a) h.plans[a] = plan_axis(positions, a);
-  std::string best = encode_best(positions, hood, h);
-  // The decimal estimate is a heuristic: never do worse than plain float bits.
-  if (std::any_of(h.plans.begin(), h.plans.end(), [](const AxisPlan& p) { return p.mode != kFloatBits; })) {
-    std::string plain = encode_best(positions, hood, Header{});
-    if (plain.size() < best.size()) best = std::move(plain);
+  for (std::size_t i = 0, n = options_to_try.size(); i < n; ++i) {
+    options_to_try.push_back(options_to_try[i]);
+    options_to_try.back().repeats = true;
   }
-  return best;
+  return encode_best(positions, hood, options_to_try);
 }
 
 std::vector<float> decode_geometry(std::string_view bytes, std::span<const GridLayout::Stencil> stencil,
