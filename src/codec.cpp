@@ -178,7 +178,7 @@ Parsed parse_container(std::string_view bytes, const DecodeLimits& limits) {
     sec.payload_offset = s.pos();
     sec.payload = s.take(len, "section");
     if (sec.tag & kOptionalBit) {
-      p.sections.push_back(sec);  // optional: known to none in version 1.0, skipped
+      p.sections.push_back(sec);  // optional: none defined yet (1.1), skipped
       continue;
     }
     std::size_t k = next_required;
