@@ -73,17 +73,7 @@ std::string count_text(std::uint64_t n) {
 // and prepares it for matching. Topology errors name the file and line, as load_mesh's do.
 MatchInput read_and_prepare(const std::string& path) {
   ReadReport report;
-  QuadMesh mesh;
-  if (format_from_path(path) == MeshFormat::kQsp) {
-    const std::string bytes = read_file_bytes(path);
-    try {
-      mesh = decode(bytes);
-    } catch (const Error& e) {
-      throw Error(e.code(), path + ": " + e.what());
-    }
-  } else {
-    mesh = read_mesh_file(path, &report);
-  }
+  QuadMesh mesh = read_mesh_or_qsp(path, report);
   try {
     return prepare_match(std::move(mesh));
   } catch (const Error& e) {

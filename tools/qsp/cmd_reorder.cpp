@@ -36,19 +36,9 @@ struct Read {
   ReadReport report;
 };
 
-// A mesh file, or a .qsp decoded in full (as in cmd_match.cpp).
 Read read_any(const std::string& path) {
   Read out;
-  if (format_from_path(path) != MeshFormat::kQsp) {
-    out.mesh = read_mesh_file(path, &out.report);
-    return out;
-  }
-  const std::string bytes = read_file_bytes(path);
-  try {
-    out.mesh = decode(bytes);
-  } catch (const Error& e) {
-    throw Error(e.code(), path + ": " + e.what());
-  }
+  out.mesh = read_mesh_or_qsp(path, out.report);
   return out;
 }
 

@@ -19,6 +19,10 @@ struct LoadedMesh {
 // ...) is rethrown as "path:LINE: ..." using the line the face came from. Throws qsp::Error.
 LoadedMesh load_mesh(const std::string& path);
 
+// Reads a mesh file, or a .qsp decoded in full (vertices numbered as `qsp decompress` writes them);
+// a decode error names the file. `report` gets the mesh file's face lines (none for a .qsp).
+QuadMesh read_mesh_or_qsp(const std::string& path, ReadReport& report);
+
 // Rethrows `e` with "path:LINE: " in front when it names a face the report has a line for.
 [[noreturn]] void rethrow_located(const Error& e, const std::string& path, const ReadReport& report);
 
