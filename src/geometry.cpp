@@ -194,7 +194,7 @@ struct Hood {
   std::uint32_t w, ww, s, sw, se = kInvalid, ss = kInvalid, sww = kInvalid, ssw = kInvalid;
   const GridLayout::Stencil* t = nullptr;  // its stencil, for the fields `sides` says count
   Kind kind;
-  Kind fallback;     // for kOpposite / kCorners: the kind it would have along its own edge
+  Kind fallback = kNone;  // for kOpposite / kCorners: the kind it would have along its own edge
   std::uint8_t ctx;  // context kind: kind, 5 / 6 for kWest / kLinear with a far end, 7 kOpposite, 8 kCorners
   // Which of the stencil's far (edge points: the edge's far end, far_dist steps ahead), e/es (patch
   // side ahead along the row, e_dist) and n/nw (along the column, n_dist) count.
@@ -255,7 +255,6 @@ std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st, int re
       x.kind = kNone;
       x.w = i == 0 ? kInvalid : i - 1;  // the previous vertex stands in for w
     }
-    if (x.kind != kOpposite && x.kind != kCorners) x.fallback = x.kind;
     x.t = &s;
     x.ctx = x.kind == kOpposite  ? 7
             : x.kind == kCorners ? 8
@@ -877,22 +876,14 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
     const bool blended = any_int && x.kind == kParallelogram;
     const int blend_class = blended ? blend_weights(x, mask, errors.data(), weight) : 0;
     const bool across = x.kind == kOpposite || x.kind == kCorners;
-    const int cls = x.kind == kOpposite ? (x.has(Hood::kOppositeFar) ? 0 : 1) : (x.t->x2 != kInvalid ? 2 : 3);
+    // Its across class (format spec): which running means it uses.
+    const int cls = !across               ? 0
+                    : x.kind == kOpposite ? (x.has(Hood::kOppositeFar) ? 0 : 1)
+                                          : (x.t->x2 != kInvalid ? 2 : 3);
     for (int a = 0; a < 3; ++a) {
       if (!h.integer_axis(a)) continue;
-      const std::int64_t* v = ints[a].data();
-      std::array<std::int64_t, kCandidates>& c = cand[a];
-      if ((mask & 0x7F) == 0x7F) {  // candidates 0-6, the common full stencil: straight-line code
-        const std::int64_t w = v[x.w], ww = v[x.ww], sv = v[x.s], sw = v[x.sw], se = v[x.se], ss = v[x.ss];
-        c[0] = w + sv - sw, c[1] = 2 * w - ww, c[2] = c[1] - 2 * sv + sw + se, c[3] = 2 * sv - ss;
-        c[4] = c[1] + sv - 2 * sw + v[x.sww], c[5] = c[3] + w - 2 * sw + v[x.ssw], c[6] = w;
-        if (mask & 0x80) c[7] = w + ((se - sw) >> 1);
-        for (int k = 8; k < kCandidates; ++k)
-          if ((mask >> k) & 1) c[k] = candidate(x, v, k);
-        continue;
-      }
       for (int k = 0; k < kCandidates; ++k)
-        if ((mask >> k) & 1) c[k] = candidate(x, v, k);
+        if ((mask >> k) & 1) cand[a][k] = candidate(x, ints[a].data(), k);
     }
     for (int a = 0; a < 3; ++a) {
       // Magnitude class: neighbours' residual lengths, averaged with the blend's expected error.
@@ -916,22 +907,19 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
         }
         if (h.bits) {
           pred = std::clamp<std::int64_t>(pred, 0, qmax);
-          if ((hit = h.repeats &&
-                     repeat<kEncode>(*model, ranks[a], seen[a], x.ctx, previous, pred, v[i], enc, dec))) {
-            std::int64_t r = (v[i] - pred) & qmax;
-            if (r > qmax / 2) r -= qmax + 1;
-            u = zigzag64(r);  // for the neighbours' magnitude classes only
-            if constexpr (!kEncode) (*out)[3 * std::size_t{i} + a] = h.grid.value(a, v[i]);
-          } else if constexpr (kEncode) {
-            // Residual modulo 2^bits, taken in [-2^(bits-1), 2^(bits-1)).
+          hit =
+              h.repeats && repeat<kEncode>(*model, ranks[a], seen[a], x.ctx, previous, pred, v[i], enc, dec);
+          if (kEncode || hit) {
+            // Residual modulo 2^bits, taken in [-2^(bits-1), 2^(bits-1)) (for a repeat: only for the
+            // neighbours' magnitude classes).
             std::int64_t r = (v[i] - pred) & qmax;
             if (r > qmax / 2) r -= qmax + 1;
             u = zigzag64(r);
           } else {
             u = model->decode(*dec, x.ctx, bucket, h.max_length(a));
             v[i] = (pred + unzigzag64(u)) & qmax;
-            (*out)[3 * std::size_t{i} + a] = h.grid.value(a, v[i]);
           }
+          if constexpr (!kEncode) (*out)[3 * std::size_t{i} + a] = h.grid.value(a, v[i]);
         } else {
           pred = clamp_decimal(pred);
           const AxisPlan& plan = h.plans[a];
@@ -978,25 +966,24 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
         }
       } else {
         float* f = floats[a].data();
-        const std::uint32_t pa = predict_float(x, x.kind, f), pf = predict_float(x, x.fallback, f);
-        across_pred[a] = {pa, pf};
-        const std::int64_t pred = !across || across_err[cls][0] <= across_err[cls][1] ? pa : pf;
+        std::int64_t pred = predict_float(x, x.kind, f);
+        if (across) {
+          const std::int64_t pf = predict_float(x, x.fallback, f);
+          across_pred[a] = {pred, pf};
+          if (across_err[cls][0] > across_err[cls][1]) pred = pf;
+        }
         std::int64_t image = 0;
         if constexpr (kEncode) image = float_image(f[i]);
-        if ((hit = h.repeats &&
-                   repeat<kEncode>(*model, ranks[a], seen[a], x.ctx, previous, pred, image, enc, dec))) {
-          u = zigzag64(image - pred);
-          if constexpr (!kEncode) {
-            f[i] = image_float(static_cast<std::uint32_t>(image));
-            (*out)[3 * std::size_t{i} + a] = f[i];
-          }
-        } else if constexpr (kEncode) {
+        hit = h.repeats && repeat<kEncode>(*model, ranks[a], seen[a], x.ctx, previous, pred, image, enc, dec);
+        if (kEncode || hit) {
           u = zigzag64(image - pred);
         } else {
           u = model->decode(*dec, x.ctx, bucket, h.max_length(a));
-          const std::int64_t m = pred + unzigzag64(u);
-          if (m < 0 || m > 0xFFFFFFFFll) fail("float residual out of range");
-          f[i] = image_float(static_cast<std::uint32_t>(m));
+          image = pred + unzigzag64(u);
+          if (image < 0 || image > 0xFFFFFFFFll) fail("float residual out of range");
+        }
+        if constexpr (!kEncode) {
+          f[i] = image_float(static_cast<std::uint32_t>(image));
           (*out)[3 * std::size_t{i} + a] = f[i];
         }
       }
