@@ -43,20 +43,6 @@ std::uint64_t factorial_sat(std::uint64_t k) {
   return f;
 }
 
-const char* kind_name(ComponentKind k) {
-  switch (k) {
-    case ComponentKind::kUnstructured:
-      return "unstructured";
-    case ComponentKind::kDisk:
-      return "disk";
-    case ComponentKind::kAnnulus:
-      return "annulus";
-    case ComponentKind::kTorus:
-      return "torus";
-  }
-  return "?";
-}
-
 // ---- Memory locality ----
 // Adjacency, partition and layout walk the mesh face by face; in a file whose vertices and faces were
 // renumbered at random (exactly what match is for) every step is a cache miss, and those stages run
@@ -179,7 +165,7 @@ Key component_key(const std::vector<ComponentInfo>& info, const CanonicalCompone
 
 // "disk components with 25 vertices, 16 faces[, ...]" (plural) or "a disk component with ..." (one).
 std::string describe(const Key& k, std::size_t fields, bool plural) {
-  std::string s = std::string(plural ? "" : "a ") + kind_name(static_cast<ComponentKind>(k[0])) +
+  std::string s = std::string(plural ? "" : "a ") + component_kind_name(static_cast<ComponentKind>(k[0])) +
                   (plural ? " components with " : " component with ") + std::to_string(k[1]) + " vertices, " +
                   std::to_string(k[2]) + " faces";
   if (fields > 3) s += ", " + std::to_string(k[3]) + " extraordinary";
