@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "qsp/codec.h"
@@ -33,7 +34,8 @@ inline void check_error(const Error& e, const char* stage) {
 
 // What a reader promises about a mesh it returns.
 inline void check_reader_output(const QuadMesh& m, const ReadReport& report, const char* stage) {
-  if (m.positions.size() % 3 != 0 || m.quads.size() % 4 != 0) finding(std::string(stage) + ": partial element");
+  if (m.positions.size() % 3 != 0 || m.quads.size() % 4 != 0)
+    finding(std::string(stage) + ": partial element");
   for (float x : m.positions) {
     if (!std::isfinite(x)) finding(std::string(stage) + ": returned a non-finite coordinate");
   }
@@ -42,7 +44,8 @@ inline void check_reader_output(const QuadMesh& m, const ReadReport& report, con
     for (int i = 0; i < 4; ++i) {
       if (m.quads[4 * f + i] >= nv) finding(std::string(stage) + ": returned an index out of range");
       for (int j = 0; j < i; ++j) {
-        if (m.quads[4 * f + i] == m.quads[4 * f + j]) finding(std::string(stage) + ": returned a degenerate face");
+        if (m.quads[4 * f + i] == m.quads[4 * f + j])
+          finding(std::string(stage) + ": returned a degenerate face");
       }
     }
   }
@@ -61,6 +64,43 @@ inline bool invalid_mesh_code(ErrorCode c) {
          c == ErrorCode::kOrientation || c == ErrorCode::kLimit;
 }
 
+// build_adjacency on a reader-accepted mesh: accepts it, or refuses it with an invalid-mesh code.
+inline void check_adjacency(const QuadMesh& mesh) {
+  try {
+    (void)build_adjacency(mesh);
+  } catch (const Error& e) {
+    check_error(e, "build_adjacency");
+    if (!invalid_mesh_code(e.code())) finding(std::string("build_adjacency: unexpected code: ") + e.what());
+  }
+}
+
+// A text reader's target (OBJ, OFF): only typed errors; an accepted mesh is sane, writes back to text
+// that reads to the same mesh bit for bit, and build_adjacency refuses it cleanly or not at all.
+// `name` is the format's extension ("obj"), naming the stages in findings.
+template <class Read, class Write>
+void check_text_reader(std::string_view text, const std::string& name, Read read, Write write) {
+  const std::string reader = "read_" + name, writer = "write_" + name;
+  ReadReport report;
+  QuadMesh mesh;
+  try {
+    mesh = read(text, "fuzz." + name, &report);
+  } catch (const Error& e) {
+    check_error(e, reader.c_str());
+    return;
+  }
+  check_reader_output(mesh, report, reader.c_str());
+  try {
+    const std::string again = write(mesh);
+    QuadMesh back = read(again, "rewritten." + name, nullptr);
+    if (back.quads != mesh.quads || !same_bits(back.positions, mesh.positions)) {
+      finding(reader + "(" + writer + "(m)) != m");
+    }
+  } catch (const Error& e) {
+    finding(writer + "/" + reader + " of an accepted mesh failed: " + e.what());
+  }
+  check_adjacency(mesh);
+}
+
 // The round-trip property: a valid mesh compresses, and decompresses to a mesh isomorphic to it
 // (orientation included) with bit-identical positions; the canonical bytes are a fixed point; with
 // keep-order the exact face list comes back. Returns false if the mesh is refused (a typed invalid-
@@ -72,7 +112,8 @@ inline bool check_round_trip(const QuadMesh& mesh, const char* stage) {
     bytes = encode(mesh, {}, &order);
   } catch (const Error& e) {
     check_error(e, stage);
-    if (!invalid_mesh_code(e.code())) finding(std::string(stage) + ": encode refused with an unexpected code: " + e.what());
+    if (!invalid_mesh_code(e.code()))
+      finding(std::string(stage) + ": encode refused with an unexpected code: " + e.what());
     return false;
   }
   const std::string s = stage;
@@ -84,7 +125,8 @@ inline bool check_round_trip(const QuadMesh& mesh, const char* stage) {
   }
   const std::size_t nv = mesh.vertex_count(), nf = mesh.face_count();
   if (d.vertex_count() != nv || d.face_count() != nf) finding(s + ": decoded counts differ");
-  if (order.vertex.size() != nv || order.face.size() != nf || order.rotation.size() != nf) finding(s + ": order map size");
+  if (order.vertex.size() != nv || order.face.size() != nf || order.rotation.size() != nf)
+    finding(s + ": order map size");
   std::vector<std::uint8_t> seen(nv, 0);
   for (std::uint32_t v : order.vertex) {
     if (v >= nv || seen[v]) finding(s + ": vertex map is not a permutation");
@@ -119,9 +161,11 @@ inline bool check_round_trip(const QuadMesh& mesh, const char* stage) {
     EncodeOptions keep;
     keep.keep_order = true;
     QuadMesh k = decode(encode(mesh, keep));
-    if (k.quads != mesh.quads || !same_bits(k.positions, mesh.positions)) finding(s + ": --keep-order changed the mesh");
+    if (k.quads != mesh.quads || !same_bits(k.positions, mesh.positions))
+      finding(s + ": --keep-order changed the mesh");
     FileInfo info = inspect(bytes);
-    if (info.vertices != nv || info.faces != nf || info.total_bytes != bytes.size()) finding(s + ": inspect disagrees");
+    if (info.vertices != nv || info.faces != nf || info.total_bytes != bytes.size())
+      finding(s + ": inspect disagrees");
   } catch (const Error& e) {
     finding(s + ": keep-order or inspect failed: " + e.what());
   }
