@@ -10,6 +10,7 @@
 #include "qsp/io.h"
 #include "qsp/partition.h"
 #include "support/cli.h"
+#include "support/corpus.h"
 
 namespace qsp {
 namespace {
@@ -17,16 +18,6 @@ namespace {
 namespace fs = std::filesystem;
 using testing::quote;
 using testing::run_qsp;
-
-std::map<std::string, std::string> read_expect(const fs::path& p) {
-  std::ifstream f(p);
-  std::map<std::string, std::string> kv;
-  for (std::string line; std::getline(f, line);) {
-    const auto eq = line.find('=');
-    if (eq != std::string::npos) kv[line.substr(0, eq)] = line.substr(eq + 1);
-  }
-  return kv;
-}
 
 TEST(CliStats, TableRowMatchesLibrary) {
   const std::string mesh = std::string(QSP_TESTDATA_DIR) + "/cube_4.obj";
@@ -52,21 +43,16 @@ TEST(CliStats, JsonHasTheDocumentedFields) {
 // Reader and topology defects alike: exit 1, message with the expected code's text and location.
 TEST(CliStats, EveryInvalidMeshIsRefusedWithItsLocation) {
   int n = 0;
-  for (const auto& dir :
-       {fs::path(QSP_TESTDATA_DIR) / "invalid", fs::path(QSP_TESTDATA_DIR) / "invalid" / "topology"}) {
-    for (const auto& e : fs::directory_iterator(dir)) {
-      const auto ext = e.path().extension();
-      if (ext != ".obj" && ext != ".off" && ext != ".ply") continue;
-      SCOPED_TRACE(e.path().string());
-      const auto expect = read_expect(fs::path(e.path()).replace_extension(".expect"));
-      ASSERT_TRUE(expect.count("message")) << "missing .expect";
-      const auto r = run_qsp("stats " + quote(e.path().string()));
-      EXPECT_EQ(r.exit_code, expect.at("code") == "limit" || expect.at("code") == "io" ? r.exit_code : 1);
-      EXPECT_NE(r.exit_code, 0);
-      EXPECT_NE(r.err.find(expect.at("message")), std::string::npos) << r.err;
-      EXPECT_EQ(r.out, "");
-      ++n;
-    }
+  for (const fs::path& mesh : testing::invalid_meshes()) {
+    SCOPED_TRACE(mesh.string());
+    const auto expect = testing::read_expect(fs::path(mesh).replace_extension(".expect"));
+    ASSERT_TRUE(expect.count("message")) << "missing .expect";
+    const auto r = run_qsp("stats " + quote(mesh.string()));
+    EXPECT_EQ(r.exit_code, expect.at("code") == "limit" || expect.at("code") == "io" ? r.exit_code : 1);
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find(expect.at("message")), std::string::npos) << r.err;
+    EXPECT_EQ(r.out, "");
+    ++n;
   }
   EXPECT_GT(n, 40);
 }

@@ -17,6 +17,7 @@
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
+#include "support/corpus.h"
 
 namespace fs = std::filesystem;
 
@@ -274,24 +275,13 @@ TEST(Invalid, CraftedFilesArePinnedAndRefused) {
   }
 }
 
-std::map<std::string, std::string> read_expect(const std::string& path) {
-  std::map<std::string, std::string> kv;
-  std::istringstream in(slurp(path));
-  std::string line;
-  while (std::getline(in, line)) {
-    auto eq = line.find('=');
-    if (eq != std::string::npos) kv[line.substr(0, eq)] = line.substr(eq + 1);
-  }
-  return kv;
-}
-
 TEST(Invalid, EveryQspIsRefusedWithItsExpectedError) {
   int seen = 0;
   for (const auto& e : fs::directory_iterator(kInvalid)) {
     if (e.path().extension() != ".qsp") continue;
     ++seen;
     SCOPED_TRACE(e.path().string());
-    auto expect = read_expect(fs::path(e.path()).replace_extension(".expect").string());
+    auto expect = testing::read_expect(fs::path(e.path()).replace_extension(".expect"));
     ASSERT_TRUE(expect.count("code") && expect.count("message"));
     try {
       decode(slurp(e.path().string()));

@@ -29,6 +29,7 @@
 #include "qsp/io.h"
 #include "qsp/mesh.h"
 #include "support/cli.h"
+#include "support/corpus.h"
 #include "support/mesh_gen.h"
 
 extern char** environ;
@@ -61,16 +62,6 @@ std::string slurp(const fs::path& p) {
 void spit(const fs::path& p, std::string_view bytes) {
   std::ofstream out(p, std::ios::binary | std::ios::trunc);
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
-
-std::map<std::string, std::string> read_expect(const fs::path& p) {
-  std::map<std::string, std::string> kv;
-  std::istringstream lines(slurp(p));
-  for (std::string line; std::getline(lines, line);) {
-    const auto eq = line.find('=');
-    if (eq != std::string::npos) kv[line.substr(0, eq)] = line.substr(eq + 1);
-  }
-  return kv;
 }
 
 QuadMesh load(const std::string& name) { return read_mesh_file(std::string(QSP_TESTDATA_DIR) + "/" + name); }
@@ -574,22 +565,17 @@ using CliFailures = TempDir;
 
 TEST_F(CliFailures, EveryInvalidMeshIsRefusedByCompress) {
   int n = 0;
-  for (const auto& dir :
-       {fs::path(QSP_TESTDATA_DIR) / "invalid", fs::path(QSP_TESTDATA_DIR) / "invalid" / "topology"}) {
-    for (const auto& e : fs::directory_iterator(dir)) {
-      const auto ext = e.path().extension();
-      if (ext != ".obj" && ext != ".off" && ext != ".ply") continue;
-      SCOPED_TRACE(e.path().string());
-      const auto expect = read_expect(fs::path(e.path()).replace_extension(".expect"));
-      const std::string out = p(e.path().filename().string() + ".qsp");
-      const auto r = run_qsp("compress --positions-only " + quote(e.path().string()) + " " + quote(out));
-      EXPECT_EQ(r.exit_code, 1) << r.err;
-      EXPECT_EQ(r.err.rfind("qsp: error: ", 0), 0u) << r.err;
-      EXPECT_NE(r.err.find(expect.at("message")), std::string::npos)
-          << r.err << "\nexpected: " << expect.at("message");
-      EXPECT_EQ(listing(dir_), std::vector<std::string>{}) << "output left behind";
-      ++n;
-    }
+  for (const fs::path& mesh : testing::invalid_meshes()) {
+    SCOPED_TRACE(mesh.string());
+    const auto expect = testing::read_expect(fs::path(mesh).replace_extension(".expect"));
+    const std::string out = p(mesh.filename().string() + ".qsp");
+    const auto r = run_qsp("compress --positions-only " + quote(mesh.string()) + " " + quote(out));
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_EQ(r.err.rfind("qsp: error: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(expect.at("message")), std::string::npos)
+        << r.err << "\nexpected: " << expect.at("message");
+    EXPECT_EQ(listing(dir_), std::vector<std::string>{}) << "output left behind";
+    ++n;
   }
   EXPECT_GE(n, 50);
 }
@@ -876,7 +862,7 @@ TEST(FuzzRegressions, EachFindingStaysFixed) {
     fs::path sidecar = f;
     sidecar.replace_extension(".expect");
     ASSERT_TRUE(fs::exists(sidecar)) << "missing sidecar " << sidecar;
-    auto expect = read_expect(sidecar);
+    auto expect = testing::read_expect(sidecar);
     ASSERT_TRUE(expect.count("code")) << sidecar;
     const std::string bytes = slurp(f);
     Caught c;

@@ -24,6 +24,7 @@
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
+#include "support/corpus.h"
 
 namespace fs = std::filesystem;
 
@@ -576,12 +577,7 @@ TEST(InvalidFiles, EachIsRefusedWithExpectedCodeAndLocation) {
     fs::path expect_path = p;
     expect_path.replace_extension(".expect");
     ASSERT_TRUE(fs::exists(expect_path)) << "missing sidecar " << expect_path;
-    std::map<std::string, std::string> expect;
-    std::istringstream lines(slurp(expect_path));
-    for (std::string line; std::getline(lines, line);) {
-      const auto eq = line.find('=');
-      if (eq != std::string::npos) expect[line.substr(0, eq)] = line.substr(eq + 1);
-    }
+    auto expect = qsp::testing::read_expect(expect_path);
     ASSERT_TRUE(expect.count("code") && expect.count("message")) << expect_path;
     try {
       (void)qsp::read_mesh_file(p.string());

@@ -1,8 +1,12 @@
-// The meshes every property test runs over: testdata/ and, when present, ../shared.
+// The meshes every property test runs over (testdata/ and, when present, ../shared), the invalid ones,
+// and their NAME.expect sidecars.
 #pragma once
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
 #include <vector>
 
 namespace qsp::testing {
@@ -24,6 +28,32 @@ inline std::vector<std::filesystem::path> corpus() {
   add(fs::path(QSP_SHARED_DIR) / "known-answers");
   std::sort(out.begin(), out.end());
   return out;
+}
+
+// Every mesh file (.obj .off .ply) in testdata/invalid and testdata/invalid/topology, sorted.
+inline std::vector<std::filesystem::path> invalid_meshes() {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> out;
+  for (const fs::path& dir :
+       {fs::path(QSP_TESTDATA_DIR) / "invalid", fs::path(QSP_TESTDATA_DIR) / "invalid" / "topology"}) {
+    for (const auto& e : fs::directory_iterator(dir)) {
+      const auto ext = e.path().extension();
+      if (ext == ".obj" || ext == ".off" || ext == ".ply") out.push_back(e.path());
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The `key=value` lines of a NAME.expect sidecar (`code=`, `message=`); empty if it is missing.
+inline std::map<std::string, std::string> read_expect(const std::filesystem::path& path) {
+  std::map<std::string, std::string> kv;
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    const auto eq = line.find('=');
+    if (eq != std::string::npos) kv[line.substr(0, eq)] = line.substr(eq + 1);
+  }
+  return kv;
 }
 
 }  // namespace qsp::testing
