@@ -2,8 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <string>
 
 #include "qsp/error.h"
@@ -216,17 +218,25 @@ void check_bounds(const Adjacency& adj, const Partition& p) {
   }
 }
 
+// A corpus mesh and its adjacency; false if it is refused (as a typed input error, never internal).
+bool load_valid(const fs::path& path, QuadMesh& m, Adjacency& adj) {
+  try {
+    m = load(path);
+    adj = build_adjacency(m);
+    return true;
+  } catch (const Error& e) {
+    EXPECT_NE(e.code(), ErrorCode::kInternal) << e.what();
+    return false;
+  }
+}
+
 TEST(Corpus, EveryValidMeshPartitionsIntoGridsWithinBounds) {
   int partitioned = 0, refused = 0;
   for (const auto& path : corpus()) {
     SCOPED_TRACE(path.string());
     QuadMesh m;
     Adjacency adj;
-    try {
-      m = load(path);
-      adj = build_adjacency(m);
-    } catch (const Error& e) {
-      EXPECT_NE(e.code(), ErrorCode::kInternal) << e.what();
+    if (!load_valid(path, m, adj)) {
       ++refused;
       continue;
     }
@@ -242,6 +252,53 @@ TEST(Corpus, EveryValidMeshPartitionsIntoGridsWithinBounds) {
   }
   std::printf("partitioned %d meshes, refused %d\n", partitioned, refused);
   EXPECT_GT(partitioned, 0);
+}
+
+// Patch coding order (geometry revision 3) over every mesh: a permutation of the layout's vertices, each
+// stencil naming only earlier ones, and every parallelogram stencil (w, s, sw) a real cell of the mesh
+// with the point as its fourth corner, so the predictor works on mesh neighbours one edge away.
+TEST(Corpus, PatchOrderStencilsAreCellsOfTheMesh) {
+  int checked = 0;
+  for (const auto& path : corpus()) {
+    SCOPED_TRACE(path.string());
+    QuadMesh m;
+    Adjacency adj;
+    if (!load_valid(path, m, adj)) continue;
+    for (const ComponentPartition& comp : partition_motorcycle(adj).components) {
+      const GridLayout layout = grid_layout(comp), patch = grid_layout(comp, CodingOrder::kPatch);
+      ASSERT_EQ(patch.quads, layout.quads);  // the mesh itself does not change, only the coding order
+      const std::uint32_t n = layout.vertex_count;
+      ASSERT_EQ(patch.stencil.size(), n);
+      std::vector<std::uint32_t> coding = patch.coding;
+      if (coding.empty()) {  // annulus / torus: already row by row
+        ASSERT_TRUE(comp.kind == ComponentKind::kAnnulus || comp.kind == ComponentKind::kTorus);
+        continue;
+      }
+      std::vector<std::uint32_t> sorted = coding;
+      std::sort(sorted.begin(), sorted.end());
+      for (std::uint32_t v = 0; v < n; ++v) ASSERT_EQ(sorted[v], v) << "not a permutation";
+      // Cells as sets of (corner, next corner) pairs in layout numbering.
+      std::set<std::array<std::uint32_t, 4>> cells;
+      for (std::size_t q = 0; q < layout.quads.size(); q += 4)
+        for (std::uint32_t r = 0; r < 4; ++r)
+          cells.insert({layout.quads[q + r], layout.quads[q + (r + 1) % 4], layout.quads[q + (r + 2) % 4],
+                        layout.quads[q + (r + 3) % 4]});
+      std::size_t frames = 0;
+      for (std::uint32_t k = 0; k < n; ++k) {
+        const GridLayout::Stencil& t = patch.stencil[k];
+        for (std::uint32_t j : {t.w, t.ww, t.s, t.sw, t.far, t.e, t.es, t.n, t.nw, t.se, t.ss, t.sww, t.ssw})
+          ASSERT_TRUE(j == kInvalid || j < k) << "stencil of " << k << " refers forward";
+        if (t.w == kInvalid || t.s == kInvalid || t.sw == kInvalid) continue;
+        const std::uint32_t p = coding[k], w = coding[t.w], s = coding[t.s], sw = coding[t.sw];
+        // p, then s, sw, w around one cell (either orientation).
+        EXPECT_TRUE(cells.count({p, s, sw, w}) || cells.count({p, w, sw, s})) << "vertex " << p;
+        ++frames;
+      }
+      EXPECT_GT(frames, 0u);
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 0);
 }
 
 }  // namespace

@@ -100,7 +100,8 @@ std::string validate(const ComponentPartition& part, const Adjacency* adj = null
 // The mesh a component partition stands for, numbered canonically from the schematic alone:
 // schematic vertices in order, then each edge's inner vertices (from dart 2e's origin), then each
 // patch's inner vertices row by row from its face_dart corner; faces patch by patch, row by row,
-// each starting at its lower-left grid corner. This is what the decoder emits.
+// each starting at its lower-left grid corner. This is what the decoder emits. The stencils are for
+// the geometry coder, in layout order or, with CodingOrder::kPatch, in patch order (`coding`).
 struct GridLayout {
   std::uint32_t vertex_count = 0;
   std::vector<std::uint32_t> quads;  // 4 per face
@@ -122,10 +123,18 @@ struct GridLayout {
     std::uint32_t e = kInvalid, es = kInvalid, n = kInvalid, nw = kInvalid, e_dist = 0, n_dist = 0;
     std::uint32_t o = kInvalid, ow = kInvalid, ofar = kInvalid;
     std::uint32_t x0 = kInvalid, x1 = kInvalid, x2 = kInvalid, xnum = 0, xden = 0;
+    // Patch order only: se (1,-1), ss (0,-2), sww (-2,-1), ssw (-1,-2) in w/s's frame, when coded.
+    std::uint32_t se = kInvalid, ss = kInvalid, sww = kInvalid, ssw = kInvalid;
   };
   std::vector<Stencil> stencil;
+  // Patch order only: the layout vertex at each coding position (stencil indices are coding positions).
+  std::vector<std::uint32_t> coding;
 };
-GridLayout grid_layout(const ComponentPartition& part);
+// Coding orders of the geometry. kLayout: the layout numbering (schematic vertices, edges, patch
+// interiors). kPatch: patch by patch, row by row, each vertex where its first patch reaches it, with
+// its neighbours across patch sides (geometry revision 3).
+enum class CodingOrder : std::uint8_t { kLayout = 0, kPatch = 1 };
+GridLayout grid_layout(const ComponentPartition& part, CodingOrder order = CodingOrder::kLayout);
 
 // For a partition linked to a mesh: layout vertex -> mesh vertex, layout face -> mesh face and the
 // rotation r such that layout corner c is mesh corner (c + r) % 4.
