@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <optional>
 #include <string>
@@ -304,13 +305,24 @@ void decode_components(Parsed& p) {
 }
 
 // Canonical quads and the stencils of all components, offset into one vertex numbering; unreferenced
-// vertices at the end predict from the previous vertex.
-void assemble(const std::vector<ComponentPartition>& parts, std::uint32_t unreferenced,
-              std::vector<std::uint32_t>& quads, std::vector<GridLayout::Stencil>& stencil) {
+// vertices at the end predict from the previous vertex. With CodingOrder::kPatch, `coding` gets the
+// canonical vertex at each coding position (the stencils index coding positions).
+void assemble(const std::vector<ComponentPartition>& parts, std::uint32_t unreferenced, CodingOrder order,
+              std::vector<std::uint32_t>& quads, std::vector<GridLayout::Stencil>& stencil,
+              std::vector<std::uint32_t>* coding = nullptr) {
   auto shift = [](std::uint32_t v, std::uint32_t base) { return v == kInvalid ? kInvalid : v + base; };
+  const bool patch = order == CodingOrder::kPatch;
+  if (patch && coding) coding->clear();
   for (const ComponentPartition& part : parts) {
-    GridLayout g = grid_layout(part);
+    GridLayout g = grid_layout(part, order);
     auto base = static_cast<std::uint32_t>(stencil.size());
+    if (patch && coding) {
+      if (g.coding.empty()) {
+        for (std::uint32_t v = 0; v < g.vertex_count; ++v) coding->push_back(v + base);
+      } else {
+        for (std::uint32_t v : g.coding) coding->push_back(v + base);
+      }
+    }
     if (base == 0 && quads.empty()) {  // the first component needs no shift: move, not copy (peak memory)
       quads = std::move(g.quads);
       stencil = std::move(g.stencil);
@@ -319,7 +331,7 @@ void assemble(const std::vector<ComponentPartition>& parts, std::uint32_t unrefe
     for (std::uint32_t v : g.quads) quads.push_back(v + base);
     for (GridLayout::Stencil st : g.stencil) {
       for (std::uint32_t* j : {&st.w, &st.ww, &st.s, &st.sw, &st.far, &st.e, &st.es, &st.n, &st.nw, &st.o,
-                               &st.ow, &st.ofar, &st.x0, &st.x1, &st.x2})
+                               &st.ow, &st.ofar, &st.x0, &st.x1, &st.x2, &st.se, &st.ss, &st.sww, &st.ssw})
         *j = shift(*j, base);
       stencil.push_back(st);
     }
@@ -327,6 +339,7 @@ void assemble(const std::vector<ComponentPartition>& parts, std::uint32_t unrefe
   for (std::uint32_t u = 0; u < unreferenced; ++u) {
     auto v = static_cast<std::uint32_t>(stencil.size());
     stencil.push_back({v == 0 ? kInvalid : v - 1, kInvalid, kInvalid, kInvalid});
+    if (patch && coding) coding->push_back(v);
   }
 }
 
@@ -383,10 +396,14 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
   }
   if (vbase != nv || fbase != nf) internal("canonical form does not cover every vertex and face");
 
-  std::vector<std::uint32_t> quads;
+  constexpr std::uint32_t kTryBothOrders = 32768;
+  const CodingOrder first = options.geometry_order.value_or(CodingOrder::kPatch);
+  const auto unreferenced = static_cast<std::uint32_t>(cm.unreferenced.size());
+  std::vector<std::uint32_t> quads, coding;
   std::vector<GridLayout::Stencil> stencil;
-  assemble(parts, static_cast<std::uint32_t>(cm.unreferenced.size()), quads, stencil);
-  if (quads.size() != mesh.quads.size() || stencil.size() != nv)
+  assemble(parts, unreferenced, first, quads, stencil, &coding);
+  if (quads.size() != mesh.quads.size() || stencil.size() != nv ||
+      (first == CodingOrder::kPatch && coding.size() != nv))
     internal("layout sizes differ from the mesh");
   std::vector<std::uint32_t> canonical_to_input(nv);
   for (std::uint32_t v = 0; v < nv; ++v) canonical_to_input[order.vertex[v]] = v;
@@ -398,10 +415,27 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
       }
     }
   }
+  quads = {};
 
-  std::vector<float> positions(3 * nv);
-  for (std::uint32_t v = 0; v < nv; ++v) {
-    std::copy_n(&mesh.positions[3 * std::size_t{v}], 3, &positions[3 * std::size_t{order.vertex[v]}]);
+  // Positions in coding order: canonical order, or for patch order canonical vertex coding[k] at k.
+  auto coded_positions = [&](CodingOrder o) {
+    std::vector<float> positions(3 * std::size_t{nv});
+    for (std::uint32_t k = 0; k < nv; ++k) {
+      const std::uint32_t v = canonical_to_input[o == CodingOrder::kPatch ? coding[k] : k];
+      std::copy_n(&mesh.positions[3 * std::size_t{v}], 3, &positions[3 * std::size_t{k}]);
+    }
+    return positions;
+  };
+  GeometryOptions gopt;
+  gopt.quantize_bits = options.quantize_bits;
+  gopt.order = first;
+  std::string geometry = encode_geometry(coded_positions(first), stencil, gopt);
+  if (!options.geometry_order && nv <= kTryBothOrders) {
+    stencil.clear();
+    assemble(parts, unreferenced, CodingOrder::kLayout, quads, stencil);
+    gopt.order = CodingOrder::kLayout;
+    std::string layout = encode_geometry(coded_positions(CodingOrder::kLayout), stencil, gopt);
+    if (layout.size() < geometry.size()) geometry = std::move(layout);
   }
 
   std::string counts;
@@ -414,9 +448,7 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
   std::string body;
   put_section(body, kTagCounts, counts);
   put_section(body, kTagTopology, encode_topology(codes));
-  GeometryOptions gopt;
-  gopt.quantize_bits = options.quantize_bits;
-  put_section(body, kTagGeometry, encode_geometry(positions, stencil, gopt));
+  put_section(body, kTagGeometry, geometry);
   if (options.keep_order) put_section(body, kTagOrder, encode_order(order));
 
   // The file size field counts itself: find the varint length that is consistent.
@@ -440,14 +472,30 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
   decode_components(p);
   QuadMesh canonical;
   std::vector<GridLayout::Stencil> stencil;
-  assemble(p.parts, static_cast<std::uint32_t>(p.counts.unreferenced), canonical.quads, stencil);
+  std::vector<std::uint32_t> coding;
+  CodingOrder corder = CodingOrder::kLayout;
+  try {
+    corder = geometry_coding_order(p.geometry->payload);
+  } catch (const Error& e) {
+    format_error(std::string(e.what()) + " in the geometry section", p.geometry->payload_offset);
+  }
+  assemble(p.parts, static_cast<std::uint32_t>(p.counts.unreferenced), corder, canonical.quads, stencil,
+           &coding);
   const auto nv = static_cast<std::uint32_t>(p.counts.vertices);
   const auto nf = static_cast<std::uint32_t>(p.counts.faces);
-  if (stencil.size() != nv || canonical.quads.size() != 4 * std::size_t{nf}) {
+  if (stencil.size() != nv || canonical.quads.size() != 4 * std::size_t{nf} ||
+      (corder == CodingOrder::kPatch && coding.size() != nv)) {
     throw Error(ErrorCode::kInternal, "decode: grid layout sizes disagree with the checked counts");
   }
   try {
     canonical.positions = decode_geometry(p.geometry->payload, stencil, nv);
+    if (corder == CodingOrder::kPatch) {
+      std::vector<float> canonical_positions(canonical.positions.size());
+      for (std::uint32_t k = 0; k < nv; ++k)
+        std::copy_n(&canonical.positions[3 * std::size_t{k}], 3,
+                    &canonical_positions[3 * std::size_t{coding[k]}]);
+      canonical.positions = std::move(canonical_positions);
+    }
   } catch (const Error& e) {
     if (e.code() != ErrorCode::kFormat) throw;
     format_error(std::string(e.what()) + " in the geometry section", p.geometry->payload_offset);
@@ -486,6 +534,8 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
   info.faces = p.counts.faces;
   info.unreferenced = p.counts.unreferenced;
   info.keep_order = p.order.has_value();
+  if (!p.geometry->payload.empty())
+    info.geometry_revision = static_cast<std::uint8_t>(p.geometry->payload[0]);
   std::uint64_t in_sections = 0;
   for (const Section& s : p.sections) {
     std::uint64_t size = s.payload_offset + s.payload.size() - s.offset;
@@ -524,7 +574,8 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
   // Mesh edges and extraordinary vertices come from the rebuilt connectivity (positions not needed).
   QuadMesh m;
   std::vector<GridLayout::Stencil> stencil;
-  assemble(p.parts, static_cast<std::uint32_t>(p.counts.unreferenced), m.quads, stencil);
+  assemble(p.parts, static_cast<std::uint32_t>(p.counts.unreferenced), CodingOrder::kLayout, m.quads,
+           stencil);
   m.positions.assign(3 * stencil.size(), 0.0f);
   Adjacency adj = build_adjacency(m);
   info.edges = adj.halfedge_count() / 2;

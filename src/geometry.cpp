@@ -228,12 +228,16 @@ std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st, int re
       x.kind = kParallelogram;
       if (s.e != kInvalid && s.es != kInvalid && s.e_dist >= 1) x.sides |= Hood::kEast;
       if (s.n != kInvalid && s.nw != kInvalid && s.n_dist >= 1) x.sides |= Hood::kNorth;
-      const std::uint32_t e = east[i];
-      if (e != kInvalid && st[e].sw == s.s && st[e].s < i) x.se = st[e].s;
-      x.ss = st[s.s].s;
-      if (full(s.s)) {
-        if (st[s.s].sw == st[s.sw].s) x.ssw = st[s.sw].s;
-        if (st[s.s].ww != kInvalid && st[s.s].ww == st[s.sw].w) x.sww = st[s.sw].w;
+      if (revision >= 3) {  // patch order: the layout knows the frame across patch sides
+        x.se = s.se, x.ss = s.ss, x.sww = s.sww, x.ssw = s.ssw;
+      } else {
+        const std::uint32_t e = east[i];
+        if (e != kInvalid && st[e].sw == s.s && st[e].s < i) x.se = st[e].s;
+        x.ss = st[s.s].s;
+        if (full(s.s)) {
+          if (st[s.s].sw == st[s.sw].s) x.ssw = st[s.sw].s;
+          if (st[s.s].ww != kInvalid && st[s.s].ww == st[s.sw].w) x.sww = st[s.sw].w;
+        }
       }
     } else if (s.w != kInvalid) {
       x.kind = s.ww != kInvalid ? kLinear : kWest;
@@ -563,8 +567,8 @@ void check_stencil(std::span<const GridLayout::Stencil> stencil, std::size_t n) 
   if (stencil.size() != n) throw Error(ErrorCode::kInternal, "geometry: stencil count != vertex count");
   for (std::uint32_t i = 0; i < n; ++i) {
     const auto& s = stencil[i];
-    for (std::uint32_t j :
-         {s.w, s.ww, s.s, s.sw, s.far, s.e, s.es, s.n, s.nw, s.o, s.ow, s.ofar, s.x0, s.x1, s.x2}) {
+    for (std::uint32_t j : {s.w, s.ww, s.s, s.sw, s.far, s.e, s.es, s.n, s.nw, s.o, s.ow, s.ofar, s.x0, s.x1,
+                            s.x2, s.se, s.ss, s.sww, s.ssw}) {
       if (j != kInvalid && j >= i) throw Error(ErrorCode::kInternal, "geometry: stencil refers forward");
     }
   }
@@ -667,10 +671,13 @@ Grid make_grid(std::span<const float> pos, std::uint32_t bits) {
 // ---------------------------------------------------------------------------------------------
 // Coding loop, shared by encoder and decoder so the two cannot drift apart.
 
-// First byte: geometry coding revision. 1 = format 1.0 (no across-patch kinds), still decoded.
-constexpr std::uint8_t kFormatTag = 2;
+// First byte: geometry coding revision. 1 = format 1.0 (no across-patch kinds), 2 = format 1.1 (layout
+// order), both still decoded; 3 = format 1.2 in patch order. Format 1.2 writes 2 or 3, whichever is
+// smaller.
+constexpr std::uint8_t kFormatTag = 3;
+constexpr std::uint8_t kLayoutRevision = 2;
 
-constexpr std::uint8_t kRepeatsFlag = 0x01;  // header flags (revision 2): value repeats coded
+constexpr std::uint8_t kRepeatsFlag = 0x01;  // header flags (revision >= 2): value repeats coded
 
 struct Header {
   int revision = kFormatTag;
@@ -1033,7 +1040,7 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
 }
 
 void write_header(std::string& out, const Header& h, std::uint32_t count) {
-  put_u8(out, kFormatTag);
+  put_u8(out, static_cast<std::uint8_t>(h.revision));
   put_varint(out, count);
   put_u8(out, static_cast<std::uint8_t>(h.bits));
   put_u8(out, h.repeats ? kRepeatsFlag : 0);
@@ -1181,8 +1188,9 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
   }
   if (options.quantize_bits > 30) throw Error(ErrorCode::kInternal, "geometry: quantize_bits must be 0..30");
   check_stencil(stencil, positions.size() / 3);
-  const std::vector<Hood> hood = neighbourhoods(stencil, kFormatTag);
   Header h;
+  h.revision = options.order == CodingOrder::kPatch ? kFormatTag : kLayoutRevision;
+  const std::vector<Hood> hood = neighbourhoods(stencil, h.revision);
   std::vector<Header> options_to_try;
   if (options.quantize_bits) {
     h.bits = options.quantize_bits;
@@ -1192,8 +1200,10 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
     for (int a = 0; a < 3; ++a) h.plans[a] = plan_axis(positions, a);
     options_to_try = {h};
     // The decimal estimate is a heuristic: never do worse than plain float bits.
-    if (std::any_of(h.plans.begin(), h.plans.end(), [](const AxisPlan& p) { return p.mode != kFloatBits; }))
+    if (std::any_of(h.plans.begin(), h.plans.end(), [](const AxisPlan& p) { return p.mode != kFloatBits; })) {
       options_to_try.push_back(Header{});
+      options_to_try.back().revision = h.revision;
+    }
   }
   for (std::size_t i = 0, n = options_to_try.size(); i < n; ++i) {
     options_to_try.push_back(options_to_try[i]);
@@ -1219,6 +1229,13 @@ std::vector<float> decode_geometry(std::string_view bytes, std::span<const GridL
   code_vertices<false>(h, hood, ints, floats, nullptr, &rc, &out);
   rc.finish();
   return out;
+}
+
+CodingOrder geometry_coding_order(std::string_view bytes) {
+  if (bytes.empty()) fail("truncated header");
+  const auto revision = static_cast<std::uint8_t>(bytes[0]);
+  if (revision < 1 || revision > kFormatTag) fail("unknown geometry coding revision");
+  return revision == 3 ? CodingOrder::kPatch : CodingOrder::kLayout;
 }
 
 float decimal_grid_value(std::int64_t n, int k) {

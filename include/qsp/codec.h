@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -16,13 +17,17 @@
 namespace qsp {
 
 inline constexpr std::uint8_t kFormatMajor = 1;
-inline constexpr std::uint8_t kFormatMinor = 1;  // 1.1: geometry coding revision 2
+inline constexpr std::uint8_t kFormatMinor = 2;  // 1.2: geometry coding revision 3 (patch order)
 
 struct EncodeOptions {
   std::uint32_t quantize_bits = 0;  // 0 = lossless; 1..30 = uniform grid (GeometryOptions)
   bool keep_order = false;          // also store vertex order, face order and first corners
   // Which structured partition to store; any decodes with the same decoder (all three are canonical).
   PartitionMode partition = PartitionMode::kMotorcycle;
+  // Geometry coding order (format-spec, "Coding orders"). nullopt: meshes of up to 32768 vertices
+  // are coded in both and keep the smaller; larger ones in patch order, which is smaller on nearly
+  // every mesh measured and needs one set of stencils in memory.
+  std::optional<CodingOrder> geometry_order;
 };
 
 // What a decoder accepts before allocating. The defaults suit real assets (tens of millions of
@@ -75,8 +80,9 @@ struct FileInfo {
   std::uint64_t header_bytes = 0;        // magic, version, flags, size, checksum
   std::uint64_t connectivity_bytes = 0;  // counts + topology sections
   std::uint64_t geometry_bytes = 0;
-  std::uint64_t order_bytes = 0;  // keep-order permutations (0 if absent)
-  std::uint64_t other_bytes = 0;  // optional sections this decoder skipped
+  std::uint64_t order_bytes = 0;       // keep-order permutations (0 if absent)
+  std::uint64_t other_bytes = 0;       // optional sections this decoder skipped
+  std::uint8_t geometry_revision = 0;  // 1, 2 (layout order) or 3 (patch order); see the spec
   std::uint64_t vertices = 0, edges = 0, faces = 0, unreferenced = 0, extraordinary = 0;
   std::uint64_t schematic_vertices = 0, schematic_edges = 0, patches = 0;
   std::array<std::uint32_t, 4> kind_counts{};  // by ComponentKind
