@@ -1,6 +1,7 @@
 // Adaptive binary range coder (see format-spec/qsp_format.md, "Entropy coding").
 #include "qsp/entropy.h"
 
+#include <algorithm>
 #include <bit>
 #include <string>
 
@@ -41,19 +42,62 @@ void RangeEncoder::shift_low() {
   low_ = (low_ & 0x00FFFFFFu) << 8;
 }
 
-void RangeEncoder::encode_bit(BitModel& m, unsigned bit) {
-  std::uint32_t bound = (range_ >> kProbBits) * m.p0();
+// The two models' probabilities averaged, each weighted by how much it has seen (min(seen, 30) + 1):
+// a young specific model defers to the general one, a trained one to itself.
+std::uint32_t mixed_p0(const BitModel& a, const BitModel& b) {
+  const std::uint32_t wa = std::min<std::uint32_t>(a.seen, 30) + 1,
+                      wb = std::min<std::uint32_t>(b.seen, 30) + 1;
+  return (a.p0() * wa + b.p0() * wb) / (wa + wb);
+}
+
+void RangeEncoder::encode_bit(BitModel& a, BitModel& b, unsigned bit) {
+  encode_p0(mixed_p0(a, b), bit);
+  update(a, bit);
+  update(b, bit);
+}
+
+unsigned RangeDecoder::decode_bit(BitModel& a, BitModel& b) {
+  const unsigned bit = decode_p0(mixed_p0(a, b));
+  update(a, bit);
+  update(b, bit);
+  return bit;
+}
+
+void RangeEncoder::encode_p0(std::uint32_t p0, unsigned bit) {
+  std::uint32_t bound = (range_ >> kProbBits) * p0;
   if (bit == 0) {
     range_ = bound;
   } else {
     low_ += bound;
     range_ -= bound;
   }
-  update(m, bit);
   while (range_ < kTop) {
     range_ <<= 8;
     shift_low();
   }
+}
+
+unsigned RangeDecoder::decode_p0(std::uint32_t p0) {
+  std::uint32_t bound = (range_ >> kProbBits) * p0;
+  unsigned bit;
+  if (code_ < bound) {
+    range_ = bound;
+    bit = 0;
+  } else {
+    code_ -= bound;
+    range_ -= bound;
+    bit = 1;
+  }
+  while (range_ < kTop) {
+    range_ <<= 8;
+    code_ = (code_ << 8) | next_byte();
+  }
+  return bit;
+}
+
+void RangeEncoder::encode_bit(BitModel& m, unsigned bit) {
+  encode_p0(m.p0(), bit);
+  update(m, bit);
 }
 
 void RangeEncoder::encode_raw(std::uint32_t value, unsigned count) {
@@ -91,21 +135,8 @@ std::uint8_t RangeDecoder::next_byte() {
 }
 
 unsigned RangeDecoder::decode_bit(BitModel& m) {
-  std::uint32_t bound = (range_ >> kProbBits) * m.p0();
-  unsigned bit;
-  if (code_ < bound) {
-    range_ = bound;
-    bit = 0;
-  } else {
-    code_ -= bound;
-    range_ -= bound;
-    bit = 1;
-  }
+  const unsigned bit = decode_p0(m.p0());
   update(m, bit);
-  while (range_ < kTop) {
-    range_ <<= 8;
-    code_ = (code_ << 8) | next_byte();
-  }
   return bit;
 }
 

@@ -98,11 +98,19 @@ constexpr int kMaxTrailingZeros = 12;  // decimal integers: 10^12 < 2^40 < 10^13
 // The three axes share contexts: on small meshes, learning three times faster beats separate models.
 struct ResidualModel {
   std::vector<BitModel> length;    // [kind][bucket][node 1..63]
+  std::vector<BitModel> general;   // [kind][node 1..63]: revision 3 mixes it into every bucket's tree
+  bool mixed = false;              // revision 3
   std::vector<BitModel> mantissa;  // [L][node 1..3]
   std::vector<BitModel> zeros;     // [digit count of |prediction| 0..15][node 1..15]
   std::vector<BitModel> repeat;    // [kind][previous axis of the vertex: 0 none, 1 coded, 2 repeat]
   IntModel rank;                   // a repeat's rank
-  ResidualModel() : length(kKinds * kBuckets * 64), mantissa(64 * 4), zeros(16 * 16), repeat(kKinds * 3) {}
+  explicit ResidualModel(bool mix)
+      : length(kKinds * kBuckets * 64),
+        general(mix ? kKinds * 64 : 0),
+        mixed(mix),
+        mantissa(64 * 4),
+        zeros(16 * 16),
+        repeat(kKinds * 3) {}
 
   // Trailing decimal zeros t (0..12) as a 4-bit tree, most significant bit first.
   void encode_zeros(RangeEncoder& rc, int t, int digits) {
@@ -129,9 +137,14 @@ struct ResidualModel {
   void encode(RangeEncoder& rc, std::uint64_t u, int kind, int bucket) {
     const int len = std::bit_width(u);
     BitModel* tree = length_tree(kind, bucket);
+    BitModel* kind_tree = mixed ? &general[static_cast<std::size_t>(kind) * 64] : nullptr;
     for (int i = 5, node = 1; i >= 0; --i) {
       const unsigned b = (len >> i) & 1;
-      rc.encode_bit(tree[node], b);
+      if (mixed) {
+        rc.encode_bit(tree[node], kind_tree[node], b);
+      } else {
+        rc.encode_bit(tree[node], b);
+      }
       node = 2 * node + static_cast<int>(b);
     }
     if (len <= 1) return;
@@ -149,8 +162,11 @@ struct ResidualModel {
 
   std::uint64_t decode(RangeDecoder& rc, int kind, int bucket, int max_len) {
     BitModel* tree = length_tree(kind, bucket);
+    BitModel* kind_tree = mixed ? &general[static_cast<std::size_t>(kind) * 64] : nullptr;
     int node = 1;
-    for (int i = 0; i < 6; ++i) node = 2 * node + static_cast<int>(rc.decode_bit(tree[node]));
+    for (int i = 0; i < 6; ++i)
+      node = 2 * node +
+             static_cast<int>(mixed ? rc.decode_bit(tree[node], kind_tree[node]) : rc.decode_bit(tree[node]));
     const int len = node - 64;
     if (len > max_len) fail("residual longer than its mode allows");
     if (len <= 1) return static_cast<std::uint64_t>(len);
@@ -849,7 +865,7 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
   for (auto& l : lengths) l.assign(count, 0);
   std::array<std::size_t, 3> next_exception{};
   const std::int64_t qmax = h.bits ? static_cast<std::int64_t>((std::uint64_t{1} << h.bits) - 1) : 0;
-  auto model = std::make_unique<ResidualModel>();
+  auto model = std::make_unique<ResidualModel>(h.revision >= 3);
   std::array<std::int64_t, kCandidates> weight{};
   std::array<std::array<std::int64_t, kCandidates>, 3> cand{};
   // Across-patch vertices: running means (x16) of the errors of the across prediction [0] and of the

@@ -68,6 +68,32 @@ TEST(Entropy, SkewedBitsCostLittle) {
   EXPECT_LT(out.size(), 60u);  // ~0.003 bits each once learnt
 }
 
+// A mixed decision round-trips and leans on whichever model has seen more: a fresh specific model
+// (one per symbol here) coded alone pays ~1 bit each time, mixed with a trained general one far less.
+TEST(Entropy, MixedDecisionsLeanOnTheExperiencedModel) {
+  std::mt19937 rng(3);
+  std::vector<unsigned> bits(4000);
+  for (unsigned& b : bits) b = rng() % 8 == 0;
+  auto code = [&](bool mix) {
+    std::string out;
+    RangeEncoder enc(out);
+    BitModel general;
+    std::vector<BitModel> specific(bits.size());
+    for (std::size_t i = 0; i < bits.size(); ++i)
+      mix ? enc.encode_bit(specific[i], general, bits[i]) : enc.encode_bit(specific[i], bits[i]);
+    enc.finish();
+    return out;
+  };
+  const std::string alone = code(false), mixed = code(true);
+  EXPECT_GT(alone.size(), bits.size() / 8 * 9 / 10);  // ~1 bit per decision
+  EXPECT_LT(mixed.size(), bits.size() / 8 * 7 / 10);  // entropy of 1/8 is 0.54 bits
+  RangeDecoder dec(mixed, 0, "test stream");
+  BitModel general;
+  std::vector<BitModel> specific(bits.size());
+  for (std::size_t i = 0; i < bits.size(); ++i) ASSERT_EQ(dec.decode_bit(specific[i], general), bits[i]) << i;
+  EXPECT_NO_THROW(dec.finish());
+}
+
 TEST(Entropy, DecoderRefusesShortAndLongStreams) {
   std::string out;
   RangeEncoder enc(out);

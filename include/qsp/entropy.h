@@ -27,12 +27,16 @@ class RangeEncoder {
  public:
   explicit RangeEncoder(std::string& out) : out_(out) {}
   void encode_bit(BitModel& m, unsigned bit);
+  // One bit with the count-weighted mean of two models' probabilities; both learn it (geometry
+  // revision 3: a (kind, magnitude) model mixed with its kind's).
+  void encode_bit(BitModel& a, BitModel& b, unsigned bit);
   // `count` (<= 32) bits of `value`, most significant first, each with probability 1/2.
   void encode_raw(std::uint32_t value, unsigned count);
   // Writes the final bytes; call exactly once, after the last symbol.
   void finish();
 
  private:
+  void encode_p0(std::uint32_t p0, unsigned bit);
   void shift_low();
   std::string& out_;
   std::uint64_t low_ = 0;
@@ -48,12 +52,14 @@ class RangeDecoder {
  public:
   RangeDecoder(std::string_view bytes, std::uint64_t base_offset, const char* what);
   unsigned decode_bit(BitModel& m);
+  unsigned decode_bit(BitModel& a, BitModel& b);
   std::uint32_t decode_raw(unsigned count);
   void finish() const;
   // Absolute file offset of the next unread byte (for error messages).
   std::uint64_t offset() const { return base_offset_ + pos_; }
 
  private:
+  unsigned decode_p0(std::uint32_t p0);
   std::uint8_t next_byte();
   std::string_view bytes_;
   std::uint64_t base_offset_;
