@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <numeric>
 #include <queue>
+#include <span>
 #include <string>
 
 #include "qsp/error.h"
@@ -315,6 +316,7 @@ void patch_order(const Schematic& s, const Numbering& n, GridLayout& out) {
   };
   std::priority_queue<Candidate> next;
   std::uint32_t scan = 0;  // lowest patch not yet visited, when no patch touches the coded part
+  std::vector<std::uint32_t> turned;
   for (;;) {
     std::uint32_t f = kInvalid;
     while (!next.empty()) {
@@ -343,12 +345,12 @@ void patch_order(const Schematic& s, const Numbering& n, GridLayout& out) {
       if (rot == 3) x = j, y = g.b - i;
       return g.at(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
     };
-    // Grid point (i, j) of the turned patch, or one step beyond its left or bottom side.
+    // Grid point (i, j) of the turned patch, or one step beyond its left or bottom side: looked up in
+    // `turned`, the turned grid's points row by row with that extra row and column (filled below).
     auto nb = [&](std::int64_t i, std::int64_t j) {
-      if (i >= 0 && i <= a && j >= 0 && j <= b) return at(i, j);
-      if (i == -1 && j >= 0 && j <= b) return across(at(0, j), f);
-      if (j == -1 && i >= 0 && i <= a) return across(at(i, 0), f);
-      return kInvalid;
+      return i >= -1 && i <= a && j >= -1 && j <= b
+                 ? turned[static_cast<std::size_t>((j + 1) * (a + 2) + i + 1)]
+                 : kInvalid;
     };
     // Start where most of the bottom and left sides are coded already (their rows then have a frame).
     std::int64_t best = -1;
@@ -363,6 +365,13 @@ void patch_order(const Schematic& s, const Numbering& n, GridLayout& out) {
     }
     rot = rot_best;
     a = (rot & 1) ? g.b : g.a, b = (rot & 1) ? g.a : g.b;
+    turned.assign(static_cast<std::size_t>((a + 2) * (b + 2)), kInvalid);
+    for (std::int64_t j = 0; j <= b; ++j)
+      for (std::int64_t i = 0; i <= a; ++i)
+        turned[static_cast<std::size_t>((j + 1) * (a + 2) + i + 1)] = at(i, j);
+    for (std::int64_t j = 0; j <= b; ++j)
+      turned[static_cast<std::size_t>((j + 1) * (a + 2))] = across(at(0, j), f);
+    for (std::int64_t i = 0; i <= a; ++i) turned[static_cast<std::size_t>(i + 1)] = across(at(i, 0), f);
     for (std::int64_t j = 0; j <= b; ++j)
       for (std::int64_t i = 0; i <= a; ++i) {
         const std::uint32_t p = nb(i, j);
@@ -383,8 +392,9 @@ void patch_order(const Schematic& s, const Numbering& n, GridLayout& out) {
             t.n = nb(i, b), t.nw = nb(i - 1, b), t.n_dist = static_cast<std::uint32_t>(b - j);
         } else {
           // A finished cell around p (the first in layout face order), as w, s, sw.
-          for (std::uint32_t k = first[p]; k < first[p + 1] && t.w == kInvalid; ++k) {
-            const std::uint32_t q = at_cell[k] & ~3u, r = at_cell[k] & 3u;
+          const std::span<const std::uint32_t> around(at_cell.data() + first[p], first[p + 1] - first[p]);
+          for (std::size_t k = 0; k < around.size() && t.w == kInvalid; ++k) {
+            const std::uint32_t q = around[k] & ~3u, r = around[k] & 3u;
             const std::uint32_t u1 = out.quads[q + ((r + 1) & 3)], u2 = out.quads[q + ((r + 2) & 3)],
                                 u3 = out.quads[q + ((r + 3) & 3)];
             if (coded(u1) != kInvalid && coded(u2) != kInvalid && coded(u3) != kInvalid)
@@ -403,8 +413,8 @@ void patch_order(const Schematic& s, const Numbering& n, GridLayout& out) {
             if (j < b && coded(nb(i, b)) != kInvalid)
               t.far = nb(i, b), t.far_dist = static_cast<std::uint32_t>(b - j);
           } else {  // any coded neighbour (else the previous vertex stands in)
-            for (std::uint32_t k = first[p]; k < first[p + 1] && t.w == kInvalid; ++k) {
-              const std::uint32_t q = at_cell[k] & ~3u, r = at_cell[k] & 3u;
+            for (std::size_t k = 0; k < around.size() && t.w == kInvalid; ++k) {
+              const std::uint32_t q = around[k] & ~3u, r = around[k] & 3u;
               t.w = coded(out.quads[q + ((r + 1) & 3)]);
               if (t.w == kInvalid) t.w = coded(out.quads[q + ((r + 3) & 3)]);
             }

@@ -25,26 +25,30 @@ namespace {
 using qsp::GridLayout;
 using qsp::kInvalid;
 
-// Positions in coding order with their stencils: every component's layout, one after the other,
-// then the unreferenced vertices (no neighbours).
+// Positions in coding order with their stencils, as the codec builds them: every component's layout in
+// `order`, one after the other, then the unreferenced vertices (no neighbours).
 struct Coded {
   std::vector<float> positions;
   std::vector<GridLayout::Stencil> stencil;
+  qsp::CodingOrder order = qsp::CodingOrder::kLayout;
 };
 
-Coded layout_order(const qsp::QuadMesh& mesh) {
+Coded coding_order(const qsp::QuadMesh& mesh, qsp::CodingOrder order) {
   const qsp::Adjacency adj = qsp::build_adjacency(mesh);
   const qsp::Partition part = qsp::partition_motorcycle(adj);
   Coded c;
+  c.order = order;
   for (const auto& comp : part.components) {
-    const GridLayout layout = qsp::grid_layout(comp);
+    const GridLayout layout = qsp::grid_layout(comp, order);
     const qsp::LayoutMap map = qsp::layout_to_mesh(comp, adj);
     const auto base = static_cast<std::uint32_t>(c.stencil.size());
-    for (std::uint32_t v = 0; v < layout.vertex_count; ++v) {
-      GridLayout::Stencil s = layout.stencil[v];
-      for (std::uint32_t* j : {&s.w, &s.ww, &s.s, &s.sw, &s.far, &s.e, &s.es, &s.n, &s.nw})
+    for (std::uint32_t k = 0; k < layout.vertex_count; ++k) {
+      GridLayout::Stencil s = layout.stencil[k];
+      for (std::uint32_t* j : {&s.w, &s.ww, &s.s, &s.sw, &s.far, &s.e, &s.es, &s.n, &s.nw, &s.o, &s.ow,
+                               &s.ofar, &s.x0, &s.x1, &s.x2, &s.se, &s.ss, &s.sww, &s.ssw})
         if (*j != kInvalid) *j += base;
       c.stencil.push_back(s);
+      const std::uint32_t v = layout.coding.empty() ? k : layout.coding[k];
       for (int a = 0; a < 3; ++a) c.positions.push_back(mesh.positions[3 * map.vertex[v] + a]);
     }
   }
@@ -63,7 +67,7 @@ Coded file_order(const qsp::QuadMesh& mesh) {
 }
 
 double bits_per_vertex(const Coded& c, std::uint32_t bits, double* max_error = nullptr) {
-  const std::string bytes = qsp::encode_geometry(c.positions, c.stencil, {bits});
+  const std::string bytes = qsp::encode_geometry(c.positions, c.stencil, {bits, c.order});
   const std::vector<float> back =
       qsp::decode_geometry(bytes, c.stencil, static_cast<std::uint32_t>(c.stencil.size()));
   const double err = qsp::max_geometry_error(c.positions, back);
@@ -130,7 +134,8 @@ std::vector<std::string> g_names;  // per entry of g_coded
 void BM_Encode(benchmark::State& state) {
   const Coded& c = g_coded[state.range(0)];
   const auto bits = static_cast<std::uint32_t>(state.range(1));
-  for (auto _ : state) benchmark::DoNotOptimize(qsp::encode_geometry(c.positions, c.stencil, {bits}));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(qsp::encode_geometry(c.positions, c.stencil, {bits, c.order}));
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(c.stencil.size()));
   state.SetLabel(g_names[state.range(0)]);
 }
@@ -138,7 +143,7 @@ void BM_Encode(benchmark::State& state) {
 void BM_Decode(benchmark::State& state) {
   const Coded& c = g_coded[state.range(0)];
   const auto bits = static_cast<std::uint32_t>(state.range(1));
-  const std::string bytes = qsp::encode_geometry(c.positions, c.stencil, {bits});
+  const std::string bytes = qsp::encode_geometry(c.positions, c.stencil, {bits, c.order});
   const auto n = static_cast<std::uint32_t>(c.stencil.size());
   for (auto _ : state) benchmark::DoNotOptimize(qsp::decode_geometry(bytes, c.stencil, n));
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
@@ -154,12 +159,12 @@ int main(int argc, char** argv) {
     const std::string dir = std::string(QSP_SHARED_DIR) + "/meshes/";
     files = {dir + "keenan_spot_quadrangulated.obj", dir + "mh_female_generic_cc2.obj"};
   }
-  std::printf("%-36s %8s | %9s %9s | %9s %9s %11s | %9s %9s\n", "mesh", "V", "lossless", "14-bit",
-              "file:loss", "file:14", "zstd:14", "err14", "enc ms");
+  std::printf("%-36s %8s | %9s %9s %9s | %9s %9s %11s | %9s %9s\n", "mesh", "V", "lossless", "14-bit",
+              "layout:14", "file:loss", "file:14", "zstd:14", "err14", "enc ms");
   for (const std::string& file : files) {
     try {
       const qsp::QuadMesh mesh = qsp::read_mesh_file(file);
-      Coded c = layout_order(mesh);
+      Coded c = coding_order(mesh, qsp::CodingOrder::kPatch);
       const Coded f = file_order(mesh);
       double err14 = 0;
       const auto t0 = std::chrono::steady_clock::now();
@@ -167,9 +172,10 @@ int main(int argc, char** argv) {
       const double ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       const double q14 = bits_per_vertex(c, 14, &err14);
-      std::printf("%-36s %8zu | %9.2f %9.2f | %9.2f %9.2f %11.2f | %9.2e %9.1f\n",
+      std::printf("%-36s %8zu | %9.2f %9.2f %9.2f | %9.2f %9.2f %11.2f | %9.2e %9.1f\n",
                   std::filesystem::path(file).filename().string().c_str(), c.stencil.size(), lossless, q14,
-                  bits_per_vertex(f, 0), bits_per_vertex(f, 14), zstd_baseline_bits(c, 14), err14, ms);
+                  bits_per_vertex(coding_order(mesh, qsp::CodingOrder::kLayout), 14), bits_per_vertex(f, 0),
+                  bits_per_vertex(f, 14), zstd_baseline_bits(c, 14), err14, ms);
       g_coded.push_back(std::move(c));
     } catch (const qsp::Error& e) {
       std::printf("%-36s skipped: %s\n", file.c_str(), e.what());
@@ -179,8 +185,12 @@ int main(int argc, char** argv) {
   }
   for (std::size_t m = 0; m < g_coded.size(); ++m) {
     for (int bits : {0, 14}) {
-      benchmark::RegisterBenchmark("encode", BM_Encode)->Args({static_cast<long>(m), bits})->Unit(benchmark::kMillisecond);
-      benchmark::RegisterBenchmark("decode", BM_Decode)->Args({static_cast<long>(m), bits})->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark("encode", BM_Encode)
+          ->Args({static_cast<long>(m), bits})
+          ->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark("decode", BM_Decode)
+          ->Args({static_cast<long>(m), bits})
+          ->Unit(benchmark::kMillisecond);
     }
   }
   benchmark::RunSpecifiedBenchmarks();
