@@ -94,6 +94,31 @@ TEST(Entropy, MixedDecisionsLeanOnTheExperiencedModel) {
   EXPECT_NO_THROW(dec.finish());
 }
 
+// Once the specific model has seen 64 bits it codes alone: the same bytes as a single-model stream,
+// and the general model is left as it was.
+TEST(Entropy, MatureModelsCodeAlone) {
+  BitModel trained;
+  {
+    std::string scratch;
+    RangeEncoder warm(scratch);
+    for (int i = 0; i < 64; ++i) warm.encode_bit(trained, i % 5 == 0);
+  }
+  std::mt19937 rng(5);
+  std::vector<unsigned> bits(500);
+  for (unsigned& b : bits) b = rng() % 3 == 0;
+  std::string single, mixed;
+  RangeEncoder one(single), two(mixed);
+  BitModel a = trained, b = trained, general;
+  for (unsigned bit : bits) {
+    one.encode_bit(a, bit);
+    two.encode_bit(b, general, bit);
+  }
+  one.finish();
+  two.finish();
+  EXPECT_EQ(single, mixed);
+  EXPECT_EQ(general.seen, 0);
+}
+
 TEST(Entropy, DecoderRefusesShortAndLongStreams) {
   std::string out;
   RangeEncoder enc(out);
