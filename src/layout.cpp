@@ -453,11 +453,15 @@ GridLayout grid_layout(const ComponentPartition& part, CodingOrder order) {
     if (!why.empty()) throw Error(ErrorCode::kFormat, "schematic: " + why);
   }
   out.vertex_count = layout_vertex_count(part, n);
-  out.stencil.assign(out.vertex_count, {});
   for_each_cell(part, &n, nullptr, [&](const std::uint32_t* c, std::uint32_t) {
     out.quads.insert(out.quads.end(), c, c + 4);
     return true;
   });
+  if (general && order == CodingOrder::kPatch) {  // its own stencils: none of layout order's are needed
+    patch_order(part.schematic, n, out);
+    return out;
+  }
+  out.stencil.assign(out.vertex_count, {});
   auto& st = out.stencil;
   if (!general) {
     const std::uint32_t a = part.a, rows = out.vertex_count / std::max(a, 1u);
@@ -504,10 +508,6 @@ GridLayout grid_layout(const ComponentPartition& part, CodingOrder order) {
         t.e = g.at(g.a, j), t.es = g.at(g.a, j - 1), t.e_dist = g.a - i;
         t.n = g.at(i, g.b), t.nw = g.at(i - 1, g.b), t.n_dist = g.b - j;
       }
-  }
-  if (order == CodingOrder::kPatch) {
-    patch_order(s, n, out);
-    return out;
   }
   across_patches(s, n, st);
   return out;
