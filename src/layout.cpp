@@ -472,6 +472,12 @@ GridLayout grid_layout(const ComponentPartition& part, CodingOrder order) {
         if (x >= 2) t.ww = y * a + x - 2;
         if (y >= 1) t.s = (y - 1) * a + x;
         if (x >= 1 && y >= 1) t.sw = (y - 1) * a + x - 1;
+        if (order == CodingOrder::kPatch && x >= 1 && y >= 1) {
+          // Patch order's stencils carry these explicitly; here they are what layout order derives.
+          if (x + 1 < a) t.se = (y - 1) * a + x + 1;
+          if (y >= 2) t.ss = (y - 2) * a + x, t.ssw = (y - 2) * a + x - 1;
+          if (x >= 2) t.sww = (y - 1) * a + x - 2;
+        }
       }
     return out;
   }

@@ -255,10 +255,12 @@ TEST(Corpus, EveryValidMeshPartitionsIntoGridsWithinBounds) {
 }
 
 // Patch coding order (geometry revision 3) over every mesh: a permutation of the layout's vertices, each
-// stencil naming only earlier ones, and every parallelogram stencil (w, s, sw) a real cell of the mesh
-// with the point as its fourth corner, so the predictor works on mesh neighbours one edge away.
+// stencil naming only earlier ones, every parallelogram stencil (w, s, sw) a real cell of the mesh with
+// the point as its fourth corner, and the explicit se/ss/sww/ssw (which revision 3 takes as given,
+// annulus and torus included) mesh neighbours continuing that frame.
 TEST(Corpus, PatchOrderStencilsAreCellsOfTheMesh) {
   int checked = 0;
+  std::size_t extended = 0;  // frames with se or ss, over the whole corpus
   for (const auto& path : corpus()) {
     SCOPED_TRACE(path.string());
     QuadMesh m;
@@ -272,18 +274,29 @@ TEST(Corpus, PatchOrderStencilsAreCellsOfTheMesh) {
       std::vector<std::uint32_t> coding = patch.coding;
       if (coding.empty()) {  // annulus / torus: already row by row
         ASSERT_TRUE(comp.kind == ComponentKind::kAnnulus || comp.kind == ComponentKind::kTorus);
-        continue;
+        for (std::uint32_t v = 0; v < n; ++v) coding.push_back(v);
+        // Revision 3 reads se/ss/sww/ssw from every stencil: a grid point two rows up and two
+        // columns in must have all four.
+        if (comp.a >= 4 && n >= 3 * comp.a) {
+          const GridLayout::Stencil& t = patch.stencil[2 * comp.a + 2];
+          EXPECT_TRUE(t.se != kInvalid && t.ss != kInvalid && t.sww != kInvalid && t.ssw != kInvalid);
+        }
       }
       std::vector<std::uint32_t> sorted = coding;
       std::sort(sorted.begin(), sorted.end());
       for (std::uint32_t v = 0; v < n; ++v) ASSERT_EQ(sorted[v], v) << "not a permutation";
-      // Cells as sets of (corner, next corner) pairs in layout numbering.
+      // Cells as (corner, next, opposite, previous) in layout numbering, and the mesh edges.
       std::set<std::array<std::uint32_t, 4>> cells;
+      std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
       for (std::size_t q = 0; q < layout.quads.size(); q += 4)
-        for (std::uint32_t r = 0; r < 4; ++r)
-          cells.insert({layout.quads[q + r], layout.quads[q + (r + 1) % 4], layout.quads[q + (r + 2) % 4],
-                        layout.quads[q + (r + 3) % 4]});
-      std::size_t frames = 0;
+        for (std::uint32_t r = 0; r < 4; ++r) {
+          const std::uint32_t c0 = layout.quads[q + r], c1 = layout.quads[q + (r + 1) % 4];
+          cells.insert({c0, c1, layout.quads[q + (r + 2) % 4], layout.quads[q + (r + 3) % 4]});
+          edges.insert({std::min(c0, c1), std::max(c0, c1)});
+        }
+      auto edge = [&](std::uint32_t x, std::uint32_t y) {
+        return edges.count({std::min(x, y), std::max(x, y)}) > 0;
+      };
       for (std::uint32_t k = 0; k < n; ++k) {
         const GridLayout::Stencil& t = patch.stencil[k];
         for (std::uint32_t j : {t.w, t.ww, t.s, t.sw, t.far, t.e, t.es, t.n, t.nw, t.se, t.ss, t.sww, t.ssw})
@@ -292,13 +305,20 @@ TEST(Corpus, PatchOrderStencilsAreCellsOfTheMesh) {
         const std::uint32_t p = coding[k], w = coding[t.w], s = coding[t.s], sw = coding[t.sw];
         // p, then s, sw, w around one cell (either orientation).
         EXPECT_TRUE(cells.count({p, s, sw, w}) || cells.count({p, w, sw, s})) << "vertex " << p;
-        ++frames;
+        // The explicit farther neighbours continue that frame: se and ss next to s, sww next to sw,
+        // ssw next to sw and ss.
+        if (t.se != kInvalid) EXPECT_TRUE(edge(coding[t.se], s)) << "se of " << p;
+        if (t.ss != kInvalid) EXPECT_TRUE(edge(coding[t.ss], s)) << "ss of " << p;
+        if (t.sww != kInvalid) EXPECT_TRUE(edge(coding[t.sww], sw)) << "sww of " << p;
+        if (t.ssw != kInvalid)
+          EXPECT_TRUE(edge(coding[t.ssw], sw) && edge(coding[t.ssw], coding[t.ss])) << "ssw of " << p;
+        extended += t.se != kInvalid || t.ss != kInvalid;
       }
-      EXPECT_GT(frames, 0u);
     }
     ++checked;
   }
   EXPECT_GT(checked, 0);
+  EXPECT_GT(extended, 0u);
 }
 
 }  // namespace
