@@ -307,11 +307,11 @@ TEST(Corpus, PatchOrderStencilsAreCellsOfTheMesh) {
         EXPECT_TRUE(cells.count({p, s, sw, w}) || cells.count({p, w, sw, s})) << "vertex " << p;
         // The explicit farther neighbours continue that frame: se and ss next to s, sww next to sw,
         // ssw next to sw and ss.
-        if (t.se != kInvalid) EXPECT_TRUE(edge(coding[t.se], s)) << "se of " << p;
-        if (t.ss != kInvalid) EXPECT_TRUE(edge(coding[t.ss], s)) << "ss of " << p;
-        if (t.sww != kInvalid) EXPECT_TRUE(edge(coding[t.sww], sw)) << "sww of " << p;
-        if (t.ssw != kInvalid)
-          EXPECT_TRUE(edge(coding[t.ssw], sw) && edge(coding[t.ssw], coding[t.ss])) << "ssw of " << p;
+        EXPECT_TRUE(t.se == kInvalid || edge(coding[t.se], s)) << "se of " << p;
+        EXPECT_TRUE(t.ss == kInvalid || edge(coding[t.ss], s)) << "ss of " << p;
+        EXPECT_TRUE(t.sww == kInvalid || edge(coding[t.sww], sw)) << "sww of " << p;
+        EXPECT_TRUE(t.ssw == kInvalid || (edge(coding[t.ssw], sw) && edge(coding[t.ssw], coding[t.ss])))
+            << "ssw of " << p;
         extended += t.se != kInvalid || t.ss != kInvalid;
       }
     }
