@@ -330,9 +330,7 @@ void assemble(const std::vector<ComponentPartition>& parts, std::uint32_t unrefe
     }
     for (std::uint32_t v : g.quads) quads.push_back(v + base);
     for (GridLayout::Stencil st : g.stencil) {
-      for (std::uint32_t* j : {&st.w, &st.ww, &st.s, &st.sw, &st.far, &st.e, &st.es, &st.n, &st.nw, &st.o,
-                               &st.ow, &st.ofar, &st.x0, &st.x1, &st.x2, &st.se, &st.ss, &st.sww, &st.ssw})
-        *j = shift(*j, base);
+      for (std::uint32_t* j : st.vertex_fields()) *j = shift(*j, base);
       stencil.push_back(st);
     }
   }

@@ -583,8 +583,7 @@ void check_stencil(std::span<const GridLayout::Stencil> stencil, std::size_t n) 
   if (stencil.size() != n) throw Error(ErrorCode::kInternal, "geometry: stencil count != vertex count");
   for (std::uint32_t i = 0; i < n; ++i) {
     const auto& s = stencil[i];
-    for (std::uint32_t j : {s.w, s.ww, s.s, s.sw, s.far, s.e, s.es, s.n, s.nw, s.o, s.ow, s.ofar, s.x0, s.x1,
-                            s.x2, s.se, s.ss, s.sww, s.ssw}) {
+    for (std::uint32_t j : s.vertex_fields()) {
       if (j != kInvalid && j >= i) throw Error(ErrorCode::kInternal, "geometry: stencil refers forward");
     }
   }

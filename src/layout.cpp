@@ -436,9 +436,7 @@ void patch_order(const Schematic& s, const Numbering& n, GridLayout& out) {
     if (v != kInvalid) v = id[v];
   };
   for (GridLayout::Stencil& t : st)
-    for (std::uint32_t* v :
-         {&t.w, &t.ww, &t.s, &t.sw, &t.far, &t.e, &t.es, &t.n, &t.nw, &t.se, &t.ss, &t.sww, &t.ssw})
-      map(*v);
+    for (std::uint32_t* v : t.vertex_fields()) map(*v);
   out.stencil = std::move(st);
 }
 

@@ -45,8 +45,7 @@ void check_component(const QuadMesh& m, const CanonicalComponent& comp) {
           << "face " << f;
   for (std::uint32_t v = 0; v < layout.vertex_count; ++v) {
     const auto& s = layout.stencil[v];
-    for (std::uint32_t n : {s.w, s.ww, s.s, s.sw, s.far, s.e, s.es, s.n, s.nw})
-      ASSERT_TRUE(n == kInvalid || n < v) << "stencil of " << v;
+    for (std::uint32_t n : s.vertex_fields()) ASSERT_TRUE(n == kInvalid || n < v) << "stencil of " << v;
   }
 }
 

@@ -330,8 +330,7 @@ bool shared_mesh_along_partition(const char* name, std::vector<float>& pos,
     const auto base = static_cast<std::uint32_t>(st.size());
     for (std::uint32_t v = 0; v < layout.vertex_count; ++v) {
       GridLayout::Stencil s = layout.stencil[v];
-      for (std::uint32_t* j : {&s.w, &s.ww, &s.s, &s.sw, &s.far, &s.e, &s.es, &s.n, &s.nw, &s.o, &s.ow,
-                               &s.ofar, &s.x0, &s.x1, &s.x2})
+      for (std::uint32_t* j : s.vertex_fields())
         if (*j != kInvalid) *j += base;
       st.push_back(s);
       for (int a = 0; a < 3; ++a) pos.push_back(mesh.positions[3 * std::size_t{map.vertex[v]} + a]);

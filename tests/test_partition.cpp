@@ -299,7 +299,7 @@ TEST(Corpus, PatchOrderStencilsAreCellsOfTheMesh) {
       };
       for (std::uint32_t k = 0; k < n; ++k) {
         const GridLayout::Stencil& t = patch.stencil[k];
-        for (std::uint32_t j : {t.w, t.ww, t.s, t.sw, t.far, t.e, t.es, t.n, t.nw, t.se, t.ss, t.sww, t.ssw})
+        for (std::uint32_t j : t.vertex_fields())
           ASSERT_TRUE(j == kInvalid || j < k) << "stencil of " << k << " refers forward";
         if (t.w == kInvalid || t.s == kInvalid || t.sw == kInvalid) continue;
         const std::uint32_t p = coding[k], w = coding[t.w], s = coding[t.s], sw = coding[t.sw];

@@ -1,6 +1,7 @@
 // qsp/partition.h: the motorcycle graph (paper §5) and the schematic partition it induces (§4).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -125,6 +126,14 @@ struct GridLayout {
     std::uint32_t x0 = kInvalid, x1 = kInvalid, x2 = kInvalid, xnum = 0, xden = 0;
     // Patch order only: se (1,-1), ss (0,-2), sww (-2,-1), ssw (-1,-2) in w/s's frame, when coded.
     std::uint32_t se = kInvalid, ss = kInvalid, sww = kInvalid, ssw = kInvalid;
+    // Every field that names a vertex (kInvalid when absent): the one list for code that offsets,
+    // remaps or checks them all, so a new field cannot be missed in one of those places.
+    std::array<std::uint32_t*, 19> vertex_fields() {
+      return {&w, &ww, &s, &sw, &far, &e, &es, &n, &nw, &o, &ow, &ofar, &x0, &x1, &x2, &se, &ss, &sww, &ssw};
+    }
+    std::array<std::uint32_t, 19> vertex_fields() const {
+      return {w, ww, s, sw, far, e, es, n, nw, o, ow, ofar, x0, x1, x2, se, ss, sww, ssw};
+    }
   };
   std::vector<Stencil> stencil;
   // Patch order only: the layout vertex at each coding position (stencil indices are coding positions).

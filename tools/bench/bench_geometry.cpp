@@ -44,8 +44,7 @@ Coded coding_order(const qsp::QuadMesh& mesh, qsp::CodingOrder order) {
     const auto base = static_cast<std::uint32_t>(c.stencil.size());
     for (std::uint32_t k = 0; k < layout.vertex_count; ++k) {
       GridLayout::Stencil s = layout.stencil[k];
-      for (std::uint32_t* j : {&s.w, &s.ww, &s.s, &s.sw, &s.far, &s.e, &s.es, &s.n, &s.nw, &s.o, &s.ow,
-                               &s.ofar, &s.x0, &s.x1, &s.x2, &s.se, &s.ss, &s.sww, &s.ssw})
+      for (std::uint32_t* j : s.vertex_fields())
         if (*j != kInvalid) *j += base;
       c.stencil.push_back(s);
       const std::uint32_t v = layout.coding.empty() ? k : layout.coding[k];
