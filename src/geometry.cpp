@@ -194,6 +194,13 @@ std::int64_t unzigzag64(std::uint64_t u) {
 // ---------------------------------------------------------------------------------------------
 // Prediction. Everything here depends only on the stencils, so both sides agree without signalling.
 
+// Geometry coding revisions, the section's first byte: 1 = format 1.0 (layout order, no across-patch
+// kinds), 2 = format 1.1 (layout order), both still decoded; 3 = format 1.2 (patch order, mixed
+// length models). Format 1.2 writes 2 or 3, whichever is smaller.
+constexpr std::uint8_t kLayoutRevision = 2;
+constexpr std::uint8_t kPatchRevision = 3;
+constexpr std::uint8_t kFormatTag = kPatchRevision;  // the newest
+
 enum Kind : std::uint8_t {
   kNone = 0,
   kWest = 1,
@@ -244,7 +251,7 @@ std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st, int re
       x.kind = kParallelogram;
       if (s.e != kInvalid && s.es != kInvalid && s.e_dist >= 1) x.sides |= Hood::kEast;
       if (s.n != kInvalid && s.nw != kInvalid && s.n_dist >= 1) x.sides |= Hood::kNorth;
-      if (revision >= 3) {  // patch order: the layout knows the frame across patch sides
+      if (revision >= kPatchRevision) {  // patch order: the layout knows the frame across patch sides
         x.se = s.se, x.ss = s.ss, x.sww = s.sww, x.ssw = s.ssw;
       } else {
         const std::uint32_t e = east[i];
@@ -259,7 +266,7 @@ std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st, int re
       x.kind = s.ww != kInvalid ? kLinear : kWest;
       if (s.far != kInvalid && s.far_dist >= 1 && s.far_dist <= kMaxFarDist) x.sides |= Hood::kFar;
       x.fallback = x.kind;
-      if (revision < 2) {
+      if (revision < kLayoutRevision) {
         // format 1.0: along the edge only
       } else if (s.o != kInvalid && s.ow != kInvalid) {
         x.kind = kOpposite;  // an edge point, also predicted from the patch side across
@@ -686,12 +693,6 @@ Grid make_grid(std::span<const float> pos, std::uint32_t bits) {
 // ---------------------------------------------------------------------------------------------
 // Coding loop, shared by encoder and decoder so the two cannot drift apart.
 
-// First byte: geometry coding revision. 1 = format 1.0 (no across-patch kinds), 2 = format 1.1 (layout
-// order), both still decoded; 3 = format 1.2 in patch order. Format 1.2 writes 2 or 3, whichever is
-// smaller.
-constexpr std::uint8_t kFormatTag = 3;
-constexpr std::uint8_t kLayoutRevision = 2;
-
 constexpr std::uint8_t kRepeatsFlag = 0x01;  // header flags (revision >= 2): value repeats coded
 
 struct Header {
@@ -864,7 +865,7 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
   for (auto& l : lengths) l.assign(count, 0);
   std::array<std::size_t, 3> next_exception{};
   const std::int64_t qmax = h.bits ? static_cast<std::int64_t>((std::uint64_t{1} << h.bits) - 1) : 0;
-  auto model = std::make_unique<ResidualModel>(h.revision >= 3);
+  auto model = std::make_unique<ResidualModel>(h.revision >= kPatchRevision);
   std::array<std::int64_t, kCandidates> weight{};
   std::array<std::array<std::int64_t, kCandidates>, 3> cand{};
   // Across-patch vertices: running means (x16) of the errors of the across prediction [0] and of the
@@ -1085,7 +1086,7 @@ Header read_header(Reader& in, std::uint32_t count) {
   if (in.varint("truncated vertex count") != count) fail("vertex count does not match the mesh");
   h.bits = in.u8("truncated header");
   if (h.bits > 30) fail("quantization bits out of range");
-  if (h.revision >= 2) {
+  if (h.revision >= kLayoutRevision) {
     const std::uint8_t flags = in.u8("truncated header");
     if (flags & ~kRepeatsFlag) fail("reserved geometry flag bits are set");
     h.repeats = (flags & kRepeatsFlag) != 0;
@@ -1204,7 +1205,7 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
   if (options.quantize_bits > 30) throw Error(ErrorCode::kInternal, "geometry: quantize_bits must be 0..30");
   check_stencil(stencil, positions.size() / 3);
   Header h;
-  h.revision = options.order == CodingOrder::kPatch ? kFormatTag : kLayoutRevision;
+  h.revision = options.order == CodingOrder::kPatch ? kPatchRevision : kLayoutRevision;
   const std::vector<Hood> hood = neighbourhoods(stencil, h.revision);
   std::vector<Header> options_to_try;
   if (options.quantize_bits) {
@@ -1250,7 +1251,7 @@ CodingOrder geometry_coding_order(std::string_view bytes) {
   if (bytes.empty()) fail("truncated header");
   const auto revision = static_cast<std::uint8_t>(bytes[0]);
   if (revision < 1 || revision > kFormatTag) fail("unknown geometry coding revision");
-  return revision == 3 ? CodingOrder::kPatch : CodingOrder::kLayout;
+  return revision == kPatchRevision ? CodingOrder::kPatch : CodingOrder::kLayout;
 }
 
 float decimal_grid_value(std::int64_t n, int k) {
