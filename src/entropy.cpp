@@ -28,12 +28,26 @@ void update(BitModel& m, unsigned bit) {
 
 }  // namespace
 
+CompactEnd compact_end(std::uint64_t low, std::uint32_t range) {
+  const std::uint64_t lw = low & 0xFFFFFFFFu;  // multiples of 2^(8k), k <= 4, agree modulo 2^32
+  for (int k = 4; k > 0; --k) {
+    const std::uint64_t unit = std::uint64_t{1} << (8 * k);
+    const std::uint64_t value = (lw + unit - 1) & ~(unit - 1);
+    if (value < lw + range) return {value, k};
+  }
+  return {lw, 0};  // not reached: range >= 2^24 holds a multiple of 2^24
+}
+
 void RangeEncoder::shift_low() {
   if (static_cast<std::uint32_t>(low_) < 0xFF000000u || (low_ >> 32) != 0) {
     auto carry = static_cast<std::uint8_t>(low_ >> 32);
     std::uint8_t temp = cache_;
     do {
-      out_.push_back(static_cast<char>(static_cast<std::uint8_t>(temp + carry)));
+      if (skip_first_) {
+        skip_first_ = false;  // LZMA's first byte, always 0: kCompact leaves it out
+      } else {
+        out_.push_back(static_cast<char>(static_cast<std::uint8_t>(temp + carry)));
+      }
       temp = 0xFF;
     } while (--cache_size_ != 0);
     cache_ = static_cast<std::uint8_t>(low_ >> 24);
@@ -118,12 +132,25 @@ void RangeEncoder::encode_raw(std::uint32_t value, unsigned count) {
 }
 
 void RangeEncoder::finish() {
+  if (!compact_) {
+    for (int i = 0; i < 5; ++i) shift_low();
+    return;
+  }
+  // The value in [low, low + range) with the most trailing zero bytes (k of the 4 bytes of low): any
+  // value of the final interval decodes the same symbols, and zeros need not be written.
+  const CompactEnd end = compact_end(low_, range_);
+  low_ += end.value - (low_ & 0xFFFFFFFFu);  // the same multiples of 2^(8k) modulo 2^32
+  const int k = end.zeros;
   for (int i = 0; i < 5; ++i) shift_low();
+  // The last k bytes written are low's k low bytes, all zero; the stream has at least those (4 bytes of
+  // low follow the cache byte, which is never the skipped first byte after 5 shifts).
+  out_.resize(out_.size() - static_cast<std::size_t>(k));
 }
 
-RangeDecoder::RangeDecoder(std::string_view bytes, std::uint64_t base_offset, const char* what)
-    : bytes_(bytes), base_offset_(base_offset), what_(what) {
-  if (next_byte() != 0) {
+RangeDecoder::RangeDecoder(std::string_view bytes, std::uint64_t base_offset, const char* what,
+                           StreamEnds ends)
+    : bytes_(bytes), base_offset_(base_offset), what_(what), compact_(ends == StreamEnds::kCompact) {
+  if (!compact_ && next_byte() != 0) {
     throw Error(ErrorCode::kFormat, std::string(what_) +
                                         ": range coder stream must start with a zero byte (at byte offset " +
                                         std::to_string(base_offset_) + ")");
@@ -133,11 +160,18 @@ RangeDecoder::RangeDecoder(std::string_view bytes, std::uint64_t base_offset, co
 
 std::uint8_t RangeDecoder::next_byte() {
   if (pos_ >= bytes_.size()) {
+    if (compact_ && pos_ < bytes_.size() + 4) {
+      ++pos_;
+      window_ <<= 8;
+      return 0;  // a zero the compact flush left out
+    }
     throw Error(ErrorCode::kFormat, std::string(what_) + " ends too early: needs more than its " +
                                         std::to_string(bytes_.size()) + " bytes (at byte offset " +
                                         std::to_string(base_offset_ + bytes_.size()) + ")");
   }
-  return static_cast<std::uint8_t>(bytes_[pos_++]);
+  const auto byte = static_cast<std::uint8_t>(bytes_[pos_++]);
+  window_ = (window_ << 8) | byte;
+  return byte;
 }
 
 unsigned RangeDecoder::decode_bit(BitModel& m) {
@@ -166,11 +200,20 @@ std::uint32_t RangeDecoder::decode_raw(unsigned count) {
 
 void RangeDecoder::finish() const {
   // A stream the encoder wrote is used up exactly, and the decoder's code register is then 0.
-  if (pos_ != bytes_.size() || code_ != 0) {
+  // kCompact: the final interval starts at (last 4 bytes read) - code; the stream must end on the
+  // value the encoder picks in it, with exactly its trailing zero bytes left out.
+  bool ended = pos_ == bytes_.size() && code_ == 0;
+  if (compact_) {
+    const CompactEnd end = compact_end(static_cast<std::uint32_t>(window_ - code_), range_);
+    ended = pos_ == bytes_.size() + static_cast<std::size_t>(end.zeros) &&
+            end.value % (std::uint64_t{1} << 32) == window_;
+  }
+  if (!ended) {
+    const std::size_t used = std::min(pos_, bytes_.size());
     throw Error(ErrorCode::kFormat, std::string(what_) + " does not end where its symbols end (" +
-                                        std::to_string(bytes_.size() - pos_) +
+                                        std::to_string(bytes_.size() - used) +
                                         " bytes unused, at byte offset " +
-                                        std::to_string(base_offset_ + pos_) + ")");
+                                        std::to_string(base_offset_ + used) + ")");
   }
 }
 

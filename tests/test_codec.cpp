@@ -138,6 +138,79 @@ TEST(Entropy, DecoderRefusesShortAndLongStreams) {
   EXPECT_THROW(run(out + std::string(1, '\0')), Error);
 }
 
+// Compact ends (geometry revision 4): the same symbols in 4 bytes less than LZMA's ends (no leading
+// zero, 3 or 4 zero bytes left out of the flush), for any number of symbols, the empty stream
+// included; the decoder reads the left-out zeros back, accepts only the encoder's own ending for the
+// symbols it decoded, and refuses a stream that needs more than 4 zeros.
+TEST(Entropy, CompactEndsSaveFourBytesAndStayStrict) {
+  std::mt19937 rng(13);
+  for (int count : {0, 1, 2, 5, 17, 100, 1000, 5000}) {
+    SCOPED_TRACE(count);
+    std::vector<unsigned> bits(static_cast<std::size_t>(count));
+    std::vector<std::uint32_t> raw(bits.size());
+    for (std::size_t i = 0; i < bits.size(); ++i) bits[i] = rng() % 4 == 0, raw[i] = rng() & 0x3FF;
+    auto code = [&](StreamEnds ends) {
+      std::string out;
+      RangeEncoder enc(out, ends);
+      BitModel m;
+      for (std::size_t i = 0; i < bits.size(); ++i) {
+        enc.encode_bit(m, bits[i]);
+        if (i % 7 == 0) enc.encode_raw(raw[i], 10);
+      }
+      enc.finish();
+      return out;
+    };
+    auto run = [&](std::string_view s) {
+      RangeDecoder dec(s, 0, "test stream", StreamEnds::kCompact);
+      BitModel m;
+      for (std::size_t i = 0; i < bits.size(); ++i) {
+        if (dec.decode_bit(m) != bits[i]) return false;
+        if (i % 7 == 0 && dec.decode_raw(10) != raw[i]) return false;
+      }
+      dec.finish();
+      return true;
+    };
+    const std::string lzma = code(StreamEnds::kLzma), compact = code(StreamEnds::kCompact);
+    EXPECT_LE(compact.size() + 4, lzma.size());
+    EXPECT_GE(compact.size() + 5, lzma.size());
+    if (!compact.empty()) {
+      EXPECT_NE(compact.back(), '\0');  // a trailing zero would have been left out
+    }
+    EXPECT_TRUE(run(compact));
+    // Canonical: no other byte string is accepted as these symbols.
+    auto same = [&](std::string_view s) {
+      try {
+        return run(s);
+      } catch (const Error&) {
+        return false;
+      }
+    };
+    EXPECT_THROW(run(compact + std::string(1, '\0')), Error);
+    EXPECT_FALSE(same(compact + std::string(1, '\x5A')));
+    if (!compact.empty()) {
+      EXPECT_FALSE(same(compact.substr(0, compact.size() - 1)));
+      std::string changed = compact;
+      changed.back() = static_cast<char>(changed.back() ^ 1);
+      EXPECT_FALSE(same(changed));
+    }
+  }
+  // A stream whose symbols need more than the 4 zeros: ends too early.
+  std::string out;
+  RangeEncoder enc(out, StreamEnds::kCompact);
+  enc.encode_raw(0x2A5u, 10);
+  enc.encode_raw(0x3FFFFFu, 22);
+  enc.finish();
+  RangeDecoder dec(std::string_view(out).substr(0, out.size() - 2), 0, "test stream", StreamEnds::kCompact);
+  EXPECT_THROW(
+      {
+        dec.decode_raw(10);
+        dec.decode_raw(22);
+        dec.decode_raw(32);
+        dec.decode_raw(32);
+      },
+      Error);
+}
+
 // ---- Topology streams ----
 
 // A single quad: one patch and one hole, four darts each (worked out in qsp_format.md).

@@ -21,11 +21,25 @@ struct BitModel {
   std::uint32_t p0() const { return (std::uint32_t{fast} + slow) >> 1; }
 };
 
-// LZMA-style range encoder (32-bit range, carry propagation through a cached byte), writing to `out`.
-// As in LZMA the first byte is always 0 (decoders check it).
+// How a stream begins and ends. kLzma: as in LZMA, a first byte that is always 0 and a flush of the
+// whole 32-bit `low` (the topology and order sections, geometry revisions 1-3). kCompact (geometry
+// revision 4): no zero byte, and a flush that ends on the value of the final interval with the most
+// trailing zero bytes, those bytes left out; the decoder reads them back as zeros. 4 bytes less a stream.
+enum class StreamEnds : std::uint8_t { kLzma, kCompact };
+
+// kCompact's end for a final interval [low, low + range) (range >= 2^24): the number of trailing zero
+// bytes k (3 or 4) of the value it ends on, and that value's low 32 bits plus 2^32 if it carries.
+struct CompactEnd {
+  std::uint64_t value;
+  int zeros;
+};
+CompactEnd compact_end(std::uint64_t low, std::uint32_t range);
+
+// LZMA-style range encoder (32-bit range, carry propagation through a cached byte), appending to `out`.
 class RangeEncoder {
  public:
-  explicit RangeEncoder(std::string& out) : out_(out) {}
+  explicit RangeEncoder(std::string& out, StreamEnds ends = StreamEnds::kLzma)
+      : out_(out), start_(out.size()), compact_(ends == StreamEnds::kCompact) {}
   void encode_bit(BitModel& m, unsigned bit);
   // One bit with the count-weighted mean of two models' probabilities; both learn it (geometry
   // revision 3: a (kind, magnitude) model mixed with its kind's).
@@ -39,18 +53,23 @@ class RangeEncoder {
   void encode_p0(std::uint32_t p0, unsigned bit);
   void shift_low();
   std::string& out_;
+  std::size_t start_;  // where this stream begins in out_
+  bool compact_;
+  bool skip_first_ = compact_;  // kCompact: the first byte (always 0) is not written
   std::uint64_t low_ = 0;
   std::uint32_t range_ = 0xFFFFFFFFu;
   std::uint8_t cache_ = 0;
   std::uint64_t cache_size_ = 1;
 };
 
-// Inverse of RangeEncoder over exactly `bytes`. Reading past the end throws Error(kFormat) naming
-// `what` and the absolute offset (`base_offset` + position), so a hostile stream fails as soon as it
-// runs out; finish() checks that every byte was used and the stream ended where the encoder ended it.
+// Inverse of RangeEncoder over exactly `bytes`. Reading past the end (kCompact: more than the 4 zero
+// bytes its flush may leave out) throws Error(kFormat) naming `what` and the absolute offset
+// (`base_offset` + position), so a hostile stream fails as soon as it runs out; finish() checks that
+// every byte was used and (kLzma) the stream ended where the encoder ended it.
 class RangeDecoder {
  public:
-  RangeDecoder(std::string_view bytes, std::uint64_t base_offset, const char* what);
+  RangeDecoder(std::string_view bytes, std::uint64_t base_offset, const char* what,
+               StreamEnds ends = StreamEnds::kLzma);
   unsigned decode_bit(BitModel& m);
   unsigned decode_bit(BitModel& a, BitModel& b);
   std::uint32_t decode_raw(unsigned count);
@@ -64,9 +83,11 @@ class RangeDecoder {
   std::string_view bytes_;
   std::uint64_t base_offset_;
   const char* what_;
-  std::size_t pos_ = 0;
+  bool compact_;
+  std::size_t pos_ = 0;  // kCompact: may pass bytes_.size() by up to 4 (zeros the flush left out)
   std::uint32_t range_ = 0xFFFFFFFFu;
   std::uint32_t code_ = 0;
+  std::uint32_t window_ = 0;  // the last 4 bytes read (kCompact's end check)
 };
 
 // Adaptive Exp-Golomb model for unsigned integers 0 .. 2^32 - 2. Codes n = bit length of (v + 1)
