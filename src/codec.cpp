@@ -237,13 +237,14 @@ Parsed parse_container(std::string_view bytes, const DecodeLimits& limits) {
 
   // What the content can hold, checked before anything is allocated (docs/hardening.md), so a tiny
   // file cannot make the decoder reserve memory for a huge declared mesh. Every component has a quad
-  // (4 vertices). Every vertex costs at least 6 adaptive binary decisions in the geometry section (per
-  // axis a residual length of six, or a repeat flag and a rank of one or more) and no decision costs
-  // less than log2(65536 / 65465) bits, so a geometry section of B bytes holds at most ~853 * B vertices.
+  // (4 vertices). Every vertex costs at least 3 adaptive binary decisions in the geometry section (per
+  // axis at least one residual-length decision, or a repeat flag) and no decision costs less than
+  // log2(65536 / 65465) bits, so a geometry section of B bytes holds at most ~1706 * (B + 4) vertices
+  // (revision 4 streams may leave out 4 zero bytes).
   if (p.counts.components > (p.counts.vertices - p.counts.unreferenced) / 4) {
     format_error("more components than the referenced vertices allow (4 each)", cs.payload_offset);
   }
-  constexpr std::uint64_t kMaxVerticesPerGeometryByte = 1536;
+  constexpr std::uint64_t kMaxVerticesPerGeometryByte = 2048;
   if (p.counts.vertices > kMaxVerticesPerGeometryByte * (p.geometry->payload.size() + 8)) {
     format_error("counts section declares " + std::to_string(p.counts.vertices) + " vertices but the " +
                      std::to_string(p.geometry->payload.size()) + "-byte geometry section cannot hold them",
@@ -465,18 +466,27 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
   return out;
 }
 
+namespace {
+
+// The geometry section's coding order (its revision byte, and in revision 4 a flag), which the
+// stencils must be built in.
+CodingOrder coding_order_of(const Parsed& p) {
+  try {
+    return geometry_coding_order(p.geometry->payload);
+  } catch (const Error& e) {
+    format_error(std::string(e.what()) + " in the geometry section", p.geometry->payload_offset);
+  }
+}
+
+}  // namespace
+
 QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
   Parsed p = parse_container(bytes, limits);
   decode_components(p);
   QuadMesh canonical;
   std::vector<GridLayout::Stencil> stencil;
   std::vector<std::uint32_t> coding;
-  CodingOrder corder = CodingOrder::kLayout;
-  try {
-    corder = geometry_coding_order(p.geometry->payload);
-  } catch (const Error& e) {
-    format_error(std::string(e.what()) + " in the geometry section", p.geometry->payload_offset);
-  }
+  const CodingOrder corder = coding_order_of(p);
   assemble(p.parts, static_cast<std::uint32_t>(p.counts.unreferenced), corder, canonical.quads, stencil,
            &coding);
   const auto nv = static_cast<std::uint32_t>(p.counts.vertices);
@@ -534,6 +544,7 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
   info.keep_order = p.order.has_value();
   if (!p.geometry->payload.empty())
     info.geometry_revision = static_cast<std::uint8_t>(p.geometry->payload[0]);
+  info.geometry_order = coding_order_of(p);
   std::uint64_t in_sections = 0;
   for (const Section& s : p.sections) {
     std::uint64_t size = s.payload_offset + s.payload.size() - s.offset;

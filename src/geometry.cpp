@@ -99,15 +99,17 @@ constexpr int kMaxTrailingZeros = 12;  // decimal integers: 10^12 < 2^40 < 10^13
 struct ResidualModel {
   std::vector<BitModel> length;    // [kind][bucket][node 1..63]
   std::vector<BitModel> general;   // [kind][node 1..63]: revision 3 mixes it into every bucket's tree
-  bool mixed = false;              // revision 3
+  bool mixed = false;              // revisions 3, 4
+  bool exclude = false;            // revision 4: no decision for lengths above the axis's maximum
   std::vector<BitModel> mantissa;  // [L][node 1..3]
   std::vector<BitModel> zeros;     // [digit count of |prediction| 0..15][node 1..15]
   std::vector<BitModel> repeat;    // [kind][previous axis of the vertex: 0 none, 1 coded, 2 repeat]
   IntModel rank;                   // a repeat's rank
-  explicit ResidualModel(bool mix)
+  ResidualModel(bool mix, bool excluding)
       : length(kKinds * kBuckets * 64),
         general(mix ? kKinds * 64 : 0),
         mixed(mix),
+        exclude(excluding),
         mantissa(64 * 4),
         zeros(16 * 16),
         repeat(kKinds * 3) {}
@@ -134,12 +136,20 @@ struct ResidualModel {
   }
   BitModel* mantissa_tree(int len) { return &mantissa[static_cast<std::size_t>(len) * 4]; }
 
-  void encode(RangeEncoder& rc, std::uint64_t u, int kind, int bucket) {
+  // Length decision i (of weight 2^i) is left out in revision 4 when a 1 could only lead to lengths
+  // above max_len, given the decisions above it (`high`): at 14 bits, the top two never vary.
+  bool forced(int high, int i, int max_len) const { return exclude && (high | (1 << i)) > max_len; }
+
+  void encode(RangeEncoder& rc, std::uint64_t u, int kind, int bucket, int max_len) {
     const int len = std::bit_width(u);
     BitModel* tree = length_tree(kind, bucket);
     BitModel* kind_tree = mixed ? &general[static_cast<std::size_t>(kind) * 64] : nullptr;
     for (int i = 5, node = 1; i >= 0; --i) {
       const unsigned b = (len >> i) & 1;
+      if (forced(len & ~((2 << i) - 1), i, max_len)) {
+        node = 2 * node;  // b is 0: len <= max_len
+        continue;
+      }
       if (mixed) {
         rc.encode_bit(tree[node], kind_tree[node], b);
       } else {
@@ -164,9 +174,14 @@ struct ResidualModel {
     BitModel* tree = length_tree(kind, bucket);
     BitModel* kind_tree = mixed ? &general[static_cast<std::size_t>(kind) * 64] : nullptr;
     int node = 1;
-    for (int i = 0; i < 6; ++i)
+    for (int i = 5; i >= 0; --i) {
+      if (forced((node << (i + 1)) - 64, i, max_len)) {
+        node = 2 * node;
+        continue;
+      }
       node = 2 * node +
              static_cast<int>(mixed ? rc.decode_bit(tree[node], kind_tree[node]) : rc.decode_bit(tree[node]));
+    }
     const int len = node - 64;
     if (len > max_len) fail("residual longer than its mode allows");
     if (len <= 1) return static_cast<std::uint64_t>(len);
@@ -195,11 +210,13 @@ std::int64_t unzigzag64(std::uint64_t u) {
 // Prediction. Everything here depends only on the stencils, so both sides agree without signalling.
 
 // Geometry coding revisions, the section's first byte: 1 = format 1.0 (layout order, no across-patch
-// kinds), 2 = format 1.1 (layout order), both still decoded; 3 = format 1.2 (patch order, mixed
-// length models). Format 1.2 writes 2 or 3, whichever is smaller.
+// kinds), 2 = format 1.1 (layout order), 3 = format 1.2 (patch order, mixed length models), all still
+// decoded; 4 = format 1.3 (either order, named by a flag; revision 3's coding, residual lengths above
+// the axis's maximum excluded, no vertex count in the header, compact stream ends).
 constexpr std::uint8_t kLayoutRevision = 2;
 constexpr std::uint8_t kPatchRevision = 3;
-constexpr std::uint8_t kFormatTag = kPatchRevision;  // the newest
+constexpr std::uint8_t kCompactRevision = 4;
+constexpr std::uint8_t kFormatTag = kCompactRevision;  // the newest, the only one written
 
 enum Kind : std::uint8_t {
   kNone = 0,
@@ -230,7 +247,7 @@ constexpr std::uint32_t kMaxFarDist = 64;  // farther ends are ignored (and keep
 
 // Revision 1 (format 1.0) files predate the across-patch predictors: their vertices never get kOpposite /
 // kCorners.
-std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st, int revision) {
+std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st, int revision, CodingOrder order) {
   const auto n = static_cast<std::uint32_t>(st.size());
   auto full = [&](std::uint32_t j) {
     return st[j].w != kInvalid && st[j].s != kInvalid && st[j].sw != kInvalid;
@@ -251,7 +268,7 @@ std::vector<Hood> neighbourhoods(std::span<const GridLayout::Stencil> st, int re
       x.kind = kParallelogram;
       if (s.e != kInvalid && s.es != kInvalid && s.e_dist >= 1) x.sides |= Hood::kEast;
       if (s.n != kInvalid && s.nw != kInvalid && s.n_dist >= 1) x.sides |= Hood::kNorth;
-      if (revision >= kPatchRevision) {  // patch order: the layout knows the frame across patch sides
+      if (order == CodingOrder::kPatch) {  // the layout knows the frame across patch sides
         x.se = s.se, x.ss = s.ss, x.sww = s.sww, x.ssw = s.ssw;
       } else {
         const std::uint32_t e = east[i];
@@ -693,12 +710,14 @@ Grid make_grid(std::span<const float> pos, std::uint32_t bits) {
 // ---------------------------------------------------------------------------------------------
 // Coding loop, shared by encoder and decoder so the two cannot drift apart.
 
-constexpr std::uint8_t kRepeatsFlag = 0x01;  // header flags (revision >= 2): value repeats coded
+constexpr std::uint8_t kRepeatsFlag = 0x01;      // header flags (revision >= 2): value repeats coded
+constexpr std::uint8_t kLayoutOrderFlag = 0x02;  // revision 4: layout order (else patch order)
 
 struct Header {
   int revision = kFormatTag;
-  std::uint32_t bits = 0;  // 0 lossless, else quantized
-  bool repeats = false;    // a coordinate may be coded as "the k-th closest value seen on its axis"
+  CodingOrder order = CodingOrder::kPatch;  // revisions 1, 2: layout; 3: patch; 4: its flag
+  std::uint32_t bits = 0;                   // 0 lossless, else quantized
+  bool repeats = false;  // a coordinate may be coded as "the k-th closest value seen on its axis"
   std::array<AxisPlan, 3> plans;
   Grid grid;
   bool integer_axis(int a) const { return bits != 0 || plans[a].mode != kFloatBits; }
@@ -865,7 +884,7 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
   for (auto& l : lengths) l.assign(count, 0);
   std::array<std::size_t, 3> next_exception{};
   const std::int64_t qmax = h.bits ? static_cast<std::int64_t>((std::uint64_t{1} << h.bits) - 1) : 0;
-  auto model = std::make_unique<ResidualModel>(h.revision >= kPatchRevision);
+  auto model = std::make_unique<ResidualModel>(h.revision >= kPatchRevision, h.revision >= kCompactRevision);
   std::array<std::int64_t, kCandidates> weight{};
   std::array<std::array<std::int64_t, kCandidates>, 3> cand{};
   // Across-patch vertices: running means (x16) of the errors of the across prediction [0] and of the
@@ -1011,7 +1030,7 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
         }
       }
       if constexpr (kEncode) {
-        if (!hit) model->encode(*enc, u, x.ctx, bucket);
+        if (!hit) model->encode(*enc, u, x.ctx, bucket, h.max_length(a));
         if (zeros >= 0) model->encode_zeros(*enc, zeros, digits);
       }
       lengths[a][i] = static_cast<std::uint8_t>(std::bit_width(u));
@@ -1057,9 +1076,11 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
 
 void write_header(std::string& out, const Header& h, std::uint32_t count) {
   put_u8(out, static_cast<std::uint8_t>(h.revision));
-  put_varint(out, count);
+  if (h.revision < kCompactRevision) put_varint(out, count);
   put_u8(out, static_cast<std::uint8_t>(h.bits));
-  put_u8(out, h.repeats ? kRepeatsFlag : 0);
+  std::uint8_t flags = h.repeats ? kRepeatsFlag : 0;
+  if (h.revision >= kCompactRevision && h.order == CodingOrder::kLayout) flags |= kLayoutOrderFlag;
+  put_u8(out, flags);
   if (h.bits) {
     for (float o : h.grid.origin) put_le(out, std::bit_cast<std::uint32_t>(o), 4);
     put_le(out, std::bit_cast<std::uint64_t>(h.grid.step), 8);
@@ -1083,13 +1104,19 @@ Header read_header(Reader& in, std::uint32_t count) {
   Header h;
   h.revision = in.u8("truncated header");
   if (h.revision < 1 || h.revision > kFormatTag) fail("unknown geometry coding revision");
-  if (in.varint("truncated vertex count") != count) fail("vertex count does not match the mesh");
+  if (h.revision < kCompactRevision && in.varint("truncated vertex count") != count)
+    fail("vertex count does not match the mesh");
   h.bits = in.u8("truncated header");
   if (h.bits > 30) fail("quantization bits out of range");
+  h.order = h.revision == kPatchRevision ? CodingOrder::kPatch : CodingOrder::kLayout;
   if (h.revision >= kLayoutRevision) {
     const std::uint8_t flags = in.u8("truncated header");
-    if (flags & ~kRepeatsFlag) fail("reserved geometry flag bits are set");
+    const std::uint8_t known =
+        h.revision >= kCompactRevision ? kRepeatsFlag | kLayoutOrderFlag : kRepeatsFlag;
+    if (flags & ~known) fail("reserved geometry flag bits are set");
     h.repeats = (flags & kRepeatsFlag) != 0;
+    if (h.revision >= kCompactRevision)
+      h.order = (flags & kLayoutOrderFlag) ? CodingOrder::kLayout : CodingOrder::kPatch;
   }
   if (h.bits) {
     for (float& o : h.grid.origin) {
@@ -1156,7 +1183,7 @@ std::string encode_with(std::span<const float> pos, const std::vector<Hood>& hoo
   std::string out;
   write_header(out, h, count);
   std::string payload;
-  RangeEncoder rc(payload);
+  RangeEncoder rc(payload, h.revision >= kCompactRevision ? StreamEnds::kCompact : StreamEnds::kLzma);
   code_vertices<true>(h, hood, ints, floats, &rc, nullptr, nullptr);
   rc.finish();
   put_varint(out, payload.size());
@@ -1205,8 +1232,8 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
   if (options.quantize_bits > 30) throw Error(ErrorCode::kInternal, "geometry: quantize_bits must be 0..30");
   check_stencil(stencil, positions.size() / 3);
   Header h;
-  h.revision = options.order == CodingOrder::kPatch ? kPatchRevision : kLayoutRevision;
-  const std::vector<Hood> hood = neighbourhoods(stencil, h.revision);
+  h.order = options.order;
+  const std::vector<Hood> hood = neighbourhoods(stencil, h.revision, h.order);
   std::vector<Header> options_to_try;
   if (options.quantize_bits) {
     h.bits = options.quantize_bits;
@@ -1218,7 +1245,7 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
     // The decimal estimate is a heuristic: never do worse than plain float bits.
     if (std::any_of(h.plans.begin(), h.plans.end(), [](const AxisPlan& p) { return p.mode != kFloatBits; })) {
       options_to_try.push_back(Header{});
-      options_to_try.back().revision = h.revision;
+      options_to_try.back().order = h.order;
     }
   }
   for (std::size_t i = 0, n = options_to_try.size(); i < n; ++i) {
@@ -1235,8 +1262,9 @@ std::vector<float> decode_geometry(std::string_view bytes, std::span<const GridL
   const Header h = read_header(in, vertex_count);
   const std::uint64_t payload_size = in.varint("truncated payload size");
   if (payload_size != in.left()) fail("payload size does not match the section");
-  RangeDecoder rc(in.take(payload_size, "truncated payload"), 0, "geometry: payload");
-  const std::vector<Hood> hood = neighbourhoods(stencil, h.revision);
+  RangeDecoder rc(in.take(payload_size, "truncated payload"), 0, "geometry: payload",
+                  h.revision >= kCompactRevision ? StreamEnds::kCompact : StreamEnds::kLzma);
+  const std::vector<Hood> hood = neighbourhoods(stencil, h.revision, h.order);
   std::array<std::vector<std::int64_t>, 3> ints;
   std::array<std::vector<float>, 3> floats;
   for (int a = 0; a < 3; ++a)
@@ -1251,7 +1279,11 @@ CodingOrder geometry_coding_order(std::string_view bytes) {
   if (bytes.empty()) fail("truncated header");
   const auto revision = static_cast<std::uint8_t>(bytes[0]);
   if (revision < 1 || revision > kFormatTag) fail("unknown geometry coding revision");
-  return revision == kPatchRevision ? CodingOrder::kPatch : CodingOrder::kLayout;
+  if (revision < kCompactRevision)
+    return revision == kPatchRevision ? CodingOrder::kPatch : CodingOrder::kLayout;
+  if (bytes.size() < 3) fail("truncated header");  // revision, bits, flags
+  return (static_cast<std::uint8_t>(bytes[2]) & kLayoutOrderFlag) ? CodingOrder::kLayout
+                                                                  : CodingOrder::kPatch;
 }
 
 float decimal_grid_value(std::int64_t n, int k) {

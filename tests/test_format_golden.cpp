@@ -45,13 +45,13 @@ std::vector<std::string> golden_names() {
 EncodeOptions options_for(const std::string& name) {
   EncodeOptions o;
   o.keep_order = name.find("_keep_order") != std::string::npos;
-  // The encoder picks patch order for every other golden; this pins the layout-order bytes of 1.2.
+  // The encoder picks patch order for every other golden; this pins the layout-order bytes.
   if (name.find("_layout_order") != std::string::npos) o.geometry_order = CodingOrder::kLayout;
   return o;
 }
 
 // Older format versions whose files must keep decoding: testdata/golden/vX.Y, and the minor byte.
-const std::vector<std::pair<std::string, char>> kOldVersions = {{"v1.0", 0}, {"v1.1", 1}};
+const std::vector<std::pair<std::string, char>> kOldVersions = {{"v1.0", 0}, {"v1.1", 1}, {"v1.2", 2}};
 
 TEST(Golden, BytesArePinned) {
   auto names = golden_names();
@@ -73,8 +73,9 @@ TEST(Golden, BytesArePinned) {
   }
 }
 
-// Files of formats 1.0 and 1.1 (testdata/golden/vX.Y: the same meshes, geometry coding revisions 1
-// and 2) still decode, to exactly the mesh the current file of the same name gives.
+// Files of formats 1.0, 1.1 and 1.2 (testdata/golden/vX.Y: the same meshes, geometry coding revisions
+// 1, 2 and 3 (2 for l_shape_layout_order)) still decode, to exactly the mesh the current file of the
+// same name gives.
 TEST(Golden, OlderVersionFilesStillDecode) {
   for (const auto& [dir, minor] : kOldVersions) {
     int seen = 0;
@@ -93,15 +94,22 @@ TEST(Golden, OlderVersionFilesStillDecode) {
   }
 }
 
-// The current goldens use both coding orders (revision 3 for patch order, 2 for layout order).
+// The current goldens are all revision 4 and use both coding orders; the 1.2 goldens pin revision 3
+// (patch order) and 2 (layout order).
 TEST(Golden, BothCodingOrdersArePinned) {
-  std::map<int, int> revisions;
+  std::map<CodingOrder, int> orders;
+  std::map<int, int> revisions_1_2;
   for (const auto& name : golden_names()) {
     const FileInfo info = inspect(slurp(kGolden + "/" + name + ".qsp"));
-    ++revisions[info.geometry_revision];
+    EXPECT_EQ(info.geometry_revision, 4) << name;
+    ++orders[info.geometry_order];
+    const std::string old = kGolden + "/v1.2/" + name + ".qsp";
+    if (fs::exists(old)) ++revisions_1_2[inspect(slurp(old)).geometry_revision];
   }
-  EXPECT_GE(revisions[3], 5);
-  EXPECT_GE(revisions[2], 1);
+  EXPECT_GE(orders[CodingOrder::kPatch], 5);
+  EXPECT_GE(orders[CodingOrder::kLayout], 1);
+  EXPECT_GE(revisions_1_2[3], 5);
+  EXPECT_GE(revisions_1_2[2], 1);
 }
 
 // Every strict prefix and every single-bit flip of every golden file (both versions) is refused with

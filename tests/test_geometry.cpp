@@ -154,10 +154,10 @@ TEST(Geometry, SignificantDigitsUseTrailingZeros) {
   const std::vector<float> pos = significant_positions(30, 30);
   const std::string b = qsp::encode_geometry(pos, st, {});
   EXPECT_TRUE(bit_equal(qsp::decode_geometry(b, st, 900), pos));
-  EXPECT_EQ(static_cast<std::uint8_t>(b[5]) & 0x80, 0x80);  // x: trailing-zero coding
+  EXPECT_EQ(static_cast<std::uint8_t>(b[3]) & 0x80, 0x80);  // x: trailing-zero coding
   // The mode bit alone must not be accepted on a float-bits axis.
   std::string bad = b;
-  bad[5] = static_cast<char>(0x80);
+  bad[3] = static_cast<char>(0x80);
   expect_format_error(bad, st, 900);
 }
 
@@ -228,15 +228,15 @@ TEST(Geometry, MixedAxisModes) {
   for (std::size_t i = 2; i < pos.size(); i += 3)
     pos[i] = parse(std::to_string(static_cast<int>(rng() % 300)) + "e-2");
   EXPECT_TRUE(bit_equal(round_trip(pos, st), pos));
-  // Header: revision 2, varint 400, lossless, flags, then per axis mode (+ exception count for
-  // decimal axes).
+  // Header: revision 4, lossless, flags (bit 1: layout order, the default of GeometryOptions), then
+  // per axis mode (+ exception count for decimal axes).
   const std::string b = qsp::encode_geometry(pos, st, {});
   // (Bit 7 of a mode byte, trailing-zero coding, and flag bit 0, value repeats, are the encoder's choice.)
-  std::string header = b.substr(0, 10);
-  header[4] = static_cast<char>(header[4] & 0xFE);
-  header[5] = static_cast<char>(header[5] & 0x7F);
-  header[8] = static_cast<char>(header[8] & 0x7F);
-  EXPECT_EQ(header, std::string("\x02\x90\x03\x00\x00\x05\x00\x00\x03\x00", 10));
+  std::string header = b.substr(0, 8);
+  header[2] = static_cast<char>(header[2] & 0xFE);
+  header[3] = static_cast<char>(header[3] & 0x7F);
+  header[6] = static_cast<char>(header[6] & 0x7F);
+  EXPECT_EQ(header, std::string("\x04\x00\x02\x05\x00\x00\x03\x00", 8));
 }
 
 TEST(Geometry, PartialStencils) {
@@ -277,6 +277,18 @@ TEST(Geometry, QuantizationErrorBound) {
     EXPECT_LE(qsp::max_geometry_error(pos, q), 0.5 * step * (1 + 1e-6) + 4e-7) << bits;
     for (float f : q) EXPECT_TRUE(std::isfinite(f));
   }
+}
+
+// Revision 4 codes no residual-length decision whose outcome the grid size forces: the same all-zero
+// residuals cost less at 1 bit (one decision per coordinate) than at 2 bits (two), where revision 3
+// coded six decisions at either size and gave equal payloads.
+TEST(Geometry, LengthsAboveTheMaximumAreNotCoded) {
+  const auto st = grid_stencil(100, 100);
+  const std::vector<float> flat(3 * st.size(), 0.0f);
+  std::size_t one = 0, two = 0;
+  EXPECT_TRUE(bit_equal(round_trip(flat, st, 1, &one), flat));
+  EXPECT_TRUE(bit_equal(round_trip(flat, st, 2, &two), flat));
+  EXPECT_LT(one + 8, two);
 }
 
 TEST(Geometry, QuantizationExtremes) {

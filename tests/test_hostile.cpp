@@ -537,7 +537,7 @@ TEST(LimitsBound, CheapestGeometryFitsTheContentBound) {
     const std::string geometry = section_payload(bytes, craft::kTagGeometry);
     const double per_byte = double(flat.vertex_count()) / double(geometry.size());
     std::printf("%s: %.0f vertices per geometry byte\n", name.c_str(), per_byte);
-    EXPECT_LT(per_byte, 1536.0 / 1.5) << name;
+    EXPECT_LT(per_byte, 2048.0 / 1.5) << name;  // kMaxVerticesPerGeometryByte in src/codec.cpp
     EXPECT_EQ(decode(bytes).vertex_count(), flat.vertex_count()) << name;
   }
 }

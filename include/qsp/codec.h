@@ -17,7 +17,7 @@
 namespace qsp {
 
 inline constexpr std::uint8_t kFormatMajor = 1;
-inline constexpr std::uint8_t kFormatMinor = 2;  // 1.2: geometry coding revision 3 (patch order)
+inline constexpr std::uint8_t kFormatMinor = 3;  // 1.3: geometry coding revision 4 (compact)
 
 struct EncodeOptions {
   std::uint32_t quantize_bits = 0;  // 0 = lossless; 1..30 = uniform grid (GeometryOptions)
@@ -82,7 +82,8 @@ struct FileInfo {
   std::uint64_t geometry_bytes = 0;
   std::uint64_t order_bytes = 0;       // keep-order permutations (0 if absent)
   std::uint64_t other_bytes = 0;       // optional sections this decoder skipped
-  std::uint8_t geometry_revision = 0;  // 1, 2 (layout order) or 3 (patch order); see the spec
+  std::uint8_t geometry_revision = 0;  // 1, 2 (layout order), 3 (patch order) or 4 (either); see the spec
+  CodingOrder geometry_order = CodingOrder::kLayout;  // the order the positions were coded in
   std::uint64_t vertices = 0, edges = 0, faces = 0, unreferenced = 0, extraordinary = 0;
   std::uint64_t schematic_vertices = 0, schematic_edges = 0, patches = 0;
   std::array<std::uint32_t, 4> kind_counts{};  // by ComponentKind
