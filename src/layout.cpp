@@ -283,7 +283,7 @@ void patch_order(const Schematic& s, const Numbering& n, GridLayout& out) {
     for (std::uint32_t k = 0; k < out.quads.size(); ++k) at_cell[fill[out.quads[k]]++] = k;
   }
   std::vector<std::uint32_t> id(count, kInvalid);  // layout vertex -> coding position
-  std::vector<GridLayout::Stencil> st;             // in layout ids, remapped at the end
+  std::vector<GridLayout::Stencil> st;             // in coding positions
   st.reserve(count);
   out.coding.clear();
   out.coding.reserve(count);
@@ -420,6 +420,9 @@ void patch_order(const Schematic& s, const Numbering& n, GridLayout& out) {
             }
           }
         }
+        // Every field names a coded vertex: into coding positions now, while t is in cache.
+        for (std::uint32_t* v : t.vertex_fields())
+          if (*v != kInvalid) *v = id[*v];
         id[p] = static_cast<std::uint32_t>(out.coding.size());
         out.coding.push_back(p);
         st.push_back(t);
@@ -432,11 +435,6 @@ void patch_order(const Schematic& s, const Numbering& n, GridLayout& out) {
       }
   }
   if (out.coding.size() != count) throw Error(ErrorCode::kInternal, "patch order misses a vertex");
-  auto map = [&](std::uint32_t& v) {
-    if (v != kInvalid) v = id[v];
-  };
-  for (GridLayout::Stencil& t : st)
-    for (std::uint32_t* v : t.vertex_fields()) map(*v);
   out.stencil = std::move(st);
 }
 
