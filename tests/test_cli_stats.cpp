@@ -40,6 +40,21 @@ TEST(CliStats, JsonHasTheDocumentedFields) {
     EXPECT_NE(r.out.find(key), std::string::npos) << key << "\n" << r.out;
 }
 
+// A .qsp row says which format version and geometry coding wrote it (the goldens pin both orders,
+// and the 1.2 goldens revision 3).
+TEST(CliStats, QspRowNamesItsFormatAndCoding) {
+  const std::string golden = std::string(QSP_TESTDATA_DIR) + "/golden/";
+  auto r = run_qsp("stats " + quote(golden + "l_shape_layout_order.qsp"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("format 1.3, geometry coding revision 4, layout order"), std::string::npos) << r.out;
+  r = run_qsp("stats " + quote(golden + "v1.2/l_shape.qsp"));
+  EXPECT_NE(r.out.find("format 1.2, geometry coding revision 3, patch order"), std::string::npos) << r.out;
+  r = run_qsp("stats --json " + quote(golden + "l_shape.qsp"));
+  EXPECT_NE(r.out.find("\"format\": \"1.3\", \"geometry_coding\": {\"revision\": 4, \"order\": \"patch\"}"),
+            std::string::npos)
+      << r.out;
+}
+
 // Reader and topology defects alike: exit 1, message with the expected code's text and location.
 TEST(CliStats, EveryInvalidMeshIsRefusedWithItsLocation) {
   int n = 0;
