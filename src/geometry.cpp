@@ -387,9 +387,9 @@ int blend_weights(const Hood& x, unsigned mask, const std::uint32_t* errors,
       ++cnt;
     }
     if (cnt == 0) sum = 1000000, cnt = 1;
-    // floor(2^15 cnt / (2 sum + cnt)) and floor((4 sum + 2 cnt) / cnt), without 64-bit divisions (a
-    // quarter of the encoder's time went to them): the first is 0 unless the divisor fits 17 bits,
-    // and the second divides by cnt = 1..4.
+    // floor(2^15 cnt / (2 sum + cnt)) and floor((4 sum + 2 cnt) / cnt), without 64-bit divisions
+    // (two thirds of this function's time went to them): the first is 0 unless the divisor fits 17
+    // bits, and the second divides by cnt = 1..4.
     const std::uint64_t num = (std::uint64_t{1} << 15) * cnt, den = 2 * sum + cnt;
     const auto w =
         den > num

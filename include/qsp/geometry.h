@@ -14,7 +14,7 @@ namespace qsp {
 struct GeometryOptions {
   // 0 = lossless (float32 bit-exact). 1..30 = uniform grid over the bounding box's largest extent.
   std::uint32_t quantize_bits = 0;
-  // The order the stencils are in (grid_layout's `order`); written to the file as the coding revision.
+  // The order the stencils are in (grid_layout's `order`); written to the file as a header flag.
   CodingOrder order = CodingOrder::kLayout;
 };
 
@@ -30,8 +30,9 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
 std::vector<float> decode_geometry(std::string_view bytes, std::span<const GridLayout::Stencil> stencil,
                                    std::uint32_t vertex_count);
 
-// The coding order a geometry section was written in (its first byte), so the caller can build the
-// matching stencils. Throws Error(kFormat) if the section is empty or of an unknown revision.
+// The coding order a geometry section was written in (its revision byte; in revision 4 a flag of its
+// third byte), so the caller can build the matching stencils. Throws Error(kFormat) if the section is
+// too short or of an unknown revision.
 CodingOrder geometry_coding_order(std::string_view bytes);
 
 // Largest absolute coordinate error a quantized encoding introduced: 0 when bit-identical, +inf if a
