@@ -142,8 +142,8 @@ void RangeEncoder::finish() {
   low_ += end.value - (low_ & 0xFFFFFFFFu);  // the same multiples of 2^(8k) modulo 2^32
   const int k = end.zeros;
   for (int i = 0; i < 5; ++i) shift_low();
-  // The last k bytes written are low's k low bytes, all zero; the stream has at least those (4 bytes of
-  // low follow the cache byte, which is never the skipped first byte after 5 shifts).
+  // The 5 shifts wrote low's 4 bytes last (after the cache byte, so never the skipped first one); its
+  // low k bytes are 0.
   out_.resize(out_.size() - static_cast<std::size_t>(k));
 }
 

@@ -39,7 +39,7 @@ CompactEnd compact_end(std::uint64_t low, std::uint32_t range);
 class RangeEncoder {
  public:
   explicit RangeEncoder(std::string& out, StreamEnds ends = StreamEnds::kLzma)
-      : out_(out), start_(out.size()), compact_(ends == StreamEnds::kCompact) {}
+      : out_(out), compact_(ends == StreamEnds::kCompact) {}
   void encode_bit(BitModel& m, unsigned bit);
   // One bit with the count-weighted mean of two models' probabilities; both learn it (geometry
   // revision 3: a (kind, magnitude) model mixed with its kind's).
@@ -53,7 +53,6 @@ class RangeEncoder {
   void encode_p0(std::uint32_t p0, unsigned bit);
   void shift_low();
   std::string& out_;
-  std::size_t start_;  // where this stream begins in out_
   bool compact_;
   bool skip_first_ = compact_;  // kCompact: the first byte (always 0) is not written
   std::uint64_t low_ = 0;
