@@ -364,6 +364,27 @@ std::int64_t candidate(const Hood& x, const std::int64_t* v, int k) {
   return 0;
 }
 
+// Candidates k of vertex hood x on one axis, for every k in mask, into p[k]. The usual patch-order
+// vertex has candidates 0-7: those share their loads, without a switch per candidate.
+void candidates(const Hood& x, const std::int64_t* v, unsigned mask,
+                std::array<std::int64_t, kCandidates>& p) {
+  unsigned rest = mask;
+  if ((mask & 0xFFu) == 0xFFu) {
+    const std::int64_t w = v[x.w], ww = v[x.ww], s = v[x.s], sw = v[x.sw], se = v[x.se], ss = v[x.ss];
+    p[0] = w + s - sw;
+    p[1] = 2 * w - ww;
+    p[2] = 2 * w - ww - 2 * s + sw + se;
+    p[3] = 2 * s - ss;
+    p[4] = 2 * w - ww + s - 2 * sw + v[x.sww];
+    p[5] = 2 * s - ss + w - 2 * sw + v[x.ssw];
+    p[6] = w;
+    p[7] = w + ((se - sw) >> 1);
+    rest &= ~0xFFu;
+  }
+  for (int k = 0; rest != 0; ++k, rest >>= 1)
+    if (rest & 1u) p[static_cast<std::size_t>(k)] = candidate(x, v, k);
+}
+
 std::int64_t floor_div(std::int64_t a, std::int64_t b) {  // b > 0
   return a >= 0 ? a / b : -((-a + b - 1) / b);
 }
@@ -932,8 +953,7 @@ void code_vertices(const Header& h, const std::vector<Hood>& hood,
                                           : (x.t->x2 != kInvalid ? 2 : 3);
     for (int a = 0; a < 3; ++a) {
       if (!h.integer_axis(a)) continue;
-      for (int k = 0; k < kCandidates; ++k)
-        if ((mask >> k) & 1) cand[a][k] = candidate(x, ints[a].data(), k);
+      candidates(x, ints[a].data(), mask, cand[a]);
     }
     for (int a = 0; a < 3; ++a) {
       // Magnitude class: neighbours' residual lengths, averaged with the blend's expected error.
