@@ -156,6 +156,18 @@ RangeDecoder::RangeDecoder(std::string_view bytes, std::uint64_t base_offset, co
                                         std::to_string(base_offset_) + ")");
   }
   for (int i = 0; i < 4; ++i) code_ = (code_ << 8) | next_byte();
+  check_code();
+}
+
+// code < range holds for every stream the encoder writes: code is the stream's value minus low. A
+// decision keeps it; a raw bit on an odd range, or the first four bytes, can break it, and from such a
+// state a few byte strings the encoder never writes would decode to its symbols.
+void RangeDecoder::check_code() const {
+  if (code_ >= range_) {
+    throw Error(ErrorCode::kFormat, std::string(what_) +
+                                        ": value outside the coder's interval (at byte offset " +
+                                        std::to_string(base_offset_ + std::min(pos_, bytes_.size())) + ")");
+  }
 }
 
 std::uint8_t RangeDecoder::next_byte() {
@@ -188,6 +200,7 @@ std::uint32_t RangeDecoder::decode_raw(unsigned count) {
     if (code_ >= range_) {
       code_ -= range_;
       bit = 1;
+      check_code();
     }
     value = (value << 1) | bit;
     while (range_ < kTop) {
@@ -209,11 +222,15 @@ void RangeDecoder::finish() const {
             end.value % (std::uint64_t{1} << 32) == window_;
   }
   if (!ended) {
-    const std::size_t used = std::min(pos_, bytes_.size());
-    throw Error(ErrorCode::kFormat, std::string(what_) + " does not end where its symbols end (" +
-                                        std::to_string(bytes_.size() - used) +
-                                        " bytes unused, at byte offset " +
-                                        std::to_string(base_offset_ + used) + ")");
+    if (pos_ < bytes_.size()) {
+      throw Error(ErrorCode::kFormat, std::string(what_) + " does not end where its symbols end (" +
+                                          std::to_string(bytes_.size() - pos_) +
+                                          " bytes unused, at byte offset " +
+                                          std::to_string(base_offset_ + pos_) + ")");
+    }
+    throw Error(ErrorCode::kFormat,
+                std::string(what_) + " does not end as the encoder ends it (its last bytes, at byte offset " +
+                    std::to_string(base_offset_ + bytes_.size()) + ")");
   }
 }
 
