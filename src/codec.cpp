@@ -239,8 +239,9 @@ Parsed parse_container(std::string_view bytes, const DecodeLimits& limits) {
   // file cannot make the decoder reserve memory for a huge declared mesh. Every component has a quad
   // (4 vertices). Every vertex costs at least 3 adaptive binary decisions in the geometry section (per
   // axis at least one residual-length decision, or a repeat flag) and no decision costs less than
-  // log2(65536 / 65465) bits, so a geometry section of B bytes holds at most ~1706 * (B + 4) vertices
-  // (revision 4 streams may leave out 4 zero bytes).
+  // ~0.00156 bits (log2(65536 / 65465), a little less through the coder's truncation), so a geometry
+  // section of B bytes holds at most ~1712 * (B + 4) vertices (revision 4 streams may leave out 4 zero
+  // bytes).
   if (p.counts.components > (p.counts.vertices - p.counts.unreferenced) / 4) {
     format_error("more components than the referenced vertices allow (4 each)", cs.payload_offset);
   }
