@@ -91,6 +91,7 @@ TEST(CliStats, MissingFileAndUsage) {
   const auto v = run_qsp("--version");
   EXPECT_EQ(v.exit_code, 0);
   EXPECT_NE(v.out.find("qsp"), std::string::npos);
+  EXPECT_NE(v.out.find("writes .qsp format 1.3, reads 1.0 to 1.3"), std::string::npos) << v.out;
 }
 
 }  // namespace

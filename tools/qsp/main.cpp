@@ -1,8 +1,10 @@
 // qsp command-line entry: parses, runs one subcommand, maps qsp::Error to an exit code in one place.
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "commands.h"
+#include "qsp/codec.h"
 #include "qsp/error.h"
 
 namespace {
@@ -23,7 +25,12 @@ int exit_code_for(qsp::ErrorCode code) {
 
 int main(int argc, char** argv) {
   CLI::App app{"qsp: quad mesh compression by canonical motorcycle-graph partition"};
-  app.set_version_flag("--version", std::string("qsp ") + QSP_VERSION);
+  // The file format too: users keeping .qsp archives need to know what this build writes and reads.
+  app.set_version_flag("--version",
+                       std::string("qsp ") + QSP_VERSION + " (writes .qsp format " +
+                           std::to_string(qsp::kFormatMajor) + "." + std::to_string(qsp::kFormatMinor) +
+                           ", reads " + std::to_string(qsp::kFormatMajor) + ".0 to " +
+                           std::to_string(qsp::kFormatMajor) + "." + std::to_string(qsp::kFormatMinor) + ")");
   app.require_subcommand(1);
   int exit_code = 0;
   qsp::cli::register_compress(app, exit_code);
