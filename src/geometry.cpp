@@ -335,54 +335,29 @@ std::int64_t column_correction(const Hood& x, const std::int64_t* v) {
   return floor_div(2 * c + d, 2 * d);
 }
 
-// Candidate k for vertex hood x on one axis (values v); its neighbours must exist (candidate_mask).
-std::int64_t candidate(const Hood& x, const std::int64_t* v, int k) {
-  switch (k) {
-    case 0:
-      return v[x.w] + v[x.s] - v[x.sw];  // parallelogram
-    case 1:
-      return 2 * v[x.w] - v[x.ww];  // linear along the row
-    case 2:
-      return 2 * v[x.w] - v[x.ww] - 2 * v[x.s] + v[x.sw] + v[x.se];  // exact on quadratics
-    case 3:
-      return 2 * v[x.s] - v[x.ss];  // linear along the column
-    case 4:
-      return 2 * v[x.w] - v[x.ww] + v[x.s] - 2 * v[x.sw] + v[x.sww];  // parallelogram of row steps
-    case 5:
-      return 2 * v[x.s] - v[x.ss] + v[x.w] - 2 * v[x.sw] + v[x.ssw];  // ... of column steps
-    case 6:
-      return v[x.w];  // west
-    case 7:
-      return v[x.w] + ((v[x.se] - v[x.sw]) >> 1);  // west + central difference below
-    case 8:
-      return v[x.w] + v[x.s] - v[x.sw] + row_correction(x, v);  // parallelogram, column step
-    case 9:
-      return v[x.w] + v[x.s] - v[x.sw] + column_correction(x, v);  // varying linearly to the sides
-    case 10:
-      return v[x.w] + v[x.s] - v[x.sw] + row_correction(x, v) + column_correction(x, v);
-  }
-  return 0;
-}
-
-// Candidates k of vertex hood x on one axis, for every k in mask, into p[k]. The usual patch-order
-// vertex has candidates 0-7: those share their loads, without a switch per candidate.
+// The candidates of vertex hood x on one axis (values v) into p[k], for every k in mask (candidate_mask:
+// their neighbours exist). Absent neighbours read as 0, so the eight cheap candidates are one straight
+// block sharing their loads (a switch per candidate cost an eighth of the encoder); p[k] for k not in
+// mask is never used.
 void candidates(const Hood& x, const std::int64_t* v, unsigned mask,
                 std::array<std::int64_t, kCandidates>& p) {
-  unsigned rest = mask;
-  if ((mask & 0xFFu) == 0xFFu) {
-    const std::int64_t w = v[x.w], ww = v[x.ww], s = v[x.s], sw = v[x.sw], se = v[x.se], ss = v[x.ss];
-    p[0] = w + s - sw;
-    p[1] = 2 * w - ww;
-    p[2] = 2 * w - ww - 2 * s + sw + se;
-    p[3] = 2 * s - ss;
-    p[4] = 2 * w - ww + s - 2 * sw + v[x.sww];
-    p[5] = 2 * s - ss + w - 2 * sw + v[x.ssw];
-    p[6] = w;
-    p[7] = w + ((se - sw) >> 1);
-    rest &= ~0xFFu;
-  }
-  for (int k = 0; rest != 0; ++k, rest >>= 1)
-    if (rest & 1u) p[static_cast<std::size_t>(k)] = candidate(x, v, k);
+  auto at = [v](std::uint32_t j) { return j != kInvalid ? v[j] : std::int64_t{0}; };
+  const std::int64_t w = at(x.w), ww = at(x.ww), s = at(x.s), sw = at(x.sw), se = at(x.se), ss = at(x.ss);
+  p[0] = w + s - sw;                           // parallelogram
+  p[1] = 2 * w - ww;                           // linear along the row
+  p[2] = 2 * w - ww - 2 * s + sw + se;         // exact on quadratics
+  p[3] = 2 * s - ss;                           // linear along the column
+  p[4] = 2 * w - ww + s - 2 * sw + at(x.sww);  // parallelogram of row steps
+  p[5] = 2 * s - ss + w - 2 * sw + at(x.ssw);  // ... of column steps
+  p[6] = w;                                    // west
+  p[7] = w + ((se - sw) >> 1);                 // west + central difference below
+  // The parallelogram with the column step varying along the row (8), the row step along the column
+  // (9), or both (10): candidate 10 needs the neighbours of 8 and 9.
+  const std::int64_t r = (mask >> 8) & 1 ? row_correction(x, v) : 0;
+  const std::int64_t c = (mask >> 9) & 1 ? column_correction(x, v) : 0;
+  p[8] = p[0] + r;
+  p[9] = p[0] + c;
+  p[10] = p[0] + r + c;
 }
 
 std::int64_t floor_div(std::int64_t a, std::int64_t b) {  // b > 0
