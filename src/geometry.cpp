@@ -717,6 +717,13 @@ Grid make_grid(std::span<const float> pos, std::uint32_t bits) {
 constexpr std::uint8_t kRepeatsFlag = 0x01;      // header flags (revision >= 2): value repeats coded
 constexpr std::uint8_t kLayoutOrderFlag = 0x02;  // revision 4: layout order (else patch order)
 
+// The coding order of a section of this revision with these header flags.
+CodingOrder coding_order(int revision, std::uint8_t flags) {
+  if (revision >= kCompactRevision)
+    return (flags & kLayoutOrderFlag) ? CodingOrder::kLayout : CodingOrder::kPatch;
+  return revision == kPatchRevision ? CodingOrder::kPatch : CodingOrder::kLayout;
+}
+
 struct Header {
   int revision = kFormatTag;
   CodingOrder order = CodingOrder::kPatch;  // revisions 1, 2: layout; 3: patch; 4: its flag
@@ -1111,16 +1118,15 @@ Header read_header(Reader& in, std::uint32_t count) {
     fail("vertex count does not match the mesh");
   h.bits = in.u8("truncated header");
   if (h.bits > 30) fail("quantization bits out of range");
-  h.order = h.revision == kPatchRevision ? CodingOrder::kPatch : CodingOrder::kLayout;
+  std::uint8_t flags = 0;
   if (h.revision >= kLayoutRevision) {
-    const std::uint8_t flags = in.u8("truncated header");
+    flags = in.u8("truncated header");
     const std::uint8_t known =
         h.revision >= kCompactRevision ? kRepeatsFlag | kLayoutOrderFlag : kRepeatsFlag;
     if (flags & ~known) fail("reserved geometry flag bits are set");
     h.repeats = (flags & kRepeatsFlag) != 0;
-    if (h.revision >= kCompactRevision)
-      h.order = (flags & kLayoutOrderFlag) ? CodingOrder::kLayout : CodingOrder::kPatch;
   }
+  h.order = coding_order(h.revision, flags);
   if (h.bits) {
     for (float& o : h.grid.origin) {
       o = std::bit_cast<float>(static_cast<std::uint32_t>(in.le(4, "truncated grid origin")));
@@ -1282,11 +1288,9 @@ CodingOrder geometry_coding_order(std::string_view bytes) {
   if (bytes.empty()) fail("truncated header");
   const auto revision = static_cast<std::uint8_t>(bytes[0]);
   if (revision < 1 || revision > kFormatTag) fail("unknown geometry coding revision");
-  if (revision < kCompactRevision)
-    return revision == kPatchRevision ? CodingOrder::kPatch : CodingOrder::kLayout;
-  if (bytes.size() < 3) fail("truncated header");  // revision, bits, flags
-  return (static_cast<std::uint8_t>(bytes[2]) & kLayoutOrderFlag) ? CodingOrder::kLayout
-                                                                  : CodingOrder::kPatch;
+  if (revision < kCompactRevision) return coding_order(revision, 0);  // named by the revision alone
+  if (bytes.size() < 3) fail("truncated header");                     // revision, bits, flags
+  return coding_order(revision, static_cast<std::uint8_t>(bytes[2]));
 }
 
 float decimal_grid_value(std::int64_t n, int k) {
