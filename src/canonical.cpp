@@ -5,6 +5,7 @@
 #include <xxhash.h>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <numeric>
 #include <string>
@@ -448,7 +449,17 @@ CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Par
   sorted.reserve(idx.size());
   for (std::uint32_t i : idx) sorted.push_back(std::move(out.components[i]));
   out.components = std::move(sorted);
+  // Vertices in no face have no structure to order them by: their positions (as float bits) do, so a
+  // renumbered copy gives the same file. Equal positions are interchangeable.
   out.unreferenced = partition.unreferenced;
+  auto bits = [&](std::uint32_t v) {
+    std::array<std::uint32_t, 3> b{};
+    if (3 * std::size_t{v} + 2 < mesh.positions.size())
+      std::memcpy(b.data(), &mesh.positions[3 * std::size_t{v}], 12);
+    return b;
+  };
+  std::stable_sort(out.unreferenced.begin(), out.unreferenced.end(),
+                   [&](std::uint32_t x, std::uint32_t y) { return bits(x) < bits(y); });
   return out;
 }
 

@@ -22,15 +22,21 @@ bool general(ComponentKind k) { return k == ComponentKind::kUnstructured || k ==
 
 // The general components of `p` relabelled canonically (dart index = canonical label), indexed by
 // component id; structured components stay empty. Positions only break ties between roots that
-// give equal codes, i.e. between automorphic labellings, so all-zero positions lose nothing: any of
-// them yields an isomorphic result (and keeps this independent of the mesh's coordinates).
-std::vector<ComponentPartition> canonical_parts(const Adjacency& adj, const Partition& p) {
+// give equal codes, i.e. between automorphic labellings: any of them yields an isomorphic partition,
+// but on a symmetric mesh only positions pick the same one for every numbering of the same mesh,
+// which the codec's bytes need. Without positions (empty), all-zero ones: the first tied root.
+std::vector<ComponentPartition> canonical_parts(const Adjacency& adj, const Partition& p,
+                                                std::span<const float> positions) {
   Partition only_general;
   for (const auto& c : p.components)
     if (general(c.kind)) only_general.components.push_back(c);
-  QuadMesh zero;
-  zero.positions.assign(3ull * adj.vertex_count, 0.0f);
-  CanonicalMesh cm = canonicalize(zero, adj, only_general);
+  QuadMesh mesh;
+  if (positions.size() == 3ull * adj.vertex_count) {
+    mesh.positions.assign(positions.begin(), positions.end());
+  } else {
+    mesh.positions.assign(3ull * adj.vertex_count, 0.0f);
+  }
+  CanonicalMesh cm = canonicalize(mesh, adj, only_general);
   std::vector<ComponentPartition> out(p.components.size());
   for (auto& c : cm.components) out[c.part.component] = std::move(c.part);
   return out;
@@ -314,9 +320,10 @@ class Greedy {
 
 // Per half-edge leaving an extraordinary vertex: the canonical label of the motorcycle dart it starts
 // (every such edge starts a particle, so it starts a dart). Others get kInvalid.
-std::vector<std::uint32_t> canonical_ranks(const Adjacency& adj, const Partition& motorcycle) {
+std::vector<std::uint32_t> canonical_ranks(const Adjacency& adj, const Partition& motorcycle,
+                                           std::span<const float> positions) {
   std::vector<std::uint32_t> rank(adj.halfedge_count(), kInvalid);
-  const std::vector<ComponentPartition> canon = canonical_parts(adj, motorcycle);
+  const std::vector<ComponentPartition> canon = canonical_parts(adj, motorcycle, positions);
   for (const auto& part : canon) {
     const Schematic& s = part.schematic;
     for (std::uint32_t d = 0; d < s.dart_count(); ++d) rank[s.dart_halfedge[d]] = d;
@@ -518,18 +525,19 @@ bool parse_partition_mode(std::string_view name, PartitionMode& out) noexcept {
   return false;
 }
 
-std::vector<std::uint32_t> greedy_cuts(const Adjacency& adj) {
+std::vector<std::uint32_t> greedy_cuts(const Adjacency& adj, std::span<const float> positions) {
   const Partition motorcycle = partition_motorcycle(adj);
-  Greedy g(adj, canonical_ranks(adj, motorcycle));
+  Greedy g(adj, canonical_ranks(adj, motorcycle, positions));
   return g.run();
 }
 
-std::vector<std::uint32_t> merge_cuts(const Adjacency& adj, std::span<const std::uint32_t> cuts) {
+std::vector<std::uint32_t> merge_cuts(const Adjacency& adj, std::span<const std::uint32_t> cuts,
+                                      std::span<const float> positions) {
   const Partition before = partition_from_cuts(adj, cuts);
   std::vector<std::uint8_t> cut = cut_flags(adj, cuts);
   const std::vector<std::uint8_t> original = cut;
   std::vector<std::uint8_t> is_x(adj.vertex_count, 0);
-  for (const auto& part : canonical_parts(adj, before)) {
+  for (const auto& part : canonical_parts(adj, before, positions)) {
     const Schematic& s = part.schematic;
     if (s.dart_count() == 0) continue;
     for (std::uint32_t v : s.vertex_mesh) is_x[v] = 1;
@@ -550,13 +558,13 @@ std::vector<std::uint32_t> merge_cuts(const Adjacency& adj, std::span<const std:
   return cut_list(adj, cut);
 }
 
-Partition partition(const Adjacency& adj, PartitionMode mode) {
+Partition partition(const Adjacency& adj, PartitionMode mode, std::span<const float> positions) {
   const std::vector<std::uint32_t> motorcycle = trace_motorcycles(adj, extraordinary_vertices(adj)).traced;
   if (mode == PartitionMode::kMotorcycle) return partition_from_cuts(adj, motorcycle);
   std::vector<std::uint32_t> cuts = motorcycle;
   if (mode == PartitionMode::kGreedy) {
     try {
-      std::vector<std::uint32_t> g = greedy_cuts(adj);
+      std::vector<std::uint32_t> g = greedy_cuts(adj, positions);
       (void)partition_from_cuts(adj, g);  // validates; throws if the construction went wrong
       cuts = std::move(g);
     } catch (const Error& e) {
@@ -564,7 +572,7 @@ Partition partition(const Adjacency& adj, PartitionMode mode) {
     }
   }
   try {
-    return partition_from_cuts(adj, merge_cuts(adj, cuts));
+    return partition_from_cuts(adj, merge_cuts(adj, cuts, positions));
   } catch (const Error& e) {
     if (e.code() != ErrorCode::kInternal) throw;
   }

@@ -21,6 +21,7 @@
 #include "qsp/io.h"
 #include "qsp/mesh.h"
 #include "qsp/partition.h"
+#include "qsp/smaller.h"
 
 namespace fs = std::filesystem;
 
@@ -480,6 +481,59 @@ TEST(Codec, ShuffledCopiesGiveIdenticalBytes) {
     std::string bytes = encode(mesh);
     for (std::uint32_t seed = 1; seed <= 3; ++seed) EXPECT_EQ(encode(shuffled(mesh, seed)), bytes) << seed;
   }
+}
+
+// Each partition mode on its own gives one file per mesh, whatever its numbering: on symmetric meshes
+// (the cubes) greedy and merge must pick among equivalent partitions by position, as the codec does.
+TEST(Codec, EveryPartitionModeIsCanonical) {
+  std::vector<std::string> files = mesh_files(QSP_TESTDATA_DIR);
+  for (const auto& f : mesh_files(std::string(QSP_SHARED_DIR) + "/meshes/osd_shapes")) files.push_back(f);
+  for (const auto& f : files) {
+    SCOPED_TRACE(f);
+    QuadMesh mesh;
+    try {
+      mesh = load(f);
+      build_adjacency(mesh);
+    } catch (const Error&) {
+      continue;  // not a valid quad mesh: round_trip checks its refusal
+    }
+    for (PartitionMode mode : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
+      EncodeOptions o;
+      o.partition = mode;
+      const std::string bytes = encode(mesh, o);
+      for (std::uint32_t seed = 1; seed <= 2; ++seed)
+        EXPECT_EQ(encode(shuffled(mesh, seed), o), bytes) << partition_mode_name(mode) << " seed " << seed;
+    }
+  }
+}
+
+// By default a mesh of up to 32768 vertices is stored with whichever partition gives the smallest
+// file, the first of motorcycle, greedy, merge on a tie.
+TEST(Codec, DefaultKeepsTheSmallestPartition) {
+  std::vector<std::string> files = mesh_files(QSP_TESTDATA_DIR);
+  for (const char* name : {"igl_horse_quad.obj", "quadriflow_gargoyle.obj", "mh_fedora.obj"}) {
+    const std::string p = std::string(QSP_SHARED_DIR) + "/meshes/" + name;
+    if (fs::exists(p)) files.push_back(p);
+  }
+  int smaller = 0;
+  for (const auto& f : files) {
+    SCOPED_TRACE(f);
+    const QuadMesh mesh = load(f);
+    for (std::uint32_t bits : {0u, 14u}) {
+      EncodeOptions o;
+      o.quantize_bits = bits;
+      const std::string chosen = encode(mesh, o);
+      std::string best;
+      for (PartitionMode mode : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
+        o.partition = mode;
+        std::string bytes = encode(mesh, o);
+        if (mode == PartitionMode::kMotorcycle && bytes.size() > chosen.size()) ++smaller;
+        if (best.empty() || bytes.size() < best.size()) best = std::move(bytes);
+      }
+      EXPECT_EQ(chosen, best) << bits << " bits";
+    }
+  }
+  EXPECT_GT(smaller, 0) << "no mesh is smaller with another partition than the motorcycle graph";
 }
 
 TEST(Codec, EmptyAndVertexOnlyMeshes) {

@@ -45,6 +45,9 @@ std::vector<std::string> golden_names() {
 EncodeOptions options_for(const std::string& name) {
   EncodeOptions o;
   o.keep_order = name.find("_keep_order") != std::string::npos;
+  // The partition is an encoder choice, not the format: these pin the motorcycle graph's files (and
+  // one greedy partition's), whichever the encoder would pick.
+  o.partition = name.find("_greedy") != std::string::npos ? PartitionMode::kGreedy : PartitionMode::kMotorcycle;
   // The encoder picks patch order for every other golden; this pins the layout-order bytes.
   if (name.find("_layout_order") != std::string::npos) o.geometry_order = CodingOrder::kLayout;
   return o;

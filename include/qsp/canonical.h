@@ -37,7 +37,7 @@ struct CanonicalComponent {
 
 struct CanonicalMesh {
   std::vector<CanonicalComponent> components;  // in canonical order
-  std::vector<std::uint32_t> unreferenced;     // input vertices in no face, in input order
+  std::vector<std::uint32_t> unreferenced;     // input vertices in no face, by position (float bits)
 };
 
 // Canonical form of a partitioned mesh. Components are ordered by code, equal codes by positions;

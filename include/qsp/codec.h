@@ -23,7 +23,9 @@ struct EncodeOptions {
   std::uint32_t quantize_bits = 0;  // 0 = lossless; 1..30 = uniform grid (GeometryOptions)
   bool keep_order = false;          // also store vertex order, face order and first corners
   // Which structured partition to store; any decodes with the same decoder (all three are canonical).
-  PartitionMode partition = PartitionMode::kMotorcycle;
+  // nullopt: meshes of up to 32768 vertices are encoded with each of the three and keep the smallest
+  // file (the first of motorcycle, greedy, merge on a tie); larger ones use the motorcycle graph.
+  std::optional<PartitionMode> partition;
   // Geometry coding order (format-spec, "Coding orders"). nullopt: meshes of up to 32768 vertices
   // are coded in both and keep the smaller; larger ones in patch order, which is smaller on nearly
   // every mesh measured and needs one set of stencils in memory.
@@ -46,12 +48,13 @@ struct OrderMap {
   std::vector<std::uint8_t> rotation;
 };
 
-// Encodes `mesh` (build_adjacency -> partition_motorcycle -> canonicalize -> bytes). The bytes depend
-// only on the mesh up to orientation-preserving isomorphism and its positions (plus, with keep_order,
-// the original numbering). Throws what build_adjacency throws for invalid meshes, Error(kLimit) past
-// the format's limits, Error(kInternal) if a stage broke an invariant (never writes a wrong file).
-// If `order` is given it receives the original -> canonical map (what decode() numbers vertices and
-// faces by without keep_order), whether or not it is stored.
+// Encodes `mesh` (build_adjacency -> partition -> canonicalize -> bytes). The bytes depend only on the
+// mesh up to orientation-preserving isomorphism and its positions (plus, with keep_order, the original
+// numbering): every partition mode is canonical, and so is choosing the smallest file among them. Throws what
+// build_adjacency throws for invalid meshes, Error(kLimit) past the format's limits, Error(kInternal) if a
+// stage broke an invariant (never writes a wrong file). If `order` is given it receives the original ->
+// canonical map (what decode() numbers vertices and faces by without keep_order), whether or not it is
+// stored.
 std::string encode(const QuadMesh& mesh, const EncodeOptions& options = {}, OrderMap* order = nullptr);
 
 // Decodes a whole .qsp. Returns the mesh in canonical order (or the original order when the file has

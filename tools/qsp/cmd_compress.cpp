@@ -23,7 +23,7 @@ struct CompressOptions {
   std::uint32_t quantize = 0;
   bool keep_order = false;
   bool positions_only = false;
-  std::string partition = "motorcycle";
+  std::string partition = "auto";  // or a PartitionMode name
 };
 
 // True when `out` names the same existing file as `in` (by device and inode, so links and
@@ -70,22 +70,14 @@ void run(const CompressOptions& o) {
   EncodeOptions eo;
   eo.quantize_bits = o.quantize;
   eo.keep_order = o.keep_order;
-  parse_partition_mode(o.partition, eo.partition);  // CLI11 checked the name
+  if (o.partition != "auto") {
+    PartitionMode mode = PartitionMode::kMotorcycle;
+    parse_partition_mode(o.partition, mode);  // CLI11 checked the name
+    eo.partition = mode;
+  }
   std::string bytes;
   try {
     bytes = encode(mesh, eo);
-    if (eo.partition != PartitionMode::kMotorcycle) {
-      // A heuristic can lose on some mesh: keep whichever file is smaller, and say so.
-      EncodeOptions mo = eo;
-      mo.partition = PartitionMode::kMotorcycle;
-      std::string alt = encode(mesh, mo);
-      if (alt.size() < bytes.size()) {
-        std::fprintf(stderr,
-                     "qsp: %s: the motorcycle partition gives a smaller file (%zu < %zu bytes); keeping it\n",
-                     o.input.c_str(), alt.size(), bytes.size());
-        bytes.swap(alt);
-      }
-    }
   } catch (const Error& e) {
     rethrow_located(e, o.input, report);  // topology errors name a face: say file:line
   }
@@ -102,9 +94,9 @@ void register_compress(CLI::App& app, int& exit_code) {
   sub->add_option("-o,--output", opt->output_flag, "Output file (same as OUT)");
   sub->add_option("--format", opt->input_format, "Format of standard input: obj, off or ply");
   sub->add_option("--partition", opt->partition,
-                  "Structured partition to store: motorcycle (default, canonical), greedy or merge (smaller; "
-                  "also canonical)")
-      ->check(CLI::IsMember({"motorcycle", "greedy", "merge"}));
+                  "Structured partition to store (all canonical): auto (default: the smallest file of the "
+                  "three for meshes of up to 32768 vertices, else motorcycle), motorcycle, greedy or merge")
+      ->check(CLI::IsMember({"auto", "motorcycle", "greedy", "merge"}));
   sub->add_flag("-f,--force", opt->force, "Replace OUT if it exists (never the input)");
   sub->add_option("--quantize", opt->quantize,
                   "Lossy: quantize positions to BITS bits over the bounding box (1-30)")
