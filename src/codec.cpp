@@ -109,7 +109,7 @@ struct Counts {
 
 // Everything up to (not including) geometry decoding: what decode() and inspect() share.
 struct Parsed {
-  std::uint8_t minor = 0;
+  std::uint8_t major = 0, minor = 0;
   Counts counts;
   std::vector<Section> sections;
   std::optional<Section> topology, geometry, order;
@@ -135,13 +135,14 @@ Parsed parse_container(std::string_view bytes, const DecodeLimits& limits) {
   }
   if (n < 8) format_error("truncated: file ends inside the magic number", n);
   Reader r(bytes, 8, n);
-  std::uint8_t major = r.u8("version");
+  p.major = r.u8("version");
   p.minor = r.u8("version");
-  if (major != kFormatMajor) {
-    throw Error(ErrorCode::kVersion, "file is .qsp format " + std::to_string(major) + "." +
-                                         std::to_string(p.minor) + "; this qsp reads format " +
-                                         std::to_string(kFormatMajor) + ".x only" +
-                                         (major > kFormatMajor ? " (upgrade qsp)" : "") + at(8));
+  if (p.major < kOldestMajor || p.major > kFormatMajor) {
+    throw Error(ErrorCode::kVersion, "file is .qsp format " + std::to_string(p.major) + "." +
+                                         std::to_string(p.minor) + "; this qsp reads formats " +
+                                         std::to_string(kOldestMajor) + ".x to " +
+                                         std::to_string(kFormatMajor) + ".x" +
+                                         (p.major > kFormatMajor ? " (upgrade qsp)" : "") + at(8));
   }
   std::uint8_t flags = r.u8("header flags");
   std::uint64_t declared = r.varint("file size");
@@ -254,13 +255,16 @@ Parsed parse_container(std::string_view bytes, const DecodeLimits& limits) {
   return p;
 }
 
+// How the topology and order streams end: compact from format 2.0, LZMA's in 1.x.
+StreamEnds stream_ends(const Parsed& p) { return p.major >= 2 ? StreamEnds::kCompact : StreamEnds::kLzma; }
+
 // Topology codes -> component partitions, with the vertex and face totals checked against the declared
 // counts before any grid is built (so memory stays bounded by what the header declared).
 void decode_components(Parsed& p) {
   const std::uint64_t f = p.counts.faces;
   // A schematic edge is a path of >= 1 mesh edges, and a mesh has at most 4 * faces edges.
   p.codes = decode_topology(p.topology->payload, p.topology->payload_offset, p.counts.components, 4 * f,
-                            std::max<std::uint64_t>(4 * f, 1));
+                            std::max<std::uint64_t>(4 * f, 1), stream_ends(p));
   std::uint64_t vertices = 0, faces = 0;
   const std::uint64_t off = p.topology->payload_offset;
   for (const TopologyCode& code : p.codes) {
@@ -540,7 +544,7 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
   }
   if (!p.order) return canonical;
 
-  OrderMap order = decode_order(p.order->payload, p.order->payload_offset, nv, nf);
+  OrderMap order = decode_order(p.order->payload, p.order->payload_offset, nv, nf, stream_ends(p));
   QuadMesh out;
   out.positions.resize(canonical.positions.size());
   out.quads.resize(canonical.quads.size());
@@ -562,7 +566,7 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
   Parsed p = parse_container(bytes, limits);
   decode_components(p);
   FileInfo info;
-  info.version_major = kFormatMajor;
+  info.version_major = p.major;
   info.version_minor = p.minor;
   info.total_bytes = bytes.size();
   info.vertices = p.counts.vertices;

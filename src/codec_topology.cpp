@@ -324,7 +324,7 @@ bool has_schematic(ComponentKind k) { return k == ComponentKind::kUnstructured |
 
 std::string encode_topology(std::span<const TopologyCode> codes) {
   std::string out;
-  RangeEncoder enc(out);
+  RangeEncoder enc(out, StreamEnds::kCompact);
   Models m;
   for (const TopologyCode& c : codes) {
     auto k = static_cast<unsigned>(c.kind);
@@ -450,8 +450,8 @@ std::string encode_topology(std::span<const TopologyCode> codes) {
 
 std::vector<TopologyCode> decode_topology(std::string_view payload, std::uint64_t base_offset,
                                           std::uint64_t component_count, std::uint64_t max_edges,
-                                          std::uint64_t max_length) {
-  RangeDecoder dec(payload, base_offset, "topology section");
+                                          std::uint64_t max_length, StreamEnds ends) {
+  RangeDecoder dec(payload, base_offset, "topology section", ends);
   Models m;
   std::vector<TopologyCode> codes(component_count);
   for (TopologyCode& c : codes) {

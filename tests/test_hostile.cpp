@@ -157,12 +157,12 @@ TEST(HostileQsp, BadMagic) {
 TEST(HostileQsp, NewerOrOlderMajorVersion) {
   craft::Parts p;
   ASSERT_TRUE(craft::split(cube_qsp(), p));
-  expect_refused(craft::seal(2, 0, 0, p.body), ErrorCode::kVersion,
-                 {"format 2.0", "upgrade qsp", "byte offset 8"});
+  expect_refused(craft::seal(3, 0, 0, p.body), ErrorCode::kVersion,
+                 {"format 3.0", "reads formats 1.x to 2.x", "upgrade qsp", "byte offset 8"});
   expect_refused(craft::seal(255, 3, 0, p.body), ErrorCode::kVersion, {"format 255.3"});
   expect_refused(craft::seal(0, 9, 0, p.body), ErrorCode::kVersion, {"format 0.9"});
   // A newer minor of the same major is readable (it may only add optional sections).
-  EXPECT_EQ(decode(craft::seal(1, 200, 0, p.body)).quads, decode(cube_qsp()).quads);
+  EXPECT_EQ(decode(craft::seal(kFormatMajor, 200, 0, p.body)).quads, decode(cube_qsp()).quads);
 }
 
 TEST(HostileQsp, ChecksumMismatch) {
@@ -180,8 +180,8 @@ TEST(HostileQsp, ReservedBitsSet) {
   craft::Parts p;
   ASSERT_TRUE(craft::split(cube_qsp(), p));
   for (int bit = 0; bit < 8; ++bit) {
-    expect_refused(craft::seal(1, 0, static_cast<std::uint8_t>(1u << bit), p.body), ErrorCode::kFormat,
-                   {"reserved header flag", "byte offset 10"});
+    expect_refused(craft::seal(kFormatMajor, kFormatMinor, static_cast<std::uint8_t>(1u << bit), p.body),
+                   ErrorCode::kFormat, {"reserved header flag", "byte offset 10"});
   }
   // The counts section's flag byte.
   const std::string good = cube_qsp();
@@ -222,12 +222,12 @@ TEST(HostileQsp, CountsLargerThanTheFile) {
       p.body.substr(0, secs.back().offset) + std::string(1, static_cast<char>(secs.back().tag));
   craft::put_varint(body, secs.back().payload.size() + 10);
   body += secs.back().payload;
-  expect_refused(craft::seal(1, 0, 0, body), ErrorCode::kFormat,
+  expect_refused(craft::seal(kFormatMajor, kFormatMinor, 0, body), ErrorCode::kFormat,
                  {"declares " + std::to_string(secs.back().payload.size() + 10) + " bytes but only", "remain",
                   "byte offset"});
   std::string huge_len = std::string(1, static_cast<char>(craft::kTagGeometry)) + "\xff\xff\xff\xff\x0f";
-  expect_refused(craft::seal(1, 0, 0, p.body.substr(0, secs.back().offset) + huge_len), ErrorCode::kFormat,
-                 {"declares 4294967295 bytes but only 0 remain"});
+  expect_refused(craft::seal(kFormatMajor, kFormatMinor, 0, p.body.substr(0, secs.back().offset) + huge_len),
+                 ErrorCode::kFormat, {"declares 4294967295 bytes but only 0 remain"});
   // Counts beyond the format, beyond the limits, or inconsistent with each other.
   auto with_counts = [&](std::uint64_t v, std::uint64_t f, std::uint64_t c, std::uint64_t u) {
     return with_section(good, craft::kTagCounts, craft::counts_payload(v, f, c, u));
@@ -263,25 +263,30 @@ TEST(HostileQsp, UnknownAndMissingSections) {
     auto more = secs;
     more.insert(more.begin() + static_cast<std::ptrdiff_t>(at),
                 craft::SectionView{0x85, 0, 0, "future data"});
-    EXPECT_EQ(decode(craft::seal(1, 0, 0, craft::join(more))).quads, decode(good).quads) << at;
+    EXPECT_EQ(decode(craft::seal(kFormatMajor, kFormatMinor, 0, craft::join(more))).quads, decode(good).quads)
+        << at;
   }
   // An unknown required section is refused, as are missing, repeated and reordered ones.
   auto unknown = secs;
   unknown.push_back({0x05, 0, 0, "x"});
-  expect_refused(craft::seal(1, 0, 0, craft::join(unknown)), ErrorCode::kFormat,
+  expect_refused(craft::seal(kFormatMajor, kFormatMinor, 0, craft::join(unknown)), ErrorCode::kFormat,
                  {"required section tag 0x05", "byte offset"});
   for (std::size_t drop = 0; drop < secs.size(); ++drop) {
     auto fewer = secs;
     fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(drop));
-    expect_refused(craft::seal(1, 0, 0, craft::join(fewer)), ErrorCode::kFormat, {"byte offset"});
+    expect_refused(craft::seal(kFormatMajor, kFormatMinor, 0, craft::join(fewer)), ErrorCode::kFormat,
+                   {"byte offset"});
   }
   auto twice = secs;
   twice.insert(twice.begin() + 1, secs[0]);
-  expect_refused(craft::seal(1, 0, 0, craft::join(twice)), ErrorCode::kFormat, {"byte offset"});
+  expect_refused(craft::seal(kFormatMajor, kFormatMinor, 0, craft::join(twice)), ErrorCode::kFormat,
+                 {"byte offset"});
   auto swapped = secs;
   std::swap(swapped[1], swapped[2]);
-  expect_refused(craft::seal(1, 0, 0, craft::join(swapped)), ErrorCode::kFormat, {"byte offset"});
-  expect_refused(craft::seal(1, 0, 0, ""), ErrorCode::kFormat, {"required section 1 is missing"});
+  expect_refused(craft::seal(kFormatMajor, kFormatMinor, 0, craft::join(swapped)), ErrorCode::kFormat,
+                 {"byte offset"});
+  expect_refused(craft::seal(kFormatMajor, kFormatMinor, 0, ""), ErrorCode::kFormat,
+                 {"required section 1 is missing"});
 }
 
 // Small files of every component kind and mode, for the exhaustive corruption sweeps.
@@ -332,10 +337,11 @@ TEST(HostileQsp, EveryResealedBitFlipAndCutIsCleanOrValid) {
       for (int b = 0; b < 8; ++b) {
         std::string body = p.body;
         body[i] = static_cast<char>(body[i] ^ (1 << b));
-        expect_clean(craft::seal(1, 0, 0, body),
+        expect_clean(craft::seal(kFormatMajor, kFormatMinor, 0, body),
                      name + " flip " + std::to_string(i) + "." + std::to_string(b));
       }
-      expect_clean(craft::seal(1, 0, 0, p.body.substr(0, i)), name + " cut " + std::to_string(i));
+      expect_clean(craft::seal(kFormatMajor, kFormatMinor, 0, p.body.substr(0, i)),
+                   name + " cut " + std::to_string(i));
     }
   }
 }
@@ -415,7 +421,7 @@ TEST_F(Limits, TinyFileDeclaringAHugeMeshIsRefusedBeforeAllocating) {
   const std::string torus_topology = encode_topology(std::vector<TopologyCode>{torus});
   const std::uint64_t big = DecodeLimits{}.max_faces;  // at the limit: accepted by the counts check
   auto file = [](const std::string& counts, const std::string& topo, const std::string& geo) {
-    return craft::seal(1, 0, 0,
+    return craft::seal(kFormatMajor, kFormatMinor, 0,
                        craft::section(craft::kTagCounts, counts) + craft::section(craft::kTagTopology, topo) +
                            craft::section(craft::kTagGeometry, geo));
   };
@@ -591,7 +597,7 @@ TEST_F(CliFailures, CorruptQspNamesTheFileAndTheOffset) {
       {"PK\x03\x04 not a qsp", "bad magic"},
       {craft::seal(3, 1, 0, parts.body), "format 3.1"},
       {flipped, "checksum mismatch"},
-      {craft::seal(1, 0, 4, parts.body), "reserved header flag"},
+      {craft::seal(kFormatMajor, kFormatMinor, 4, parts.body), "reserved header flag"},
       {good + "xyz", "3 trailing bytes"},
       {with_section(good, craft::kTagCounts, craft::counts_payload(99, 96, 1, 0)), "topology describes"},
   };

@@ -10,14 +10,18 @@
 #include <vector>
 
 #include "qsp/canonical.h"
+#include "qsp/entropy.h"
 #include "qsp/mesh.h"
 #include "qsp/partition.h"
 #include "qsp/smaller.h"
 
 namespace qsp {
 
-inline constexpr std::uint8_t kFormatMajor = 1;
-inline constexpr std::uint8_t kFormatMinor = 3;  // 1.3: geometry coding revision 4 (compact)
+// 2.0: the topology and order streams have compact ends. A 1.x decoder cannot read them, so this is a
+// new major: it refuses 2.0 files at the version bytes, with "upgrade qsp".
+inline constexpr std::uint8_t kFormatMajor = 2;
+inline constexpr std::uint8_t kFormatMinor = 0;
+inline constexpr std::uint8_t kOldestMajor = 1;  // 1.0 to 1.3 files still decode
 
 struct EncodeOptions {
   std::uint32_t quantize_bits = 0;  // 0 = lossless; 1..30 = uniform grid (GeometryOptions)
@@ -101,21 +105,25 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits = {});
 
 // ---- Building blocks (exposed for tests and tools) ----
 
-// Entropy-codes the connectivity of `codes` (canonical order) into the topology section's payload.
-// Throws Error(kInternal) if a code is not one partition_from_code would accept.
+// Entropy-codes the connectivity of `codes` (canonical order) into the topology section's payload
+// (compact stream ends, format 2). Throws Error(kInternal) if a code is not one partition_from_code
+// would accept.
 std::string encode_topology(std::span<const TopologyCode> codes);
 
 // Inverse of encode_topology for `component_count` components. `max_edges` bounds the total number of
 // schematic edges and `max_length` any edge length (both derive from the declared face count), so
 // memory stays proportional to the declared mesh. `base_offset` is the payload's offset in the file,
-// for messages. Throws Error(kFormat). Safe on untrusted input (codes still need partition_from_code).
+// for messages; `ends` is kCompact in format 2 files, kLzma in 1.x. Throws Error(kFormat). Safe on
+// untrusted input (codes still need partition_from_code).
 std::vector<TopologyCode> decode_topology(std::string_view payload, std::uint64_t base_offset,
                                           std::uint64_t component_count, std::uint64_t max_edges,
-                                          std::uint64_t max_length);
+                                          std::uint64_t max_length, StreamEnds ends = StreamEnds::kCompact);
 
+// The order section's payload (compact stream ends, format 2).
 std::string encode_order(const OrderMap& order);
-// Throws Error(kFormat) unless the payload holds exactly two permutations of the given sizes.
+// Throws Error(kFormat) unless the payload holds exactly two permutations of the given sizes; `ends` as
+// for decode_topology.
 OrderMap decode_order(std::string_view payload, std::uint64_t base_offset, std::uint32_t vertex_count,
-                      std::uint32_t face_count);
+                      std::uint32_t face_count, StreamEnds ends = StreamEnds::kCompact);
 
 }  // namespace qsp

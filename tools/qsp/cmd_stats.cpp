@@ -31,7 +31,7 @@ struct Row {
   std::uint64_t sx = 0, se = 0, patches = 0;
   bool has_bytes = false;  // a .qsp, or a mesh compressed in memory (--sizes)
   std::uint64_t total_bytes = 0, connectivity_bytes = 0, geometry_bytes = 0;
-  int version_minor = 0, geometry_revision = 0;
+  int version_major = 0, version_minor = 0, geometry_revision = 0;
   const char* geometry_order = "";  // "patch" or "layout"
   struct Comp {
     const char* kind;
@@ -46,6 +46,7 @@ void add_sizes(Row& r, const FileInfo& info) {
   r.total_bytes = info.total_bytes;
   r.connectivity_bytes = info.connectivity_bytes;
   r.geometry_bytes = info.geometry_bytes;
+  r.version_major = info.version_major;
   r.version_minor = info.version_minor;
   r.geometry_revision = info.geometry_revision;
   r.geometry_order = info.geometry_order == CodingOrder::kPatch ? "patch" : "layout";
@@ -156,7 +157,8 @@ void print_json(const std::vector<Row>& rows, bool verbose) {
           "\"format\": \"%d.%d\", \"geometry_coding\": {\"revision\": %d, \"order\": \"%s\"}",
           (unsigned long long)r.total_bytes, (unsigned long long)r.connectivity_bytes,
           (unsigned long long)r.geometry_bytes, 8.0 * r.total_bytes / v, 8.0 * r.connectivity_bytes / v,
-          8.0 * r.geometry_bytes / v, kFormatMajor, r.version_minor, r.geometry_revision, r.geometry_order);
+          8.0 * r.geometry_bytes / v, r.version_major, r.version_minor, r.geometry_revision,
+          r.geometry_order);
     }
     if (verbose) {
       std::printf(", \"components\": [");
@@ -198,7 +200,7 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
           "  format %d.%d, geometry coding revision %d, %s order\n",
           (unsigned long long)r.total_bytes, (unsigned long long)r.connectivity_bytes,
           8.0 * r.connectivity_bytes / v, (unsigned long long)r.geometry_bytes, 8.0 * r.geometry_bytes / v,
-          kFormatMajor, r.version_minor, r.geometry_revision, r.geometry_order);
+          r.version_major, r.version_minor, r.geometry_revision, r.geometry_order);
     }
     if (!verbose) continue;
     for (std::size_t c = 0; c < r.comps.size(); ++c) {

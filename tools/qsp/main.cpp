@@ -26,10 +26,10 @@ int exit_code_for(qsp::ErrorCode code) {
 int main(int argc, char** argv) {
   CLI::App app{"qsp: quad mesh compression by canonical motorcycle-graph partition"};
   // The file format too: users keeping .qsp archives need to know what this build writes and reads.
-  const std::string major = std::to_string(qsp::kFormatMajor);
-  const std::string writes = major + "." + std::to_string(qsp::kFormatMinor);
+  const std::string writes = std::to_string(qsp::kFormatMajor) + "." + std::to_string(qsp::kFormatMinor);
   app.set_version_flag("--version", std::string("qsp ") + QSP_VERSION + " (writes .qsp format " + writes +
-                                        ", reads " + major + ".0 to " + writes + ")");
+                                        ", reads " + std::to_string(qsp::kOldestMajor) + ".0 to " + writes +
+                                        ")");
   app.require_subcommand(1);
   int exit_code = 0;
   qsp::cli::register_compress(app, exit_code);
