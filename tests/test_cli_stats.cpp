@@ -57,6 +57,24 @@ TEST(CliStats, QspRowNamesItsFormatAndCoding) {
       << r.out;
 }
 
+// `stats --partition auto` reports what `compress` writes: the same total bytes as the file.
+TEST(CliStats, AutoRowMatchesTheCompressedFile) {
+  const fs::path dir = fs::path(::testing::TempDir()) / ("qsp_stats_auto_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  for (const char* name : {"keenan_spot_quadrangulated.obj", "l_shape.obj", "multi_component.obj"}) {
+    SCOPED_TRACE(name);
+    const std::string in = std::string(QSP_TESTDATA_DIR) + "/" + name;
+    const fs::path out = dir / "x.qsp";
+    ASSERT_EQ(run_qsp("compress -f --positions-only " + quote(in) + " " + quote(out.string())).exit_code, 0);
+    const auto r = run_qsp("stats --json --partition auto " + quote(in));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("\"partition\": \"auto\""), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\"total\": " + std::to_string(fs::file_size(out)) + ","), std::string::npos)
+        << r.out;
+  }
+  fs::remove_all(dir);
+}
+
 // Reader and topology defects alike: exit 1, message with the expected code's text and location.
 TEST(CliStats, EveryInvalidMeshIsRefusedWithItsLocation) {
   int n = 0;

@@ -20,7 +20,7 @@ struct StatsOptions {
   std::vector<std::string> files;
   bool json = false;
   bool verbose = false;
-  std::string partition = "motorcycle";  // a PartitionMode name, or "all" (one row per mode)
+  std::string partition = "motorcycle";  // a PartitionMode name, "auto" (as compress) or "all" (a row each)
   bool sizes = false;
 };
 
@@ -52,12 +52,12 @@ void add_sizes(Row& r, const FileInfo& info) {
   r.geometry_order = info.geometry_order == CodingOrder::kPatch ? "patch" : "layout";
 }
 
-// A .qsp: everything from inspect(), without decoding positions.
-Row qsp_row(const std::string& file) {
-  const FileInfo info = inspect(read_file_bytes(file));
+// A .qsp's bytes: everything from inspect(), without decoding positions.
+Row info_row(const std::string& file, const std::string& bytes, const char* partition) {
+  const FileInfo info = inspect(bytes);
   Row r;
   r.file = file;
-  r.partition = "stored";
+  r.partition = partition;
   r.vertices = info.vertices;
   r.edges = info.edges;
   r.faces = info.faces;
@@ -224,8 +224,9 @@ void register_stats(CLI::App& app, int& exit_code) {
   cmd->add_flag("--verbose", opt->verbose, "Add a per-component breakdown");
   cmd->add_flag("--sizes", opt->sizes, "For meshes: compress in memory and report the .qsp sizes");
   cmd->add_option("--partition", opt->partition,
-                  "Partition: motorcycle (default), greedy, merge, or all (a row each)")
-      ->check(CLI::IsMember({"motorcycle", "greedy", "merge", "all"}));
+                  "Partition: motorcycle (default), greedy, merge, auto (the one compress stores, with its "
+                  "sizes), or all (a row each)")
+      ->check(CLI::IsMember({"motorcycle", "greedy", "merge", "auto", "all"}));
   cmd->callback([opt, &exit_code] {
     std::vector<Row> rows;
     std::vector<PartitionMode> modes;
@@ -233,11 +234,14 @@ void register_stats(CLI::App& app, int& exit_code) {
       if (opt->partition == "all" || opt->partition == partition_mode_name(m)) modes.push_back(m);
     for (const auto& f : opt->files) {
       if (format_from_path(f) == MeshFormat::kQsp) {
-        rows.push_back(qsp_row(f));
+        rows.push_back(info_row(f, read_file_bytes(f), "stored"));
         continue;
       }
       const LoadedMesh loaded = load_mesh(f);
       for (PartitionMode m : modes) rows.push_back(mesh_row(f, loaded, m, opt->sizes));
+      // What `qsp compress` would write (default options): its partition and sizes, from the bytes.
+      if (opt->partition == "auto" || opt->partition == "all")
+        rows.push_back(info_row(f, encode(loaded.mesh), "auto"));
     }
     if (opt->json)
       print_json(rows, opt->verbose);
