@@ -5,9 +5,11 @@
 #include <xxhash.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <future>
 #include <optional>
 #include <string>
 #include <vector>
@@ -482,19 +484,30 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
     const PartitionMode mode = options.partition.value_or(PartitionMode::kMotorcycle);
     return encode_partition(mesh, adj, qsp::partition(adj, mode, mesh.positions), options, order_out);
   }
-  std::string best;
-  OrderMap best_order;
-  for (PartitionMode mode : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
+  // The three encodes are independent whole pipelines over read-only inputs: greedy runs on another
+  // thread while this one does the motorcycle graph and merge (the heuristics take longer).
+  struct Result {
+    std::string bytes;
     OrderMap order;
-    std::string bytes = encode_partition(mesh, adj, qsp::partition(adj, mode, mesh.positions), options,
-                                         order_out ? &order : nullptr);
-    if (best.empty() || bytes.size() < best.size()) {
-      best = std::move(bytes);
-      best_order = std::move(order);
-    }
-  }
+  };
+  auto run = [&](PartitionMode mode) {
+    Result r;
+    r.bytes = encode_partition(mesh, adj, qsp::partition(adj, mode, mesh.positions), options,
+                               order_out ? &r.order : nullptr);
+    return r;
+  };
+  std::future<Result> greedy = std::async(std::launch::async, run, PartitionMode::kGreedy);
+  std::array<Result, 3> results;                 // motorcycle, greedy, merge: the first smallest wins
+  results[0] = run(PartitionMode::kMotorcycle);  // if this throws, the future's destructor waits
+  results[2] = run(PartitionMode::kMerge);
+  results[1] = greedy.get();
+  Result* best = &results[0];
+  for (Result& r : results)
+    if (r.bytes.size() < best->bytes.size()) best = &r;
+  std::string best_bytes = std::move(best->bytes);
+  OrderMap best_order = std::move(best->order);
   if (order_out) *order_out = std::move(best_order);
-  return best;
+  return best_bytes;
 }
 
 namespace {
