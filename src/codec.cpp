@@ -12,6 +12,7 @@
 #include <future>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "qsp/error.h"
@@ -496,14 +497,29 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
                                order_out ? &r.order : nullptr);
     return r;
   };
-  std::future<Result> greedy = std::async(std::launch::async, run, PartitionMode::kGreedy);
+  // A heuristic's pipeline that trips an internal check only loses its candidacy (partition() already
+  // falls back the same way for an invalid cut set): the motorcycle file is always there.
+  auto candidate = [&](PartitionMode mode) {
+    try {
+      return run(mode);
+    } catch (const Error& e) {
+      if (e.code() != ErrorCode::kInternal) throw;
+      return Result{};
+    }
+  };
+  std::future<Result> greedy;
+  try {
+    greedy = std::async(std::launch::async, candidate, PartitionMode::kGreedy);
+  } catch (const std::system_error&) {
+    // no thread to be had: greedy runs below, on this one
+  }
   std::array<Result, 3> results;                 // motorcycle, greedy, merge: the first smallest wins
   results[0] = run(PartitionMode::kMotorcycle);  // if this throws, the future's destructor waits
-  results[2] = run(PartitionMode::kMerge);
-  results[1] = greedy.get();
+  results[2] = candidate(PartitionMode::kMerge);
+  results[1] = greedy.valid() ? greedy.get() : candidate(PartitionMode::kGreedy);
   Result* best = &results[0];
   for (Result& r : results)
-    if (r.bytes.size() < best->bytes.size()) best = &r;
+    if (!r.bytes.empty() && r.bytes.size() < best->bytes.size()) best = &r;
   std::string best_bytes = std::move(best->bytes);
   OrderMap best_order = std::move(best->order);
   if (order_out) *order_out = std::move(best_order);
@@ -573,6 +589,12 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
       out.quads[4 * f + (c + r) % 4] = canonical_to_input[canonical.quads[4 * cf + c]];
   }
   return out;
+}
+
+std::vector<TopologyCode> file_topology(std::string_view bytes, const DecodeLimits& limits) {
+  Parsed p = parse_container(bytes, limits);
+  decode_components(p);
+  return std::move(p.codes);
 }
 
 FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {

@@ -292,15 +292,17 @@ TEST(Topology, HandBuiltCodesRoundTrip) {
   big.edge_length = {70000, 3, 3, 70000};  // edges 0 and 3 are opposite, so are 1 and 2
   std::vector<TopologyCode> codes = {single_quad_code(), torus, annulus, big};
   std::string bytes = encode_topology(codes);
-  std::vector<TopologyCode> back = decode_topology(bytes, 0, codes.size(), 1000, 100000);
+  std::vector<TopologyCode> back =
+      decode_topology(bytes, 0, codes.size(), 1000, 100000, StreamEnds::kCompact);
   ASSERT_EQ(back.size(), codes.size());
   for (std::size_t i = 0; i < codes.size(); ++i) EXPECT_TRUE(back[i] == codes[i]) << i;
   // The code is a valid partition: a 1x1 grid.
   ComponentPartition p = partition_from_code(back[0]);
   EXPECT_EQ(grid_layout(p).quads.size(), 4u);
   // Limits are enforced while decoding.
-  EXPECT_THROW(decode_topology(bytes, 0, codes.size(), 7, 100000), Error);  // 8 schematic edges
-  EXPECT_THROW(decode_topology(bytes, 0, codes.size(), 1000, 69999), Error);
+  EXPECT_THROW(decode_topology(bytes, 0, codes.size(), 7, 100000, StreamEnds::kCompact),
+               Error);  // 8 schematic edges
+  EXPECT_THROW(decode_topology(bytes, 0, codes.size(), 1000, 69999, StreamEnds::kCompact), Error);
 }
 
 TEST(Topology, LengthsImpliedByOppositeSidesAreNotStored) {
@@ -309,7 +311,7 @@ TEST(Topology, LengthsImpliedByOppositeSidesAreNotStored) {
   TopologyCode c = single_quad_code();
   c.edge_length = {5, 7, 7, 5};
   std::vector<TopologyCode> one{c};
-  auto back = decode_topology(encode_topology(one), 0, 1, 100, 100);
+  auto back = decode_topology(encode_topology(one), 0, 1, 100, 100, StreamEnds::kCompact);
   EXPECT_TRUE(back[0] == c);
   c.edge_length = {5, 7, 6, 5};
   EXPECT_THROW(encode_topology(std::vector<TopologyCode>{c}), Error);

@@ -552,6 +552,12 @@ class MatchCli : public ::testing::Test {
     for (std::string l; std::getline(f, l);) out.push_back(l);
     return out;
   }
+  static std::vector<std::string> lines_of(const std::string& text) {
+    std::istringstream f(text);
+    std::vector<std::string> out;
+    for (std::string l; std::getline(f, l);) out.push_back(l);
+    return out;
+  }
   fs::path dir_;
 };
 
@@ -645,6 +651,30 @@ TEST_F(MatchCli, ReorderGivesTheReferenceOrder) {
   const std::string pc = write("c.obj", box(1, 2, 3));
   EXPECT_EQ(
       run_qsp("reorder --like " + quote(pr) + " " + quote(pc) + " -o " + quote(path("x.obj"))).exit_code, 1);
+}
+
+// Files of every format version this build reads fingerprint as their mesh (1.x topology streams have
+// LZMA ends, 2.0 compact ends).
+TEST_F(MatchCli, OlderFormatFilesFingerprintAsTheirMesh) {
+  const std::string golden = std::string(QSP_TESTDATA_DIR) + "/golden/";
+  int seen = 0;
+  for (const char* name : {"cube_4", "l_shape", "multi_component", "torus_twist_9x6_t2", "annulus_12x3"}) {
+    std::string cmd = "fingerprint " + quote(golden + name + ".obj") + " " + quote(golden + name + ".qsp");
+    int files = 2;
+    for (const char* dir : {"v1.0/", "v1.1/", "v1.2/", "v1.3/"}) {
+      const std::string old = golden + dir + name + ".qsp";
+      if (!fs::exists(old)) continue;
+      cmd += " " + quote(old);
+      ++files;
+    }
+    const auto r = run_qsp(cmd);
+    ASSERT_EQ(r.exit_code, 0) << name << ": " << r.err;
+    const auto out = lines_of(r.out);
+    ASSERT_EQ(out.size(), static_cast<std::size_t>(files)) << r.out;
+    for (const auto& l : out) EXPECT_EQ(l.substr(0, 16), out[0].substr(0, 16)) << name << "\n" << r.out;
+    seen += files;
+  }
+  EXPECT_GE(seen, 20);
 }
 
 TEST_F(MatchCli, QspFilesFingerprintMatchAndReorder) {

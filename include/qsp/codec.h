@@ -104,6 +104,11 @@ struct FileInfo {
 // and counts what the file holds. Same errors as decode(). Safe on untrusted input.
 FileInfo inspect(std::string_view bytes, const DecodeLimits& limits = {});
 
+// The topology codes of a whole .qsp (components in canonical order; `FileInfo::unreferenced` more
+// vertices follow them), after the same checks as inspect(), for any version it reads. Same errors as
+// decode(). Safe on untrusted input.
+std::vector<TopologyCode> file_topology(std::string_view bytes, const DecodeLimits& limits = {});
+
 // ---- Building blocks (exposed for tests and tools) ----
 
 // Entropy-codes the connectivity of `codes` (canonical order) into the topology section's payload
@@ -118,13 +123,13 @@ std::string encode_topology(std::span<const TopologyCode> codes);
 // untrusted input (codes still need partition_from_code).
 std::vector<TopologyCode> decode_topology(std::string_view payload, std::uint64_t base_offset,
                                           std::uint64_t component_count, std::uint64_t max_edges,
-                                          std::uint64_t max_length, StreamEnds ends = StreamEnds::kCompact);
+                                          std::uint64_t max_length, StreamEnds ends);
 
 // The order section's payload (compact stream ends, format 2).
 std::string encode_order(const OrderMap& order);
 // Throws Error(kFormat) unless the payload holds exactly two permutations of the given sizes; `ends` as
 // for decode_topology.
 OrderMap decode_order(std::string_view payload, std::uint64_t base_offset, std::uint32_t vertex_count,
-                      std::uint32_t face_count, StreamEnds ends = StreamEnds::kCompact);
+                      std::uint32_t face_count, StreamEnds ends);
 
 }  // namespace qsp

@@ -30,44 +30,23 @@ std::uint64_t mesh_fingerprint(QuadMesh mesh) {
   return topology_fingerprint(prepare_match(std::move(mesh)).canonical);
 }
 
-// A .qsp without its geometry: inspect() checks the whole file (checksum, counts, topology), then the
-// topology section's codes are rebuilt into the mesh's connectivity (canonical numbering, positions
-// left at zero). The codes cannot be hashed as stored: a file may hold a greedy or merged partition
-// (`compress --partition`), and the fingerprint is defined on the motorcycle partition.
+// A .qsp without its geometry: file_topology() checks the whole file (checksum, counts, topology) and
+// returns its codes, rebuilt here into the mesh's connectivity (canonical numbering, positions left at
+// zero). The codes cannot be hashed as stored: a file may hold a greedy or merged partition (compress
+// chooses the smallest), and the fingerprint is defined on the motorcycle partition.
 std::uint64_t qsp_fingerprint(const std::string& path) {
   const std::string bytes = read_file_bytes(path);
   try {
     const FileInfo info = inspect(bytes);
-    constexpr std::uint8_t kTopologyTag = 0x02;  // format-spec/qsp_format.md, "Sections"
-    for (const SectionInfo& sec : info.sections) {
-      if (sec.tag != kTopologyTag) continue;
-      // size = tag + LEB128 length + payload; the length field is the k that makes this consistent.
-      std::uint64_t payload = 0, header = 1;
-      for (std::uint64_t k = 1; k <= 10; ++k) {
-        const std::uint64_t len = sec.size - 1 - k;
-        std::uint64_t need = 1;
-        for (std::uint64_t x = len >> 7; x; x >>= 7) ++need;
-        if (need == k) {
-          payload = len;
-          header = 1 + k;
-          break;
-        }
-      }
-      const std::uint64_t f = info.faces;
-      const std::vector<TopologyCode> codes =
-          decode_topology(std::string_view(bytes).substr(sec.offset + header, payload), sec.offset + header,
-                          info.components.size(), 4 * f, std::max<std::uint64_t>(4 * f, 1));
-      QuadMesh mesh;
-      std::uint32_t base = 0;
-      for (const TopologyCode& code : codes) {
-        const GridLayout g = grid_layout(partition_from_code(code));
-        for (std::uint32_t v : g.quads) mesh.quads.push_back(base + v);
-        base += g.vertex_count;
-      }
-      mesh.positions.assign(3 * (std::size_t(base) + info.unreferenced), 0.0f);
-      return mesh_fingerprint(std::move(mesh));
+    QuadMesh mesh;
+    std::uint32_t base = 0;
+    for (const TopologyCode& code : file_topology(bytes)) {
+      const GridLayout g = grid_layout(partition_from_code(code));
+      for (std::uint32_t v : g.quads) mesh.quads.push_back(base + v);
+      base += g.vertex_count;
     }
-    throw Error(ErrorCode::kFormat, "no topology section");
+    mesh.positions.assign(3 * (std::size_t(base) + info.unreferenced), 0.0f);
+    return mesh_fingerprint(std::move(mesh));
   } catch (const Error& e) {
     throw Error(e.code(), path + ": " + e.what());
   }
