@@ -507,11 +507,16 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
       return Result{};
     }
   };
+  // Below ~1000 vertices the three take well under a millisecond each and starting a thread costs more
+  // than it saves (much more under sanitizers: the fuzzers encode thousands of tiny meshes a second).
+  constexpr std::uint64_t kThreadFrom = 1024;
   std::future<Result> greedy;
-  try {
-    greedy = std::async(std::launch::async, candidate, PartitionMode::kGreedy);
-  } catch (const std::system_error&) {
-    // no thread to be had: greedy runs below, on this one
+  if (nv >= kThreadFrom) {
+    try {
+      greedy = std::async(std::launch::async, candidate, PartitionMode::kGreedy);
+    } catch (const std::system_error&) {
+      // no thread to be had: greedy runs below, on this one
+    }
   }
   std::array<Result, 3> results;                 // motorcycle, greedy, merge: the first smallest wins
   results[0] = run(PartitionMode::kMotorcycle);  // if this throws, the future's destructor waits

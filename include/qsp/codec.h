@@ -28,8 +28,8 @@ struct EncodeOptions {
   bool keep_order = false;          // also store vertex order, face order and first corners
   // Which structured partition to store; any decodes with the same decoder (all three are canonical).
   // nullopt: meshes of up to 32768 vertices are encoded with each of the three and keep the smallest
-  // file (the first of motorcycle, greedy, merge on a tie), greedy on a second thread; larger ones
-  // use the motorcycle graph.
+  // file (the first of motorcycle, greedy, merge on a tie), greedy on a second thread from 1024
+  // vertices; larger ones use the motorcycle graph.
   std::optional<PartitionMode> partition;
   // Geometry coding order (format-spec, "Coding orders"). nullopt: meshes of up to 32768 vertices
   // are coded in both and keep the smaller; larger ones in patch order, which is smaller on nearly
