@@ -236,8 +236,8 @@ struct Hood {
   const GridLayout::Stencil* t = nullptr;  // its stencil, for the fields `sides` says count
   Kind kind = kNone;
   Kind fallback = kNone;  // for kOpposite / kCorners: the kind it would have along its own edge
-  std::uint8_t ctx =
-      0;  // context kind: kind, 5 / 6 for kWest / kLinear with a far end, 7 kOpposite, 8 kCorners
+  // Context kind: kind, 5 / 6 for kWest / kLinear with a far end, 7 kOpposite, 8 kCorners.
+  std::uint8_t ctx = 0;
   // Which of the stencil's far (edge points: the edge's far end, far_dist steps ahead), e/es (patch
   // side ahead along the row, e_dist) and n/nw (along the column, n_dist) count.
   std::uint8_t sides = 0;
