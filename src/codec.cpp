@@ -596,10 +596,10 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
   return out;
 }
 
-std::vector<TopologyCode> file_topology(std::string_view bytes, const DecodeLimits& limits) {
+FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits) {
   Parsed p = parse_container(bytes, limits);
   decode_components(p);
-  return std::move(p.codes);
+  return {std::move(p.codes), p.counts.unreferenced};
 }
 
 FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {

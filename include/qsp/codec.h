@@ -104,10 +104,14 @@ struct FileInfo {
 // and counts what the file holds. Same errors as decode(). Safe on untrusted input.
 FileInfo inspect(std::string_view bytes, const DecodeLimits& limits = {});
 
-// The topology codes of a whole .qsp (components in canonical order; `FileInfo::unreferenced` more
-// vertices follow them), after the same checks as inspect(), for any version it reads. Same errors as
-// decode(). Safe on untrusted input.
-std::vector<TopologyCode> file_topology(std::string_view bytes, const DecodeLimits& limits = {});
+// The connectivity a whole .qsp stores: its topology codes (components in canonical order) and the
+// number of unreferenced vertices after them. Checks as inspect() does, for any version it reads; same
+// errors as decode(). Safe on untrusted input.
+struct FileTopology {
+  std::vector<TopologyCode> codes;
+  std::uint64_t unreferenced = 0;
+};
+FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits = {});
 
 // ---- Building blocks (exposed for tests and tools) ----
 

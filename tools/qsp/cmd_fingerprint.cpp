@@ -37,15 +37,15 @@ std::uint64_t mesh_fingerprint(QuadMesh mesh) {
 std::uint64_t qsp_fingerprint(const std::string& path) {
   const std::string bytes = read_file_bytes(path);
   try {
-    const FileInfo info = inspect(bytes);
+    const FileTopology topology = file_topology(bytes);
     QuadMesh mesh;
     std::uint32_t base = 0;
-    for (const TopologyCode& code : file_topology(bytes)) {
+    for (const TopologyCode& code : topology.codes) {
       const GridLayout g = grid_layout(partition_from_code(code));
       for (std::uint32_t v : g.quads) mesh.quads.push_back(base + v);
       base += g.vertex_count;
     }
-    mesh.positions.assign(3 * (std::size_t(base) + info.unreferenced), 0.0f);
+    mesh.positions.assign(3 * (std::size_t(base) + topology.unreferenced), 0.0f);
     return mesh_fingerprint(std::move(mesh));
   } catch (const Error& e) {
     throw Error(e.code(), path + ": " + e.what());
