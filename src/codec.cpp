@@ -525,10 +525,8 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
   Result* best = &results[0];
   for (Result& r : results)
     if (!r.bytes.empty() && r.bytes.size() < best->bytes.size()) best = &r;
-  std::string best_bytes = std::move(best->bytes);
-  OrderMap best_order = std::move(best->order);
-  if (order_out) *order_out = std::move(best_order);
-  return best_bytes;
+  if (order_out) *order_out = std::move(best->order);
+  return std::move(best->bytes);
 }
 
 namespace {
