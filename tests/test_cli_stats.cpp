@@ -40,19 +40,23 @@ TEST(CliStats, JsonHasTheDocumentedFields) {
     EXPECT_NE(r.out.find(key), std::string::npos) << key << "\n" << r.out;
 }
 
-// A .qsp row says which format version and geometry coding wrote it (the goldens pin both orders,
-// the 1.3 goldens format 1.3 and the 1.2 goldens revision 3).
+// A .qsp row says which format version and geometry coding wrote it (the goldens pin both orders and
+// revision 5, the 2.0 goldens format 2.0, the 1.3 goldens format 1.3 and the 1.2 goldens revision 3).
 TEST(CliStats, QspRowNamesItsFormatAndCoding) {
   const std::string golden = std::string(QSP_TESTDATA_DIR) + "/golden/";
   auto r = run_qsp("stats " + quote(golden + "l_shape_layout_order.qsp"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("format 2.0, geometry coding revision 4, layout order"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("format 2.1, geometry coding revision 4, layout order"), std::string::npos) << r.out;
+  r = run_qsp("stats " + quote(golden + "tilted_noise.qsp"));
+  EXPECT_NE(r.out.find("format 2.1, geometry coding revision 5, patch order"), std::string::npos) << r.out;
+  r = run_qsp("stats " + quote(golden + "v2.0/l_shape.qsp"));
+  EXPECT_NE(r.out.find("format 2.0, geometry coding revision 4, patch order"), std::string::npos) << r.out;
   r = run_qsp("stats " + quote(golden + "v1.3/l_shape.qsp"));
   EXPECT_NE(r.out.find("format 1.3, geometry coding revision 4, patch order"), std::string::npos) << r.out;
   r = run_qsp("stats " + quote(golden + "v1.2/l_shape.qsp"));
   EXPECT_NE(r.out.find("format 1.2, geometry coding revision 3, patch order"), std::string::npos) << r.out;
   r = run_qsp("stats --json " + quote(golden + "l_shape.qsp"));
-  EXPECT_NE(r.out.find("\"format\": \"2.0\", \"geometry_coding\": {\"revision\": 4, \"order\": \"patch\"}"),
+  EXPECT_NE(r.out.find("\"format\": \"2.1\", \"geometry_coding\": {\"revision\": 4, \"order\": \"patch\"}"),
             std::string::npos)
       << r.out;
 }
@@ -111,7 +115,7 @@ TEST(CliStats, MissingFileAndUsage) {
   const auto v = run_qsp("--version");
   EXPECT_EQ(v.exit_code, 0);
   EXPECT_NE(v.out.find("qsp"), std::string::npos);
-  EXPECT_NE(v.out.find("writes .qsp format 2.0, reads 1.0 to 2.0"), std::string::npos) << v.out;
+  EXPECT_NE(v.out.find("writes .qsp format 2.1, reads 1.0 to 2.1"), std::string::npos) << v.out;
 }
 
 }  // namespace

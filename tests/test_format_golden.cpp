@@ -54,9 +54,13 @@ EncodeOptions options_for(const std::string& name) {
   return o;
 }
 
-// Older format versions whose files must keep decoding: testdata/golden/vX.Y, and the minor byte.
-const std::vector<std::pair<std::string, char>> kOldVersions = {
-    {"v1.0", 0}, {"v1.1", 1}, {"v1.2", 2}, {"v1.3", 3}};
+// Older format versions whose files must keep decoding: testdata/golden/vX.Y, and the version bytes.
+struct OldVersion {
+  std::string dir;
+  char major, minor;
+};
+const std::vector<OldVersion> kOldVersions = {
+    {"v1.0", 1, 0}, {"v1.1", 1, 1}, {"v1.2", 1, 2}, {"v1.3", 1, 3}, {"v2.0", 2, 0}};
 
 TEST(Golden, BytesArePinned) {
   auto names = golden_names();
@@ -78,18 +82,18 @@ TEST(Golden, BytesArePinned) {
   }
 }
 
-// Files of formats 1.0 to 1.3 (testdata/golden/vX.Y: the same meshes, geometry coding revisions 1, 2,
-// 3 (2 for l_shape_layout_order) and 4; LZMA ends on their topology and order streams) still decode,
-// to exactly the mesh the current file of the same name gives.
+// Files of formats 1.0 to 2.0 (testdata/golden/vX.Y: the same meshes, geometry coding revisions 1, 2,
+// 3 (2 for l_shape_layout_order) and 4; LZMA ends on the topology and order streams of 1.x) still
+// decode, to exactly the mesh the current file of the same name gives.
 TEST(Golden, OlderVersionFilesStillDecode) {
-  for (const auto& [dir, minor] : kOldVersions) {
+  for (const auto& [dir, major, minor] : kOldVersions) {
     int seen = 0;
     for (const auto& name : golden_names()) {
       const std::string path = kGolden + "/" + dir + "/" + name + ".qsp";
       if (!fs::exists(path)) continue;  // goldens added later
       SCOPED_TRACE(path);
       const std::string old = slurp(path);
-      ASSERT_EQ(old[8], 1) << "not a " << dir << " file";
+      ASSERT_EQ(old[8], major) << "not a " << dir << " file";
       ASSERT_EQ(old[9], minor) << "not a " << dir << " file";
       const QuadMesh then = decode(old), now = decode(slurp(kGolden + "/" + name + ".qsp"));
       EXPECT_EQ(then.quads, now.quads);
@@ -100,20 +104,22 @@ TEST(Golden, OlderVersionFilesStillDecode) {
   }
 }
 
-// The current goldens are all revision 4 and use both coding orders; the 1.2 goldens pin revision 3
-// (patch order) and 2 (layout order).
+// The current goldens are revision 4 but for tilted_noise (revision 5, normal chaining) and use both
+// coding orders; the 1.2 goldens pin revision 3 (patch order) and 2 (layout order).
 TEST(Golden, BothCodingOrdersArePinned) {
   std::map<CodingOrder, int> orders;
-  std::map<int, int> revisions_1_2;
+  std::map<int, int> revisions, revisions_1_2;
   for (const auto& name : golden_names()) {
     const FileInfo info = inspect(slurp(kGolden + "/" + name + ".qsp"));
-    EXPECT_EQ(info.geometry_revision, 4) << name;
+    ++revisions[info.geometry_revision];
+    EXPECT_EQ(info.geometry_revision, name == "tilted_noise" ? 5 : 4) << name;
     ++orders[info.geometry_order];
     const std::string old = kGolden + "/v1.2/" + name + ".qsp";
     if (fs::exists(old)) ++revisions_1_2[inspect(slurp(old)).geometry_revision];
   }
   EXPECT_GE(orders[CodingOrder::kPatch], 5);
   EXPECT_GE(orders[CodingOrder::kLayout], 1);
+  EXPECT_EQ(revisions[5], 1);
   EXPECT_GE(revisions_1_2[3], 5);
   EXPECT_GE(revisions_1_2[2], 1);
 }
@@ -124,9 +130,9 @@ TEST(Golden, EveryPrefixAndBitFlipIsRefused) {
   std::vector<std::string> paths;
   for (const auto& name : golden_names()) {
     paths.push_back(kGolden + "/" + name + ".qsp");
-    for (const auto& [dir, minor] : kOldVersions)
-      if (fs::exists(kGolden + "/" + dir + "/" + name + ".qsp"))
-        paths.push_back(kGolden + "/" + dir + "/" + name + ".qsp");
+    for (const auto& old : kOldVersions)
+      if (fs::exists(kGolden + "/" + old.dir + "/" + name + ".qsp"))
+        paths.push_back(kGolden + "/" + old.dir + "/" + name + ".qsp");
   }
   for (const auto& path : paths) {
     SCOPED_TRACE(path);
@@ -291,6 +297,14 @@ std::map<std::string, Crafted> crafted() {
     Parts overlong = p;
     overlong.counts = std::string("\x84\x00", 2) + p.counts.substr(1);
     out["qsp_overlong_varint"] = {assemble(overlong), "format", "vertex count is not minimally encoded"};
+  }
+  {
+    // A geometry coding revision newer than this build's: what a 2.0 decoder says to a revision-5
+    // section of a 2.1 file.
+    Parts future = p;
+    future.geometry[0] = 6;
+    out["qsp_unknown_geometry_revision"] = {assemble(future), "format",
+                                            "geometry: unknown geometry coding revision"};
   }
   {
     Parts junk = p;

@@ -1,6 +1,7 @@
 // Geometry coder: bit-exact round trips, decimal grids, quantization bounds, hostile bytes.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -237,6 +238,50 @@ TEST(Geometry, MixedAxisModes) {
   header[3] = static_cast<char>(header[3] & 0x7F);
   header[6] = static_cast<char>(header[6] & 0x7F);
   EXPECT_EQ(header, std::string("\x04\x00\x02\x05\x00\x00\x03\x00", 8));
+}
+
+// A grid on the plane spanned by orthonormal u and v, each vertex moved along the normal u x v by
+// uniform noise of +-0.25 (the spacing is 1), written with 3 decimals.
+std::vector<float> noisy_plane(std::uint32_t a, std::uint32_t b, const std::array<double, 3>& u,
+                               const std::array<double, 3>& v) {
+  const std::array<double, 3> n = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                                   u[0] * v[1] - u[1] * v[0]};
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> noise(-0.25, 0.25);
+  std::vector<float> p;
+  char buf[64];
+  for (std::uint32_t r = 0; r < b; ++r) {
+    for (std::uint32_t c = 0; c < a; ++c) {
+      const double h = noise(rng);
+      for (int k = 0; k < 3; ++k) {
+        std::snprintf(buf, sizeof buf, "%.3f", c * u[k] + r * v[k] + h * n[k]);
+        p.push_back(parse(buf));
+      }
+    }
+  }
+  return p;
+}
+
+// Normal chaining (revision 5): where residuals lie along the surface normal, the encoder finds the
+// chained section smaller and writes it, lossless and quantized, and it decodes bit-exact. Where the
+// normal is an axis there is nothing to chain, and the section stays revision 4 (readable by 2.0).
+TEST(Geometry, NormalChainingWhereResidualsFollowTheNormal) {
+  const auto st = grid_stencil(30, 30);
+  const auto tilted = noisy_plane(30, 30, {2 / 3.0, 1 / 3.0, 2 / 3.0}, {1 / 3.0, 2 / 3.0, -2 / 3.0});
+  const auto flat = noisy_plane(30, 30, {1, 0, 0}, {0, 1, 0});
+  for (std::uint32_t bits : {0u, 14u}) {
+    SCOPED_TRACE(bits);
+    const std::string t = qsp::encode_geometry(tilted, st, {bits});
+    EXPECT_EQ(t[0], 5);
+    const auto back = qsp::decode_geometry(t, st, static_cast<std::uint32_t>(st.size()));
+    if (bits == 0) {
+      EXPECT_TRUE(bit_equal(back, tilted));
+    } else {
+      EXPECT_TRUE(bit_equal(back, round_trip(tilted, st, bits)));
+      EXPECT_LT(qsp::max_geometry_error(tilted, back), 1.3e-3);  // half a step: extent ~39 / (2^14 - 1)
+    }
+    EXPECT_EQ(qsp::encode_geometry(flat, st, {bits})[0], 4);
+  }
 }
 
 TEST(Geometry, PartialStencils) {

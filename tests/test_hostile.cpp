@@ -308,6 +308,8 @@ std::vector<std::pair<std::string, std::string>> sweep_files() {
   // A format 1.3 file with an order section: its topology and order streams have LZMA ends.
   out.emplace_back("1.3 keep-order",
                    read_file_bytes(std::string(QSP_TESTDATA_DIR) + "/golden/v1.3/l_tromino_keep_order.qsp"));
+  // A geometry section with normal chaining (revision 5).
+  out.emplace_back("revision 5", read_file_bytes(std::string(QSP_TESTDATA_DIR) + "/golden/tilted_noise.qsp"));
   return out;
 }
 

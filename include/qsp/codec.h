@@ -18,9 +18,10 @@
 namespace qsp {
 
 // 2.0: the topology and order streams have compact ends. A 1.x decoder cannot read them, so this is a
-// new major: it refuses 2.0 files at the version bytes, with "upgrade qsp".
+// new major: it refuses 2.0 files at the version bytes, with "upgrade qsp". 2.1: geometry coding
+// revision 5 (normal chaining), which a 2.0 decoder refuses by its revision byte.
 inline constexpr std::uint8_t kFormatMajor = 2;
-inline constexpr std::uint8_t kFormatMinor = 0;
+inline constexpr std::uint8_t kFormatMinor = 1;
 inline constexpr std::uint8_t kOldestMajor = 1;  // 1.0 to 1.3 files still decode
 
 struct EncodeOptions {
