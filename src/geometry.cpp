@@ -101,7 +101,7 @@ struct ResidualModel {
   std::vector<BitModel> length;    // [kind][bucket][node 1..63]
   std::vector<BitModel> general;   // [kind][node 1..63]: revision 3 mixes it into every bucket's tree
   bool mixed = false;              // revisions 3, 4
-  bool exclude = false;            // revision 4: no decision for lengths above the axis's maximum
+  bool exclude = false;            // revisions 4, 5: no decision for lengths above the axis's maximum
   std::vector<BitModel> mantissa;  // [L][node 1..3]
   std::vector<BitModel> zeros;     // [digit count of |prediction| 0..15][node 1..15]
   std::vector<BitModel> repeat;    // [kind][previous axis of the vertex: 0 none, 1 coded, 2 repeat]
@@ -137,7 +137,7 @@ struct ResidualModel {
   }
   BitModel* mantissa_tree(int len) { return &mantissa[static_cast<std::size_t>(len) * 4]; }
 
-  // Length decision i (of weight 2^i) is left out in revision 4 when a 1 could only lead to lengths
+  // Length decision i (of weight 2^i) is left out in revisions 4 and 5 when a 1 could only lead to lengths
   // above max_len, given the decisions above it (`high`): at 14 bits, the top two never vary.
   bool forced(int high, int i, int max_len) const { return exclude && (high | (1 << i)) > max_len; }
 
@@ -214,8 +214,8 @@ std::int64_t unzigzag64(std::uint64_t u) {
 // kinds), 2 = format 1.1 (layout order), 3 = format 1.2 (patch order, mixed length models), all still
 // decoded; 4 = format 1.3 (either order, named by a flag; revision 3's coding, residual lengths above
 // the axis's maximum excluded, no vertex count in the header, compact stream ends); 5 = format 2.1
-// (revision 4 plus normal chaining, below). The encoder writes 4 or 5, whichever is smaller, so a
-// file that does not gain from chaining still decodes with format 2.0 decoders.
+// (revision 4 plus normal chaining, below). The encoder writes 5 only where it is smaller, so a file
+// that does not gain from chaining still decodes with format 2.0 decoders.
 constexpr std::uint8_t kLayoutRevision = 2;
 constexpr std::uint8_t kPatchRevision = 3;
 constexpr std::uint8_t kCompactRevision = 4;
@@ -460,6 +460,10 @@ class NormalChain {
     b_ = static_cast<std::int64_t>(across >> scale) + 1;
   }
 
+  // Whether the running energies say residuals lie mostly along the normal here (A > T / 2, T the
+  // across energy): the encoder's cue that chaining may pay (encode_best).
+  bool anisotropic() const { return 2 * a_ > b_ - 1; }
+
   // What to add to axis `axis`'s prediction, given the residuals recorded for the axes before it.
   std::int64_t offset(int axis) const {
     if (axis == 0 || a_ == 0 || norm2_ == 0) return 0;
@@ -497,7 +501,7 @@ class NormalChain {
                                 T{d1[0]} * d2[1] - T{d1[1]} * d2[0]};
     T big = 0;
     for (const T c : m) big |= c < 0 ? -c : c;
-    const auto hi = static_cast<std::uint64_t>(sizeof(T) > 8 ? big >> 63 >> 1 : 0);  // at most 2^41
+    const auto hi = static_cast<std::uint64_t>(sizeof(T) > 8 ? big >> 63 >> 1 : 0);  // below 2^19
     const int width = hi ? 64 + static_cast<int>(std::bit_width(hi))
                          : static_cast<int>(std::bit_width(static_cast<std::uint64_t>(big)));
     const int shift = std::max(0, width - 15);
@@ -818,7 +822,7 @@ Grid make_grid(std::span<const float> pos, std::uint32_t bits) {
 // Coding loop, shared by encoder and decoder so the two cannot drift apart.
 
 constexpr std::uint8_t kRepeatsFlag = 0x01;      // header flags (revision >= 2): value repeats coded
-constexpr std::uint8_t kLayoutOrderFlag = 0x02;  // revision 4: layout order (else patch order)
+constexpr std::uint8_t kLayoutOrderFlag = 0x02;  // revisions 4, 5: layout order (else patch order)
 
 // The coding order of a section of this revision with these header flags.
 CodingOrder coding_order(int revision, std::uint8_t flags) {
@@ -829,7 +833,7 @@ CodingOrder coding_order(int revision, std::uint8_t flags) {
 
 struct Header {
   int revision = kCompactRevision;          // or kChainRevision
-  CodingOrder order = CodingOrder::kPatch;  // revisions 1, 2: layout; 3: patch; 4: its flag
+  CodingOrder order = CodingOrder::kPatch;  // revisions 1, 2: layout; 3: patch; 4, 5: its flag
   std::uint32_t bits = 0;                   // 0 lossless, else quantized
   bool repeats = false;  // a coordinate may be coded as "the k-th closest value seen on its axis"
   std::array<AxisPlan, 3> plans;
@@ -987,10 +991,17 @@ bool repeat(ResidualModel& m, const RepeatRanks& ranks, const Repeats& seen, int
 // Encoder: `ints` holds each integer axis's integers (decimal exceptions are set to their
 // prediction here) and `floats` each float axis's floats. Decoder: both are filled, and `out` gets the
 // floats.
+// Encoder statistics of a section coded without chaining: its kind-3 vertices, and how many of them
+// the chaining model found anisotropic (NormalChain::anisotropic). encode_best tries revision 5 only
+// where that is over a quarter: elsewhere it gained at most a few bytes on the shared meshes.
+struct ChainCue {
+  std::uint32_t vertices = 0, anisotropic = 0;
+};
+
 template <bool kEncode>
 void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
                    std::array<std::vector<std::int64_t>, 3>& ints, std::array<std::vector<float>, 3>& floats,
-                   RangeEncoder* enc, RangeDecoder* dec, std::vector<float>* out) {
+                   RangeEncoder* enc, RangeDecoder* dec, std::vector<float>* out, ChainCue* cue = nullptr) {
   const bool any_int = h.integer_axis(0) || h.integer_axis(1) || h.integer_axis(2);
   std::vector<std::uint32_t> errors(any_int ? std::size_t{count} * kCandidates : 0, kNoError);
   std::array<std::vector<std::uint8_t>, 3> lengths;
@@ -1006,10 +1017,11 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
   std::array<std::array<std::uint64_t, 2>, 4> across_err{};
   std::array<std::array<std::int64_t, 2>, 3> across_pred{};
   NormalChain chain;
-  const bool chaining =
-      h.revision >= kChainRevision && h.integer_axis(0) && h.integer_axis(1) && h.integer_axis(2);
-  std::array<Repeats, 3> seen;       // decoder
-  std::array<RepeatRanks, 3> ranks;  // encoder
+  const bool integer = h.integer_axis(0) && h.integer_axis(1) && h.integer_axis(2);
+  const bool chaining = h.revision >= kChainRevision && integer;
+  const bool modelled = integer && (chaining || cue);  // the chaining model runs (offsets only if chaining)
+  std::array<Repeats, 3> seen;                         // decoder
+  std::array<RepeatRanks, 3> ranks;                    // encoder
   if (kEncode && h.repeats) {
     for (int a = 0; a < 3; ++a) {
       std::vector<std::int64_t> values;
@@ -1042,8 +1054,11 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
       if (!h.integer_axis(a)) continue;
       candidates(x, ints[a].data(), mask, cand[a]);
     }
-    const bool chained = chaining && blended;
-    if (chained) chain.start(x, ints);
+    const bool chained = modelled && blended;
+    if (chained) {
+      chain.start(x, ints);
+      if (cue) ++cue->vertices, cue->anisotropic += chain.anisotropic();
+    }
     std::array<std::int64_t, 3> blended_pred{};
     for (int a = 0; a < 3; ++a) {
       // Magnitude class: neighbours' residual lengths, averaged with the blend's expected error.
@@ -1058,7 +1073,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
         std::int64_t pred;
         if (blended) {
           pred = blended_pred[a] = blend(cand[a], mask, weight);
-          if (chained) pred += chain.offset(a);
+          if (chaining) pred += chain.offset(a);
         } else if (across) {
           const std::int64_t pa = predict_kind(x, x.kind, v), pf = predict_kind(x, x.fallback, v);
           across_pred[a] = {pa, pf};
@@ -1282,8 +1297,8 @@ Header read_header(Reader& in, std::uint32_t count) {
 }
 
 // The section for the first `count` vertices (stencils only look back, so a prefix codes on its own).
-std::string encode_with(std::span<const float> pos, const Hoods& hoods, std::uint32_t count,
-                        const Header& h) {
+std::string encode_with(std::span<const float> pos, const Hoods& hoods, std::uint32_t count, const Header& h,
+                        ChainCue* cue = nullptr) {
   std::array<std::vector<std::int64_t>, 3> ints;
   std::array<std::vector<float>, 3> floats;
   for (int a = 0; a < 3; ++a) {
@@ -1312,7 +1327,7 @@ std::string encode_with(std::span<const float> pos, const Hoods& hoods, std::uin
   write_header(out, h, count);
   std::string payload;
   RangeEncoder rc(payload, h.revision >= kCompactRevision ? StreamEnds::kCompact : StreamEnds::kLzma);
-  code_vertices<true>(h, hoods, count, ints, floats, &rc, nullptr, nullptr);
+  code_vertices<true>(h, hoods, count, ints, floats, &rc, nullptr, nullptr, cue);
   rc.finish();
   put_varint(out, payload.size());
   out += payload;
@@ -1320,9 +1335,10 @@ std::string encode_with(std::span<const float> pos, const Hoods& hoods, std::uin
 }
 
 // Header h with normal chaining (revision 5), if its axes are all integer axes (else there is nothing
-// to chain).
-std::optional<Header> chained(const Header& h) {
+// to chain) and `cue`, from coding with h, says it may pay.
+std::optional<Header> chained(const Header& h, const ChainCue& cue) {
   if (!h.integer_axis(0) || !h.integer_axis(1) || !h.integer_axis(2)) return std::nullopt;
+  if (std::uint64_t{cue.anisotropic} * 5 <= cue.vertices) return std::nullopt;
   Header c = h;
   c.revision = kChainRevision;
   return c;
@@ -1330,8 +1346,9 @@ std::optional<Header> chained(const Header& h) {
 
 // The smallest of the candidate headers (value repeats on and off; for lossless, the decimal plan and
 // plain float bits): repeats pay on CAD-like meshes (pawn -37% at 14 bits) and cost a few percent where
-// coordinates only repeat by chance. Then the best one with normal chaining, if that is smaller (one
-// more encode, not one per header: chaining gains on remeshed scans and is neutral elsewhere). Meshes
+// coordinates only repeat by chance. Then the best one with normal chaining, if that is smaller: one
+// more encode, not one per header, and only where the best one's ChainCue says it may pay (chaining
+// gains on remeshed scans and is neutral elsewhere). Meshes
 // of more than kTryAll vertices choose on their first kSample (stencils only look back, so a prefix
 // codes on its own), scaling the payload to the whole mesh, and are coded once.
 std::string encode_best(std::span<const float> pos, const Hoods& hoods, const std::vector<Header>& options) {
@@ -1340,11 +1357,14 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
   if (count <= kTryAll) {
     std::string best;
     const Header* best_header = nullptr;
+    ChainCue best_cue;
     for (const Header& h : options) {
-      std::string bytes = encode_with(pos, hoods, count, h);
-      if (best.empty() || bytes.size() < best.size()) best = std::move(bytes), best_header = &h;
+      ChainCue cue;
+      std::string bytes = encode_with(pos, hoods, count, h, &cue);
+      if (best.empty() || bytes.size() < best.size())
+        best = std::move(bytes), best_header = &h, best_cue = cue;
     }
-    if (const std::optional<Header> c = chained(*best_header)) {
+    if (const std::optional<Header> c = chained(*best_header, best_cue)) {
       std::string bytes = encode_with(pos, hoods, count, *c);
       if (bytes.size() < best.size()) best = std::move(bytes);
     }
@@ -1353,17 +1373,19 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
   const double scale = static_cast<double>(count) / kSample;
   const Header* best = nullptr;
   double best_size = 0;
-  auto estimate = [&](const Header& h) {
+  auto estimate = [&](const Header& h, ChainCue* cue) {
     std::string head;
     write_header(head, h, count);
     return static_cast<double>(head.size()) +
-           scale * static_cast<double>(encode_with(pos, hoods, kSample, h).size() - head.size());
+           scale * static_cast<double>(encode_with(pos, hoods, kSample, h, cue).size() - head.size());
   };
+  ChainCue best_cue;
   for (const Header& h : options) {
-    const double size = estimate(h);
-    if (!best || size < best_size) best = &h, best_size = size;
+    ChainCue cue;
+    const double size = estimate(h, &cue);
+    if (!best || size < best_size) best = &h, best_size = size, best_cue = cue;
   }
-  if (const std::optional<Header> c = chained(*best); c && estimate(*c) < best_size)
+  if (const std::optional<Header> c = chained(*best, best_cue); c && estimate(*c, nullptr) < best_size)
     return encode_with(pos, hoods, count, *c);
   return encode_with(pos, hoods, count, *best);
 }

@@ -91,7 +91,7 @@ struct FileInfo {
   std::uint64_t geometry_bytes = 0;
   std::uint64_t order_bytes = 0;       // keep-order permutations (0 if absent)
   std::uint64_t other_bytes = 0;       // optional sections this decoder skipped
-  std::uint8_t geometry_revision = 0;  // 1, 2 (layout order), 3 (patch order) or 4 (either); see the spec
+  std::uint8_t geometry_revision = 0;  // 1, 2 (layout order), 3 (patch order), 4 or 5 (either); see the spec
   CodingOrder geometry_order = CodingOrder::kLayout;  // the order the positions were coded in
   std::uint64_t vertices = 0, edges = 0, faces = 0, unreferenced = 0, extraordinary = 0;
   std::uint64_t schematic_vertices = 0, schematic_edges = 0, patches = 0;

@@ -23,7 +23,7 @@ struct BitModel {
 
 // How a stream begins and ends. kLzma: as in LZMA, a first byte that is always 0 and a flush of the
 // whole 32-bit `low` (the topology and order sections of format 1.x, geometry revisions 1-3). kCompact
-// (the topology and order sections of format 2, geometry revision 4): no zero byte, and a flush that
+// (the topology and order sections of format 2, geometry revisions 4 and 5): no zero byte, and a flush that
 // ends on the value of the final interval with the most trailing zero bytes (3 or 4), those bytes left
 // out; the decoder reads them back as zeros. 4 or 5 bytes less a stream.
 enum class StreamEnds : std::uint8_t { kLzma, kCompact };

@@ -30,7 +30,7 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
 std::vector<float> decode_geometry(std::string_view bytes, std::span<const GridLayout::Stencil> stencil,
                                    std::uint32_t vertex_count);
 
-// The coding order a geometry section was written in (its revision byte; in revision 4 a flag of its
+// The coding order a geometry section was written in (its revision byte; in revisions 4 and 5 a flag of its
 // third byte), so the caller can build the matching stencils. Throws Error(kFormat) if the section is
 // too short or of an unknown revision.
 CodingOrder geometry_coding_order(std::string_view bytes);
