@@ -839,6 +839,7 @@ struct Header {
   std::array<AxisPlan, 3> plans;
   Grid grid;
   bool integer_axis(int a) const { return bits != 0 || plans[a].mode != kFloatBits; }
+  bool integer_axes() const { return integer_axis(0) && integer_axis(1) && integer_axis(2); }  // chainable
   int max_length(int a) const {
     return bits ? static_cast<int>(bits) : plans[a].mode == kFloatBits ? kFloatMaxLength : kDecimalMaxLength;
   }
@@ -988,16 +989,22 @@ bool repeat(ResidualModel& m, const RepeatRanks& ranks, const Repeats& seen, int
   }
 }
 
-// Encoder: `ints` holds each integer axis's integers (decimal exceptions are set to their
-// prediction here) and `floats` each float axis's floats. Decoder: both are filled, and `out` gets the
-// floats.
+// A quantized residual modulo 2^bits (qmax = 2^bits - 1), taken in [-2^(bits-1), 2^(bits-1)).
+std::int64_t wrapped(std::int64_t r, std::int64_t qmax) {
+  r &= qmax;
+  return r > qmax / 2 ? r - (qmax + 1) : r;
+}
+
 // Encoder statistics of a section coded without chaining: its kind-3 vertices, and how many of them
 // the chaining model found anisotropic (NormalChain::anisotropic). encode_best tries revision 5 only
-// where that is over a quarter: elsewhere it gained at most a few bytes on the shared meshes.
+// where that is over a fifth: elsewhere it gained at most a few bytes on the shared meshes.
 struct ChainCue {
   std::uint32_t vertices = 0, anisotropic = 0;
 };
 
+// Encoder: `ints` holds each integer axis's integers (decimal exceptions are set to their
+// prediction here) and `floats` each float axis's floats. Decoder: both are filled, and `out` gets the
+// floats.
 template <bool kEncode>
 void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
                    std::array<std::vector<std::int64_t>, 3>& ints, std::array<std::vector<float>, 3>& floats,
@@ -1017,11 +1024,11 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
   std::array<std::array<std::uint64_t, 2>, 4> across_err{};
   std::array<std::array<std::int64_t, 2>, 3> across_pred{};
   NormalChain chain;
-  const bool integer = h.integer_axis(0) && h.integer_axis(1) && h.integer_axis(2);
-  const bool chaining = h.revision >= kChainRevision && integer;
-  const bool modelled = integer && (chaining || cue);  // the chaining model runs (offsets only if chaining)
-  std::array<Repeats, 3> seen;                         // decoder
-  std::array<RepeatRanks, 3> ranks;                    // encoder
+  const bool chaining = h.revision >= kChainRevision && h.integer_axes();
+  // The chaining model runs (its offsets only if chaining) for the decoder and for the encoder's cue.
+  const bool modelled = h.integer_axes() && (chaining || cue);
+  std::array<Repeats, 3> seen;       // decoder
+  std::array<RepeatRanks, 3> ranks;  // encoder
   if (kEncode && h.repeats) {
     for (int a = 0; a < 3; ++a) {
       std::vector<std::int64_t> values;
@@ -1086,11 +1093,8 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
           hit =
               h.repeats && repeat<kEncode>(*model, ranks[a], seen[a], x.ctx, previous, pred, v[i], enc, dec);
           if (kEncode || hit) {
-            // Residual modulo 2^bits, taken in [-2^(bits-1), 2^(bits-1)) (for a repeat: only for the
-            // neighbours' magnitude classes).
-            std::int64_t r = (v[i] - pred) & qmax;
-            if (r > qmax / 2) r -= qmax + 1;
-            u = zigzag64(r);
+            // (For a repeat: only for the neighbours' magnitude classes.)
+            u = zigzag64(wrapped(v[i] - pred, qmax));
           } else {
             u = model->decode(*dec, x.ctx, bucket, h.max_length(a));
             v[i] = (pred + unzigzag64(u)) & qmax;
@@ -1169,12 +1173,8 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
       }
       lengths[a][i] = static_cast<std::uint8_t>(std::bit_width(u));
       if (chained) {
-        std::int64_t r = ints[a][i] - blended_pred[a];
-        if (h.bits) {
-          r &= qmax;
-          if (r > qmax / 2) r -= qmax + 1;
-        }
-        chain.record(a, r);
+        const std::int64_t r = ints[a][i] - blended_pred[a];
+        chain.record(a, h.bits ? wrapped(r, qmax) : r);
       }
       if (h.repeats) {
         if (candidate) {
@@ -1337,7 +1337,7 @@ std::string encode_with(std::span<const float> pos, const Hoods& hoods, std::uin
 // Header h with normal chaining (revision 5), if its axes are all integer axes (else there is nothing
 // to chain) and `cue`, from coding with h, says it may pay.
 std::optional<Header> chained(const Header& h, const ChainCue& cue) {
-  if (!h.integer_axis(0) || !h.integer_axis(1) || !h.integer_axis(2)) return std::nullopt;
+  if (!h.integer_axes()) return std::nullopt;
   if (std::uint64_t{cue.anisotropic} * 5 <= cue.vertices) return std::nullopt;
   Header c = h;
   c.revision = kChainRevision;
@@ -1348,9 +1348,9 @@ std::optional<Header> chained(const Header& h, const ChainCue& cue) {
 // plain float bits): repeats pay on CAD-like meshes (pawn -37% at 14 bits) and cost a few percent where
 // coordinates only repeat by chance. Then the best one with normal chaining, if that is smaller: one
 // more encode, not one per header, and only where the best one's ChainCue says it may pay (chaining
-// gains on remeshed scans and is neutral elsewhere). Meshes
-// of more than kTryAll vertices choose on their first kSample (stencils only look back, so a prefix
-// codes on its own), scaling the payload to the whole mesh, and are coded once.
+// gains on remeshed scans and is neutral elsewhere). Meshes of more than kTryAll vertices choose on
+// their first kSample (stencils only look back, so a prefix codes on its own), scaling the payload to
+// the whole mesh, and are coded once.
 std::string encode_best(std::span<const float> pos, const Hoods& hoods, const std::vector<Header>& options) {
   constexpr std::uint32_t kTryAll = 32768, kSample = 4096;
   const std::uint32_t count = hoods.size();
