@@ -546,17 +546,14 @@ class MatchCli : public ::testing::Test {
     return p;
   }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  static std::vector<std::string> lines(const std::string& file) {
-    std::ifstream f(file);
+  static std::vector<std::string> lines(std::istream&& in) {
     std::vector<std::string> out;
-    for (std::string l; std::getline(f, l);) out.push_back(l);
+    for (std::string l; std::getline(in, l);) out.push_back(l);
     return out;
   }
+  static std::vector<std::string> lines(const std::string& file) { return lines(std::ifstream(file)); }
   static std::vector<std::string> lines_of(const std::string& text) {
-    std::istringstream f(text);
-    std::vector<std::string> out;
-    for (std::string l; std::getline(f, l);) out.push_back(l);
-    return out;
+    return lines(std::istringstream(text));
   }
   fs::path dir_;
 };
