@@ -1351,20 +1351,20 @@ std::optional<Header> chained(const Header& h, const ChainCue& cue) {
 // gains on remeshed scans and is neutral elsewhere). Meshes of more than kTryAll vertices choose on
 // their first kSample (stencils only look back, so a prefix codes on its own), scaling the payload to
 // the whole mesh, and are coded once.
-std::string encode_best(std::span<const float> pos, const Hoods& hoods, const std::vector<Header>& options) {
+// `chosen` gets the index of the header it chose (before chaining).
+std::string encode_best(std::span<const float> pos, const Hoods& hoods, const std::vector<Header>& options,
+                        std::size_t& chosen) {
   constexpr std::uint32_t kTryAll = 32768, kSample = 4096;
   const std::uint32_t count = hoods.size();
   if (count <= kTryAll) {
     std::string best;
-    const Header* best_header = nullptr;
     ChainCue best_cue;
-    for (const Header& h : options) {
+    for (std::size_t i = 0; i < options.size(); ++i) {
       ChainCue cue;
-      std::string bytes = encode_with(pos, hoods, count, h, &cue);
-      if (best.empty() || bytes.size() < best.size())
-        best = std::move(bytes), best_header = &h, best_cue = cue;
+      std::string bytes = encode_with(pos, hoods, count, options[i], &cue);
+      if (best.empty() || bytes.size() < best.size()) best = std::move(bytes), chosen = i, best_cue = cue;
     }
-    if (const std::optional<Header> c = chained(*best_header, best_cue)) {
+    if (const std::optional<Header> c = chained(options[chosen], best_cue)) {
       std::string bytes = encode_with(pos, hoods, count, *c);
       if (bytes.size() < best.size()) best = std::move(bytes);
     }
@@ -1380,10 +1380,10 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
            scale * static_cast<double>(encode_with(pos, hoods, kSample, h, cue).size() - head.size());
   };
   ChainCue best_cue;
-  for (const Header& h : options) {
+  for (std::size_t i = 0; i < options.size(); ++i) {
     ChainCue cue;
-    const double size = estimate(h, &cue);
-    if (!best || size < best_size) best = &h, best_size = size, best_cue = cue;
+    const double size = estimate(options[i], &cue);
+    if (!best || size < best_size) best = &options[i], best_size = size, best_cue = cue, chosen = i;
   }
   if (const std::optional<Header> c = chained(*best, best_cue); c && estimate(*c, nullptr) < best_size)
     return encode_with(pos, hoods, count, *c);
@@ -1393,7 +1393,7 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
 }  // namespace
 
 std::string encode_geometry(std::span<const float> positions, std::span<const GridLayout::Stencil> stencil,
-                            const GeometryOptions& options) {
+                            const GeometryOptions& options, GeometryChoice* chosen) {
   if (positions.size() % 3 != 0) throw Error(ErrorCode::kInternal, "geometry: positions not a multiple of 3");
   if (positions.size() / 3 > std::numeric_limits<std::uint32_t>::max() - 1) {
     throw Error(ErrorCode::kLimit, "geometry: too many vertices");
@@ -1403,25 +1403,46 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
   Header h;
   h.order = options.order;
   const Hoods hoods(stencil, h.revision, h.order);
-  std::vector<Header> options_to_try;
+  std::vector<Header> headers;
+  std::vector<GeometryChoice> choices;  // what each header is, in GeometryChoice's terms
   if (options.quantize_bits) {
     h.bits = options.quantize_bits;
     h.grid = make_grid(positions, h.bits);
-    options_to_try = {h};
+    headers = {h};
+    choices = {{}};
   } else {
     for (int a = 0; a < 3; ++a) h.plans[a] = plan_axis(positions, a);
-    options_to_try = {h};
+    const bool decimal =
+        std::any_of(h.plans.begin(), h.plans.end(), [](const AxisPlan& p) { return p.mode != kFloatBits; });
+    headers = {h};
+    choices = {{false, decimal}};
     // The decimal estimate is a heuristic: never do worse than plain float bits.
-    if (std::any_of(h.plans.begin(), h.plans.end(), [](const AxisPlan& p) { return p.mode != kFloatBits; })) {
-      options_to_try.push_back(Header{});
-      options_to_try.back().order = h.order;
+    if (decimal) {
+      headers.push_back(Header{});
+      headers.back().order = h.order;
+      choices.push_back({false, false});
     }
   }
-  for (std::size_t i = 0, n = options_to_try.size(); i < n; ++i) {
-    options_to_try.push_back(options_to_try[i]);
-    options_to_try.back().repeats = true;
+  for (std::size_t i = 0, n = headers.size(); i < n; ++i) {
+    headers.push_back(headers[i]);
+    headers.back().repeats = true;
+    choices.push_back({true, choices[i].decimal});
   }
-  return encode_best(positions, hoods, options_to_try);
+  if (options.choice) {  // only the header chosen (all of them if none matches)
+    std::vector<Header> kept;
+    std::vector<GeometryChoice> kept_choices;
+    for (std::size_t i = 0; i < headers.size(); ++i) {
+      if (choices[i].repeats != options.choice->repeats || choices[i].decimal != options.choice->decimal)
+        continue;
+      kept.push_back(headers[i]);
+      kept_choices.push_back(choices[i]);
+    }
+    if (!kept.empty()) headers = std::move(kept), choices = std::move(kept_choices);
+  }
+  std::size_t best = 0;
+  std::string bytes = encode_best(positions, hoods, headers, best);
+  if (chosen) *chosen = choices[best];
+  return bytes;
 }
 
 std::vector<float> decode_geometry(std::string_view bytes, std::span<const GridLayout::Stencil> stencil,

@@ -433,6 +433,47 @@ TEST(Geometry, RepeatedValuesCostTheirRank) {
   }
 }
 
+// encode_geometry reports the header it chose, and a choice given back restricts it to that header:
+// the codec's other encodes of a mesh skip the trials that way, so both must hold exactly.
+TEST(Geometry, HeaderChoiceIsReportedAndHonoured) {
+  const auto st = grid_stencil(30, 30);
+  std::mt19937 rng(5);
+  std::vector<float> repeating(st.size() * 3);  // repeats pay
+  for (float& f : repeating) f = static_cast<float>(1000 * static_cast<int>(rng() % 8) - 3500);
+  const std::vector<float> decimal = smooth_positions(30, 30, 4);  // a 4-decimal grid, no repeats
+  struct Case {
+    const std::vector<float>* pos;
+    std::uint32_t bits;
+    qsp::GeometryChoice expected;
+  };
+  for (const Case& c : {Case{&repeating, 0, {true, true}}, Case{&repeating, 16, {true, false}},
+                        Case{&decimal, 0, {false, true}}}) {
+    SCOPED_TRACE(c.bits);
+    qsp::GeometryOptions opt{c.bits};
+    qsp::GeometryChoice chosen{!c.expected.repeats, !c.expected.decimal};
+    const std::string best = qsp::encode_geometry(*c.pos, st, opt, &chosen);
+    EXPECT_EQ(chosen.repeats, c.expected.repeats);
+    if (c.bits == 0) {
+      EXPECT_EQ(chosen.decimal, c.expected.decimal);
+    }
+    // Given back, the choice gives the same bytes; the other repeats setting gives a larger section
+    // that still decodes to the same positions.
+    opt.choice = chosen;
+    EXPECT_EQ(qsp::encode_geometry(*c.pos, st, opt), best);
+    opt.choice = qsp::GeometryChoice{!chosen.repeats, chosen.decimal};
+    qsp::GeometryChoice other;
+    const std::string worse = qsp::encode_geometry(*c.pos, st, opt, &other);
+    EXPECT_EQ(other.repeats, !chosen.repeats);
+    EXPECT_GT(worse.size(), best.size());
+    const auto a = qsp::decode_geometry(best, st, static_cast<std::uint32_t>(st.size()));
+    const auto b = qsp::decode_geometry(worse, st, static_cast<std::uint32_t>(st.size()));
+    EXPECT_TRUE(bit_equal(a, b));
+    if (c.bits == 0) {
+      EXPECT_TRUE(bit_equal(a, *c.pos));
+    }
+  }
+}
+
 // Predicting edge points and schematic vertices across their patch (o/ow/ofar, x0..x2) pays where
 // patches are small: CAD-like subdivision cages, where the opposite side of a patch is often an
 // exact copy. Without those fields the coder falls back to predicting along the edge.

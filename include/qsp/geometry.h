@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -11,19 +12,30 @@
 
 namespace qsp {
 
+// Which of its candidate headers an encode chose. It depends on the coordinates far more than on the
+// stencils, so the codec lets one encode choose for the others of the same mesh.
+struct GeometryChoice {
+  bool repeats = false;  // coordinates may be coded as repeats of earlier values
+  bool decimal = false;  // lossless: the decimal-grid plan, where there is one (else float bits)
+};
+
 struct GeometryOptions {
   // 0 = lossless (float32 bit-exact). 1..30 = uniform grid over the bounding box's largest extent.
   std::uint32_t quantize_bits = 0;
   // The order the stencils are in (grid_layout's `order`); written to the file as a header flag.
   CodingOrder order = CodingOrder::kLayout;
+  // nullopt: try every candidate header and keep the smallest section. Else code with this one only
+  // (normal chaining is still tried where it may pay).
+  std::optional<GeometryChoice> choice = std::nullopt;
 };
 
 // Encodes positions (3 floats per vertex, in coding order) using, for each vertex, the grid stencil of
 // already-coded neighbours. Lossless mode is bit-exact for every float, NaN payloads and -0 included;
 // it detects decimal-grid data (e.g. every coordinate written with 4 decimals) and codes its integers.
-// Returns self-delimiting bytes (see format-spec/qsp_format.md, "Geometry section").
+// Returns self-delimiting bytes (see format-spec/qsp_format.md, "Geometry section"); if `chosen` is
+// given, it gets the header choice the section was coded with.
 std::string encode_geometry(std::span<const float> positions, std::span<const GridLayout::Stencil> stencil,
-                            const GeometryOptions& options);
+                            const GeometryOptions& options, GeometryChoice* chosen = nullptr);
 
 // Inverse of encode_geometry for `vertex_count` vertices and the same stencils. Throws Error(kFormat)
 // on any inconsistency; never reads outside `bytes`. Safe on untrusted input.
