@@ -176,6 +176,12 @@ PlyHeader parse_header(std::string_view bytes, const std::string& path) {
         p.name = std::string(w[2]);
       }
       if (p.type == PlyType::kNone) fail_at(ErrorCode::kParse, path, line_no, "malformed PLY property line");
+      // A second x would otherwise be read past and dropped: which one is the position is not ours to guess.
+      if (h.elements.back().find(p.name) >= 0) {
+        fail_at(ErrorCode::kParse, path, line_no,
+                "PLY element '" + shown(h.elements.back().name) + "' declares property '" + shown(p.name) +
+                    "' twice");
+      }
       h.elements.back().properties.push_back(std::move(p));
     } else if (w[0] == "end_header") {
       break;
@@ -208,6 +214,8 @@ struct PlyLayout {
 PlyLayout check_header(const PlyHeader& h, std::string_view bytes, const std::string& path, ReadReport& r) {
   PlyLayout l;
   const std::uint64_t available = bytes.size() - h.data_offset;
+  // In ASCII the last value needs no separator after it: one byte of slack.
+  const std::uint64_t room = available + (h.format == PlyHeader::Format::kAscii ? 1 : 0);
   std::uint64_t min_bytes = 0;
   for (const auto& e : h.elements) {
     // Smallest encoding of one element: a 1-character token and a separator per value in ASCII.
@@ -215,7 +223,7 @@ PlyLayout check_header(const PlyHeader& h, std::string_view bytes, const std::st
     for (const auto& p : e.properties) {
       per += h.format == PlyHeader::Format::kAscii ? 2 : type_size(p.list() ? p.count_type : p.type);
     }
-    if (per && e.count > available / per) {
+    if (per && e.count > room / per) {
       fail_at(ErrorCode::kParse, path, e.header_line,
               "PLY header declares " + std::to_string(e.count) + " " + shown(e.name) + " elements but only " +
                   std::to_string(available) + " bytes of data follow (truncated file?)");
@@ -230,7 +238,7 @@ PlyLayout check_header(const PlyHeader& h, std::string_view bytes, const std::st
               "PLY element '" + shown(e.name) + "' is not supported; qsp stores quad meshes only");
     }
   }
-  if (min_bytes > available) {
+  if (min_bytes > room) {
     fail_at(ErrorCode::kParse, path, h.header_lines,
             "PLY header declares more data than the file holds (truncated?)");
   }
@@ -347,11 +355,13 @@ class PlyData {
       f = std::bit_cast<float>(static_cast<std::uint32_t>(raw(4, what, index)));
     } else if (t == PlyType::kFloat64) {
       const double d = std::bit_cast<double>(raw(8, what, index));
-      if (std::isfinite(d) && std::fabs(d) > static_cast<double>(std::numeric_limits<float>::max())) {
-        fail(ErrorCode::kBadNumber,
-             std::string(what) + " " + std::to_string(index) + " has a coordinate outside the float32 range");
+      f = static_cast<float>(d);  // to nearest, as std::from_chars rounds text
+      // Refused as text is: rounding to infinity, or a nonzero value to zero, would change the mesh.
+      if (std::isfinite(d) && (std::isinf(f) || (f == 0.0f && d != 0.0))) {
+        fail(ErrorCode::kBadNumber, std::string(what) + " " + std::to_string(index) +
+                                        " has a coordinate outside the float32 range (it does not round to "
+                                        "a finite nonzero float)");
       }
-      f = static_cast<float>(d);
     } else {
       f = static_cast<float>(integer(t, what, index));
     }

@@ -77,8 +77,10 @@ struct NonQuads {
 
 inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
-// Cursor over the text with line tracking. Blanks are spaces, tabs, CR and backslash-newline
-// continuations; a statement ends at '\n', '#' or the end of the text.
+// Cursor over the text with line tracking. Blanks are spaces, tabs, a CR before a LF and
+// backslash-newline continuations; a statement ends at a line end, '#' or the end of the text. A line
+// ends at LF, CRLF or a CR alone (classic Mac OS): treating a lone CR as a blank once let a comment
+// swallow the statements after it.
 class Scanner {
  public:
   Scanner(std::string_view text, std::string_view source)
@@ -95,7 +97,7 @@ class Scanner {
 
   void skip_blank() {
     for (;;) {
-      while (p_ < end_ && is_blank(*p_)) ++p_;
+      while (p_ < end_ && is_blank(*p_) && !lone_cr(p_)) ++p_;
       if (p_ < end_ && *p_ == '\\' && continuation_at(p_)) {
         skip_continuation();
         continue;
@@ -104,20 +106,26 @@ class Scanner {
     }
   }
   // True at the end of a statement (after skip_blank).
-  bool at_eol() const { return p_ == end_ || *p_ == '\n' || *p_ == '#'; }
+  bool at_eol() const { return p_ == end_ || *p_ == '\n' || *p_ == '#' || lone_cr(p_); }
 
   // Consumes the end of a statement: optional comment, then the newline.
   void finish_line() {
     if (p_ < end_ && *p_ == '#') skip_comment();
     if (p_ < end_) {
-      ++p_;  // the '\n'
+      ++p_;  // the LF, or a lone CR
       ++line_;
     }
   }
-  // Skips a comment up to and including its newline; a backslash does not continue a comment.
+  // Skips a comment up to its line end; a backslash does not continue a comment.
   void skip_comment() {
     const void* nl = std::memchr(p_, '\n', remaining());
-    p_ = nl ? static_cast<const char*>(nl) : end_;
+    const char* e = nl ? static_cast<const char*>(nl) : end_;
+    const void* cr = std::memchr(p_, '\r', static_cast<std::size_t>(e - p_));
+    while (cr && !lone_cr(static_cast<const char*>(cr))) {  // a CR before the LF: look further
+      const char* c = static_cast<const char*>(cr) + 1;
+      cr = std::memchr(c, '\r', static_cast<std::size_t>(e - c));
+    }
+    p_ = cr ? static_cast<const char*>(cr) : e;
   }
   // Skips the rest of a statement whose content qsp only counts (honours continuations).
   void skip_statement() {
@@ -207,14 +215,16 @@ class Scanner {
  private:
   // from_chars refuses a leading '+', which some writers emit; a following '-' stays malformed.
   const char* skip_plus() const { return p_ + 1 < end_ && *p_ == '+' ? p_ + 1 : p_; }
+  // A CR that does not start a CRLF: a line end of its own.
+  bool lone_cr(const char* s) const { return *s == '\r' && (s + 1 == end_ || s[1] != '\n'); }
   bool continuation_at(const char* s) const {
     ++s;
-    while (s < end_ && is_blank(*s)) ++s;
-    return s == end_ || *s == '\n';
+    while (s < end_ && is_blank(*s) && !lone_cr(s)) ++s;
+    return s == end_ || *s == '\n' || lone_cr(s);
   }
   void skip_continuation() {
     ++p_;
-    while (p_ < end_ && is_blank(*p_)) ++p_;
+    while (p_ < end_ && is_blank(*p_) && !lone_cr(p_)) ++p_;
     if (p_ < end_) {
       ++p_;
       ++line_;
@@ -571,8 +581,8 @@ class OffReader {
                "header declares " + std::to_string(face_count_) + " faces; qsp's limit is " +
                    std::to_string(kMaxFaces));
     }
-    // Smallest possible entries: "0 0 0\n" per vertex, "0\n" per face.
-    const std::uint64_t need = 6 * vertex_count_ + 2 * face_count_;
+    // Smallest possible entries: "0 0 0\n" per vertex, "0\n" per face; the last needs no newline.
+    const std::uint64_t need = std::max<std::uint64_t>(6 * vertex_count_ + 2 * face_count_, 1) - 1;
     if (need > in_.remaining()) {
       in_.fail(ErrorCode::kParse, counts_line_,
                "header declares " + plural(vertex_count_, "vertex", "vertices") + " and " +

@@ -195,6 +195,31 @@ TEST(ReadObj, ContinuationJoinsLinesAndKeepsLineNumbers) {
   EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{5, 7}));
 }
 
+// A CR alone ends a line (classic Mac OS), as LF and CRLF do. Read as a blank, it once let a comment
+// or a counted statement (g, o, usemtl, ...) swallow the lines after it: faces silently lost.
+TEST(ReadObj, LoneCarriageReturnEndsALine) {
+  const std::string quad = "v 0 0 0\rv 1 0 0\rv 1 1 0\rv 0 1 0\rf 1 2 3 4\r";
+  qsp::ReadReport r;
+  qsp::QuadMesh m = qsp::read_obj("# exported by OldMacTool\r" + quad, "t.obj", &r);
+  EXPECT_EQ(m.vertex_count(), 4u);
+  EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{0, 1, 2, 3}));
+  EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{6}));
+  // Mixed line ends: the face after a CR-ended comment is kept, and counted statements end there too.
+  m = qsp::read_obj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4\n# second\rf 2 5 6 3\n",
+                    "t.obj");
+  EXPECT_EQ(m.face_count(), 2u);
+  m = qsp::read_obj("o cube\r" + quad, "t.obj", &r);
+  EXPECT_EQ(m.face_count(), 1u);
+  EXPECT_EQ(r.groups, 1u);
+  // Line numbers count lone CRs, and a backslash before one continues the statement.
+  const std::string msg =
+      expect_error([&] { qsp::read_obj(quad + "f 1 2 x 4\r", "t.obj"); }, qsp::ErrorCode::kParse);
+  EXPECT_NE(msg.find("t.obj:6: malformed integer 'x'"), std::string::npos) << msg;
+  m = qsp::read_obj("v 0 0 \\\r 0\rv 1 0 0\r\rv 1 1 0\rv 0 1 0\rf 1 2 3 4", "t.obj", &r);
+  EXPECT_EQ(m.vertex_count(), 4u);
+  EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{7}));
+}
+
 TEST(ReadObj, EmptyAndCommentOnlyInputs) {
   EXPECT_EQ(qsp::read_obj("", "t.obj").vertex_count(), 0u);
   EXPECT_EQ(qsp::read_obj("# nothing\n\n   \n", "t.obj").face_count(), 0u);
@@ -404,6 +429,46 @@ TEST(ReadPly, BinaryLittleEndianDoublesAndColours) {
   EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{1, 2, 3, 0}));
   EXPECT_EQ(m.positions[11], 0.25f);
   EXPECT_EQ(r.vertex_colors, 4u);
+}
+
+// Doubles round to the nearest float as text does, and are refused where text is: a nonzero value
+// that rounds to zero, or one that rounds to infinity, would silently change the mesh.
+TEST(ReadPly, BinaryDoublesOutsideTheFloatRangeAreRefused) {
+  TempDir dir;
+  const fs::path p = dir.path() / "d.ply";
+  for (const double y : {1e-300, 1e39, 1e-40}) {
+    std::string bytes =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
+        "property double z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    const double v[4][3] = {{0, y, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    bytes.append(reinterpret_cast<const char*>(v), sizeof v);
+    bytes.push_back(4);
+    const std::int32_t f[4] = {0, 1, 2, 3};
+    bytes.append(reinterpret_cast<const char*>(f), sizeof f);
+    spit(p, bytes);
+    if (y == 1e-40) {  // a subnormal float: kept, as from_chars keeps "1e-40"
+      EXPECT_EQ(qsp::read_ply_file(p.string()).positions[1], static_cast<float>(1e-40));
+      continue;
+    }
+    const std::string msg = expect_error([&] { qsp::read_ply_file(p.string()); }, qsp::ErrorCode::kBadNumber);
+    EXPECT_NE(msg.find("vertex 0 has a coordinate outside the float32 range"), std::string::npos) << msg;
+  }
+}
+
+// A property declared twice would be read past and its values dropped; and the last ASCII value
+// needs no newline after it.
+TEST(ReadPly, DuplicatePropertyRefusedAndLastValueNeedsNoNewline) {
+  TempDir dir;
+  const fs::path p = dir.path() / "a.ply";
+  spit(p, ply_ascii("property float x\nproperty float y\nproperty float z\nproperty float x\n",
+                    "0 0 0 9\n1 0 0 9\n1 1 0 9\n0 1 0 9\n", 4, "4 0 1 2 3\n", 1));
+  const std::string msg = expect_error([&] { qsp::read_ply_file(p.string()); }, qsp::ErrorCode::kParse);
+  EXPECT_NE(msg.find(":8: PLY element 'vertex' declares property 'x' twice"), std::string::npos) << msg;
+  spit(p,
+       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+       "end_header\n0 0 7");
+  EXPECT_EQ(qsp::read_ply_file(p.string()).positions, (std::vector<float>{0, 0, 7}));
+  EXPECT_EQ(qsp::read_off("OFF\n1 0 0\n0 0 7", "t.off").positions, (std::vector<float>{0, 0, 7}));
 }
 
 TEST(ReadPly, BinaryBigEndianIntCoordinatesAndUnknownProperties) {
