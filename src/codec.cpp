@@ -576,6 +576,24 @@ CodingOrder coding_order_of(const Parsed& p) {
   }
 }
 
+// Below this many faces the decoder checks its quads on its own thread: starting one would cost more.
+constexpr std::uint32_t kCheckBesideFrom = 4096;
+
+// Waits for (or runs) the quad mesh check; what it finds is a format error at the topology section.
+template <typename Check>
+void finish_mesh_check(std::future<void>& checked, const Check& check, std::uint64_t offset) {
+  try {
+    if (checked.valid()) {
+      checked.get();
+    } else {
+      check();
+    }
+  } catch (const Error& e) {
+    if (e.code() == ErrorCode::kLimit || e.code() == ErrorCode::kInternal) throw;
+    format_error(std::string("the topology does not describe a valid quad mesh: ") + e.what(), offset);
+  }
+}
+
 }  // namespace
 
 QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
@@ -593,6 +611,19 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
       (corder == CodingOrder::kPatch && coding.size() != nv)) {
     throw Error(ErrorCode::kInternal, "decode: grid layout sizes disagree with the checked counts");
   }
+  // The checks on each schematic do not rule out every layout that glues into something other than a
+  // manifold, consistently oriented quad mesh (a patch ring through one vertex twice, say), so the
+  // quads are checked as the encoder's input was: a file never decodes to what no encoder wrote. It
+  // needs only the quads, so it runs beside the geometry decoder (from kCheckBesideFrom faces).
+  auto check = [&quads = canonical.quads, nv] { (void)build_adjacency(quads, nv); };
+  std::future<void> checked;
+  if (nf >= kCheckBesideFrom) {
+    try {
+      checked = std::async(std::launch::async, check);
+    } catch (const std::system_error&) {
+      // no thread to be had: the check runs after the geometry, on this one
+    }
+  }
   try {
     canonical.positions = decode_geometry(p.geometry->payload, stencil, nv);
     if (corder == CodingOrder::kPatch) {
@@ -609,6 +640,7 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
   if (canonical.positions.size() != 3 * std::size_t{nv}) {
     format_error("geometry section decodes to the wrong number of positions", p.geometry->payload_offset);
   }
+  finish_mesh_check(checked, check, p.topology->payload_offset);
   if (!p.order) return canonical;
 
   OrderMap order = decode_order(p.order->payload, p.order->payload_offset, nv, nf, stream_ends(p));

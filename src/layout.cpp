@@ -525,8 +525,12 @@ LayoutMap layout_to_mesh(const ComponentPartition& part, const Adjacency& adj) {
 std::string validate(const ComponentPartition& part, const Adjacency* adj) {
   auto fail = [](const std::string& s) { return s; };
   if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus) {
-    // Whether the sizes give a manifold mesh is left to build_adjacency on the result.
+    // An annulus of fewer than 3 faces around glues faces onto themselves or closes into a pillow. A
+    // torus may be one helical row (b = 1, twisted): whether its sizes and twist glue into a manifold
+    // is left to the check on the rebuilt mesh (decode).
     if (part.a < 1 || part.b < 1) return fail("structured component has an empty side");
+    if (part.kind == ComponentKind::kAnnulus && part.a < 3)
+      return fail("annulus of " + std::to_string(part.a) + " faces around (at least 3)");
     if (part.kind == ComponentKind::kTorus ? part.twist >= part.a : part.twist != 0) return fail("bad twist");
   } else {
     const Schematic& s = part.schematic;

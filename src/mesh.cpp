@@ -19,17 +19,22 @@ std::string face_str(std::uint32_t f) { return "face " + std::to_string(f); }
 }  // namespace
 
 Adjacency build_adjacency(const QuadMesh& mesh) {
-  if (mesh.positions.size() % 3 != 0 || mesh.quads.size() % 4 != 0)
-    fail(ErrorCode::kInternal, "mesh arrays are not whole vertices/faces");
-  if (mesh.face_count() >= (1ull << 29) || mesh.vertex_count() >= (1ull << 31))
+  if (mesh.positions.size() % 3 != 0) fail(ErrorCode::kInternal, "mesh arrays are not whole vertices/faces");
+  if (mesh.vertex_count() >= (1ull << 31))
+    fail(ErrorCode::kLimit, "mesh too large: at most 2^29 faces and 2^31 vertices");
+  return build_adjacency(mesh.quads, static_cast<std::uint32_t>(mesh.vertex_count()));
+}
+
+Adjacency build_adjacency(std::span<const std::uint32_t> q, std::uint32_t vertex_count) {
+  if (q.size() % 4 != 0) fail(ErrorCode::kInternal, "mesh arrays are not whole vertices/faces");
+  if (q.size() / 4 >= (1ull << 29) || vertex_count >= (1ull << 31))
     fail(ErrorCode::kLimit, "mesh too large: at most 2^29 faces and 2^31 vertices");
   Adjacency adj;
-  const std::uint32_t nv = static_cast<std::uint32_t>(mesh.vertex_count());
-  const std::uint32_t nf = static_cast<std::uint32_t>(mesh.face_count());
+  const std::uint32_t nv = vertex_count;
+  const auto nf = static_cast<std::uint32_t>(q.size() / 4);
   const std::uint32_t nh = 4 * nf;
   adj.vertex_count = nv;
   adj.face_count = nf;
-  const auto& q = mesh.quads;
 
   for (std::uint32_t f = 0; f < nf; ++f) {
     for (int i = 0; i < 4; ++i) {

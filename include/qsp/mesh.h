@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace qsp {
@@ -65,6 +66,8 @@ struct Adjacency {
 // kNonManifold (edge with 3+ faces, vertex with several fans), kOrientation (two faces traverse an
 // edge the same way); messages name the face or vertex (0-based). Safe on untrusted input.
 Adjacency build_adjacency(const QuadMesh& mesh);
+// The same for `quads` (4 vertex indices per face) over `vertex_count` vertices, without positions.
+Adjacency build_adjacency(std::span<const std::uint32_t> quads, std::uint32_t vertex_count);
 
 // Per connected component (of faces): vertex, edge and face counts and Euler characteristic.
 struct ComponentInfo {
