@@ -579,15 +579,18 @@ CodingOrder coding_order_of(const Parsed& p) {
 // Below this many faces the decoder checks its quads on its own thread: starting one would cost more.
 constexpr std::uint32_t kCheckBesideFrom = 4096;
 
-// Waits for (or runs) the quad mesh check; what it finds is a format error at the topology section.
-template <typename Check>
-void finish_mesh_check(std::future<void>& checked, const Check& check, std::uint64_t offset) {
+// The adjacency of the rebuilt quads. The checks on each schematic do not rule out every layout that
+// glues into something other than a manifold, consistently oriented quad mesh (a patch ring through
+// one vertex twice, say), so the quads are checked as an encoder's input is: what build_adjacency
+// refuses is a format error at the topology section (`offset`), and a file never decodes to what no
+// encoder wrote.
+Adjacency rebuilt_adjacency(std::span<const std::uint32_t> quads, std::uint32_t vertex_count,
+                            std::uint64_t offset) {
+  if (quads.size() / 4 >= (std::uint64_t{1} << 29) || vertex_count >= (std::uint64_t{1} << 31)) {
+    throw Error(ErrorCode::kLimit, "qsp rebuilds at most 2^29 - 1 faces and 2^31 - 1 vertices");
+  }
   try {
-    if (checked.valid()) {
-      checked.get();
-    } else {
-      check();
-    }
+    return build_adjacency(quads, vertex_count);
   } catch (const Error& e) {
     if (e.code() == ErrorCode::kLimit || e.code() == ErrorCode::kInternal) throw;
     format_error(std::string("the topology does not describe a valid quad mesh: ") + e.what(), offset);
@@ -611,11 +614,14 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
       (corder == CodingOrder::kPatch && coding.size() != nv)) {
     throw Error(ErrorCode::kInternal, "decode: grid layout sizes disagree with the checked counts");
   }
-  // The checks on each schematic do not rule out every layout that glues into something other than a
-  // manifold, consistently oriented quad mesh (a patch ring through one vertex twice, say), so the
-  // quads are checked as the encoder's input was: a file never decodes to what no encoder wrote. It
-  // needs only the quads, so it runs beside the geometry decoder (from kCheckBesideFrom faces).
-  auto check = [&quads = canonical.quads, nv] { (void)build_adjacency(quads, nv); };
+  // The check of the rebuilt quads (rebuilt_adjacency) needs no positions, so it runs beside the
+  // geometry decoder (from kCheckBesideFrom faces). Its size limit is checked here, before decoding.
+  if (nf >= (std::uint32_t{1} << 29) || nv >= (std::uint32_t{1} << 31)) {
+    throw Error(ErrorCode::kLimit, "qsp rebuilds at most 2^29 - 1 faces and 2^31 - 1 vertices");
+  }
+  auto check = [&quads = canonical.quads, nv, offset = p.topology->payload_offset] {
+    (void)rebuilt_adjacency(quads, nv, offset);
+  };
   std::future<void> checked;
   if (nf >= kCheckBesideFrom) {
     try {
@@ -640,7 +646,11 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
   if (canonical.positions.size() != 3 * std::size_t{nv}) {
     format_error("geometry section decodes to the wrong number of positions", p.geometry->payload_offset);
   }
-  finish_mesh_check(checked, check, p.topology->payload_offset);
+  if (checked.valid()) {
+    checked.get();
+  } else {
+    check();
+  }
   if (!p.order) return canonical;
 
   OrderMap order = decode_order(p.order->payload, p.order->payload_offset, nv, nf, stream_ends(p));
@@ -717,12 +727,11 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
     info.components.push_back(cs);
   }
   // Mesh edges and extraordinary vertices come from the rebuilt connectivity (positions not needed).
-  QuadMesh m;
+  std::vector<std::uint32_t> quads;
   std::vector<GridLayout::Stencil> stencil;
-  assemble(p.parts, static_cast<std::uint32_t>(p.counts.unreferenced), CodingOrder::kLayout, m.quads,
-           stencil);
-  m.positions.assign(3 * stencil.size(), 0.0f);
-  Adjacency adj = build_adjacency(m);
+  assemble(p.parts, static_cast<std::uint32_t>(p.counts.unreferenced), CodingOrder::kLayout, quads, stencil);
+  const Adjacency adj =
+      rebuilt_adjacency(quads, static_cast<std::uint32_t>(stencil.size()), p.topology->payload_offset);
   info.edges = adj.halfedge_count() / 2;
   info.extraordinary = extraordinary_vertices(adj).size();
   return info;

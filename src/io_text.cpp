@@ -118,14 +118,8 @@ class Scanner {
   }
   // Skips a comment up to its line end; a backslash does not continue a comment.
   void skip_comment() {
-    const void* nl = std::memchr(p_, '\n', remaining());
-    const char* e = nl ? static_cast<const char*>(nl) : end_;
-    const void* cr = std::memchr(p_, '\r', static_cast<std::size_t>(e - p_));
-    while (cr && !lone_cr(static_cast<const char*>(cr))) {  // a CR before the LF: look further
-      const char* c = static_cast<const char*>(cr) + 1;
-      cr = std::memchr(c, '\r', static_cast<std::size_t>(e - c));
-    }
-    p_ = cr ? static_cast<const char*>(cr) : e;
+    // Not memchr for the LF: in a file without LFs that scans to the end for every comment.
+    while (p_ < end_ && *p_ != '\n' && !lone_cr(p_)) ++p_;
   }
   // Skips the rest of a statement whose content qsp only counts (honours continuations).
   void skip_statement() {

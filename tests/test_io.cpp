@@ -218,6 +218,13 @@ TEST(ReadObj, LoneCarriageReturnEndsALine) {
   m = qsp::read_obj("v 0 0 \\\r 0\rv 1 0 0\r\rv 1 1 0\rv 0 1 0\rf 1 2 3 4", "t.obj", &r);
   EXPECT_EQ(m.vertex_count(), 4u);
   EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{7}));
+  // Many CR-ended comments: each ends at its own CR (a search for the LF once scanned to the end of
+  // the file for every comment).
+  std::string many;
+  for (int i = 0; i < 20000; ++i) many += "# c\r";
+  m = qsp::read_obj(many + quad, "t.obj", &r);
+  EXPECT_EQ(m.face_count(), 1u);
+  EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{20005}));
 }
 
 TEST(ReadObj, EmptyAndCommentOnlyInputs) {

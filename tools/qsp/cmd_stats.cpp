@@ -54,7 +54,12 @@ void add_sizes(Row& r, const FileInfo& info) {
 
 // A .qsp's bytes: everything from inspect(), without decoding positions.
 Row info_row(const std::string& file, const std::string& bytes, const char* partition) {
-  const FileInfo info = inspect(bytes);
+  FileInfo info;
+  try {
+    info = inspect(bytes);
+  } catch (const Error& e) {
+    throw Error(e.code(), file + ": " + e.what());  // as decompress says where
+  }
   Row r;
   r.file = file;
   r.partition = partition;
