@@ -586,9 +586,6 @@ constexpr std::uint32_t kCheckBesideFrom = 4096;
 // encoder wrote.
 Adjacency rebuilt_adjacency(std::span<const std::uint32_t> quads, std::uint32_t vertex_count,
                             std::uint64_t offset) {
-  if (quads.size() / 4 >= (std::uint64_t{1} << 29) || vertex_count >= (std::uint64_t{1} << 31)) {
-    throw Error(ErrorCode::kLimit, "qsp rebuilds at most 2^29 - 1 faces and 2^31 - 1 vertices");
-  }
   try {
     return build_adjacency(quads, vertex_count);
   } catch (const Error& e) {
@@ -616,7 +613,7 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
   }
   // The check of the rebuilt quads (rebuilt_adjacency) needs no positions, so it runs beside the
   // geometry decoder (from kCheckBesideFrom faces). Its size limit is checked here, before decoding.
-  if (nf >= (std::uint32_t{1} << 29) || nv >= (std::uint32_t{1} << 31)) {
+  if (nf >= kAdjacencyFaceLimit || nv >= kAdjacencyVertexLimit) {
     throw Error(ErrorCode::kLimit, "qsp rebuilds at most 2^29 - 1 faces and 2^31 - 1 vertices");
   }
   auto check = [&quads = canonical.quads, nv, offset = p.topology->payload_offset] {

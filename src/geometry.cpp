@@ -854,7 +854,7 @@ struct Header {
 // after it (16M distinct values inserted in descending order: 23 s; now 1.1 s).
 class Repeats {
  public:
-  static constexpr std::uint32_t kMaxRank = 63;
+  static constexpr std::uint32_t kMaxRank = 63;  // 255 saved 0.1% more and walked 4x as far
   bool empty() const { return pages_.empty(); }
   void insert(std::int64_t v) {
     if (pages_.empty()) {

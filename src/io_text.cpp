@@ -97,7 +97,7 @@ class Scanner {
 
   void skip_blank() {
     for (;;) {
-      while (p_ < end_ && is_blank(*p_) && !lone_cr(p_)) ++p_;
+      while (p_ < end_ && blank_at(p_)) ++p_;
       if (p_ < end_ && *p_ == '\\' && continuation_at(p_)) {
         skip_continuation();
         continue;
@@ -211,14 +211,16 @@ class Scanner {
   const char* skip_plus() const { return p_ + 1 < end_ && *p_ == '+' ? p_ + 1 : p_; }
   // A CR that does not start a CRLF: a line end of its own.
   bool lone_cr(const char* s) const { return *s == '\r' && (s + 1 == end_ || s[1] != '\n'); }
+  // A blank that does not end the line (s < end_).
+  bool blank_at(const char* s) const { return is_blank(*s) && !lone_cr(s); }
   bool continuation_at(const char* s) const {
     ++s;
-    while (s < end_ && is_blank(*s) && !lone_cr(s)) ++s;
+    while (s < end_ && blank_at(s)) ++s;
     return s == end_ || *s == '\n' || lone_cr(s);
   }
   void skip_continuation() {
     ++p_;
-    while (p_ < end_ && is_blank(*p_) && !lone_cr(p_)) ++p_;
+    while (p_ < end_ && blank_at(p_)) ++p_;
     if (p_ < end_) {
       ++p_;
       ++line_;

@@ -61,6 +61,10 @@ struct Adjacency {
   }
 };
 
+// build_adjacency's sizes: fewer faces and vertices than these (kLimit beyond).
+inline constexpr std::uint64_t kAdjacencyFaceLimit = std::uint64_t{1} << 29;
+inline constexpr std::uint64_t kAdjacencyVertexLimit = std::uint64_t{1} << 31;
+
 // Builds the adjacency and checks that the mesh is an orientable 2-manifold with quad faces.
 // Throws Error: kBadIndex (index >= vertex count), kDegenerateFace (repeated vertex in a face),
 // kNonManifold (edge with 3+ faces, vertex with several fans), kOrientation (two faces traverse an
