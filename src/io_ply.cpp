@@ -13,6 +13,7 @@
 #include <string>
 #include <string_view>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "qsp/error.h"
@@ -44,6 +45,49 @@ PlyType parse_type(std::string_view t) {
   if (t == "float" || t == "float32") return PlyType::kFloat32;
   if (t == "double" || t == "float64") return PlyType::kFloat64;
   return PlyType::kNone;
+}
+
+// Range of an integer type (a float type's is unbounded here: they are never lengths or indices).
+std::pair<std::int64_t, std::int64_t> integer_range(PlyType t) {
+  switch (t) {
+    case PlyType::kInt8:
+      return {-128, 127};
+    case PlyType::kUint8:
+      return {0, 255};
+    case PlyType::kInt16:
+      return {-32768, 32767};
+    case PlyType::kUint16:
+      return {0, 65535};
+    case PlyType::kInt32:
+      return {INT32_MIN, INT32_MAX};
+    case PlyType::kUint32:
+      return {0, UINT32_MAX};
+    default:
+      return {INT64_MIN, INT64_MAX};
+  }
+}
+
+const char* type_name(PlyType t) {
+  switch (t) {
+    case PlyType::kInt8:
+      return "char";
+    case PlyType::kUint8:
+      return "uchar";
+    case PlyType::kInt16:
+      return "short";
+    case PlyType::kUint16:
+      return "ushort";
+    case PlyType::kInt32:
+      return "int";
+    case PlyType::kUint32:
+      return "uint";
+    case PlyType::kFloat32:
+      return "float";
+    case PlyType::kFloat64:
+      return "double";
+    default:
+      return "none";
+  }
 }
 
 int type_size(PlyType t) {
@@ -188,6 +232,7 @@ PlyHeader parse_header(std::string_view bytes, const std::string& path) {
       }
       h.elements.back().properties.push_back(std::move(p));
     } else if (w[0] == "end_header") {
+      if (w.size() != 1) fail_at(ErrorCode::kParse, path, line_no, "unexpected text after end_header");
       break;
     } else {
       fail_at(ErrorCode::kParse, path, line_no, "unknown PLY header line '" + shown(w[0]) + "'");
@@ -344,7 +389,9 @@ class PlyData {
 
   float coordinate(PlyType t, const char* what, std::uint64_t index) {
     float f = 0.0f;
-    if (ascii()) {
+    if (ascii() && !is_float_type(t)) {
+      f = static_cast<float>(integer(t, what, index));  // as in binary: an integer in the type's range
+    } else if (ascii()) {
       const std::string_view tok = next_token(what, index);
       const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), f);
       if (ec == std::errc::invalid_argument || ptr != tok.data() + tok.size()) {
@@ -385,6 +432,11 @@ class PlyData {
       if (ec != std::errc() || ptr != tok.data() + tok.size()) {
         fail(ErrorCode::kParse,
              std::string("malformed integer '") + shown(tok) + "' in " + what + " " + std::to_string(index));
+      }
+      // A value the declared type cannot hold is not what the writer meant (binary files cannot have one).
+      if (const auto [lo, hi] = integer_range(t); v < lo || v > hi) {
+        fail(ErrorCode::kParse, "integer " + std::to_string(v) + " in " + what + " " + std::to_string(index) +
+                                    " is out of range for its PLY type " + type_name(t));
       }
       return v;
     }
@@ -476,8 +528,11 @@ class PlyData {
       fail(ErrorCode::kParse, std::string(p_ == end_ ? "file ends inside " : "too few values in ") + what +
                                   " " + std::to_string(index) + (p_ == end_ ? " (truncated)" : ""));
     }
-    const std::string_view tok = token();
+    std::string_view tok = token();
     p_ += tok.size();
+    // from_chars refuses a leading '+', which some writers emit (OBJ and OFF accept it too); "+-1" stays
+    // malformed.
+    if (tok.size() > 1 && tok[0] == '+' && tok[1] != '-' && tok[1] != '+') tok.remove_prefix(1);
     return tok;
   }
 

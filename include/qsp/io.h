@@ -59,7 +59,8 @@ QuadMesh read_off(std::string_view text, std::string_view source, ReadReport* re
 // numeric type (float32 kept bit for bit; float64 and integers rounded to the nearest float32, which
 // is exact for integers up to 2^24; ASCII via std::from_chars) and the face vertex_indices list; other
 // properties are counted in the report. As with text, a value that rounds to infinity or a nonzero
-// value that rounds to zero is refused, and so is a property declared twice. Refuses like read_obj:
+// value that rounds to zero is refused, and so is a property declared twice; ASCII integers must fit
+// their declared type, and a leading '+' is read as in OBJ. Refuses like read_obj:
 // non-quads (all counted), bad indices, repeated vertices, NaN/inf, truncated or trailing data,
 // unsupported elements (edges, ...); messages give "file:line:" (ASCII) or "file: byte N:" (binary).
 // Not OpenMesh: it silently rewrites non-manifold or degenerate input while reporting success.
