@@ -13,10 +13,16 @@
 #include <bit>
 #include <charconv>
 #include <cmath>
+#include <condition_variable>
 #include <cstring>
+#include <deque>
+#include <exception>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <system_error>
+#include <thread>
 
 #include "qsp/entropy.h"
 #include "qsp/error.h"
@@ -1010,24 +1016,151 @@ class RepeatRanks {
   std::size_t count_ = 0;
 };
 
+// One decision group of the geometry stream, as the encoder's coding loop produces it.
+struct Symbol {
+  enum Op : std::uint8_t { kResidual, kZeros, kRepeat };
+  std::uint64_t value;  // residual u (kResidual), trailing zeros t (kZeros), rank (kRepeat)
+  Op op;
+  std::uint8_t ctx;   // kind context (kResidual, kRepeat)
+  std::uint8_t arg;   // magnitude bucket (kResidual), digit count (kZeros), previous axis (kRepeat)
+  std::uint8_t arg2;  // the axis's maximum length (kResidual), taken or not (kRepeat)
+};
+
+void code_symbol(const Symbol& s, ResidualModel& m, RangeEncoder& rc) {
+  switch (s.op) {
+    case Symbol::kResidual:
+      m.encode(rc, s.value, s.ctx, s.arg, s.arg2);
+      break;
+    case Symbol::kZeros:
+      m.encode_zeros(rc, static_cast<int>(s.value), s.arg);
+      break;
+    case Symbol::kRepeat:
+      rc.encode_bit(m.repeat[std::size_t{s.ctx} * 3 + s.arg], s.arg2);
+      if (s.arg2) m.rank.encode(rc, static_cast<std::uint32_t>(s.value));
+      break;
+  }
+}
+
+// Where the encoder's coding loop puts its symbols: coded at once, or (large sections) handed in blocks
+// to a second thread that codes them while the loop predicts the next vertices. The model's state never
+// feeds back into prediction, so both give the same bytes; on a 2-core machine the second thread takes
+// the range coder's share (a third of the geometry time on mh_female_generic_cc2) off the critical path.
+class SymbolSink {
+ public:
+  SymbolSink(const Header& h, RangeEncoder& rc, bool threaded)
+      : model_(h.revision >= kPatchRevision, h.revision >= kCompactRevision), rc_(rc) {
+    if (!threaded) return;
+    try {
+      coder_ = std::thread([this] { run(); });
+      block_.reserve(kBlock);
+    } catch (const std::system_error&) {
+      // no thread to be had: code on this one
+    }
+  }
+  SymbolSink(const SymbolSink&) = delete;
+  SymbolSink& operator=(const SymbolSink&) = delete;
+  ~SymbolSink() {  // on an exception in the coding loop: stop the coder unheard
+    if (!coder_.joinable()) return;
+    {
+      std::lock_guard lock(mutex_);
+      done_ = true;
+      full_.clear();
+    }
+    ready_.notify_all();
+    coder_.join();
+  }
+
+  void put(const Symbol& s) {
+    if (!coder_.joinable()) return code_symbol(s, model_, rc_);
+    block_.push_back(s);
+    if (block_.size() == kBlock) hand_over();
+  }
+
+  // Codes what is left; rethrows what failed the coder thread.
+  void finish() {
+    if (!coder_.joinable()) return;
+    hand_over();
+    {
+      std::lock_guard lock(mutex_);
+      done_ = true;
+    }
+    ready_.notify_all();
+    coder_.join();
+    if (error_) std::rethrow_exception(error_);
+  }
+
+ private:
+  static constexpr std::size_t kBlock = 16384;  // symbols (256 KiB)
+  static constexpr std::size_t kMaxQueued = 8;  // blocks the loop may run ahead: bounds the memory
+
+  void hand_over() {
+    std::vector<Symbol> next;
+    {
+      std::unique_lock lock(mutex_);
+      taken_.wait(lock, [this] { return full_.size() < kMaxQueued || error_; });
+      if (error_) return block_.clear();  // finish() rethrows it
+      full_.push_back(std::move(block_));
+      if (!empty_.empty()) next = std::move(empty_.back()), empty_.pop_back();
+    }
+    ready_.notify_one();
+    block_ = std::move(next);
+    block_.clear();
+    block_.reserve(kBlock);
+  }
+
+  void run() {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+      ready_.wait(lock, [this] { return !full_.empty() || done_; });
+      if (full_.empty()) return;
+      std::vector<Symbol> block = std::move(full_.front());
+      full_.pop_front();
+      lock.unlock();
+      taken_.notify_one();
+      try {
+        for (const Symbol& s : block) code_symbol(s, model_, rc_);
+      } catch (...) {
+        lock.lock();
+        error_ = std::current_exception();
+        full_.clear();
+        taken_.notify_all();
+        return;
+      }
+      block.clear();
+      lock.lock();
+      empty_.push_back(std::move(block));
+    }
+  }
+
+  ResidualModel model_;
+  RangeEncoder& rc_;
+  std::vector<Symbol> block_;  // being filled by the coding loop
+  std::thread coder_;
+  std::mutex mutex_;  // guards the members below
+  std::condition_variable ready_, taken_;
+  std::deque<std::vector<Symbol>> full_;  // blocks waiting to be coded, in order
+  std::vector<std::vector<Symbol>> empty_;
+  bool done_ = false;
+  std::exception_ptr error_;
+};
+
 // A coordinate as a repeat of a value seen on its axis: the decision (context: the vertex's kind and how
-// its previous axis went) and, if taken, the rank. Encoder: true if `value` was coded as a repeat.
-// Decoder: true and `value` set if the stream says it is one.
+// its previous axis went) and, if taken, the rank (code_symbol codes it). Encoder: true if `value` is
+// coded as a repeat, with the symbol in `sym`. Decoder: true and `value` set if the stream says it is one.
 template <bool kEncode>
-bool repeat(ResidualModel& m, const RepeatRanks& ranks, const Repeats& seen, int ctx, int previous,
-            std::int64_t pred, std::int64_t& value, RangeEncoder* enc, RangeDecoder* dec) {
+bool repeat(ResidualModel* m, const RepeatRanks& ranks, const Repeats& seen, int ctx, int previous,
+            std::int64_t pred, std::int64_t& value, Symbol* sym, RangeDecoder* dec) {
   if (kEncode ? ranks.empty() : seen.empty()) return false;
-  BitModel& flag = m.repeat[static_cast<std::size_t>(ctx) * 3 + previous];
   if constexpr (kEncode) {
     const std::uint32_t k = ranks.rank_of(pred, value);
     // Stricter rules (rank 0 only, rank small against the residual) were measured worse overall.
     const bool hit = k <= Repeats::kMaxRank;
-    enc->encode_bit(flag, hit);
-    if (hit) m.rank.encode(*enc, k);
+    *sym = {k, Symbol::kRepeat, static_cast<std::uint8_t>(ctx), static_cast<std::uint8_t>(previous), hit};
     return hit;
   } else {
+    BitModel& flag = m->repeat[static_cast<std::size_t>(ctx) * 3 + previous];
     if (!dec->decode_bit(flag)) return false;
-    const std::uint32_t k = m.rank.decode(*dec);
+    const std::uint32_t k = m->rank.decode(*dec);
     if (k > Repeats::kMaxRank || !seen.nth(pred, k, value)) fail("repeat rank out of range");
     return true;
   }
@@ -1052,14 +1185,18 @@ struct ChainCue {
 template <bool kEncode>
 void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
                    std::array<std::vector<std::int64_t>, 3>& ints, std::array<std::vector<float>, 3>& floats,
-                   RangeEncoder* enc, RangeDecoder* dec, std::vector<float>* out, ChainCue* cue = nullptr) {
+                   SymbolSink* sink, RangeDecoder* dec, std::vector<float>* out, ChainCue* cue = nullptr) {
   const bool any_int = h.integer_axis(0) || h.integer_axis(1) || h.integer_axis(2);
   std::vector<std::uint32_t> errors(any_int ? std::size_t{count} * kCandidates : 0, kNoError);
   std::array<std::vector<std::uint8_t>, 3> lengths;
   for (auto& l : lengths) l.assign(count, 0);
   std::array<std::size_t, 3> next_exception{};
   const std::int64_t qmax = h.bits ? static_cast<std::int64_t>((std::uint64_t{1} << h.bits) - 1) : 0;
-  auto model = std::make_unique<ResidualModel>(h.revision >= kPatchRevision, h.revision >= kCompactRevision);
+  // The decoder's model; the encoder's is the sink's.
+  const auto model =
+      kEncode ? nullptr
+              : std::make_unique<ResidualModel>(h.revision >= kPatchRevision, h.revision >= kCompactRevision);
+  Symbol repeat_sym{};  // the encoder's repeat decision for the current axis, if it made one (op kRepeat)
   std::array<std::int64_t, kCandidates> weight{};
   std::array<std::array<std::int64_t, kCandidates>, 3> cand{};
   // Across-patch vertices: running means (x16) of the errors of the across prediction [0] and of the
@@ -1134,8 +1271,8 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
         }
         if (h.bits) {
           pred = std::clamp<std::int64_t>(pred, 0, qmax);
-          hit =
-              h.repeats && repeat<kEncode>(*model, ranks[a], seen[a], x.ctx, previous, pred, v[i], enc, dec);
+          hit = h.repeats && repeat<kEncode>(model.get(), ranks[a], seen[a], x.ctx, previous, pred, v[i],
+                                             &repeat_sym, dec);
           if (kEncode || hit) {
             // (For a repeat: only for the neighbours' magnitude classes.)
             u = zigzag64(wrapped(v[i] - pred, qmax));
@@ -1156,7 +1293,8 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
           }
           candidate = !exception;
           if ((hit = h.repeats && candidate &&
-                     repeat<kEncode>(*model, ranks[a], seen[a], x.ctx, previous, pred, v[i], enc, dec))) {
+                     repeat<kEncode>(model.get(), ranks[a], seen[a], x.ctx, previous, pred, v[i], &repeat_sym,
+                                     dec))) {
             u = zigzag64(v[i] - pred);
             if constexpr (!kEncode) {
               (*out)[3 * std::size_t{i} + a] =
@@ -1198,7 +1336,8 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
         }
         std::int64_t image = 0;
         if constexpr (kEncode) image = float_image(f[i]);
-        hit = h.repeats && repeat<kEncode>(*model, ranks[a], seen[a], x.ctx, previous, pred, image, enc, dec);
+        hit = h.repeats &&
+              repeat<kEncode>(model.get(), ranks[a], seen[a], x.ctx, previous, pred, image, &repeat_sym, dec);
         if (kEncode || hit) {
           u = zigzag64(image - pred);
         } else {
@@ -1212,8 +1351,14 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
         }
       }
       if constexpr (kEncode) {
-        if (!hit) model->encode(*enc, u, x.ctx, bucket, h.max_length(a));
-        if (zeros >= 0) model->encode_zeros(*enc, zeros, digits);
+        if (h.repeats && repeat_sym.op == Symbol::kRepeat) sink->put(repeat_sym), repeat_sym = {};
+        if (!hit) {
+          sink->put({u, Symbol::kResidual, x.ctx, static_cast<std::uint8_t>(bucket),
+                     static_cast<std::uint8_t>(h.max_length(a))});
+        }
+        if (zeros >= 0)
+          sink->put(
+              {static_cast<std::uint64_t>(zeros), Symbol::kZeros, 0, static_cast<std::uint8_t>(digits), 0});
       }
       lengths[a][i] = static_cast<std::uint8_t>(std::bit_width(u));
       if (chained) {
@@ -1342,7 +1487,7 @@ Header read_header(Reader& in, std::uint32_t count) {
 
 // The section for the first `count` vertices (stencils only look back, so a prefix codes on its own).
 std::string encode_with(std::span<const float> pos, const Hoods& hoods, std::uint32_t count, const Header& h,
-                        ChainCue* cue = nullptr) {
+                        std::optional<bool> coder_thread, ChainCue* cue = nullptr) {
   std::array<std::vector<std::int64_t>, 3> ints;
   std::array<std::vector<float>, 3> floats;
   for (int a = 0; a < 3; ++a) {
@@ -1371,7 +1516,14 @@ std::string encode_with(std::span<const float> pos, const Hoods& hoods, std::uin
   write_header(out, h, count);
   std::string payload;
   RangeEncoder rc(payload, h.revision >= kCompactRevision ? StreamEnds::kCompact : StreamEnds::kLzma);
-  code_vertices<true>(h, hoods, count, ints, floats, &rc, nullptr, nullptr, cue);
+  {
+    // Below this, starting a thread costs more than it saves, and small meshes already encode their
+    // candidate partitions on both cores (codec.cpp).
+    constexpr std::uint32_t kThreadAbove = 32768;
+    SymbolSink sink(h, rc, coder_thread.value_or(count > kThreadAbove));
+    code_vertices<true>(h, hoods, count, ints, floats, &sink, nullptr, nullptr, cue);
+    sink.finish();
+  }
   rc.finish();
   put_varint(out, payload.size());
   out += payload;
@@ -1397,7 +1549,7 @@ std::optional<Header> chained(const Header& h, const ChainCue& cue) {
 // the whole mesh, and are coded once.
 // `chosen` gets the index of the header it chose (before chaining).
 std::string encode_best(std::span<const float> pos, const Hoods& hoods, const std::vector<Header>& options,
-                        std::size_t& chosen) {
+                        std::optional<bool> coder_thread, std::size_t& chosen) {
   constexpr std::uint32_t kTryAll = 32768, kSample = 4096;
   const std::uint32_t count = hoods.size();
   if (count <= kTryAll) {
@@ -1405,11 +1557,11 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
     ChainCue best_cue;
     for (std::size_t i = 0; i < options.size(); ++i) {
       ChainCue cue;
-      std::string bytes = encode_with(pos, hoods, count, options[i], &cue);
+      std::string bytes = encode_with(pos, hoods, count, options[i], coder_thread, &cue);
       if (best.empty() || bytes.size() < best.size()) best = std::move(bytes), chosen = i, best_cue = cue;
     }
     if (const std::optional<Header> c = chained(options[chosen], best_cue)) {
-      std::string bytes = encode_with(pos, hoods, count, *c);
+      std::string bytes = encode_with(pos, hoods, count, *c, coder_thread);
       if (bytes.size() < best.size()) best = std::move(bytes);
     }
     return best;
@@ -1421,7 +1573,8 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
     std::string head;
     write_header(head, h, count);
     return static_cast<double>(head.size()) +
-           scale * static_cast<double>(encode_with(pos, hoods, kSample, h, cue).size() - head.size());
+           scale * static_cast<double>(encode_with(pos, hoods, kSample, h, coder_thread, cue).size() -
+                                       head.size());
   };
   ChainCue best_cue;
   for (std::size_t i = 0; i < options.size(); ++i) {
@@ -1430,8 +1583,8 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
     if (!best || size < best_size) best = &options[i], best_size = size, best_cue = cue, chosen = i;
   }
   if (const std::optional<Header> c = chained(*best, best_cue); c && estimate(*c, nullptr) < best_size)
-    return encode_with(pos, hoods, count, *c);
-  return encode_with(pos, hoods, count, *best);
+    return encode_with(pos, hoods, count, *c, coder_thread);
+  return encode_with(pos, hoods, count, *best, coder_thread);
 }
 
 }  // namespace
@@ -1484,7 +1637,7 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
     if (!kept.empty()) headers = std::move(kept), choices = std::move(kept_choices);
   }
   std::size_t best = 0;
-  std::string bytes = encode_best(positions, hoods, headers, best);
+  std::string bytes = encode_best(positions, hoods, headers, options.coder_thread, best);
   if (chosen) *chosen = choices[best];
   return bytes;
 }

@@ -474,6 +474,53 @@ TEST(Geometry, HeaderChoiceIsReportedAndHonoured) {
   }
 }
 
+// Large sections hand their symbols to a second thread that runs the range coder (GeometryOptions::
+// coder_thread). It must give the bytes the single-threaded encoder gives, for every kind of symbol
+// (residuals, trailing zeros, repeats, chained axes, float axes), across many blocks, and on sections
+// too small to fill one.
+TEST(Geometry, CoderThreadGivesTheSameBytes) {
+  constexpr std::uint32_t a = 210, b = 200;  // 42000 vertices: above the default threshold
+  const auto st = grid_stencil(a, b);
+  std::mt19937 rng(3);
+  std::vector<float> repeating(st.size() * 3), floats = smooth_positions(a, b, 4);
+  for (float& f : repeating) f = static_cast<float>(1000 * static_cast<int>(rng() % 8) - 3500);
+  for (std::size_t i = 1; i < floats.size(); i += 3)
+    floats[i] += std::ldexp(static_cast<float>(rng() % 1000), -30);
+  const auto tilted = noisy_plane(a, b, {2 / 3.0, 1 / 3.0, 2 / 3.0}, {1 / 3.0, 2 / 3.0, -2 / 3.0});
+  const auto small_st = grid_stencil(3, 3);
+  const auto small = smooth_positions(3, 3, 2);
+  struct Case {
+    const char* name;
+    const std::vector<float>* pos;
+    const std::vector<GridLayout::Stencil>* st;
+  };
+  for (const Case& c : {Case{"decimal", nullptr, &st}, Case{"significant", nullptr, &st},
+                        Case{"repeating", &repeating, &st}, Case{"float axis", &floats, &st},
+                        Case{"chained", &tilted, &st}, Case{"one block", &small, &small_st}}) {
+    std::vector<float> own;
+    if (!c.pos)
+      own = std::string(c.name) == "decimal" ? smooth_positions(a, b, 4) : significant_positions(a, b);
+    const std::vector<float>& pos = c.pos ? *c.pos : own;
+    for (std::uint32_t bits : {0u, 14u}) {
+      SCOPED_TRACE(std::string(c.name) + " bits " + std::to_string(bits));
+      qsp::GeometryOptions opt{bits};
+      opt.coder_thread = false;
+      const std::string direct = qsp::encode_geometry(pos, *c.st, opt);
+      opt.coder_thread = true;
+      EXPECT_EQ(qsp::encode_geometry(pos, *c.st, opt), direct);
+      EXPECT_EQ(qsp::encode_geometry(pos, *c.st, {bits}), direct);  // the default: threaded if large
+      const auto back = qsp::decode_geometry(direct, *c.st, static_cast<std::uint32_t>(c.st->size()));
+      if (bits == 0) {
+        EXPECT_TRUE(bit_equal(back, pos));
+      }
+    }
+  }
+  const std::vector<GridLayout::Stencil> none;
+  qsp::GeometryOptions forced{14};
+  forced.coder_thread = true;
+  EXPECT_TRUE(qsp::decode_geometry(qsp::encode_geometry({}, none, forced), none, 0).empty());
+}
+
 // Predicting edge points and schematic vertices across their patch (o/ow/ofar, x0..x2) pays where
 // patches are small: CAD-like subdivision cages, where the opposite side of a patch is often an
 // exact copy. Without those fields the coder falls back to predicting along the edge.

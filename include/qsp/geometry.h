@@ -27,6 +27,9 @@ struct GeometryOptions {
   // nullopt: try every candidate header and keep the smallest section. Else code with this one only
   // (normal chaining is still tried where it may pay).
   std::optional<GeometryChoice> choice = std::nullopt;
+  // Whether a second thread runs the range coder while the coding loop predicts: nullopt = for sections
+  // of more than 32768 vertices. The bytes are the same either way (tests force both).
+  std::optional<bool> coder_thread = std::nullopt;
 };
 
 // Encodes positions (3 floats per vertex, in coding order) using, for each vertex, the grid stencil of
