@@ -1,13 +1,19 @@
 // OBJ and OFF readers: strict single-pass parsers over an in-memory buffer. No iostreams, no
 // per-line allocation; numbers go through std::from_chars so floats round exactly as it rounds.
+#include "io_text.h"
+
 #include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <thread>
 #include <vector>
 
 #include "qsp/error.h"
@@ -50,20 +56,29 @@ std::string corners_name(std::uint64_t n) {
 // Faces that are not quads: counted all the way through so the message can say how many.
 struct NonQuads {
   std::uint64_t count = 0;
-  std::uint64_t first_line = 0;
-  std::string examples;  // "line 10: triangle, line 12: 5 vertices, ..."
+  std::uint64_t line[3] = {}, corners[3] = {};  // the first ones
 
-  void add(std::uint64_t line, std::uint64_t corners) {
+  void add(std::uint64_t at, std::uint64_t n) {
     if (count < 3) {
-      if (count == 0) first_line = line;
-      if (!examples.empty()) examples += ", ";
-      examples += "line " + std::to_string(line) + ": " + corners_name(corners);
+      line[count] = at;
+      corners[count] = n;
     }
     ++count;
   }
+  // Adds those of the text after this one's, which starts `line_offset` lines further on.
+  void merge(const NonQuads& later, std::uint64_t line_offset) {
+    std::uint64_t i = 0;
+    for (; i < later.count && i < 3 && count < 3; ++i) add(later.line[i] + line_offset, later.corners[i]);
+    count += later.count - i;
+  }
   void throw_if_any(std::string_view source) const {
     if (count == 0) return;
-    std::string msg = std::string(source) + ":" + std::to_string(first_line) + ": ";
+    std::string examples;  // "line 10: triangle, line 12: 5 vertices, ..."
+    for (std::uint64_t i = 0; i < count && i < 3; ++i) {
+      if (i > 0) examples += ", ";
+      examples += "line " + std::to_string(line[i]) + ": " + corners_name(corners[i]);
+    }
+    std::string msg = std::string(source) + ":" + std::to_string(line[0]) + ": ";
     if (count == 1) {
       msg += "1 face is not a quad (" + examples + ")";
     } else {
@@ -83,10 +98,11 @@ inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 // swallow the statements after it.
 class Scanner {
  public:
-  Scanner(std::string_view text, std::string_view source)
+  // `file_start`: false for a later part of a split OBJ read, where a byte order mark is content.
+  Scanner(std::string_view text, std::string_view source, bool file_start = true)
       : p_(text.data()), end_(text.data() + text.size()), source_(source) {
     // A UTF-8 byte order mark is not content.
-    if (text.size() >= 3 && std::memcmp(p_, "\xEF\xBB\xBF", 3) == 0) p_ += 3;
+    if (file_start && text.size() >= 3 && std::memcmp(p_, "\xEF\xBB\xBF", 3) == 0) p_ += 3;
   }
 
   const char* pos() const { return p_; }
@@ -271,12 +287,52 @@ std::uint64_t skip_numbers(Scanner& in, const char* context) {
 // ----------------------------------------------------------------------------------------------
 // OBJ
 
+// One part of a split OBJ read (read_obj_parts): what the merge needs besides mesh and report.
+struct ObjPart {
+  QuadMesh mesh;
+  ReadReport report;
+  std::uint64_t vertex_count = 0;
+  std::uint64_t face_count = 0;
+  std::uint64_t end_line = 1;  // the scanner's line at the end of the part
+  std::uint32_t max_index = 0;
+  NonQuads non_quads;
+  // Later part only. Relative indices there count back from the part's own vertices: `missing` is
+  // how far the deepest one reaches before the part, `relative` has per face (missing at the end: 0)
+  // a bit per corner given relatively, whose stored index still lacks the earlier vertex count.
+  std::uint64_t missing = 0;
+  std::vector<std::uint8_t> relative;
+  bool ok = false;  // read without error
+};
+
 class ObjReader {
  public:
-  ObjReader(std::string_view text, std::string_view source, ReadReport& report)
-      : in_(text, source), source_(source), report_(report) {}
+  // `later_part`: the text starts mid-file at a line start (read_obj_parts), so vertices before
+  // it are unknown; relative indices are recorded for the merge instead of checked.
+  ObjReader(std::string_view text, std::string_view source, ReadReport& report, bool later_part = false)
+      : in_(text, source, !later_part), source_(source), report_(report), later_part_(later_part) {}
 
   QuadMesh run() {
+    parse();
+    non_quads_.throw_if_any(source_);
+    check_forward_indices();
+    return std::move(mesh_);
+  }
+
+  // Parses a part without the checks that need the whole file (non-quads, forward indices).
+  void run_part(ObjPart& part) {
+    parse();
+    part.mesh = std::move(mesh_);
+    part.vertex_count = vertex_count_;
+    part.face_count = face_count_;
+    part.end_line = in_.line();
+    part.max_index = max_index_;
+    part.non_quads = non_quads_;
+    part.missing = missing_;
+    part.relative = std::move(relative_);
+  }
+
+ private:
+  void parse() {
     while (!in_.done()) {
       in_.skip_blank();
       if (in_.at_eol()) {
@@ -291,12 +347,8 @@ class ObjReader {
       }
       in_.finish_line();
     }
-    non_quads_.throw_if_any(source_);
-    check_forward_indices();
-    return std::move(mesh_);
   }
 
- private:
   void statement() {
     const std::uint64_t line = in_.line();
     const std::string_view k = in_.word();
@@ -358,6 +410,7 @@ class ObjReader {
     std::uint32_t q[4];
     std::uint64_t corners = 0;
     bool attributes = false;
+    unsigned relative = 0;  // bit per corner given as a relative index
     for (;;) {
       in_.skip_blank();
       if (in_.at_eol()) break;
@@ -379,7 +432,10 @@ class ObjReader {
         }
       }
       const std::uint32_t index = resolve(magnitude, negative, in_range);
-      if (corners < 4) q[corners] = index;
+      if (corners < 4) {
+        q[corners] = index;
+        relative |= static_cast<unsigned>(negative) << corners;
+      }
       ++corners;
     }
     if (attributes) ++report_.face_attribute_refs;
@@ -387,8 +443,10 @@ class ObjReader {
       non_quads_.add(line, corners);
       return;
     }
+    // A later part cannot compare a relative corner with an absolute one before the merge does.
+    const bool deferred = later_part_ && relative != 0;
     int other = 0;
-    const int first = repeated_corner(q, &other);
+    const int first = deferred ? -1 : repeated_corner(q, &other);
     if (first >= 0) {
       in_.fail(ErrorCode::kDegenerateFace, line,
                "face repeats vertex " + std::to_string(std::uint64_t{q[first]} + 1) + " (corners " +
@@ -397,6 +455,10 @@ class ObjReader {
     }
     if (face_count_ >= kMaxFaces)
       in_.fail(ErrorCode::kLimit, "more than " + std::to_string(kMaxFaces) + " faces");
+    if (deferred) {
+      relative_.resize(face_count_, 0);
+      relative_.push_back(static_cast<std::uint8_t>(relative));
+    }
     ++face_count_;
     append(mesh_.quads, q);
     report_.face_line.push_back(clamp_line(line));
@@ -420,11 +482,13 @@ class ObjReader {
       in_.fail(ErrorCode::kBadIndex, "vertex index 0 in " + token() + " is invalid (OBJ indices start at 1)");
     }
     if (negative) {
-      if (!in_range || magnitude > vertex_count_) {
+      if (!in_range || (magnitude > vertex_count_ && !later_part_)) {
         in_.fail(ErrorCode::kBadIndex, "vertex index " + token() + " is out of range (" +
                                            plural(vertex_count_, "vertex", "vertices") +
                                            " defined before this line)");
       }
+      // In a later part this may wrap; the merge adds the vertices before the part.
+      if (magnitude > vertex_count_) missing_ = std::max(missing_, magnitude - vertex_count_);
       return static_cast<std::uint32_t>(vertex_count_ - magnitude);
     }
     if (!in_range || magnitude > kMaxVertices) {
@@ -474,7 +538,113 @@ class ObjReader {
   std::uint64_t face_count_ = 0;
   std::uint32_t max_index_ = 0;
   NonQuads non_quads_;
+  const bool later_part_;
+  std::uint64_t missing_ = 0;
+  std::vector<std::uint8_t> relative_;
 };
+
+// Adds a part's counters; face lines are merged separately.
+void add_counts(ReadReport& to, const ReadReport& from) {
+  // A new ReadReport member must be merged here too.
+  static_assert(sizeof(ReadReport) == 11 * sizeof(std::uint64_t) + sizeof(std::vector<std::uint32_t>));
+  to.texcoords += from.texcoords;
+  to.normals += from.normals;
+  to.face_attribute_refs += from.face_attribute_refs;
+  to.groups += from.groups;
+  to.materials += from.materials;
+  to.smoothing += from.smoothing;
+  to.tags += from.tags;
+  to.vertex_colors += from.vertex_colors;
+  to.face_colors += from.face_colors;
+  to.parameter_vertices += from.parameter_vertices;
+  to.other_properties += from.other_properties;
+}
+
+// Appends and frees `from` at once: the merge holds the parts and one merged array at most.
+template <typename T>
+void append_and_free(std::vector<T>& to, std::vector<T>& from) {
+  to.insert(to.end(), from.begin(), from.end());
+  std::vector<T>().swap(from);
+}
+
+// Reads the parts between `splits` on this thread and one more, each taking the next unread part,
+// and merges them in file order. Several parts rather than two halves: when the other core is busy,
+// this thread reads most parts itself instead of waiting for half the file. Throws the sequential
+// read's error for non-quads (the common refusal: triangle meshes). nullopt when a part fails or the
+// merge finds another problem only the whole file shows (a relative index reaching too far back, a
+// repeated vertex, limits, forward indices out of range): the caller re-reads sequentially, which
+// throws the error that comes first in the file, with its message.
+std::optional<QuadMesh> read_obj_parts(std::string_view text, std::string_view source,
+                                       std::span<const std::size_t> splits, ReadReport& report) {
+  const std::size_t n = splits.size() + 1;
+  std::vector<ObjPart> parts(n);
+  std::atomic<std::size_t> next{0};
+  const auto work = [&]() noexcept {
+    for (std::size_t i; (i = next.fetch_add(1)) < n;) {
+      const std::size_t begin = i == 0 ? 0 : splits[i - 1];
+      const std::size_t end = i + 1 == n ? text.size() : splits[i];
+      try {
+        ObjReader(text.substr(begin, end - begin), source, parts[i].report, i != 0).run_part(parts[i]);
+        parts[i].ok = true;
+      } catch (...) {  // the sequential read decides; no need to read further
+        next = n;
+      }
+    }
+  };
+  std::thread worker;
+  try {
+    worker = std::thread(work);
+  } catch (const std::system_error&) {
+    return std::nullopt;  // no thread to be had: read sequentially
+  }
+  work();
+  worker.join();
+
+  std::uint64_t vertex_count = 0, face_count = 0, line = 1;  // before the current part
+  std::uint32_t max_index = 0;
+  NonQuads non_quads;
+  for (ObjPart& part : parts) {
+    if (!part.ok || part.missing > vertex_count) return std::nullopt;
+    // Relative corners: add the earlier vertices (modulo 2^32, undoing any wrap).
+    const auto base = static_cast<std::uint32_t>(vertex_count);
+    for (std::size_t f = 0; f < part.relative.size(); ++f) {
+      if (part.relative[f] == 0) continue;
+      std::uint32_t* q = &part.mesh.quads[4 * f];
+      for (int i = 0; i < 4; ++i) {
+        if (part.relative[f] >> i & 1) q[i] += base;
+      }
+      int other = 0;
+      if (repeated_corner(q, &other) >= 0) return std::nullopt;
+    }
+    if (line != 1) {
+      for (std::uint32_t& l : part.report.face_line) l = clamp_line(l + line - 1);
+    }
+    non_quads.merge(part.non_quads, line - 1);
+    vertex_count += part.vertex_count;
+    face_count += part.face_count;
+    line += part.end_line - 1;
+    max_index = std::max(max_index, part.max_index);
+  }
+  if (vertex_count > kMaxVertices || face_count > kMaxFaces) return std::nullopt;
+
+  QuadMesh& mesh = parts[0].mesh;
+  ReadReport& first = parts[0].report;
+  mesh.positions.reserve(3 * vertex_count);
+  mesh.quads.reserve(4 * face_count);
+  first.face_line.reserve(face_count);
+  for (std::size_t i = 1; i < n; ++i) {
+    append_and_free(mesh.positions, parts[i].mesh.positions);
+    append_and_free(mesh.quads, parts[i].mesh.quads);
+    append_and_free(first.face_line, parts[i].report.face_line);
+    add_counts(first, parts[i].report);
+  }
+  report = std::move(first);
+  // Nothing above failed, so the sequential read would reach its end and refuse non-quads there,
+  // with the report complete.
+  non_quads.throw_if_any(source);
+  if (face_count != 0 && max_index >= vertex_count) return std::nullopt;
+  return std::move(mesh);
+}
 
 // ----------------------------------------------------------------------------------------------
 // OFF
@@ -711,11 +881,58 @@ class OffReader {
 
 }  // namespace
 
-QuadMesh read_obj(std::string_view text, std::string_view source, ReadReport* report) {
+namespace detail {
+
+std::size_t obj_split_point(std::string_view text, std::size_t from) {
+  for (std::size_t i = text.find('\n', from); i != std::string_view::npos; i = text.find('\n', i + 1)) {
+    if (i + 1 == text.size()) break;  // nothing after it
+    // A backslash then blanks before the LF: a continuation (or a comment's backslash; skipping
+    // that split point too is merely cautious).
+    std::size_t j = i;
+    while (j > 0 && (text[j - 1] == ' ' || text[j - 1] == '\t' || text[j - 1] == '\r')) --j;
+    if (j == 0 || text[j - 1] != '\\') return i + 1;
+  }
+  return std::string_view::npos;
+}
+
+std::vector<std::size_t> obj_read_splits(std::string_view text) {
+  std::vector<std::size_t> splits;
+  if (text.size() < kParallelObjBytes) return splits;
+  for (std::size_t i = 1; i < kParallelObjParts; ++i) {
+    const std::size_t split = obj_split_point(
+        text, std::max(i * (text.size() / kParallelObjParts), splits.empty() ? 0 : splits.back()));
+    if (split == std::string_view::npos) break;
+    splits.push_back(split);
+  }
+  return splits;
+}
+
+QuadMesh read_obj_split(std::string_view text, std::string_view source, ReadReport* report,
+                        std::span<const std::size_t> splits, bool* parallel) {
   ReadReport local;
   ReadReport& r = report ? *report : local;
+  std::size_t previous = 0;
+  bool valid = !splits.empty();
+  for (const std::size_t split : splits) {
+    valid = valid && split > previous && obj_split_point(text, split - 1) == split;
+    previous = split;
+  }
+  if (parallel) *parallel = valid;  // also when read_obj_parts throws
+  if (valid) {
+    if (std::optional<QuadMesh> mesh = read_obj_parts(text, source, splits, r)) return std::move(*mesh);
+    if (parallel) *parallel = false;
+  }
   r = ReadReport{};
   return ObjReader(text, source, r).run();
+}
+
+}  // namespace detail
+
+QuadMesh read_obj(std::string_view text, std::string_view source, ReadReport* report) {
+  std::vector<std::size_t> splits = detail::obj_read_splits(text);
+  // On one core a second thread only costs.
+  if (!splits.empty() && std::thread::hardware_concurrency() == 1) splits.clear();
+  return detail::read_obj_split(text, source, report, splits, nullptr);
 }
 
 QuadMesh read_off(std::string_view text, std::string_view source, ReadReport* report) {

@@ -1,0 +1,323 @@
+// read_obj's two-thread read against the sequential one: for every OBJ in the corpus, crafted texts
+// and mutants, split at every line start (or many), mesh, report and error must be the same.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "../src/io_text.h"
+#include "qsp/error.h"
+#include "qsp/io.h"
+#include "qsp/mesh.h"
+#include "support/corpus.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Splits = std::vector<std::size_t>;
+const Splits kSequential;
+
+// What a read gave: a mesh and report, or an error (with the report as the error left it).
+struct Outcome {
+  bool ok = false;
+  std::vector<std::uint32_t> position_bits;
+  std::vector<std::uint32_t> quads;
+  qsp::ReadReport report;
+  qsp::ErrorCode code{};
+  std::string message;
+};
+
+Outcome read(std::string_view text, const Splits& splits, bool* parallel = nullptr) {
+  Outcome out;
+  out.report.texcoords = 99;  // the read must reset what it reports
+  try {
+    const qsp::QuadMesh m = qsp::detail::read_obj_split(text, "t.obj", &out.report, splits, parallel);
+    out.ok = true;
+    out.position_bits.resize(m.positions.size());
+    std::memcpy(out.position_bits.data(), m.positions.data(), 4 * m.positions.size());
+    out.quads = m.quads;
+  } catch (const qsp::Error& e) {
+    out.code = e.code();
+    out.message = e.what();
+  }
+  return out;
+}
+
+void expect_same(const Outcome& want, const Outcome& got) {
+  ASSERT_EQ(want.ok, got.ok) << (want.ok ? got.message : want.message);
+  EXPECT_EQ(qsp::error_name(want.code), std::string(qsp::error_name(got.code)));
+  EXPECT_EQ(want.message, got.message);
+  EXPECT_EQ(want.position_bits, got.position_bits);
+  EXPECT_EQ(want.quads, got.quads);
+  const qsp::ReadReport &a = want.report, &b = got.report;
+  EXPECT_EQ(a.texcoords, b.texcoords);
+  EXPECT_EQ(a.normals, b.normals);
+  EXPECT_EQ(a.face_attribute_refs, b.face_attribute_refs);
+  EXPECT_EQ(a.groups, b.groups);
+  EXPECT_EQ(a.materials, b.materials);
+  EXPECT_EQ(a.smoothing, b.smoothing);
+  EXPECT_EQ(a.tags, b.tags);
+  EXPECT_EQ(a.vertex_colors, b.vertex_colors);
+  EXPECT_EQ(a.face_colors, b.face_colors);
+  EXPECT_EQ(a.parameter_vertices, b.parameter_vertices);
+  EXPECT_EQ(a.other_properties, b.other_properties);
+  EXPECT_EQ(a.face_line, b.face_line);
+}
+
+// Every split point of `text`, in order.
+Splits split_points(std::string_view text) {
+  Splits out;
+  for (std::size_t s = qsp::detail::obj_split_point(text, 0); s != std::string_view::npos;
+       s = qsp::detail::obj_split_point(text, s)) {
+    out.push_back(s);
+  }
+  return out;
+}
+
+// At most `most` of `all`, spread evenly.
+Splits spread(const Splits& all, std::size_t most) {
+  if (all.size() <= most) return all;
+  Splits out;
+  for (std::size_t i = 0; i < most; ++i) out.push_back(all[i * all.size() / most]);
+  return out;
+}
+
+// Reads `text` split in two at each split point (at most `max_halves` of them, spread evenly), in
+// parts at every split point (at most 256), and at `subsets` random subsets of them, against the sequential
+// read. Returns how many of those reads there were and how many used the two-thread result.
+struct Checked {
+  std::size_t reads = 0, parallel = 0;
+};
+Checked check_splits(std::string_view text, std::size_t max_halves = std::string_view::npos,
+                     int subsets = 8) {
+  const Outcome want = read(text, kSequential);
+  const Splits all = split_points(text);
+  std::vector<Splits> cases;
+  for (const std::size_t s : spread(all, max_halves)) cases.push_back({s});
+  if (all.size() > 1) cases.push_back(spread(all, 256));
+  std::mt19937 rng(static_cast<unsigned>(text.size()));
+  for (int i = 0; i < subsets && all.size() > 2; ++i) {
+    Splits some;
+    for (const std::size_t s : all) {
+      if (rng() % 4 == 0) some.push_back(s);
+    }
+    if (!some.empty()) cases.push_back(some);
+  }
+  const bool failed_before = ::testing::Test::HasFailure();
+  Checked checked;
+  for (const Splits& splits : cases) {
+    std::ostringstream where;
+    where << "split at";
+    for (std::size_t i = 0; i < splits.size() && i < 16; ++i) where << ' ' << splits[i];
+    if (splits.size() > 16) where << " ...";
+    SCOPED_TRACE(where.str());
+    bool parallel = false;
+    expect_same(want, read(text, splits, &parallel));
+    if (!failed_before && ::testing::Test::HasFailure()) break;  // one report is enough
+    ++checked.reads;
+    checked.parallel += parallel;
+  }
+  return checked;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+const std::string kSquare = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+
+}  // namespace
+
+TEST(ReadObjParallel, SplitPointsAreLineStartsOutsideContinuations) {
+  using qsp::detail::obj_split_point;
+  EXPECT_EQ(obj_split_point("v 1 2 3\nv 4 5 6\n", 0), 8u);
+  EXPECT_EQ(obj_split_point("v 1 2 3\nv 4 5 6\n", 8), std::string_view::npos);  // nothing after the last LF
+  EXPECT_EQ(obj_split_point("v 1 2 3\r\nv 4 5 6", 0), 9u);
+  EXPECT_EQ(obj_split_point("v 1 2 3\rv 4 5 6\n", 0), std::string_view::npos);  // a lone CR is never a split
+  EXPECT_EQ(obj_split_point("v 1 \\\n2 3\nv 4 5 6", 0), 10u);
+  EXPECT_EQ(obj_split_point("v 1 \\ \t\r\n2 3\nv 4 5 6", 0), 13u);
+  EXPECT_EQ(obj_split_point("v 1 2 3\\\nv", 0), std::string_view::npos);
+  EXPECT_EQ(obj_split_point("\n\nv", 1), 2u);
+}
+
+TEST(ReadObjParallel, LargeInputsAreReadOnTwoThreadsAndSmallOnesAreNot) {
+  std::string text = kSquare;
+  for (int i = 0; text.size() < qsp::detail::kParallelObjBytes; ++i) {
+    text += "v " + std::to_string(i) + " 0.5 -1e-3\nf -5 -4 -3 -2\n";
+  }
+  const Outcome want = read(text, kSequential);
+  ASSERT_TRUE(want.ok) << want.message;
+  Outcome got;
+  got.ok = true;
+  got.report.texcoords = 7;
+  const qsp::QuadMesh m = qsp::read_obj(text, "t.obj", &got.report);
+  got.position_bits.resize(m.positions.size());
+  std::memcpy(got.position_bits.data(), m.positions.data(), 4 * m.positions.size());
+  got.quads = m.quads;
+  expect_same(want, got);
+  // read_obj's splits are taken on two threads.
+  const Splits splits = qsp::detail::obj_read_splits(text);
+  EXPECT_EQ(splits.size(), qsp::detail::kParallelObjParts - 1);
+  bool parallel = false;
+  expect_same(want, read(text, splits, &parallel));
+  EXPECT_TRUE(parallel);
+  // Below the threshold read_obj reads sequentially.
+  text.resize(qsp::detail::obj_split_point(text, qsp::detail::kParallelObjBytes - 100));
+  ASSERT_LT(text.size(), qsp::detail::kParallelObjBytes);
+  EXPECT_TRUE(qsp::detail::obj_read_splits(text).empty());
+}
+
+TEST(ReadObjParallel, EveryCorpusObjReadsTheSameAtManySplits) {
+  int files = 0;
+  for (const fs::path& p : qsp::testing::corpus()) {
+    if (p.extension() != ".obj") continue;
+    SCOPED_TRACE(p.string());
+    const std::string text = slurp(p);
+    const Outcome want = read(text, kSequential);
+    const bool large = text.size() >= (1 << 20);
+    const Checked checked = check_splits(text, text.size() < 4096 ? 1000 : large ? 2 : 16, large ? 1 : 8);
+    // Valid files, and those refused for non-quads, take the two-thread result however they are split.
+    if (want.ok || want.code == qsp::ErrorCode::kNotQuad) {
+      EXPECT_EQ(checked.parallel, checked.reads);
+    }
+    ++files;
+  }
+  EXPECT_GE(files, 9);
+}
+
+TEST(ReadObjParallel, EveryInvalidObjFailsTheSameAtEverySplit) {
+  int files = 0;
+  for (const fs::path& p : qsp::testing::invalid_meshes()) {
+    if (p.extension() != ".obj") continue;
+    SCOPED_TRACE(p.string());
+    (void)check_splits(slurp(p), 200);  // topology/ files may read fine: only build_adjacency refuses them
+    ++files;
+  }
+  EXPECT_GE(files, 20);
+}
+
+TEST(ReadObjParallel, CraftedTextsReadTheSameAtEverySplit) {
+  const std::string square2 = "v 2 0 0\nv 2 1 0\nv 3 0 0\nv 3 1 0\n";
+  struct Case {
+    const char* name;
+    std::string text;
+    bool valid;
+  };
+  const std::vector<Case> cases = {
+      {"relative indices across the split",
+       kSquare + "f -4 -3 -2 -1\n" + square2 +
+           "f -4 -3 -2 -1\nf -8 -7 -6 -5\nf 1 -7 3 -1\nf -1/1/1 -2//1 2 1\n",
+       true},
+      {"relative and absolute corners that differ", kSquare + square2 + "f 5 -3 -2 -1\nf -8 6 -1 -2\n", true},
+      {"relative index reaching before the file",
+       kSquare + "f 1 2 3 4\n" + square2 + "f -4 -3 -2 -1\nf -9 -3 -2 -1\n", false},
+      {"relative index repeating an absolute one", kSquare + square2 + "f 1 2 3 4\nf 8 -3 -2 -1\n", false},
+      {"relative indices repeating each other", kSquare + square2 + "f 1 2 3 4\nf -1 -3 -2 -1\n", false},
+      {"forward references", "f 1 2 3 4\nf 5 6 7 8\n" + kSquare + "f 1 2 3 4\n" + square2, true},
+      {"forward reference beyond the file", "f 1 2 3 9\n" + kSquare + "f 1 2 3 4\n" + square2, false},
+      {"forward reference beyond the file, late",
+       kSquare + "f 1 2 3 4\n" + square2 + "f 5 6 7 8\nf 1 2 3 9\n", false},
+      {"errors in both halves: the first wins",
+       kSquare + "v 1 2 x\nf 1 2 3 4\n" + square2 + "f 1 2 3 4\nv 1 2 y\nf 1 1 2 3\n", false},
+      {"error late only", kSquare + "f 1 2 3 4\n" + square2 + "f 1 2 3 4\nusemtl a\nl 1 2\n", false},
+      {"error early only", kSquare + "q 1\nf 1 2 3 4\n" + square2 + "f 1 2 3 4\nf 5 6 7 8\n", false},
+      {"non-quads in both halves",
+       kSquare + "f 1 2 3\nf 1 2 3 4\nf 1 2 3 4 2\n" + square2 + "f 1 2\nf\nf 5 6 7 8\nf 4 3 2\n", false},
+      {"non-quads early, a parse error late",
+       kSquare + "f 1 2 3\nf 1 2 3 4\n" + square2 + "f 1 2 3 4\nv 1 2\n", false},
+      {"non-quad late, a bad index early", kSquare + "f 0 2 3 4\nf 1 2 3 4\n" + square2 + "f 1 2 3\n", false},
+      {"non-quad early, a repeat late", kSquare + "f 1 2 3\n" + square2 + "f 1 2 3 4\nf 5 6 5 8\n", false},
+      {"CRLF", "v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\n\r\nv 0 1 0\r\nf 1 2 3 4\r\nf -1 -2 -3 -4\r\n", true},
+      {"lone CRs", "v 0 0 0\rv 1 0 0\nv 1 1 0\r\rv 0 1 0\r\nf 1 2 3 4\rf -1 -2 -3 -4\n# c\rf 2 3 4 1\n",
+       true},
+      {"continuations",
+       "v 0 0 \\\n0\nv 1 0 0 \\ \r\n\nv 1 1 0\\\r\n\nv 0 1 0\n\nf 1 2 \\\n3 4\nf -1 \\\n-2 -3 -4\n", true},
+      {"continuation before a lone CR", "v 0 0 \\\r0\nv 1 0 0\nv 1 1 0 \\ \r \nv 0 1 0\nf 1 2 3 4\n", true},
+      {"a backslash in a comment", "# dir\\\nv 0 0 0\nv 1 0 0\n# a \\ b \\\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n",
+       true},
+      {"a continuation into an error", kSquare + "f 1 2 3 \\\n4 x\nf 1 2 3 4\n", false},
+      {"comments and blank lines", "# a\n\n  \t\n" + kSquare + "# b\nf 1 2 3 4 # c\n\n#\n", true},
+      {"no line end at the end", kSquare + "f 1 2 3 4\nf 4 3 2 1", true},
+      {"error without a line end at the end", kSquare + "f 1 2 3 4\nf 4 3 2", false},
+      {"extras on both sides",
+       "mtllib m\no a\n" + kSquare +
+           "v 1 2 3 0.5 0.5 0.5\nvt 0 0\nvn 0 0 1\nvp 0.5\ng g\ns 1\nusemtl x\n"
+           "f 1/1 2/1 3/1 4/1\nt crease 2/1/0 1 2 4.0\nv 4 5 6 1\nvt 1 1\nvn 1 0 0\n"
+           "o b\ns off\nf 2//1 5//1 3//1 1//1\nusemap u\nmaplib l\n",
+       true},
+      {"a byte order mark at the start", "\xEF\xBB\xBF" + kSquare + "f 1 2 3 4\n", true},
+      {"a byte order mark mid-file", kSquare + "\xEF\xBB\xBFv 1 2 3\nf 1 2 3 4\n", false},
+      {"free-form geometry late", kSquare + "f 1 2 3 4\ncstype bspline\n", false},
+      {"malformed numbers", kSquare + "v 1e99 0 0\nf 1 2 3 4\n", false},
+      {"a vertex reference with junk", kSquare + "f 1/2/3/4 2 3 4\n", false},
+      {"trailing junk", kSquare + "f 1 2 3 4 \\ x\nf 1 2 3 4\n", false},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const Outcome want = read(c.text, kSequential);
+    EXPECT_EQ(want.ok, c.valid) << want.message;
+    const Checked checked = check_splits(c.text);
+    if (want.ok || want.code == qsp::ErrorCode::kNotQuad) {
+      EXPECT_EQ(checked.parallel, checked.reads);
+    }
+  }
+}
+
+TEST(ReadObjParallel, MutantsReadTheSameAtEverySplit) {
+  // Byte and line edits of a small valid file: whatever the sequential read makes of them (often an
+  // error), the split read must make the same.
+  const std::string base =
+      "# m\n" + kSquare + "v 2 0 0\nv 2 1 0\r\nf 1 2 3 4\nf -4 -1 -2 3\ng x\nf 2 5 6 3\nv 3 3 3\n";
+  const std::string alphabet = "vf t#/\\-+.0123456789e\n\r\n\nx";
+  std::mt19937 rng(2024);
+  const auto pick = [&](std::size_t n) { return static_cast<std::size_t>(rng() % n); };
+  int valid = 0;
+  for (int round = 0; round < 400; ++round) {
+    std::string text = base;
+    for (int e = 1 + static_cast<int>(pick(2)); e > 0 && !text.empty(); --e) {
+      const std::size_t at = pick(text.size());
+      const char c = alphabet[pick(alphabet.size())];
+      std::size_t start = text.rfind('\n', at);
+      start = start == std::string::npos ? 0 : start + 1;
+      std::size_t end = text.find('\n', at);
+      end = end == std::string::npos ? text.size() : end + 1;
+      const std::string line = text.substr(start, end - start);
+      switch (pick(6)) {
+        case 0:
+          text[at] = c;
+          break;
+        case 1:
+          text.insert(at, 1, c);
+          break;
+        case 2:
+          text.erase(at, 1);
+          break;
+        case 3:  // another digit: often still valid
+          if (text[at] >= '0' && text[at] <= '9') text[at] = static_cast<char>('0' + pick(10));
+          break;
+        case 4:
+          text.insert(start, line);
+          break;
+        default:
+          text.erase(start, end - start);
+      }
+    }
+    SCOPED_TRACE("mutant " + std::to_string(round) + ": " + text);
+    valid += read(text, kSequential).ok;
+    (void)check_splits(text);
+    if (HasFailure()) return;
+  }
+  EXPECT_GE(valid, 40);  // enough mutants stay valid that the success path is compared too
+}
