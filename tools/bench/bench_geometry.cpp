@@ -130,11 +130,13 @@ double zstd_baseline_bits(const Coded& c, std::uint32_t bits) {
 std::vector<Coded> g_coded;
 std::vector<std::string> g_names;  // per entry of g_coded
 
+// Args: mesh, bits, coder thread (0 off, 1 on: GeometryOptions::coder_thread).
 void BM_Encode(benchmark::State& state) {
   const Coded& c = g_coded[state.range(0)];
   const auto bits = static_cast<std::uint32_t>(state.range(1));
-  for (auto _ : state)
-    benchmark::DoNotOptimize(qsp::encode_geometry(c.positions, c.stencil, {bits, c.order}));
+  qsp::GeometryOptions options{bits, c.order};
+  options.coder_thread = state.range(2) != 0;
+  for (auto _ : state) benchmark::DoNotOptimize(qsp::encode_geometry(c.positions, c.stencil, options));
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(c.stencil.size()));
   state.SetLabel(g_names[state.range(0)]);
 }
@@ -184,9 +186,11 @@ int main(int argc, char** argv) {
   }
   for (std::size_t m = 0; m < g_coded.size(); ++m) {
     for (int bits : {0, 14}) {
-      benchmark::RegisterBenchmark("encode", BM_Encode)
-          ->Args({static_cast<long>(m), bits})
-          ->Unit(benchmark::kMillisecond);
+      for (int thread : {0, 1}) {
+        benchmark::RegisterBenchmark("encode", BM_Encode)
+            ->Args({static_cast<long>(m), bits, thread})
+            ->Unit(benchmark::kMillisecond);
+      }
       benchmark::RegisterBenchmark("decode", BM_Decode)
           ->Args({static_cast<long>(m), bits})
           ->Unit(benchmark::kMillisecond);
