@@ -1051,10 +1051,10 @@ class SymbolSink {
   // Codes into `payload`, with the stream ends of h's revision.
   SymbolSink(const Header& h, std::string& payload, bool threaded)
       : payload_(payload), coder_(std::make_unique<Coder>(h)) {
-    if (!threaded) return;
+    if (!threaded || std::thread::hardware_concurrency() == 1) return;  // one core: a thread only costs
+    block_.reserve(kBlock);  // before the thread: once it runs, nothing here may throw
     try {
       thread_ = std::thread([this] { run(); });
-      block_.reserve(kBlock);
     } catch (const std::system_error&) {
       // no thread to be had: code on this one
     }

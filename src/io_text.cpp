@@ -560,7 +560,7 @@ void add_counts(ReadReport& to, const ReadReport& from) {
   to.other_properties += from.other_properties;
 }
 
-// Appends and frees `from` at once: the merge holds the parts and one merged array at most.
+// Appends `from` and frees it at once.
 template <typename T>
 void append_and_free(std::vector<T>& to, std::vector<T>& from) {
   to.insert(to.end(), from.begin(), from.end());
@@ -627,17 +627,19 @@ std::optional<QuadMesh> read_obj_parts(std::string_view text, std::string_view s
   }
   if (vertex_count > kMaxVertices || face_count > kMaxFaces) return std::nullopt;
 
+  // One array at a time, each part's freed as it is copied: the parts and one merged array at most
+  // (reserving all three first held 45 MB more than the sequential read on a 99 MB file).
+  const auto merge = [&](auto array, std::uint64_t size) {
+    auto& to = array(parts[0]);
+    to.reserve(size);
+    for (std::size_t i = 1; i < n; ++i) append_and_free(to, array(parts[i]));
+  };
+  merge([](ObjPart& p) -> std::vector<float>& { return p.mesh.positions; }, 3 * vertex_count);
+  merge([](ObjPart& p) -> std::vector<std::uint32_t>& { return p.mesh.quads; }, 4 * face_count);
+  merge([](ObjPart& p) -> std::vector<std::uint32_t>& { return p.report.face_line; }, face_count);
   QuadMesh& mesh = parts[0].mesh;
   ReadReport& first = parts[0].report;
-  mesh.positions.reserve(3 * vertex_count);
-  mesh.quads.reserve(4 * face_count);
-  first.face_line.reserve(face_count);
-  for (std::size_t i = 1; i < n; ++i) {
-    append_and_free(mesh.positions, parts[i].mesh.positions);
-    append_and_free(mesh.quads, parts[i].mesh.quads);
-    append_and_free(first.face_line, parts[i].report.face_line);
-    add_counts(first, parts[i].report);
-  }
+  for (std::size_t i = 1; i < n; ++i) add_counts(first, parts[i].report);
   report = std::move(first);
   // Nothing above failed, so the sequential read would reach its end and refuse non-quads there,
   // with the report complete.
