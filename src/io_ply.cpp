@@ -9,11 +9,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <string_view>
 #include <unordered_set>
-#include <utility>
 #include <vector>
 
 #include "qsp/error.h"
@@ -35,80 +35,34 @@ enum class PlyType : std::uint8_t {
   kFloat64
 };
 
+// Each PlyType's names (PLY 1.0's, then the sized alias), size in bytes and, for integers, range; in
+// the enum's order.
+struct PlyTypeInfo {
+  std::string_view name, alias;
+  int size;
+  std::int64_t lo, hi;
+};
+constexpr PlyTypeInfo kPlyTypes[] = {
+    {"none", "", 0, 0, 0},
+    {"char", "int8", 1, -128, 127},
+    {"uchar", "uint8", 1, 0, 255},
+    {"short", "int16", 2, -32768, 32767},
+    {"ushort", "uint16", 2, 0, 65535},
+    {"int", "int32", 4, INT32_MIN, INT32_MAX},
+    {"uint", "uint32", 4, 0, UINT32_MAX},
+    {"float", "float32", 4, INT64_MIN, INT64_MAX},  // floats are never lengths or indices
+    {"double", "float64", 8, INT64_MIN, INT64_MAX},
+};
+const PlyTypeInfo& type_info(PlyType t) { return kPlyTypes[static_cast<std::size_t>(t)]; }
+
 PlyType parse_type(std::string_view t) {
-  if (t == "char" || t == "int8") return PlyType::kInt8;
-  if (t == "uchar" || t == "uint8") return PlyType::kUint8;
-  if (t == "short" || t == "int16") return PlyType::kInt16;
-  if (t == "ushort" || t == "uint16") return PlyType::kUint16;
-  if (t == "int" || t == "int32") return PlyType::kInt32;
-  if (t == "uint" || t == "uint32") return PlyType::kUint32;
-  if (t == "float" || t == "float32") return PlyType::kFloat32;
-  if (t == "double" || t == "float64") return PlyType::kFloat64;
+  for (std::size_t i = 1; i < std::size(kPlyTypes); ++i) {
+    if (t == kPlyTypes[i].name || t == kPlyTypes[i].alias) return static_cast<PlyType>(i);
+  }
   return PlyType::kNone;
 }
 
-// Range of an integer type (a float type's is unbounded here: they are never lengths or indices).
-std::pair<std::int64_t, std::int64_t> integer_range(PlyType t) {
-  switch (t) {
-    case PlyType::kInt8:
-      return {-128, 127};
-    case PlyType::kUint8:
-      return {0, 255};
-    case PlyType::kInt16:
-      return {-32768, 32767};
-    case PlyType::kUint16:
-      return {0, 65535};
-    case PlyType::kInt32:
-      return {INT32_MIN, INT32_MAX};
-    case PlyType::kUint32:
-      return {0, UINT32_MAX};
-    default:
-      return {INT64_MIN, INT64_MAX};
-  }
-}
-
-const char* type_name(PlyType t) {
-  switch (t) {
-    case PlyType::kInt8:
-      return "char";
-    case PlyType::kUint8:
-      return "uchar";
-    case PlyType::kInt16:
-      return "short";
-    case PlyType::kUint16:
-      return "ushort";
-    case PlyType::kInt32:
-      return "int";
-    case PlyType::kUint32:
-      return "uint";
-    case PlyType::kFloat32:
-      return "float";
-    case PlyType::kFloat64:
-      return "double";
-    default:
-      return "none";
-  }
-}
-
-int type_size(PlyType t) {
-  switch (t) {
-    case PlyType::kInt8:
-    case PlyType::kUint8:
-      return 1;
-    case PlyType::kInt16:
-    case PlyType::kUint16:
-      return 2;
-    case PlyType::kInt32:
-    case PlyType::kUint32:
-    case PlyType::kFloat32:
-      return 4;
-    case PlyType::kFloat64:
-      return 8;
-    case PlyType::kNone:
-      break;
-  }
-  return 0;
-}
+int type_size(PlyType t) { return type_info(t).size; }
 
 bool is_float_type(PlyType t) { return t == PlyType::kFloat32 || t == PlyType::kFloat64; }
 
@@ -389,8 +343,8 @@ class PlyData {
 
   float coordinate(PlyType t, const char* what, std::uint64_t index) {
     float f = 0.0f;
-    if (ascii() && !is_float_type(t)) {
-      f = static_cast<float>(integer(t, what, index));  // as in binary: an integer in the type's range
+    if (!is_float_type(t)) {
+      f = static_cast<float>(integer(t, what, index));  // ASCII too: an integer in the type's range
     } else if (ascii()) {
       const std::string_view tok = next_token(what, index);
       const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), f);
@@ -413,8 +367,6 @@ class PlyData {
                                         " has a coordinate outside the float32 range (it does not round to "
                                         "a finite nonzero float)");
       }
-    } else {
-      f = static_cast<float>(integer(t, what, index));
     }
     if (!std::isfinite(f)) {
       fail(ErrorCode::kBadNumber,
@@ -434,9 +386,9 @@ class PlyData {
              std::string("malformed integer '") + shown(tok) + "' in " + what + " " + std::to_string(index));
       }
       // A value the declared type cannot hold is not what the writer meant (binary files cannot have one).
-      if (const auto [lo, hi] = integer_range(t); v < lo || v > hi) {
+      if (const PlyTypeInfo& type = type_info(t); v < type.lo || v > type.hi) {
         fail(ErrorCode::kParse, "integer " + std::to_string(v) + " in " + what + " " + std::to_string(index) +
-                                    " is out of range for its PLY type " + type_name(t));
+                                    " is out of range for its PLY type " + std::string(type.name));
       }
       return v;
     }

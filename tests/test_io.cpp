@@ -488,24 +488,23 @@ TEST(ReadPly, AsciiSignsTypeRangesAndEndHeader) {
   const qsp::QuadMesh m = qsp::read_ply_file(p.string());
   EXPECT_EQ(m.positions[8], 0.5f);
   EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{0, 1, 2, 3}));
-  spit(p, ply_ascii(xyz, "+-1 0 0\n1 0 0\n1 1 0\n0 1 0\n", 4, "4 0 1 2 3\n", 1));
-  std::string msg = expect_error([&] { qsp::read_ply_file(p.string()); }, qsp::ErrorCode::kParse);
-  EXPECT_NE(msg.find("malformed number '+-1' in vertex 0"), std::string::npos) << msg;
-  spit(p, ply_ascii(xyz, "0 0 0\n1 0 0\n1 1 0\n0 1 0\n", 4, "260 0 1 2 3\n", 1));
-  msg = expect_error([&] { qsp::read_ply_file(p.string()); }, qsp::ErrorCode::kParse);
-  EXPECT_NE(msg.find("integer 260 in face 0 is out of range for its PLY type uchar"), std::string::npos)
-      << msg;
-  spit(p,
-       "ply\nformat ascii 1.0\nelement vertex 4\nproperty char x\nproperty char y\nproperty char z\n"
-       "end_header\n0 0 0\n1 0 0\n1 1 0\n0 1 -129\n");
-  msg = expect_error([&] { qsp::read_ply_file(p.string()); }, qsp::ErrorCode::kParse);
-  EXPECT_NE(msg.find("integer -129 in vertex 3 is out of range for its PLY type char"), std::string::npos)
-      << msg;
-  spit(p,
-       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
-       "end_header extra\n0 0 0\n");
-  msg = expect_error([&] { qsp::read_ply_file(p.string()); }, qsp::ErrorCode::kParse);
-  EXPECT_NE(msg.find(":7: unexpected text after end_header"), std::string::npos) << msg;
+  const auto refused = [&](const std::string& text, const std::string& expected) {
+    spit(p, text);
+    const std::string msg = expect_error([&] { qsp::read_ply_file(p.string()); }, qsp::ErrorCode::kParse);
+    EXPECT_NE(msg.find(expected), std::string::npos) << msg;
+  };
+  refused(ply_ascii(xyz, "+-1 0 0\n1 0 0\n1 1 0\n0 1 0\n", 4, "4 0 1 2 3\n", 1),
+          "malformed number '+-1' in vertex 0");
+  refused(ply_ascii(xyz, "0 0 0\n1 0 0\n1 1 0\n0 1 0\n", 4, "260 0 1 2 3\n", 1),
+          "integer 260 in face 0 is out of range for its PLY type uchar");
+  refused(
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty char x\nproperty char y\nproperty char z\n"
+      "end_header\n0 0 0\n1 0 0\n1 1 0\n0 1 -129\n",
+      "integer -129 in vertex 3 is out of range for its PLY type char");
+  refused(
+      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+      "end_header extra\n0 0 0\n",
+      ":7: unexpected text after end_header");
 }
 
 TEST(ReadPly, BinaryBigEndianIntCoordinatesAndUnknownProperties) {
