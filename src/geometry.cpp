@@ -849,6 +849,11 @@ struct Header {
   int max_length(int a) const {
     return bits ? static_cast<int>(bits) : plans[a].mode == kFloatBits ? kFloatMaxLength : kDecimalMaxLength;
   }
+  // The payload's residual model and stream ends, as the revision has them (encoder and decoder alike).
+  ResidualModel model() const {
+    return ResidualModel(revision >= kPatchRevision, revision >= kCompactRevision);
+  }
+  StreamEnds ends() const { return revision >= kCompactRevision ? StreamEnds::kCompact : StreamEnds::kLzma; }
 };
 
 // Values already coded on one axis, for coordinates that repeat one exactly (CAD cages, symmetric
@@ -1140,9 +1145,7 @@ class SymbolSink {
   // The coder's state, on its own cache lines: on the coding loop's stack its every symbol missed the
   // coder thread's cache, and coding took twice as long as on one thread.
   struct alignas(64) Coder {
-    explicit Coder(const Header& h)
-        : model(h.revision >= kPatchRevision, h.revision >= kCompactRevision),
-          rc(bytes, h.revision >= kCompactRevision ? StreamEnds::kCompact : StreamEnds::kLzma) {}
+    explicit Coder(const Header& h) : model(h.model()), rc(bytes, h.ends()) {}
     ResidualModel model;
     std::string bytes;
     RangeEncoder rc;  // into bytes
@@ -1209,9 +1212,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
   std::array<std::size_t, 3> next_exception{};
   const std::int64_t qmax = h.bits ? static_cast<std::int64_t>((std::uint64_t{1} << h.bits) - 1) : 0;
   // The decoder's model; the encoder's is the sink's.
-  const auto model =
-      kEncode ? nullptr
-              : std::make_unique<ResidualModel>(h.revision >= kPatchRevision, h.revision >= kCompactRevision);
+  const auto model = kEncode ? nullptr : std::make_unique<ResidualModel>(h.model());
   Symbol repeat_sym{};  // the encoder's repeat decision for the current axis, if it made one (op kRepeat)
   std::array<std::int64_t, kCandidates> weight{};
   std::array<std::array<std::int64_t, kCandidates>, 3> cand{};
@@ -1367,7 +1368,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
         }
       }
       if constexpr (kEncode) {
-        if (h.repeats && repeat_sym.op == Symbol::kRepeat) sink->put(repeat_sym), repeat_sym = {};
+        if (repeat_sym.op == Symbol::kRepeat) sink->put(repeat_sym), repeat_sym = {};
         if (!hit) {
           sink->put({u, Symbol::kResidual, x.ctx, static_cast<std::uint8_t>(bucket),
                      static_cast<std::uint8_t>(h.max_length(a))});
@@ -1663,8 +1664,7 @@ std::vector<float> decode_geometry(std::string_view bytes, std::span<const GridL
   const Header h = read_header(in, vertex_count);
   const std::uint64_t payload_size = in.varint("truncated payload size");
   if (payload_size != in.left()) fail("payload size does not match the section");
-  RangeDecoder rc(in.take(payload_size, "truncated payload"), 0, "geometry: payload",
-                  h.revision >= kCompactRevision ? StreamEnds::kCompact : StreamEnds::kLzma);
+  RangeDecoder rc(in.take(payload_size, "truncated payload"), 0, "geometry: payload", h.ends());
   const Hoods hoods(stencil, h.revision, h.order);
   std::array<std::vector<std::int64_t>, 3> ints;
   std::array<std::vector<float>, 3> floats;
