@@ -3,7 +3,7 @@
 # Usage: tools/setup.sh [--bench]   (--bench adds the tools the comparison benchmarks run)
 set -euo pipefail
 pkgs=(cmake ninja-build g++ pkg-config libopenmesh-dev libcli11-dev libzstd-dev libxxhash-dev
-      libgtest-dev libgmock-dev libbenchmark-dev)
+      libgtest-dev libgmock-dev libbenchmark-dev python3)
 if [[ "${1:-}" == "--bench" ]]; then
   pkgs+=(draco libmeshoptimizer-dev bliss zstd xz-utils hyperfine time)
 fi
