@@ -3,9 +3,9 @@
 # alone, and compares every coordinate bit for bit with the reference decoder: the golden files of the
 # versions whose geometry it reads (revisions 4 and 5), and fresh encodes of testdata meshes and, when
 # ../shared/meshes is there, of meshes that exercise chaining, repeats and layout order.
-# Usage: check.sh QSP DUMP_STENCILS   (ctest runs it: "spec_decoder")
+# Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
-qsp=$1 dump=$2
+qsp=$1 dump=$2 python=${3:-python3}
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 work=$(mktemp -d)
@@ -31,7 +31,7 @@ encode xord_q14 "$shared/osd_catmark_xord_interior.obj" --quantize 14
 failed=0
 for f in "${files[@]}"; do
   prefix="$work/$(basename "$f" .qsp)_$RANDOM"
-  if ! "$dump" "$f" "$prefix" || ! python3 "$here/qspgeo.py" "$f" "$prefix"; then
+  if ! "$dump" "$f" "$prefix" || ! "$python" "$here/qspgeo.py" "$f" "$prefix"; then
     echo "spec decoder disagrees: $f" >&2
     failed=1
   fi

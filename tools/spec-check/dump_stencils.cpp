@@ -7,7 +7,6 @@
 #include <exception>
 #include <fstream>
 #include <sstream>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,34 +18,12 @@
 
 namespace {
 
-std::uint64_t varint(std::string_view b, std::size_t& at) {
-  std::uint64_t v = 0;
-  for (int shift = 0; at < b.size(); shift += 7) {
-    const auto x = static_cast<std::uint8_t>(b[at++]);
-    v |= std::uint64_t{x & 0x7Fu} << shift;
-    if (!(x & 0x80)) return v;
-  }
-  throw std::runtime_error("truncated varint");
-}
-
-struct Section {
-  std::uint8_t tag;
-  std::size_t offset;
-  std::string_view payload;
-};
-
-// The sections of a file the reference decoder has accepted (format spec, "File structure").
-std::vector<Section> sections(std::string_view b) {
-  std::size_t at = 11;
-  varint(b, at);  // file size
-  std::vector<Section> out;
-  while (at < b.size() - 8) {
-    const auto tag = static_cast<std::uint8_t>(b[at++]);
-    const std::uint64_t len = varint(b, at);
-    out.push_back({tag, at, b.substr(at, len)});
-    at += len;
-  }
-  return out;
+// The payload of the section at `info` (its tag byte's offset), after its varint length.
+std::string_view payload(std::string_view bytes, const qsp::SectionInfo& info, std::uint64_t& offset) {
+  std::uint64_t at = info.offset + 1;
+  while (static_cast<std::uint8_t>(bytes[at]) & 0x80) ++at;
+  offset = at + 1;
+  return bytes.substr(offset, info.offset + info.size - offset);
 }
 
 }  // namespace
@@ -61,40 +38,39 @@ int main(int argc, char** argv) {
     std::stringstream text;
     text << in.rdbuf();
     const std::string bytes = text.str();
-    const qsp::QuadMesh mesh = qsp::decode(bytes);  // first: only files it accepts are parsed below
-    const std::vector<Section> secs = sections(bytes);
-    qsp::CodingOrder order = qsp::CodingOrder::kLayout;
-    for (const Section& s : secs)
-      if (s.tag == 3) order = qsp::geometry_coding_order(s.payload);
+    const qsp::QuadMesh mesh = qsp::decode(bytes);
+    const qsp::FileInfo info = qsp::inspect(bytes);  // the coding order, version and sections
 
-    const qsp::FileTopology top = qsp::file_topology(bytes);
     std::ofstream st(std::string(argv[2]) + ".stencil");
+    auto write = [&st](std::uint32_t vertex, qsp::GridLayout::Stencil s, std::uint32_t base) {
+      st << vertex;
+      for (std::uint32_t* v : s.vertex_fields())
+        st << ' ' << (*v == qsp::kInvalid ? -1 : std::int64_t{*v + base});
+      st << ' ' << s.far_dist << ' ' << s.e_dist << ' ' << s.n_dist << ' ' << s.xnum << ' ' << s.xden << '\n';
+    };
+    const qsp::FileTopology top = qsp::file_topology(bytes);
     std::uint32_t base = 0;
     for (const qsp::TopologyCode& code : top.codes) {
-      const qsp::GridLayout g = qsp::grid_layout(qsp::partition_from_code(code), order);
-      for (std::uint32_t k = 0; k < g.vertex_count; ++k) {
-        qsp::GridLayout::Stencil s = g.stencil[k];
-        st << base + (g.coding.empty() ? k : g.coding[k]);
-        for (std::uint32_t* v : s.vertex_fields())
-          st << ' ' << (*v == qsp::kInvalid ? -1 : std::int64_t{*v + base});
-        st << ' ' << s.far_dist << ' ' << s.e_dist << ' ' << s.n_dist << ' ' << s.xnum << ' ' << s.xden
-           << '\n';
-      }
+      const qsp::GridLayout g = qsp::grid_layout(qsp::partition_from_code(code), info.geometry_order);
+      for (std::uint32_t k = 0; k < g.vertex_count; ++k)
+        write(base + (g.coding.empty() ? k : g.coding[k]), g.stencil[k], base);
       base += g.vertex_count;
     }
     for (std::uint64_t u = 0; u < top.unreferenced; ++u, ++base) {  // w = the previous vertex
-      st << base << ' ' << (base > 0 ? std::int64_t{base} - 1 : -1);
-      for (int f = 1; f < 19; ++f) st << " -1";
-      st << " 0 0 0 0 0\n";
+      qsp::GridLayout::Stencil s;
+      if (base > 0) s.w = base - 1;
+      write(base, s, 0);
     }
 
     // Positions in canonical order: with an order section, decode() restored the input's order.
     std::vector<float> pos = mesh.positions;
-    for (const Section& s : secs) {
-      if (s.tag != 4) continue;
+    for (const qsp::SectionInfo& section : info.sections) {
+      if (section.tag != 4) continue;
+      std::uint64_t offset = 0;
+      const std::string_view order = payload(bytes, section, offset);
       const qsp::OrderMap om =
-          qsp::decode_order(s.payload, s.offset, mesh.vertex_count(), mesh.face_count(),
-                            bytes[8] >= 2 ? qsp::StreamEnds::kCompact : qsp::StreamEnds::kLzma);
+          qsp::decode_order(order, offset, mesh.vertex_count(), mesh.face_count(),
+                            info.version_major >= 2 ? qsp::StreamEnds::kCompact : qsp::StreamEnds::kLzma);
       for (std::size_t j = 0; j < om.vertex.size(); ++j)
         for (int a = 0; a < 3; ++a) pos[3 * std::size_t{om.vertex[j]} + a] = mesh.positions[3 * j + a];
     }
