@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Decodes geometry sections with tools/spec-check/qspgeo.py, written from format-spec/qsp_format.md
 # alone, and compares every coordinate bit for bit with the reference decoder: the golden files of the
-# versions whose geometry it reads (revisions 4 and 5), and fresh encodes of testdata meshes and, when
-# ../shared/meshes is there, of meshes that exercise chaining, repeats and layout order.
+# versions whose geometry it reads (revisions 4 to 6: testdata/golden, mostly revision 6, and v1.3,
+# v2.0, v2.1), and fresh encodes of testdata meshes, of a generated grid with float-bits axes (all
+# three, or beside a decimal axis) and, when ../shared/meshes is there, of meshes that exercise
+# chaining, repeats, shape transfers, layout order and trailing-zero coding.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -10,7 +12,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-files=("$root"/testdata/golden/*.qsp "$root"/testdata/golden/v1.3/*.qsp "$root"/testdata/golden/v2.0/*.qsp)
+files=("$root"/testdata/golden/*.qsp "$root"/testdata/golden/v1.3/*.qsp "$root"/testdata/golden/v2.0/*.qsp
+       "$root"/testdata/golden/v2.1/*.qsp)
 encode() {  # encode NAME MESH [OPTIONS...]: a fresh file to check
   local name=$1 mesh=$2
   shift 2
@@ -18,14 +21,39 @@ encode() {  # encode NAME MESH [OPTIONS...]: a fresh file to check
   "$qsp" compress -f --positions-only "$@" "$mesh" "$work/$name.qsp" >/dev/null
   files+=("$work/$name.qsp")
 }
+bumpy() {  # bumpy OUT.obj MODE: a 16x16 grid whose y, z are not short decimals, so float bits;
+           # x too for MODE float, x on a decimal grid (integers) for MODE mixed
+  "$python" - "$@" <<'PY'
+import math, random, struct, sys
+out, mode = sys.argv[1], sys.argv[2]
+random.seed(7)
+n = 16
+f32 = lambda x: struct.unpack('<f', struct.pack('<f', x))[0]
+with open(out, 'w') as o:
+    for j in range(n):
+        for i in range(n):
+            x = '%d' % i if mode == 'mixed' else '%.9g' % f32(i * 0.731 + 0.01 * math.sin(j))
+            y = f32(j * 0.677 + 0.013 * math.cos(i) + 1e-3 * random.random())
+            z = f32(0.3 * math.sin(i * 0.4) * math.cos(j * 0.3) + 1e-3 * random.random())
+            o.write('v %s %.9g %.9g\n' % (x, y, z))
+    for j in range(n - 1):
+        for i in range(n - 1):
+            a = j * n + i + 1
+            o.write('f %d %d %d %d\n' % (a, a + 1, a + n + 1, a + n))
+PY
+}
 encode fedora "$root/testdata/mh_fedora.obj"                     # decimal grid, lossless
 encode fedora_q14 "$root/testdata/mh_fedora.obj" --quantize 14
 encode spot_q14 "$root/testdata/keenan_spot_quadrangulated.obj" --quantize 14
 encode spot_q6 "$root/testdata/keenan_spot_quadrangulated.obj" --quantize 6
+bumpy "$work/bumpy_float.obj" float
+encode bumpy_float "$work/bumpy_float.obj"                       # float bits only: no candidates
+bumpy "$work/bumpy_mixed.obj" mixed
+encode bumpy_mixed "$work/bumpy_mixed.obj"                       # float bits beside a decimal axis
 shared="$root/../shared/meshes"
-encode gargoyle_q14 "$shared/quadriflow_gargoyle.obj" --quantize 14  # revision 5, normal chaining
+encode gargoyle_q14 "$shared/quadriflow_gargoyle.obj" --quantize 14  # normal chaining, distorted cells
 encode horse "$shared/igl_horse_quad.obj"
-encode pawn "$shared/osd_catmark_pawn.obj"                           # value repeats
+encode pawn "$shared/osd_catmark_pawn.obj"                           # value repeats, shape transfers
 encode xord "$shared/osd_catmark_xord_interior.obj"                  # layout order, exceptions
 encode xord_q14 "$shared/osd_catmark_xord_interior.obj" --quantize 14
 failed=0

@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
-"""Geometry-section decoder for .qsp (revisions 4 and 5), written from format-spec/qsp_format.md alone.
+"""Geometry-section decoder for .qsp (revisions 4 to 6), written from format-spec/qsp_format.md alone.
 
 An independent reviewer wrote it from the text without reading src/geometry.cpp or src/entropy.cpp; the
-points where the text was not enough were fixed in the spec (25c17c4). It checks that the spec still
-describes what the reference decoder does: check.sh runs it over the golden files and fresh encodes.
+points where the text was not enough were fixed in the spec (25c17c4). Revision 6 (candidates 11-13 and
+the shape transfers, the magnitude and neighbour classes, logistic decisions, the length prior) was
+added the same way, from the 2.2 text alone. It checks that the spec still describes what the reference
+decoder does: check.sh runs it over the golden files and fresh encodes.
 
 usage: qspgeo.py FILE.qsp PREFIX  decodes FILE's geometry with the stencils in PREFIX.stencil and
        compares with PREFIX.pos (the reference decoder's float bits, canonical order); both files come
@@ -11,7 +13,7 @@ usage: qspgeo.py FILE.qsp PREFIX  decodes FILE's geometry with the stencils in P
 The stencil file gives, per coding position k: coding[k], 19 vertex fields, far_dist, e_dist, n_dist,
 xnum, xden.
 """
-import struct, sys
+import math, struct, sys
 from fractions import Fraction
 
 NONE = -1
@@ -73,10 +75,77 @@ class Model:
 
 
 class Models(dict):
+    """Bit models by key; `init` (optional) gives a fresh model's (p, seen) for a key, else (32768, 0)."""
+
+    def __init__(self, init=None):
+        super().__init__()
+        self.init = init
+
     def __missing__(self, key):
         m = Model()
+        if self.init is not None:
+            st = self.init(key)
+            if st is not None:
+                m.fast = m.slow = st[0]
+                m.seen = st[1]
         self[key] = m
         return m
+
+
+# logistic decisions (revision 6)
+SQ_T = [1, 2, 3, 6, 10, 16, 27, 45, 73, 120, 194, 310, 488, 747, 1101, 1546, 2047,
+        2549, 2994, 3348, 3607, 3785, 3901, 3975, 4024, 4050, 4068, 4079, 4085, 4089, 4092, 4093, 4094]
+MIX_LR = 6          # err = MIX_LR * (4096*bit - p1)
+MIX_W0 = (24576, 12288, 12288, 12288, 0)
+
+
+def squash(d):
+    j = (d // 128) + 16
+    f = d - 128 * (d // 128)
+    return (SQ_T[j] * (128 - f) + SQ_T[j + 1] * f + 64) >> 7
+
+
+SQUASH = [squash(d) for d in range(-2047, 2048)]
+
+
+def _stretch_table():
+    out = [2047] * 4096
+    d = -2047
+    for p in range(4096):
+        while d <= 2047 and SQUASH[d + 2047] < p:
+            d += 1
+        out[p] = d if d <= 2047 else 2047
+    return out
+
+
+STRETCH = _stretch_table()
+
+
+PRIOR_UP = 3  # delta = PRIOR_UP * (l - c) above the class
+
+
+def _length_prior():
+    """P[c][node]: the revision-6 length prior ("Length prior")."""
+    P = []
+    for c in range(24):
+        Om = [0] * 128
+        for l in range(64):
+            delta = c - l if l <= c else PRIOR_UP * (l - c)
+            Om[64 + l] = 1 << (40 - min(40, delta))
+        for node in range(63, 0, -1):
+            Om[node] = Om[2 * node] + Om[2 * node + 1]
+        P.append([0] + [max(1024, min(64512, (Om[2 * node] << 16) // Om[node])) for node in range(1, 64)])
+    return P
+
+
+LENGTH_PRIOR = _length_prior()
+
+
+class Weights(dict):
+    def __missing__(self, key):
+        w = list(MIX_W0)
+        self[key] = w
+        return w
 
 
 class RangeDecoder:
@@ -141,6 +210,19 @@ class RangeDecoder:
         b = self.decide_p(p0)
         A.update(b)
         B.update(b)
+        return b
+
+    def logistic(self, M, W):
+        st = [STRETCH[max(1, min(4095, 4096 - (m.p0() >> 4)))] for m in M] + [256]
+        dot = sum(W[k] * st[k] for k in range(5))
+        p1 = SQUASH[max(-2047, min(2047, dot >> 16)) + 2047]
+        p0 = max(71, min(65465, 16 * (4096 - p1)))
+        b = self.decide_p(p0)
+        err = MIX_LR * (4096 * b - p1)
+        for k in range(5):
+            W[k] = max(-(1 << 22), min(1 << 22, W[k] + ((st[k] * err) >> 14)))
+        for m in M:
+            m.update(b)
         return b
 
     def raw(self):
@@ -296,15 +378,53 @@ def load_stencils(path):
     return coding, st
 
 
+def transfer(sw, a, b, a1, b1, d1):
+    """T(a, b, a', b') of "Shape transfers" (a1, b1, d1 are a', b', d'), or None if it does not exist."""
+    lim = 1 << 15
+    for vec in (a, b, a1, b1, d1):
+        for x in vec:
+            if x <= -lim or x >= lim:
+                return None
+    dot = lambda x, y: x[0] * y[0] + x[1] * y[1] + x[2] * y[2]
+    E1 = dot(a1, a1); G1 = dot(a1, b1); E = dot(a, a); G = dot(a, b)
+    Q21 = E1 * dot(b1, b1) - G1 * G1
+    Q2 = E * dot(b, b) - G * G
+    if E1 == 0 or Q21 == 0 or Q2 == 0:
+        return None
+    S = math.isqrt(Q21) * math.isqrt(Q2)
+    p = dot(d1, a1)
+    q = E1 * dot(d1, b1) - G1 * p
+    den = S * E1
+    out = []
+    for k in range(3):
+        num = p * a[k] * S + q * (E * b[k] - G * a[k])
+        out.append(sw[k] + (2 * num + den) // (2 * den))
+    return out
+
+
+def shape_candidate(val, nb, corner, e1, f1, d1):
+    """Candidate 12 (west cell: corner sww) or 13 (south cell: corner ssw), per axis; None if absent."""
+    vec = lambda x, y: [val[k][nb[x]] - val[k][nb[y]] for k in range(3)]
+    sw = [val[k][nb['sw']] for k in range(3)]
+    e = vec('s', 'sw'); f = vec('w', 'sw')
+    e_ = vec(e1, corner); f_ = vec(f1, corner); d_ = vec(d1, corner)
+    t = transfer(sw, e, f, e_, f_, d_)
+    u = transfer(sw, f, e, f_, e_, d_)
+    if t is None or u is None:
+        return None
+    return [(t[k] + u[k] + 1) // 2 for k in range(3)]
+
+
 def decode_geometry(sec, V, st, verbose=False):
     pos = 0
     rev = sec[pos]; pos += 1
-    assert rev in (4, 5), rev
+    assert rev in (4, 5, 6), rev
     bits = sec[pos]; pos += 1
     flags = sec[pos]; pos += 1
-    assert flags & ~3 == 0
+    assert flags & ~(7 if rev == 6 else 3) == 0
     repeats = bool(flags & 1)
     layout_order = bool(flags & 2)
+    r6 = rev == 6
     axes = []  # per axis: ('q',) | ('dec', k, tz, exceptions dict) | ('float',)
     if bits > 0:
         origin = struct.unpack_from('<3f', sec, pos); pos += 12
@@ -334,12 +454,19 @@ def decode_geometry(sec, V, st, verbose=False):
     payload = sec[pos:]
     assert len(payload) == psize
     rd = RangeDecoder(payload, compact=True)
-    ms = Models()
+
+    def prior(key):  # revision 6: length[ctx][c][node] starts at the length prior
+        if r6 and key[0] == 'length':
+            return LENGTH_PRIOR[key[2]][key[3]], 3
+        return None
+    ms = Models(prior)
+    mix = Weights()  # revision 6 weight sets
 
     is_int = [ax[0] != 'float' for ax in axes]
     any_int = any(is_int)
     all_int = all(is_int)
-    chaining = (rev == 5) and all_int
+    chaining = (rev == 5 or (r6 and flags & 4)) and all_int
+    ncand = 14 if r6 else 11
     maxlen = []
     for ax in axes:
         maxlen.append(bits if ax[0] == 'q' else 42 if ax[0] == 'dec' else 33)
@@ -357,6 +484,7 @@ def decode_geometry(sec, V, st, verbose=False):
     val = [[0] * V for _ in range(3)]    # v[i] per axis (q, n, or image)
     fbits = [[0] * V for _ in range(3)]  # decoded float bits
     Lw = [[0] * V for _ in range(3)]
+    Uw = [[0] * V for _ in range(3)]  # revision 6: min(u, 2^32 - 1)
     err = [None] * V
     S = [set() for _ in range(3)]
     Slist = [[] for _ in range(3)]
@@ -438,8 +566,20 @@ def decode_geometry(sec, V, st, verbose=False):
         needs = [('w', 's', 'sw'), ('w', 'ww'), ('w', 'ww', 's', 'sw', 'se'), ('s', 'ss'),
                  ('w', 'ww', 's', 'sw', 'sww'), ('w', 's', 'sw', 'ss', 'ssw'), ('w',), ('w', 'se', 'sw'),
                  ('w', 's', 'sw', 'e', 'es'), ('w', 's', 'sw', 'n', 'nw'),
-                 ('w', 's', 'sw', 'e', 'es', 'n', 'nw')]
-        mask = [k for k in range(11) if all(nbw.get(f, NONE) != NONE for f in needs[k])] if any_int else []
+                 ('w', 's', 'sw', 'e', 'es', 'n', 'nw'),
+                 ('w', 's', 'sw'), ('w', 'ww', 's', 'sw', 'sww'), ('w', 's', 'sw', 'ss', 'ssw')]
+        mask = [k for k in range(ncand) if all(nbw.get(f, NONE) != NONE for f in needs[k])] if any_int else []
+        shape = {}  # revision 6: candidates 12 and 13, per axis
+        if r6:
+            for k, (corner, e1, f1, d1) in ((12, ('sww', 'sw', 'ww', 'w')), (13, ('ssw', 'ss', 'sw', 's'))):
+                if k not in mask:
+                    continue
+                tr = shape_candidate(val, nb, corner, e1, f1, d1) if all_int else None
+                if tr is None:
+                    mask.remove(k)
+                else:
+                    shape[k] = tr
+                    stat('shape%d' % k)
 
         def cand(a, k):
             v = val[a]
@@ -452,6 +592,8 @@ def decode_geometry(sec, V, st, verbose=False):
             if k == 5: return 2 * g('s') - g('ss') + g('w') - 2 * g('sw') + g('ssw')
             if k == 6: return g('w')
             if k == 7: return g('w') + ((g('se') - g('sw')) >> 1)
+            if k == 11: return g('sw') + ((13 * (g('w') + g('s') - 2 * g('sw')) + 8) >> 4)
+            if k in (12, 13): return shape[k][a]
             R = C = 0
             if k in (8, 10):
                 d = e_d + 1
@@ -562,6 +704,8 @@ def decode_geometry(sec, V, st, verbose=False):
         if chain:
             d1 = [val[a][w] - val[a][sw] for a in range(3)]
             d2 = [val[a][s] - val[a][sw] for a in range(3)]
+            if r6 and nb.get('se', NONE) != NONE:  # a row step centred on the vertex's column
+                d2 = [val[a][nb['se']] - val[a][sw] for a in range(3)]
             m = [d1[1] * d2[2] - d1[2] * d2[1], d1[2] * d2[0] - d1[0] * d2[2], d1[0] * d2[1] - d1[1] * d2[0]]
             g = bit_width(max(abs(x) for x in m))
             sh = max(0, g - 15)
@@ -618,8 +762,25 @@ def decode_geometry(sec, V, st, verbose=False):
             else:
                 c = 0
             c = min(c, 23)
+            nc = c
             if kind == 3 and any_int:
-                c = min(23, (c + cls + 1) >> 1)
+                if r6:
+                    sm = 2 * (Uw[a][w] + Uw[a][s]) + Uw[a][sw]
+                    n_ = 5
+                    if nb.get('se', NONE) != NONE:
+                        sm += Uw[a][nb['se']]
+                        n_ += 1
+                    for b_ in range(a):
+                        sm += 2 * Uw[b_][i]
+                        n_ += 2
+                    g_ = bit_width(2 * sm // n_)
+                    nc = min(23, g_)
+                    c = min(23, (3 * g_ + cls + 2) >> 2)
+                else:
+                    c = min(23, (c + cls + 1) >> 1)
+                    nc = c
+            pl = min(23, Lw[a - 1][i]) if a > 0 else 0
+            kw = 1 if ctxk == 3 else 0
             is_exc = ax[0] == 'dec' and i in ax[3]
             rep = 0
             if repeats and not is_exc and Slist[a]:
@@ -639,11 +800,10 @@ def decode_geometry(sec, V, st, verbose=False):
                     r = (value - p) % (1 << bits)
                     if r >= (1 << (bits - 1)):
                         r -= 1 << bits
-                    Lval = bit_width(zig(r))
-                elif ax[0] == 'dec':
-                    Lval = bit_width(zig(value - p))
-                else:
-                    Lval = bit_width(zig(value - p))
+                    uval = zig(r)
+                else:  # decimal (t ignored) and float bits
+                    uval = zig(value - p)
+                Lval = bit_width(uval)
                 prev = 2
             else:
                 # length
@@ -653,6 +813,10 @@ def decode_geometry(sec, V, st, verbose=False):
                     wt = 1 << bpos
                     if h + wt > maxlen[a]:
                         b = 0
+                    elif r6:
+                        b = rd.logistic((ms[('length', ctxk, c, node)], ms[('general', ctxk, node)],
+                                         ms[('by_class', ctxk, a, nc, node)], ms[('by_previous', ctxk, a, pl, node)]),
+                                        mix[('length', kw, node)])
                     else:
                         b = rd.mixed(ms[('length', ctxk, c, node)], ms[('general', ctxk, node)])
                     node = 2 * node + b
@@ -664,7 +828,12 @@ def decode_geometry(sec, V, st, verbose=False):
                     u = 1
                     node = 1
                     for j in range(L - 1):
-                        if j < 2:
+                        if j < 2 and r6:
+                            b = rd.logistic((ms[('mantissa', L, node)], ms[('mantissa_bucket', L, c, node)],
+                                             ms[('mantissa_kind', L, ctxk, node)], ms[('mantissa_class', L, a, nc, node)]),
+                                            mix[('mantissa', kw, node)])
+                            node = 2 * node + b
+                        elif j < 2:
                             b = rd.bit(ms[('mantissa', L, node)])
                             node = 2 * node + b
                         else:
@@ -674,6 +843,7 @@ def decode_geometry(sec, V, st, verbose=False):
                     u = L
                 r = unzig(u)
                 Lval = L
+                uval = u
                 if ax[0] == 'q':
                     value = (p + r) % (1 << bits)
                 elif ax[0] == 'dec':
@@ -702,6 +872,7 @@ def decode_geometry(sec, V, st, verbose=False):
                         raise ValueError('float image out of range')
                 prev = 1  # a decimal exception counts as coded by its residual
             Lw[a][i] = Lval
+            Uw[a][i] = min(uval, (1 << 32) - 1)
             val[a][i] = value
             if ax[0] == 'q':
                 fbits[a][i] = f32_from_double(float(origin[a]) + float(value) * step)
@@ -743,8 +914,9 @@ def decode_geometry(sec, V, st, verbose=False):
             dot = sum(m[a] * rch[a] for a in range(3))
             tot = sum(x * x for x in rch)
             ee = min(dot * dot // M, tot)
-            E_n = E_n - E_n // 32 + ee
-            E_t = E_t - E_t // 32 + (tot - ee)
+            dec = 16 if r6 else 32
+            E_n = E_n - E_n // dec + ee
+            E_t = E_t - E_t // dec + (tot - ee)
     rd.finish()
     return fbits, dict(stats=STATS, rev=rev, bits=bits, flags=flags, axes=[a[:3] for a in axes])
 
