@@ -1,6 +1,7 @@
 // Writes the fuzzers' seed corpora from testdata/ (and ../shared/meshes when present) at run time, so
 // no corpus is committed: OUT/read_obj, OUT/read_off, OUT/read_ply, OUT/roundtrip (meshes) and
-// OUT/decode_qsp (.qsp files the current encoder writes, in every mode). Usage: qsp_fuzz_seeds OUT TESTDATA [SHARED]
+// OUT/decode_qsp (.qsp files the current encoder writes, in every mode). Usage: qsp_fuzz_seeds OUT TESTDATA
+// [SHARED]
 #include <algorithm>
 #include <bit>
 #include <cstdint>
@@ -20,7 +21,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr std::size_t kMaxSeed = 16384;  // hardening.sh passes -max_len 16384 (obj/off/roundtrip) / 32768 (qsp)
+constexpr std::size_t kMaxSeed =
+    16384;  // hardening.sh passes -max_len 16384 (obj/off/roundtrip) / 32768 (qsp)
 int written = 0;
 
 void put(const fs::path& dir, const std::string& name, const std::string& bytes, std::size_t max = kMaxSeed) {
@@ -63,7 +65,8 @@ std::vector<qsp::QuadMesh> made_meshes() {
   for (int twist : {0, 1}) {  // 3x3 torus
     qsp::QuadMesh t;
     for (int y = 0; y < 3; ++y)
-      for (int x = 0; x < 3; ++x) t.positions.insert(t.positions.end(), {float(x), float(y), float(x * y) * 0.5f});
+      for (int x = 0; x < 3; ++x)
+        t.positions.insert(t.positions.end(), {float(x), float(y), float(x * y) * 0.5f});
     for (int y = 0; y < 3; ++y)
       for (int x = 0; x < 3; ++x) {
         auto P = [&](int i, int j) {
@@ -80,10 +83,11 @@ std::vector<qsp::QuadMesh> made_meshes() {
 // PLY in the three encodings, with an extra vertex property and a uchar/uint index list.
 std::string write_ply(const qsp::QuadMesh& m, int encoding) {
   static const char* formats[] = {"ascii", "binary_little_endian", "binary_big_endian"};
-  std::string out = std::string("ply\nformat ") + formats[encoding] + " 1.0\ncomment qsp fuzz seed\nelement vertex " +
-                    std::to_string(m.vertex_count()) +
+  std::string out = std::string("ply\nformat ") + formats[encoding] +
+                    " 1.0\ncomment qsp fuzz seed\nelement vertex " + std::to_string(m.vertex_count()) +
                     "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
-                    std::to_string(m.face_count()) + "\nproperty list uchar uint vertex_indices\nend_header\n";
+                    std::to_string(m.face_count()) +
+                    "\nproperty list uchar uint vertex_indices\nend_header\n";
   auto put32 = [&](std::uint32_t v) {
     for (int i = 0; i < 4; ++i) {
       const int shift = encoding == 1 ? 8 * i : 8 * (3 - i);
@@ -121,8 +125,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path out = argv[1], testdata = argv[2];
-  const fs::path obj = out / "read_obj", off = out / "read_off", ply = out / "read_ply", rt = out / "roundtrip",
-                 qspdir = out / "decode_qsp";
+  const fs::path obj = out / "read_obj", off = out / "read_off", ply = out / "read_ply",
+                 rt = out / "roundtrip", qspdir = out / "decode_qsp";
   for (const auto& d : {obj, off, ply, rt, qspdir}) fs::create_directories(d);
 
   std::vector<fs::path> inputs = files(testdata, true);
@@ -157,12 +161,14 @@ int main(int argc, char** argv) {
   for (const qsp::QuadMesh& m : valid) {
     const std::string id = "m" + std::to_string(n++);
     put(off, id + ".off", qsp::write_off(m));
-    for (int encoding = 0; encoding < 3; ++encoding) put(ply, id + "_" + std::to_string(encoding) + ".ply", write_ply(m, encoding));
+    for (int encoding = 0; encoding < 3; ++encoding)
+      put(ply, id + "_" + std::to_string(encoding) + ".ply", write_ply(m, encoding));
     put(rt, id + ".obj", qsp::write_obj(m));
-    for (int mode = 0; mode < 3; ++mode) {
+    for (int mode = 0; mode < 4; ++mode) {  // lossless, keep-order, 11 bits, 11 bits in revision 4 or 5
       qsp::EncodeOptions o;
       o.keep_order = mode == 1;
-      o.quantize_bits = mode == 2 ? 11 : 0;
+      o.quantize_bits = mode >= 2 ? 11 : 0;
+      if (mode == 3) o.geometry_shapes = false;
       try {
         put(qspdir, id + "_" + std::to_string(mode) + ".qsp", qsp::encode(m, o), 2 * kMaxSeed);
       } catch (const qsp::Error& e) {

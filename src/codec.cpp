@@ -244,7 +244,7 @@ Parsed parse_container(std::string_view bytes, const DecodeLimits& limits) {
   // (4 vertices). Every vertex costs at least 3 adaptive binary decisions in the geometry section (per
   // axis at least one residual-length decision, or a repeat flag) and no decision costs less than
   // ~0.00156 bits (log2(65536 / 65465), a little less through the coder's truncation), so a geometry
-  // section of B bytes holds at most ~1712 * (B + 4) vertices (revision 4 and 5 streams may leave out 4 zero
+  // section of B bytes holds at most ~1712 * (B + 4) vertices (revision 4-6 streams may leave out 4 zero
   // bytes).
   if (p.counts.components > (p.counts.vertices - p.counts.unreferenced) / 4) {
     format_error("more components than the referenced vertices allow (4 each)", cs.payload_offset);
@@ -448,6 +448,7 @@ std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const P
   GeometryOptions gopt;
   gopt.quantize_bits = options.quantize_bits;
   gopt.order = first;
+  gopt.shapes = options.geometry_shapes;
   if (role.wait) gopt.choice = role.wait->get();  // rethrows what failed the encode that chooses
   GeometryChoice chosen;
   std::string geometry = encode_geometry(coded_positions(first), stencil, gopt, &chosen);
@@ -566,7 +567,7 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
 
 namespace {
 
-// The geometry section's coding order (its revision byte, and in revisions 4 and 5 a flag), which the
+// The geometry section's coding order (its revision byte, and in revisions 4-6 a flag), which the
 // stencils must be built in.
 CodingOrder coding_order_of(const Parsed& p) {
   try {

@@ -13,19 +13,6 @@ namespace {
 constexpr unsigned kProbBits = 16;
 constexpr std::uint32_t kTop = 1u << 24;
 
-void update(BitModel& m, unsigned bit) {
-  auto warm = static_cast<unsigned>(std::bit_width(static_cast<unsigned>(m.seen) + 1u));
-  unsigned fast_shift = warm < 4 ? warm : 4, slow_shift = warm < 7 ? warm : 7;
-  if (bit) {
-    m.fast = static_cast<std::uint16_t>(m.fast - (m.fast >> fast_shift));
-    m.slow = static_cast<std::uint16_t>(m.slow - (m.slow >> slow_shift));
-  } else {
-    m.fast = static_cast<std::uint16_t>(m.fast + ((65536u - m.fast) >> fast_shift));
-    m.slow = static_cast<std::uint16_t>(m.slow + ((65536u - m.slow) >> slow_shift));
-  }
-  if (m.seen < 255) ++m.seen;
-}
-
 }  // namespace
 
 CompactEnd compact_end(std::uint64_t low, std::uint32_t range) {
@@ -71,15 +58,15 @@ std::uint32_t mixed_p0(const BitModel& a, const BitModel& b) {
 void RangeEncoder::encode_bit(BitModel& a, BitModel& b, unsigned bit) {
   if (a.seen >= kMixUntil) return encode_bit(a, bit);
   encode_p0(mixed_p0(a, b), bit);
-  update(a, bit);
-  update(b, bit);
+  learn(a, bit);
+  learn(b, bit);
 }
 
 unsigned RangeDecoder::decode_bit(BitModel& a, BitModel& b) {
   if (a.seen >= kMixUntil) return decode_bit(a);
   const unsigned bit = decode_p0(mixed_p0(a, b));
-  update(a, bit);
-  update(b, bit);
+  learn(a, bit);
+  learn(b, bit);
   return bit;
 }
 
@@ -117,7 +104,7 @@ unsigned RangeDecoder::decode_p0(std::uint32_t p0) {
 
 void RangeEncoder::encode_bit(BitModel& m, unsigned bit) {
   encode_p0(m.p0(), bit);
-  update(m, bit);
+  learn(m, bit);
 }
 
 void RangeEncoder::encode_raw(std::uint32_t value, unsigned count) {
@@ -188,7 +175,7 @@ std::uint8_t RangeDecoder::next_byte() {
 
 unsigned RangeDecoder::decode_bit(BitModel& m) {
   const unsigned bit = decode_p0(m.p0());
-  update(m, bit);
+  learn(m, bit);
   return bit;
 }
 

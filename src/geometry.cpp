@@ -23,6 +23,7 @@
 #include <optional>
 #include <system_error>
 #include <thread>
+#include <type_traits>
 
 #include "qsp/entropy.h"
 #include "qsp/error.h"
@@ -101,17 +102,124 @@ constexpr int kKinds =
 constexpr int kBuckets = 24;           // neighbourhood magnitude classes
 constexpr int kModelledBits = 2;       // mantissa bits with their own contexts
 constexpr int kMaxTrailingZeros = 12;  // decimal integers: 10^12 < 2^40 < 10^13
+constexpr int kBlendedKind = 3;        // the context kind of kParallelogram, the blended vertices
+
+// Logistic decisions (revision 6; format spec, "Entropy coding"), after lpaq1: a probability of a 1 in
+// 12 bits, its logit `stretch` in [-2047, 2047] (8 fractional bits), and `squash` back by interpolation
+// in a 33-entry table. All integer, so encoder and decoder agree bit for bit.
+constexpr std::array<int, 33> kSquash = {1,    2,    3,    6,    10,   16,   27,   45,   73,   120,  194,
+                                         310,  488,  747,  1101, 1546, 2047, 2549, 2994, 3348, 3607, 3785,
+                                         3901, 3975, 4024, 4050, 4068, 4079, 4085, 4089, 4092, 4093, 4094};
+constexpr int squash(int d) {  // d in [-2047, 2047]
+  const int w = d & 127;
+  const auto i = static_cast<std::size_t>((d >> 7) + 16);
+  return (kSquash[i] * (128 - w) + kSquash[i + 1] * w + 64) >> 7;
+}
+// stretch[p]: the smallest d in [-2047, 2047] with squash(d) >= p, else 2047.
+constexpr std::array<std::int16_t, 4096> kStretch = [] {
+  std::array<std::int16_t, 4096> t{};
+  int p = 0;
+  for (int d = -2047; d <= 2047; ++d)
+    for (const int v = squash(d); p <= v; ++p) t[static_cast<std::size_t>(p)] = static_cast<std::int16_t>(d);
+  for (; p < 4096; ++p) t[static_cast<std::size_t>(p)] = 2047;
+  return t;
+}();
+
+// One weight set: four models' weights and the bias's, 16.16 fixed point.
+constexpr int kMixInputs = 5;
+constexpr std::int32_t kMaxWeight = std::int32_t{1} << 22;  // a hostile stream cannot overflow them
+struct MixWeights {
+  std::array<std::int32_t, kMixInputs> w = {6 << 12, 3 << 12, 3 << 12, 3 << 12, 0};
+};
+
+// Codes (RangeEncoder) or decodes (RangeDecoder) one bit with four models mixed by weight set `mw`; all
+// four models learn it, and so do the weights.
+template <typename Coder>
+void code_mixed(Coder& rc, unsigned& bit, const std::array<BitModel*, 4>& models, MixWeights& mw) {
+  std::array<int, kMixInputs> st{};
+  std::int64_t dot = 0;
+  for (int k = 0; k < 4; ++k) {
+    const int p1 =
+        std::clamp(4096 - static_cast<int>(models[static_cast<std::size_t>(k)]->p0() >> 4), 1, 4095);
+    st[static_cast<std::size_t>(k)] = kStretch[static_cast<std::size_t>(p1)];
+  }
+  st[4] = 256;
+  for (std::size_t k = 0; k < kMixInputs; ++k) dot += std::int64_t{mw.w[k]} * st[k];
+  const int p1 = squash(static_cast<int>(std::clamp<std::int64_t>(dot >> 16, -2047, 2047)));
+  // Clamped to the adaptive models' own range, so no decision costs less than log2(65536 / 65465) bits
+  // and the decoder's bound on vertices per geometry byte (codec.cpp) holds in every revision.
+  const std::uint32_t p0 = std::clamp<std::uint32_t>(static_cast<std::uint32_t>(4096 - p1) << 4, 71, 65465);
+  if constexpr (std::is_same_v<Coder, RangeEncoder>) {
+    rc.encode_p0(p0, bit);
+  } else {
+    bit = rc.decode_p0(p0);
+  }
+  const int err = ((static_cast<int>(bit) << 12) - p1) * 6;
+  for (std::size_t k = 0; k < kMixInputs; ++k)
+    mw.w[k] = std::clamp(mw.w[k] + ((st[k] * err) >> 14), -kMaxWeight, kMaxWeight);
+  for (BitModel* m : models) learn(*m, bit);
+}
+
+// The mixer's contexts of one residual beyond its kind and bucket (revision 6).
+struct Extra {
+  int axis = 0, cls = 0, previous = 0;  // previous: the length of the vertex's previous axis, at most 23
+};
 
 // The three axes share contexts: on small meshes, learning three times faster beats separate models.
 struct ResidualModel {
   std::vector<BitModel> length;    // [kind][bucket][node 1..63]
   std::vector<BitModel> general;   // [kind][node 1..63]: revision 3 mixes it into every bucket's tree
-  bool mixed = false;              // revisions 3, 4
-  bool exclude = false;            // revisions 4, 5: no decision for lengths above the axis's maximum
+  bool mixed = false;              // revisions 3-6 (revision 6 mixes logistically)
+  bool exclude = false;            // revisions 4-6: no decision for lengths above the axis's maximum
   std::vector<BitModel> mantissa;  // [L][node 1..3]
   std::vector<BitModel> zeros;     // [digit count of |prediction| 0..15][node 1..15]
   std::vector<BitModel> repeat;    // [kind][previous axis of the vertex: 0 none, 1 coded, 2 repeat]
   IntModel rank;                   // a repeat's rank
+  // Revision 6: each length decision mixes the bucket's model, the kind's, and models by (kind, axis,
+  // neighbours' class) and by (kind, axis, length of the vertex's previous axis); each of the two
+  // modelled mantissa bits mixes the length's model and models by (length, bucket), (length, kind) and
+  // (length, axis, class). Weight sets by decision and whether the vertex is blended.
+  bool logistic = false;
+  std::vector<BitModel> by_class;            // [kind][axis][class][node 1..63]
+  std::vector<BitModel> by_previous;         // [kind][axis][previous length, at most 23][node 1..63]
+  std::vector<MixWeights> length_weights;    // [blended][node 1..63]
+  std::vector<BitModel> mantissa_bucket;     // [L][bucket][node 1..3]
+  std::vector<BitModel> mantissa_kind;       // [L][kind][node 1..3]
+  std::vector<BitModel> mantissa_class;      // [L][axis][class][node 1..3]
+  std::vector<MixWeights> mantissa_weights;  // [blended][node 1..3]
+  void set_logistic() {
+    logistic = true;
+    by_class.resize(std::size_t{kKinds} * 3 * kBuckets * 64);
+    by_previous.resize(std::size_t{kKinds} * 3 * kBuckets * 64);
+    length_weights.resize(2 * 64);
+    mantissa_bucket.resize(std::size_t{64} * kBuckets * 4);
+    mantissa_kind.resize(std::size_t{64} * kKinds * 4);
+    mantissa_class.resize(std::size_t{64} * 3 * kBuckets * 4);
+    mantissa_weights.resize(2 * 4);
+  }
+  template <typename Coder>
+  void code_length_bit(Coder& rc, unsigned& bit, int kind, int bucket, const Extra& e, int node) {
+    const std::size_t n = static_cast<std::size_t>(node);
+    const std::size_t k = static_cast<std::size_t>(kind) * 3 + static_cast<std::size_t>(e.axis);
+    code_mixed(rc, bit,
+               {&length_tree(kind, bucket)[n], &general[static_cast<std::size_t>(kind) * 64 + n],
+                &by_class[(k * kBuckets + static_cast<std::size_t>(e.cls)) * 64 + n],
+                &by_previous[(k * kBuckets + static_cast<std::size_t>(e.previous)) * 64 + n]},
+               length_weights[(kind == kBlendedKind ? 64 : 0) + n]);
+  }
+  template <typename Coder>
+  void code_mantissa_bit(Coder& rc, unsigned& bit, int len, int kind, int bucket, const Extra& e, int node) {
+    const std::size_t n = static_cast<std::size_t>(node), l = static_cast<std::size_t>(len);
+    code_mixed(
+        rc, bit,
+        {&mantissa_tree(len)[n], &mantissa_bucket[(l * kBuckets + static_cast<std::size_t>(bucket)) * 4 + n],
+         &mantissa_kind[(l * kKinds + static_cast<std::size_t>(kind)) * 4 + n],
+         &mantissa_class
+             [((l * 3 + static_cast<std::size_t>(e.axis)) * kBuckets + static_cast<std::size_t>(e.cls)) * 4 +
+              n]},
+        mantissa_weights[(kind == kBlendedKind ? 4 : 0) + n]);
+  }
+
   ResidualModel(bool mix, bool excluding)
       : length(kKinds * kBuckets * 64),
         general(mix ? kKinds * 64 : 0),
@@ -138,26 +246,58 @@ struct ResidualModel {
     return node - 16;
   }
 
+  // Revision 6: each bucket's length tree starts from a distribution centred on the bucket, as if it
+  // had seen 3 bits: a length d below the bucket weighs 2^-d, d above it 2^-3d (residuals spread
+  // downwards from the typical length, rarely upwards). Format spec, "Length prior".
+  void set_prior() {
+    static const std::vector<std::uint16_t> prior = [] {  // [bucket][node 1..63]
+      std::vector<std::uint16_t> p(std::size_t{kBuckets} * 64);
+      for (int b = 0; b < kBuckets; ++b) {
+        std::array<std::uint64_t, 128> weight{};  // [node]: leaf 64 + L, an inner node the sum below it
+        for (int len = 0; len < 64; ++len)
+          weight[static_cast<std::size_t>(64 + len)] =
+              std::uint64_t{1} << (40 - std::min(40, len <= b ? b - len : 3 * (len - b)));
+        for (std::size_t node = 63; node >= 1; --node) weight[node] = weight[2 * node] + weight[2 * node + 1];
+        for (std::size_t node = 1; node < 64; ++node) {
+          p[static_cast<std::size_t>(b) * 64 + node] = static_cast<std::uint16_t>(
+              std::clamp<std::uint64_t>((weight[2 * node] << 16) / weight[node], 1024, 64512));
+        }
+      }
+      return p;
+    }();
+    for (int kind = 0; kind < kKinds; ++kind) {
+      for (int b = 0; b < kBuckets; ++b) {
+        BitModel* tree = length_tree(kind, b);
+        for (std::size_t node = 1; node < 64; ++node) {
+          const std::uint16_t p = prior[static_cast<std::size_t>(b) * 64 + node];
+          tree[node] = BitModel{p, p, 3};
+        }
+      }
+    }
+  }
+
   BitModel* length_tree(int kind, int bucket) {
     return &length[(static_cast<std::size_t>(kind) * kBuckets + bucket) * 64];
   }
   BitModel* mantissa_tree(int len) { return &mantissa[static_cast<std::size_t>(len) * 4]; }
 
-  // Length decision i (of weight 2^i) is left out in revisions 4 and 5 when a 1 could only lead to lengths
+  // Length decision i (of weight 2^i) is left out in revisions 4-6 when a 1 could only lead to lengths
   // above max_len, given the decisions above it (`high`): at 14 bits, the top two never vary.
   bool forced(int high, int i, int max_len) const { return exclude && (high | (1 << i)) > max_len; }
 
-  void encode(RangeEncoder& rc, std::uint64_t u, int kind, int bucket, int max_len) {
+  void encode(RangeEncoder& rc, std::uint64_t u, int kind, int bucket, int max_len, const Extra& e) {
     const int len = std::bit_width(u);
     BitModel* tree = length_tree(kind, bucket);
     BitModel* kind_tree = mixed ? &general[static_cast<std::size_t>(kind) * 64] : nullptr;
     for (int i = 5, node = 1; i >= 0; --i) {
-      const unsigned b = (len >> i) & 1;
+      unsigned b = (len >> i) & 1;
       if (forced(len & ~((2 << i) - 1), i, max_len)) {
         node = 2 * node;  // b is 0: len <= max_len
         continue;
       }
-      if (mixed) {
+      if (logistic) {
+        code_length_bit(rc, b, kind, bucket, e, node);
+      } else if (mixed) {
         rc.encode_bit(tree[node], kind_tree[node], b);
       } else {
         rc.encode_bit(tree[node], b);
@@ -168,8 +308,12 @@ struct ResidualModel {
     BitModel* m = mantissa_tree(len);
     const int rest = len - 1, modelled = std::min(rest, kModelledBits);
     for (int i = 0, node = 1; i < modelled; ++i) {
-      const unsigned b = (u >> (rest - 1 - i)) & 1;
-      rc.encode_bit(m[node], b);
+      unsigned b = (u >> (rest - 1 - i)) & 1;
+      if (logistic) {
+        code_mantissa_bit(rc, b, len, kind, bucket, e, node);
+      } else {
+        rc.encode_bit(m[node], b);
+      }
       node = 2 * node + static_cast<int>(b);
     }
     const int raw = rest - modelled;  // up to 40: two calls of at most 20 bits
@@ -177,13 +321,19 @@ struct ResidualModel {
     rc.encode_raw(static_cast<std::uint32_t>(u & ((1u << std::min(raw, 20)) - 1)), std::min(raw, 20));
   }
 
-  std::uint64_t decode(RangeDecoder& rc, int kind, int bucket, int max_len) {
+  std::uint64_t decode(RangeDecoder& rc, int kind, int bucket, int max_len, const Extra& e) {
     BitModel* tree = length_tree(kind, bucket);
     BitModel* kind_tree = mixed ? &general[static_cast<std::size_t>(kind) * 64] : nullptr;
     int node = 1;
     for (int i = 5; i >= 0; --i) {
       if (forced((node << (i + 1)) - 64, i, max_len)) {
         node = 2 * node;
+        continue;
+      }
+      if (logistic) {
+        unsigned b = 0;
+        code_length_bit(rc, b, kind, bucket, e, node);
+        node = 2 * node + static_cast<int>(b);
         continue;
       }
       node = 2 * node +
@@ -196,7 +346,12 @@ struct ResidualModel {
     const int rest = len - 1, modelled = std::min(rest, kModelledBits);
     std::uint64_t u = 1;
     for (int i = 0, n = 1; i < modelled; ++i) {
-      const unsigned b = rc.decode_bit(m[n]);
+      unsigned b = 0;
+      if (logistic) {
+        code_mantissa_bit(rc, b, len, kind, bucket, e, n);
+      } else {
+        b = rc.decode_bit(m[n]);
+      }
       n = 2 * n + static_cast<int>(b);
       u = (u << 1) | b;
     }
@@ -226,7 +381,8 @@ constexpr std::uint8_t kLayoutRevision = 2;
 constexpr std::uint8_t kPatchRevision = 3;
 constexpr std::uint8_t kCompactRevision = 4;
 constexpr std::uint8_t kChainRevision = 5;
-constexpr std::uint8_t kNewestRevision = kChainRevision;
+constexpr std::uint8_t kShapeRevision = 6;
+constexpr std::uint8_t kNewestRevision = kShapeRevision;
 
 enum Kind : std::uint8_t {
   kNone = 0,
@@ -334,7 +490,8 @@ class Hoods {
 
 // Integer predictors. Blending them helps most where a coarse mesh bends (spot, blub): the
 // parallelogram alone misses curvature, the quadratic ones overshoot on noise.
-constexpr int kCandidates = 11;
+constexpr int kCandidates = 14;  // revision 6; revisions 1-5 have the first 11
+constexpr int kOldCandidates = 11;
 constexpr std::uint32_t kNoError = 0xFFFFFFFFu;
 
 // Which candidates vertex hood x has all neighbours for (bit k = candidate k).
@@ -348,7 +505,17 @@ unsigned candidate_mask(const Hood& x) {
          (full && x.has(Hood::kEast) && x.has(Hood::kNorth)) << 10;
 }
 
+// Revision 6 adds the shrunk parallelogram (11, with the parallelogram's neighbours) and the shape
+// transfers from the west cell (12, with candidate 4's) and the south cell (13, with candidate 5's) when
+// every axis is an integer axis; transfer() may still take 12 and 13 away.
+unsigned candidate_mask(const Hood& x, int revision, bool integer_axes) {
+  const unsigned m = candidate_mask(x);
+  if (revision < kShapeRevision) return m;
+  return m | (m & 1u) << 11 | (integer_axes ? ((m >> 4) & 1u) << 12 | ((m >> 5) & 1u) << 13 : 0u);
+}
+
 std::int64_t floor_div(std::int64_t a, std::int64_t b);
+__int128 floor_div128(__int128 a, __int128 b);
 // How the column step s - sw... at the row's end differs from w's, spread over the e_dist + 1 steps.
 std::int64_t row_correction(const Hood& x, const std::int64_t* v) {
   const std::int64_t d = std::int64_t{x.t->e_dist} + 1, c = (v[x.t->e] - v[x.t->es]) - (v[x.w] - v[x.sw]);
@@ -382,6 +549,51 @@ void candidates(const Hood& x, const std::int64_t* v, unsigned mask,
   p[8] = p[0] + r;
   p[9] = p[0] + c;
   p[10] = p[0] + r + c;
+  // Revision 6: the parallelogram shrunk towards sw, for the distorted cells near extraordinary
+  // vertices (12 and 13, the shape transfers, come from shape_transfers()).
+  p[11] = sw + ((13 * (w + s - 2 * sw) + 8) >> 4);
+}
+
+// floor(sqrt(n)), exactly.
+std::uint64_t isqrt(std::uint64_t n) {
+  auto r = static_cast<std::uint64_t>(std::sqrt(static_cast<double>(n)));
+  while (r > 0 && (r > 0xFFFFFFFFu || r * r > n)) --r;
+  while (r < 0xFFFFFFFFu && (r + 1) * (r + 1) <= n) ++r;
+  return r;
+}
+
+// Similarity shape transfer (revision 6): a fully coded neighbour cell with corner o2, edges e2 (its row
+// step) and f2 (its column step) and opposite corner o2 + d2. Its shape, d2 in the frame of e2 and
+// e2 turned a right angle in its plane (the part along its normal dropped), is carried into the frame
+// of the cell being coded (corner o, edges e, f), whose opposite corner is predicted. False (no
+// prediction) for a degenerate cell or a component of 2^15 or more. Integer only; format spec,
+// "Shape transfers".
+bool transfer(const std::array<std::int64_t, 3>& o, const std::array<std::int64_t, 3>& e,
+              const std::array<std::int64_t, 3>& f, const std::array<std::int64_t, 3>& e2,
+              const std::array<std::int64_t, 3>& f2, const std::array<std::int64_t, 3>& d2,
+              std::array<std::int64_t, 3>& out) {
+  constexpr std::int64_t kLimit = std::int64_t{1} << 15;
+  for (int a = 0; a < 3; ++a)
+    for (std::int64_t c : {e[a], f[a], e2[a], f2[a], d2[a]})
+      if (c <= -kLimit || c >= kLimit) return false;
+  auto dot = [](const std::array<std::int64_t, 3>& p, const std::array<std::int64_t, 3>& q) {
+    return p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+  };
+  const std::int64_t ee2 = dot(e2, e2), ef2 = dot(e2, f2), ee = dot(e, e), ef = dot(e, f);
+  // |e x f|^2 = |e|^2 |f|^2 - (e.f)^2 < 2^64 (each component < 2^15)
+  const auto area2 =
+      static_cast<std::uint64_t>(static_cast<__int128>(ee2) * dot(f2, f2) - __int128{ef2} * ef2);
+  const auto area = static_cast<std::uint64_t>(static_cast<__int128>(ee) * dot(f, f) - __int128{ef} * ef);
+  if (ee2 == 0 || area2 == 0 || area == 0) return false;
+  const __int128 s = static_cast<__int128>(isqrt(area2)) * isqrt(area);
+  const std::int64_t pd = dot(d2, e2);
+  const __int128 q = static_cast<__int128>(ee2) * dot(d2, f2) - __int128{ef2} * pd;
+  const __int128 den = s * ee2;
+  for (int a = 0; a < 3; ++a) {
+    const __int128 num = __int128{pd} * e[a] * s + q * (__int128{ee} * f[a] - __int128{ef} * e[a]);
+    out[a] = o[a] + static_cast<std::int64_t>(floor_div128(2 * num + den, 2 * den));
+  }
+  return true;
 }
 
 std::int64_t floor_div(std::int64_t a, std::int64_t b) {  // b > 0
@@ -394,16 +606,16 @@ __int128 floor_div128(__int128 a, __int128 b) {  // b > 0
 // Weights of the candidates at a parallelogram vertex: the inverse square of each one's mean error
 // at the coded neighbours w, s, sw, se (integer axes summed). 0 for a missing candidate. <= 2^30.
 // Returns the magnitude class of the best candidate's mean error: bit_width(floor(4 * mean + 2)).
-int blend_weights(const Hood& x, unsigned mask, const std::uint32_t* errors,
+int blend_weights(const Hood& x, unsigned mask, const std::uint32_t* errors, int nc,
                   std::array<std::int64_t, kCandidates>& weight) {
   const std::array<std::uint32_t, 4> near = {x.w, x.s, x.sw, x.se};
   std::uint64_t best = ~std::uint64_t{0};
-  for (int k = 0; k < kCandidates; ++k) {
+  for (int k = 0; k < nc; ++k) {
     if (!((mask >> k) & 1)) continue;
     std::uint64_t sum = 0, cnt = 0;
     for (std::uint32_t j : near) {
-      if (j == kInvalid || errors[std::size_t{j} * kCandidates + k] == kNoError) continue;
-      sum += errors[std::size_t{j} * kCandidates + k];
+      if (j == kInvalid || errors[std::size_t{j} * nc + k] == kNoError) continue;
+      sum += errors[std::size_t{j} * nc + k];
       ++cnt;
     }
     if (cnt == 0) sum = 1000000, cnt = 1;
@@ -428,7 +640,7 @@ int blend_weights(const Hood& x, unsigned mask, const std::uint32_t* errors,
 std::int64_t blend(const std::array<std::int64_t, kCandidates>& p, unsigned mask,
                    const std::array<std::int64_t, kCandidates>& weight) {
   std::int64_t num = 0, den = 0;
-  for (int k = 0; k < kCandidates; ++k) {
+  for (int k = 0; k < kCandidates; ++k) {  // mask has no bit at or above the revision's count
     if (!((mask >> k) & 1)) continue;
     num += weight[k] * std::clamp<std::int64_t>(p[k] - p[0], -(1 << 28), 1 << 28);
     den += weight[k];
@@ -447,15 +659,19 @@ class NormalChain {
   static constexpr std::int64_t kClamp = std::int64_t{1} << 14;  // residuals are clamped to +-kClamp
 
   // Starts vertex hood x (kParallelogram) with integer axes `ints`.
+  explicit NormalChain(bool wide) : wide_(wide) {}  // wide: revision 6's normal and decay
   void start(const Hood& x, const std::array<std::vector<std::int64_t>, 3>& ints) {
     std::array<std::int64_t, 3> d1, d2;
     std::uint64_t span = 0;
+    // Revision 6 takes the row step centred on the vertex's column, se - sw, where se is coded.
+    const bool centred = wide_ && x.se != kInvalid;
     for (int a = 0; a < 3; ++a) {
-      d1[a] = ints[a][x.w] - ints[a][x.sw];
-      d2[a] = ints[a][x.s] - ints[a][x.sw];
+      const std::int64_t* v = ints[a].data();
+      d1[a] = v[x.w] - v[x.sw];
+      d2[a] = (centred ? v[x.se] : v[x.s]) - v[x.sw];
       span |= abs64(d1[a]) | abs64(d2[a]);
     }
-    if (span < (std::uint64_t{1} << 31)) {  // 64-bit products suffice (always at up to 30 bits)
+    if (span < (std::uint64_t{1} << 31)) {  // 64-bit products suffice
       set_normal<std::int64_t>(d1, d2);
     } else {
       set_normal<__int128>(d1, d2);
@@ -492,8 +708,9 @@ class NormalChain {
       total += static_cast<std::uint64_t>(raw_[a] * raw_[a]);
     }
     const std::uint64_t along = std::min(static_cast<std::uint64_t>(dot * dot / norm2_), total);
-    along_ = along_ - (along_ >> 5) + along;
-    across_ = across_ - (across_ >> 5) + (total - along);
+    const int dc = wide_ ? 4 : 5;  // revision 6 adapts twice as fast
+    along_ = along_ - (along_ >> dc) + along;
+    across_ = across_ - (across_ >> dc) + (total - along);
   }
 
  private:
@@ -517,6 +734,7 @@ class NormalChain {
       norm2_ += m_[a] * m_[a];
     }
   }
+  bool wide_;                             // revision 6
   std::uint64_t along_ = 0, across_ = 0;  // running energies: sum of (r.n)^2, of |r|^2 - (r.n)^2
   std::array<std::int64_t, 3> m_{};       // the plane's normal, |m_a| <= 2^15
   std::int64_t norm2_ = 0;                // |m|^2; 0 for a degenerate plane (no chaining)
@@ -828,7 +1046,8 @@ Grid make_grid(std::span<const float> pos, std::uint32_t bits) {
 // Coding loop, shared by encoder and decoder so the two cannot drift apart.
 
 constexpr std::uint8_t kRepeatsFlag = 0x01;      // header flags (revision >= 2): value repeats coded
-constexpr std::uint8_t kLayoutOrderFlag = 0x02;  // revisions 4, 5: layout order (else patch order)
+constexpr std::uint8_t kLayoutOrderFlag = 0x02;  // revisions 4-6: layout order (else patch order)
+constexpr std::uint8_t kChainFlag = 0x04;        // revision 6: normal chaining (revision 5 always chains)
 
 // The coding order of a section of this revision with these header flags.
 CodingOrder coding_order(int revision, std::uint8_t flags) {
@@ -838,7 +1057,8 @@ CodingOrder coding_order(int revision, std::uint8_t flags) {
 }
 
 struct Header {
-  int revision = kCompactRevision;          // or kChainRevision
+  int revision = kCompactRevision;          // or kChainRevision, kShapeRevision
+  bool chain = false;                       // normal chaining: revision 5, or 6 with kChainFlag
   CodingOrder order = CodingOrder::kPatch;  // revisions 1, 2: layout; 3: patch; 4, 5: its flag
   std::uint32_t bits = 0;                   // 0 lossless, else quantized
   bool repeats = false;  // a coordinate may be coded as "the k-th closest value seen on its axis"
@@ -851,7 +1071,9 @@ struct Header {
   }
   // The payload's residual model and stream ends, as the revision has them (encoder and decoder alike).
   ResidualModel model() const {
-    return ResidualModel(revision >= kPatchRevision, revision >= kCompactRevision);
+    ResidualModel m(revision >= kPatchRevision, revision >= kCompactRevision);
+    if (revision >= kShapeRevision) m.set_prior(), m.set_logistic();
+    return m;
   }
   StreamEnds ends() const { return revision >= kCompactRevision ? StreamEnds::kCompact : StreamEnds::kLzma; }
 };
@@ -1029,12 +1251,13 @@ struct Symbol {
   std::uint8_t ctx;   // kind context (kResidual, kRepeat)
   std::uint8_t arg;   // magnitude bucket (kResidual), digit count (kZeros), previous axis (kRepeat)
   std::uint8_t arg2;  // the axis's maximum length (kResidual), taken or not (kRepeat)
+  std::uint8_t axis = 0, cls = 0, prev = 0;  // kResidual, revision 6: the mixer's other contexts
 };
 
 void code_symbol(const Symbol& s, ResidualModel& m, RangeEncoder& rc) {
   switch (s.op) {
     case Symbol::kResidual:
-      m.encode(rc, s.value, s.ctx, s.arg, s.arg2);
+      m.encode(rc, s.value, s.ctx, s.arg, s.arg2, {s.axis, s.cls, s.prev});
       break;
     case Symbol::kZeros:
       m.encode_zeros(rc, static_cast<int>(s.value), s.arg);
@@ -1191,6 +1414,51 @@ std::int64_t wrapped(std::int64_t r, std::int64_t qmax) {
   return r > qmax / 2 ? r - (qmax + 1) : r;
 }
 
+// Revision 6's shape transfers at vertex hood x (mask: its candidates) into shape[0] (the west cell's,
+// candidate 12) and shape[1] (the south cell's, 13). Returns the mask bits of those with no prediction.
+unsigned shape_transfers(const Hood& x, const std::array<std::vector<std::int64_t>, 3>& v, unsigned mask,
+                         std::array<std::array<std::int64_t, 3>, 2>& shape) {
+  auto at = [&v](std::uint32_t j) { return std::array<std::int64_t, 3>{v[0][j], v[1][j], v[2][j]}; };
+  auto sub = [](const std::array<std::int64_t, 3>& p, const std::array<std::int64_t, 3>& q) {
+    return std::array<std::int64_t, 3>{p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+  };
+  const std::array<std::int64_t, 3> w = at(x.w), s = at(x.s), sw = at(x.sw);
+  const std::array<std::int64_t, 3> e = sub(s, sw), f = sub(w, sw);
+  // The similarity that keeps the row step's shape and the one that keeps the column step's, averaged.
+  auto similar = [&](const std::array<std::int64_t, 3>& e2, const std::array<std::int64_t, 3>& f2,
+                     const std::array<std::int64_t, 3>& d2, std::array<std::int64_t, 3>& out) {
+    std::array<std::int64_t, 3> p, q;
+    if (!transfer(sw, e, f, e2, f2, d2, p) || !transfer(sw, f, e, f2, e2, d2, q)) return false;
+    for (int a = 0; a < 3; ++a) out[a] = (p[a] + q[a] + 1) >> 1;
+    return true;
+  };
+  unsigned off = 0;
+  if ((mask >> 12) & 1) {  // the west cell: sww, sw (its row step), ww (its column step), w
+    const std::array<std::int64_t, 3> sww = at(x.sww);
+    if (!similar(sub(sw, sww), sub(at(x.ww), sww), sub(w, sww), shape[0])) off |= 1u << 12;
+  }
+  if ((mask >> 13) & 1) {  // the south cell: ssw, ss (its row step), sw (its column step), s
+    const std::array<std::int64_t, 3> ssw = at(x.ssw);
+    if (!similar(sub(at(x.ss), ssw), sub(sw, ssw), sub(s, ssw), shape[1])) off |= 1u << 13;
+  }
+  return off;
+}
+
+// Revision 6's magnitude class for axis `a` of blended vertex i: the bit width of twice the weighted mean
+// of the coded values u of its neighbours on the axis (w and s weigh 2, sw and se 1) and of its own
+// earlier axes (2 each), into `pure`; returned mixed 3:1 with the blend's class. Residual magnitudes
+// follow the local distortion more closely than lengths do (gargoyle -65 bytes at 14 bits).
+int magnitude_class(const std::array<std::vector<std::uint32_t>, 3>& mags, const Hood& x, std::uint32_t i,
+                    int a, int blend_class, int& pure) {
+  const std::uint32_t* m = mags[a].data();
+  std::uint64_t sum = 2 * (std::uint64_t{m[x.w]} + m[x.s]) + m[x.sw], weight = 5;
+  if (x.se != kInvalid) sum += m[x.se], ++weight;
+  for (int b = 0; b < a; ++b) sum += 2 * std::uint64_t{mags[b][i]}, weight += 2;
+  const int cls = static_cast<int>(std::bit_width(2 * sum / weight));
+  pure = std::min(kBuckets - 1, cls);
+  return std::min(kBuckets - 1, (3 * cls + blend_class + 2) >> 2);
+}
+
 // Encoder statistics of a section coded without chaining: its kind-3 vertices, and how many of them
 // the chaining model found anisotropic (NormalChain::anisotropic). encode_best tries revision 5 only
 // where that is over a fifth: elsewhere it gained at most a few bytes on the shared meshes.
@@ -1206,9 +1474,15 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
                    std::array<std::vector<std::int64_t>, 3>& ints, std::array<std::vector<float>, 3>& floats,
                    SymbolSink* sink, RangeDecoder* dec, std::vector<float>* out, ChainCue* cue = nullptr) {
   const bool any_int = h.integer_axis(0) || h.integer_axis(1) || h.integer_axis(2);
-  std::vector<std::uint32_t> errors(any_int ? std::size_t{count} * kCandidates : 0, kNoError);
+  const bool shapes = h.revision >= kShapeRevision;
+  const int nc = shapes ? kCandidates : kOldCandidates;
+  std::vector<std::uint32_t> errors(any_int ? std::size_t{count} * nc : 0, kNoError);
   std::array<std::vector<std::uint8_t>, 3> lengths;
   for (auto& l : lengths) l.assign(count, 0);
+  std::array<std::vector<std::uint32_t>, 3> mags;  // revision 6: each coded value u, at most 2^32 - 1
+  if (shapes)
+    for (auto& m : mags) m.assign(count, 0);
+  std::array<std::array<std::int64_t, 3>, 2> shape{};  // the two transfers' predictions
   std::array<std::size_t, 3> next_exception{};
   const std::int64_t qmax = h.bits ? static_cast<std::int64_t>((std::uint64_t{1} << h.bits) - 1) : 0;
   // The decoder's model; the encoder's is the sink's.
@@ -1221,8 +1495,8 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
   // (Blending the two was worse: on CAD-like meshes the across prediction is often exact.)
   std::array<std::array<std::uint64_t, 2>, 4> across_err{};
   std::array<std::array<std::int64_t, 2>, 3> across_pred{};
-  NormalChain chain;
-  const bool chaining = h.revision >= kChainRevision && h.integer_axes();
+  NormalChain chain(shapes);
+  const bool chaining = h.chain && h.integer_axes();
   // The chaining model runs (its offsets only if chaining) for the decoder and for the encoder's cue.
   const bool modelled = h.integer_axes() && (chaining || cue);
   std::array<Repeats, 3> seen;       // decoder
@@ -1247,9 +1521,10 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
   for (std::uint32_t i = 0; i < count; ++i) {
     int previous = 0;  // how the vertex's previous axis was coded: 0 none / no repeats, 1 residual, 2 repeat
     const Hood x = hoods[i];
-    const unsigned mask = any_int ? candidate_mask(x) : 0;
+    unsigned mask = any_int ? candidate_mask(x, h.revision, h.integer_axes()) : 0;
+    if (mask >> 12) mask &= ~shape_transfers(x, ints, mask, shape);
     const bool blended = any_int && x.kind == kParallelogram;
-    const int blend_class = blended ? blend_weights(x, mask, errors.data(), weight) : 0;
+    const int blend_class = blended ? blend_weights(x, mask, errors.data(), nc, weight) : 0;
     const bool across = x.kind == kOpposite || x.kind == kCorners;
     // Its across class (format spec): which running means it uses.
     const int cls = !across               ? 0
@@ -1258,6 +1533,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
     for (int a = 0; a < 3; ++a) {
       if (!h.integer_axis(a)) continue;
       candidates(x, ints[a].data(), mask, cand[a]);
+      cand[a][12] = shape[0][a], cand[a][13] = shape[1][a];
     }
     const bool chained = modelled && blended;
     if (chained) {
@@ -1268,7 +1544,12 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
     for (int a = 0; a < 3; ++a) {
       // Magnitude class: neighbours' residual lengths, averaged with the blend's expected error.
       int bucket = bucket_for(lengths[a].data(), x);
-      if (blended) bucket = std::min(kBuckets - 1, (bucket + blend_class + 1) >> 1);
+      int pure = bucket;  // revision 6: the neighbours' class alone
+      if (blended) {
+        bucket = shapes ? magnitude_class(mags, x, i, a, blend_class, pure)
+                        : std::min(kBuckets - 1, (bucket + blend_class + 1) >> 1);
+      }
+      const int prev_len = a == 0 ? 0 : std::min<int>(kBuckets - 1, lengths[a - 1][i]);
       std::uint64_t u = 0;
       bool hit = false;            // coded as a repeat
       bool candidate = true;       // may be a repeat, and joins the values seen (not a decimal exception)
@@ -1294,7 +1575,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
             // (For a repeat: only for the neighbours' magnitude classes.)
             u = zigzag64(wrapped(v[i] - pred, qmax));
           } else {
-            u = model->decode(*dec, x.ctx, bucket, h.max_length(a));
+            u = model->decode(*dec, x.ctx, bucket, h.max_length(a), {a, pure, prev_len});
             v[i] = (pred + unzigzag64(u)) & qmax;
           }
           if constexpr (!kEncode) (*out)[3 * std::size_t{i} + a] = h.grid.value(a, v[i]);
@@ -1326,7 +1607,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
               u = zigzag64(v[i] - pred);
             }
           } else {
-            u = model->decode(*dec, x.ctx, bucket, h.max_length(a));
+            u = model->decode(*dec, x.ctx, bucket, h.max_length(a), {a, pure, prev_len});
             if (plan.trailing_zeros) {
               const int t = model->decode_zeros(*dec, digits);
               const std::int64_t unit = kPow10i[t];
@@ -1358,7 +1639,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
         if (kEncode || hit) {
           u = zigzag64(image - pred);
         } else {
-          u = model->decode(*dec, x.ctx, bucket, h.max_length(a));
+          u = model->decode(*dec, x.ctx, bucket, h.max_length(a), {a, pure, prev_len});
           image = pred + unzigzag64(u);
           if (image < 0 || image > 0xFFFFFFFFll) fail("float residual out of range");
         }
@@ -1371,13 +1652,15 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
         if (repeat_sym.op == Symbol::kRepeat) sink->put(repeat_sym), repeat_sym = {};
         if (!hit) {
           sink->put({u, Symbol::kResidual, x.ctx, static_cast<std::uint8_t>(bucket),
-                     static_cast<std::uint8_t>(h.max_length(a))});
+                     static_cast<std::uint8_t>(h.max_length(a)), static_cast<std::uint8_t>(a),
+                     static_cast<std::uint8_t>(pure), static_cast<std::uint8_t>(prev_len)});
         }
         if (zeros >= 0)
           sink->put(
               {static_cast<std::uint64_t>(zeros), Symbol::kZeros, 0, static_cast<std::uint8_t>(digits), 0});
       }
       lengths[a][i] = static_cast<std::uint8_t>(std::bit_width(u));
+      if (shapes) mags[a][i] = static_cast<std::uint32_t>(std::min<std::uint64_t>(u, 0xFFFFFFFFu));
       if (chained) {
         const std::int64_t r = ints[a][i] - blended_pred[a];
         chain.record(a, h.bits ? wrapped(r, qmax) : r);
@@ -1410,8 +1693,8 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
     }
     if (chained) chain.finish();
     if (!any_int) continue;
-    for (int k = 0; k < kCandidates; ++k) {
-      std::uint32_t& slot = errors[std::size_t{i} * kCandidates + k];
+    for (int k = 0; k < nc; ++k) {
+      std::uint32_t& slot = errors[std::size_t{i} * nc + k];
       if (!((mask >> k) & 1)) continue;  // stays kNoError
       std::uint64_t err = 0;
       for (int a = 0; a < 3; ++a)
@@ -1429,6 +1712,7 @@ void write_header(std::string& out, const Header& h, std::uint32_t count) {
   put_u8(out, static_cast<std::uint8_t>(h.bits));
   std::uint8_t flags = h.repeats ? kRepeatsFlag : 0;
   if (h.revision >= kCompactRevision && h.order == CodingOrder::kLayout) flags |= kLayoutOrderFlag;
+  if (h.revision >= kShapeRevision && h.chain) flags |= kChainFlag;
   put_u8(out, flags);
   if (h.bits) {
     for (float o : h.grid.origin) put_le(out, std::bit_cast<std::uint32_t>(o), 4);
@@ -1460,11 +1744,13 @@ Header read_header(Reader& in, std::uint32_t count) {
   std::uint8_t flags = 0;
   if (h.revision >= kLayoutRevision) {
     flags = in.u8("truncated header");
-    const std::uint8_t known =
-        h.revision >= kCompactRevision ? kRepeatsFlag | kLayoutOrderFlag : kRepeatsFlag;
+    const std::uint8_t known = h.revision >= kShapeRevision     ? kRepeatsFlag | kLayoutOrderFlag | kChainFlag
+                               : h.revision >= kCompactRevision ? kRepeatsFlag | kLayoutOrderFlag
+                                                                : kRepeatsFlag;
     if (flags & ~known) fail("reserved geometry flag bits are set");
     h.repeats = (flags & kRepeatsFlag) != 0;
   }
+  h.chain = h.revision == kChainRevision || (flags & kChainFlag) != 0;
   h.order = coding_order(h.revision, flags);
   if (h.bits) {
     for (float& o : h.grid.origin) {
@@ -1551,8 +1837,15 @@ std::optional<Header> chained(const Header& h, const ChainCue& cue) {
   if (!h.integer_axes()) return std::nullopt;
   if (std::uint64_t{cue.anisotropic} * 5 <= cue.vertices) return std::nullopt;
   Header c = h;
-  c.revision = kChainRevision;
+  if (c.revision < kChainRevision) c.revision = kChainRevision;
+  c.chain = true;
   return c;
+}
+
+// Header h in revision 6, keeping its chaining.
+Header with_shapes(Header h) {
+  h.revision = kShapeRevision;
+  return h;
 }
 
 // The smallest of the candidate headers (value repeats on and off; for lossless, the decimal plan and
@@ -1561,10 +1854,12 @@ std::optional<Header> chained(const Header& h, const ChainCue& cue) {
 // more encode, not one per header, and only where the best one's ChainCue says it may pay (chaining
 // gains on remeshed scans and is neutral elsewhere). Meshes of more than kTryAll vertices choose on
 // their first kSample (stencils only look back, so a prefix codes on its own), scaling the payload to
-// the whole mesh, and are coded once.
+// the whole mesh, and are coded once. Last, sections of up to kTryAll vertices try the winner in revision
+// 6 and keep it where smaller (`shapes`: GeometryOptions::shapes); larger ones keep revision 4 or 5, whose
+// decoder is 2-3x faster (mh_female_generic_cc2 would cost twice Draco's time in revision 6).
 // `chosen` gets the index of the header it chose (before chaining).
 std::string encode_best(std::span<const float> pos, const Hoods& hoods, const std::vector<Header>& options,
-                        std::optional<bool> coder_thread, std::size_t& chosen) {
+                        std::optional<bool> coder_thread, std::optional<bool> shapes, std::size_t& chosen) {
   constexpr std::uint32_t kTryAll = 32768, kSample = 4096;
   const std::uint32_t count = hoods.size();
   if (count <= kTryAll) {
@@ -1575,9 +1870,14 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
       std::string bytes = encode_with(pos, hoods, count, options[i], coder_thread, &cue);
       if (best.empty() || bytes.size() < best.size()) best = std::move(bytes), chosen = i, best_cue = cue;
     }
+    Header final = options[chosen];
     if (const std::optional<Header> c = chained(options[chosen], best_cue)) {
       std::string bytes = encode_with(pos, hoods, count, *c, coder_thread);
-      if (bytes.size() < best.size()) best = std::move(bytes);
+      if (bytes.size() < best.size()) best = std::move(bytes), final = *c;
+    }
+    if (shapes.value_or(true)) {
+      std::string bytes = encode_with(pos, hoods, count, with_shapes(final), coder_thread);
+      if (bytes.size() < best.size() || shapes) best = std::move(bytes);
     }
     return best;
   }
@@ -1597,9 +1897,11 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
     const double size = estimate(options[i], &cue);
     if (!best || size < best_size) best = &options[i], best_size = size, best_cue = cue, chosen = i;
   }
+  Header final = *best;
   if (const std::optional<Header> c = chained(*best, best_cue); c && estimate(*c, nullptr) < best_size)
-    return encode_with(pos, hoods, count, *c, coder_thread);
-  return encode_with(pos, hoods, count, *best, coder_thread);
+    final = *c;
+  if (shapes.value_or(false)) final = with_shapes(final);
+  return encode_with(pos, hoods, count, final, coder_thread);
 }
 
 }  // namespace
@@ -1652,7 +1954,7 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
     if (!kept.empty()) headers = std::move(kept), choices = std::move(kept_choices);
   }
   std::size_t best = 0;
-  std::string bytes = encode_best(positions, hoods, headers, options.coder_thread, best);
+  std::string bytes = encode_best(positions, hoods, headers, options.coder_thread, options.shapes, best);
   if (chosen) *chosen = choices[best];
   return bytes;
 }

@@ -22,6 +22,7 @@
 #include "qsp/mesh.h"
 #include "qsp/partition.h"
 #include "qsp/smaller.h"
+#include "support/corpus.h"
 
 namespace fs = std::filesystem;
 
@@ -391,7 +392,7 @@ bool round_trip(const std::string& path) {
       OrderMap forced_order;
       const std::string fb = encode(mesh, forced, &forced_order);
       const FileInfo fi = inspect(fb);
-      EXPECT_TRUE(fi.geometry_revision == 4 || fi.geometry_revision == 5) << int{fi.geometry_revision};
+      EXPECT_TRUE(fi.geometry_revision >= 4 && fi.geometry_revision <= 6) << int{fi.geometry_revision};
       EXPECT_EQ(fi.geometry_order, o);
       expect_isomorphic(mesh, decode(fb), forced_order, true);
       EXPECT_LE(bytes.size(), fb.size());  // the default keeps the smaller
@@ -536,6 +537,60 @@ TEST(Codec, DefaultKeepsTheSmallestPartition) {
     }
   }
   EXPECT_GT(smaller, 0) << "no mesh is smaller with another partition than the motorcycle graph";
+}
+
+// Geometry revision 6 (format 2.2) over every mesh of the corpus, lossless and at 14 bits: forced on, it
+// decodes to exactly the mesh revisions 4 and 5 give; by default (meshes of up to 32768 vertices) the
+// encoder keeps whichever is smaller, so no file grows against 2.1's coding, nor against forcing it.
+// Forced off, every section is revision 4 or 5, which 2.1 decoders read. The partition is fixed to keep
+// this affordable under the sanitizers; both coding orders are still tried.
+TEST(Codec, RevisionSixRoundTripsAndNeverGrowsAFile) {
+  int tried = 0, smaller = 0, pawn_ratio_checked = 0;
+  for (const auto& path : qsp::testing::corpus()) {
+    QuadMesh mesh;
+    try {
+      mesh = load(path.string());
+      build_adjacency(mesh);
+    } catch (const Error&) {
+      continue;  // invalid meshes: round_trip() checks their refusal
+    }
+    if (mesh.vertex_count() > 32768 || mesh.face_count() == 0) continue;
+    SCOPED_TRACE(path.string());
+    for (std::uint32_t bits : {0u, 14u}) {
+      EncodeOptions o;
+      o.quantize_bits = bits;
+      o.partition = PartitionMode::kMotorcycle;
+      const std::string chosen = encode(mesh, o);
+      o.geometry_shapes = false;
+      const std::string old = encode(mesh, o);
+      o.geometry_shapes = true;
+      const std::string forced = encode(mesh, o);
+      EXPECT_LE(chosen.size(), old.size()) << bits << " bits";
+      EXPECT_LE(chosen.size(), forced.size()) << bits << " bits";
+      EXPECT_LE(inspect(old).geometry_revision, 5);
+      EXPECT_EQ(inspect(forced).geometry_revision, 6);
+      const QuadMesh a = decode(old), b = decode(forced);
+      EXPECT_EQ(a.quads, b.quads);
+      ASSERT_EQ(a.positions.size(), b.positions.size());
+      EXPECT_EQ(std::memcmp(a.positions.data(), b.positions.data(), 4 * a.positions.size()), 0)
+          << bits << " bits";
+      const QuadMesh c = decode(chosen);
+      EXPECT_EQ(c.quads, a.quads);
+      EXPECT_EQ(std::memcmp(c.positions.data(), a.positions.data(), 4 * a.positions.size()), 0);
+      smaller += chosen.size() < old.size();
+      if (bits == 14 && path.filename() == "osd_catmark_pawn.obj") {  // a surface of revolution
+        EXPECT_LT(10 * forced.size(), 7 * old.size())
+            << "shape transfers: pawn " << forced.size() << " vs " << old.size();
+        ++pawn_ratio_checked;
+      }
+      ++tried;
+    }
+  }
+  EXPECT_GE(tried, 20);
+  EXPECT_GE(smaller, tried / 2) << "revision 6 is smaller on too few meshes";
+  if (fs::exists(std::string(QSP_SHARED_DIR) + "/meshes/osd_catmark_pawn.obj")) {
+    EXPECT_EQ(pawn_ratio_checked, 1);
+  }
 }
 
 TEST(Codec, EmptyAndVertexOnlyMeshes) {

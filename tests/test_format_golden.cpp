@@ -51,6 +51,9 @@ EncodeOptions options_for(const std::string& name) {
       name.find("_greedy") != std::string::npos ? PartitionMode::kGreedy : PartitionMode::kMotorcycle;
   // "_q14": positions quantized to 14 bits (the other goldens are lossless).
   if (name.find("_q14") != std::string::npos) o.quantize_bits = 14;
+  // "_no_shapes": geometry revision 4 or 5, as the encoder writes them above 32768 vertices (the other
+  // goldens are revision 6, which is smaller on each of them).
+  if (name.find("_no_shapes") != std::string::npos) o.geometry_shapes = false;
   // The encoder picks patch order for every other golden; this pins the layout-order bytes.
   if (name.find("_layout_order") != std::string::npos) o.geometry_order = CodingOrder::kLayout;
   return o;
@@ -61,8 +64,8 @@ struct OldVersion {
   std::string dir;
   char major, minor;
 };
-const std::vector<OldVersion> kOldVersions = {
-    {"v1.0", 1, 0}, {"v1.1", 1, 1}, {"v1.2", 1, 2}, {"v1.3", 1, 3}, {"v2.0", 2, 0}};
+const std::vector<OldVersion> kOldVersions = {{"v1.0", 1, 0}, {"v1.1", 1, 1}, {"v1.2", 1, 2},
+                                              {"v1.3", 1, 3}, {"v2.0", 2, 0}, {"v2.1", 2, 1}};
 
 TEST(Golden, BytesArePinned) {
   auto names = golden_names();
@@ -84,8 +87,8 @@ TEST(Golden, BytesArePinned) {
   }
 }
 
-// Files of formats 1.0 to 2.0 (testdata/golden/vX.Y: the same meshes, geometry coding revisions 1, 2,
-// 3 (2 for l_shape_layout_order) and 4; LZMA ends on the topology and order streams of 1.x) still
+// Files of formats 1.0 to 2.1 (testdata/golden/vX.Y: the same meshes, geometry coding revisions 1, 2,
+// 3 (2 for l_shape_layout_order), 4 and 5; LZMA ends on the topology and order streams of 1.x) still
 // decode, to exactly the mesh the current file of the same name gives.
 TEST(Golden, OlderVersionFilesStillDecode) {
   for (const auto& [dir, major, minor] : kOldVersions) {
@@ -106,22 +109,29 @@ TEST(Golden, OlderVersionFilesStillDecode) {
   }
 }
 
-// The current goldens are revision 4 but for tilted_noise* (revision 5, normal chaining) and use both
-// coding orders; the 1.2 goldens pin revision 3 (patch order) and 2 (layout order).
+// The current goldens are revision 6 where it is smaller (all but three), *_no_shapes revision 5
+// (tilted_noise*, with normal chaining) or 4, and use both coding orders; the 1.2 goldens pin revision
+// 3 (patch order) and 2 (layout order).
 TEST(Golden, BothCodingOrdersArePinned) {
   std::map<CodingOrder, int> orders;
   std::map<int, int> revisions, revisions_1_2;
   for (const auto& name : golden_names()) {
     const FileInfo info = inspect(slurp(kGolden + "/" + name + ".qsp"));
     ++revisions[info.geometry_revision];
-    EXPECT_EQ(info.geometry_revision, name.starts_with("tilted_noise") ? 5 : 4) << name;
+    if (name.find("_no_shapes") != std::string::npos) {
+      EXPECT_EQ(info.geometry_revision, name.starts_with("tilted_noise") ? 5 : 4) << name;
+    } else {
+      EXPECT_TRUE(info.geometry_revision == 6 || info.geometry_revision == 4) << name;
+    }
     ++orders[info.geometry_order];
     const std::string old = kGolden + "/v1.2/" + name + ".qsp";
     if (fs::exists(old)) ++revisions_1_2[inspect(slurp(old)).geometry_revision];
   }
   EXPECT_GE(orders[CodingOrder::kPatch], 5);
   EXPECT_GE(orders[CodingOrder::kLayout], 1);
+  EXPECT_GE(revisions[6], 8);
   EXPECT_EQ(revisions[5], 2);
+  EXPECT_GE(revisions[4], 1);
   EXPECT_GE(revisions_1_2[3], 5);
   EXPECT_GE(revisions_1_2[2], 1);
 }
@@ -301,12 +311,24 @@ std::map<std::string, Crafted> crafted() {
     out["qsp_overlong_varint"] = {assemble(overlong), "format", "vertex count is not minimally encoded"};
   }
   {
-    // A geometry coding revision newer than this build's: what a 2.0 decoder says to a revision-5
-    // section of a 2.1 file.
+    // A geometry coding revision newer than this build's: what a 2.1 decoder says to a revision-6
+    // section of a 2.2 file.
     Parts future = p;
-    future.geometry[0] = 6;
+    future.geometry[0] = 7;
     out["qsp_unknown_geometry_revision"] = {assemble(future), "format",
                                             "geometry: unknown geometry coding revision"};
+  }
+  {
+    // Flag bit 2 (normal chaining) exists from revision 6 only, and bit 3 in none.
+    Parts r4 = p, r6 = p;
+    r4.geometry[0] = 4;
+    r4.geometry[2] = static_cast<char>(r4.geometry[2] | 0x04);
+    out["qsp_chain_flag_in_revision_4"] = {assemble(r4), "format",
+                                           "geometry: reserved geometry flag bits are set"};
+    r6.geometry[0] = 6;
+    r6.geometry[2] = static_cast<char>(r6.geometry[2] | 0x08);
+    out["qsp_reserved_flag_in_revision_6"] = {assemble(r6), "format",
+                                              "geometry: reserved geometry flag bits are set"};
   }
   {
     Parts junk = p;

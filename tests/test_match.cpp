@@ -658,8 +658,8 @@ TEST_F(MatchCli, OlderFormatFilesFingerprintAsTheirMesh) {
   for (const char* name : {"cube_4", "l_shape", "multi_component", "torus_twist_9x6_t2", "annulus_12x3"}) {
     std::string cmd = "fingerprint " + quote(golden + name + ".obj") + " " + quote(golden + name + ".qsp");
     int files = 2;
-    for (const char* dir : {"v1.0/", "v1.1/", "v1.2/", "v1.3/", "v2.0/"}) {
-      const std::string old = golden + dir + name + ".qsp";
+    for (const char* dir : {"v1.0", "v1.1", "v1.2", "v1.3", "v2.0", "v2.1"}) {
+      const std::string old = (fs::path(golden) / dir / (std::string(name) + ".qsp")).string();
       if (!fs::exists(old)) continue;
       cmd += " " + quote(old);
       ++files;

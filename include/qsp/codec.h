@@ -19,9 +19,10 @@ namespace qsp {
 
 // 2.0: the topology and order streams have compact ends. A 1.x decoder cannot read them, so this is a
 // new major: it refuses 2.0 files at the version bytes, with "upgrade qsp". 2.1: geometry coding
-// revision 5 (normal chaining), which a 2.0 decoder refuses by its revision byte.
+// revision 5 (normal chaining), which a 2.0 decoder refuses by its revision byte. 2.2: geometry coding
+// revision 6 (shape transfers, logistic decisions), which a 2.1 decoder refuses the same way.
 inline constexpr std::uint8_t kFormatMajor = 2;
-inline constexpr std::uint8_t kFormatMinor = 1;
+inline constexpr std::uint8_t kFormatMinor = 2;
 inline constexpr std::uint8_t kOldestMajor = 1;  // 1.0 to 1.3 files still decode
 
 struct EncodeOptions {
@@ -36,6 +37,9 @@ struct EncodeOptions {
   // are coded in both and keep the smaller; larger ones in patch order, which is smaller on nearly
   // every mesh measured and needs one set of stencils in memory.
   std::optional<CodingOrder> geometry_order;
+  // Geometry coding revision 6 (format 2.2; GeometryOptions::shapes). nullopt: where it is smaller, on
+  // meshes of up to 32768 vertices; false: never, so format 2.1 decoders read the file; true: always.
+  std::optional<bool> geometry_shapes;
 };
 
 // What a decoder accepts before allocating. The defaults suit real assets (tens of millions of
@@ -91,7 +95,7 @@ struct FileInfo {
   std::uint64_t geometry_bytes = 0;
   std::uint64_t order_bytes = 0;       // keep-order permutations (0 if absent)
   std::uint64_t other_bytes = 0;       // optional sections this decoder skipped
-  std::uint8_t geometry_revision = 0;  // 1, 2 (layout order), 3 (patch order), 4 or 5 (either); see the spec
+  std::uint8_t geometry_revision = 0;  // 1, 2 (layout order), 3 (patch order), 4 to 6 (either); see the spec
   CodingOrder geometry_order = CodingOrder::kLayout;  // the order the positions were coded in
   std::uint64_t vertices = 0, edges = 0, faces = 0, unreferenced = 0, extraordinary = 0;
   std::uint64_t schematic_vertices = 0, schematic_edges = 0, patches = 0;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -21,9 +22,24 @@ struct BitModel {
   std::uint32_t p0() const { return (std::uint32_t{fast} + slow) >> 1; }
 };
 
+// What coding `bit` teaches model m (the rates above). Inline: geometry revision 6's logistic
+// decisions update four models a bit.
+inline void learn(BitModel& m, unsigned bit) {
+  const auto warm = static_cast<unsigned>(std::bit_width(static_cast<unsigned>(m.seen) + 1u));
+  const unsigned fast_shift = warm < 4 ? warm : 4, slow_shift = warm < 7 ? warm : 7;
+  if (bit) {
+    m.fast = static_cast<std::uint16_t>(m.fast - (m.fast >> fast_shift));
+    m.slow = static_cast<std::uint16_t>(m.slow - (m.slow >> slow_shift));
+  } else {
+    m.fast = static_cast<std::uint16_t>(m.fast + ((65536u - m.fast) >> fast_shift));
+    m.slow = static_cast<std::uint16_t>(m.slow + ((65536u - m.slow) >> slow_shift));
+  }
+  if (m.seen < 255) ++m.seen;
+}
+
 // How a stream begins and ends. kLzma: as in LZMA, a first byte that is always 0 and a flush of the
 // whole 32-bit `low` (the topology and order sections of format 1.x, geometry revisions 1-3). kCompact
-// (the topology and order sections of format 2, geometry revisions 4 and 5): no zero byte, and a flush that
+// (the topology and order sections of format 2, geometry revisions 4 to 6): no zero byte, and a flush that
 // ends on the value of the final interval with the most trailing zero bytes (3 or 4), those bytes left
 // out; the decoder reads them back as zeros. 4 or 5 bytes less a stream.
 enum class StreamEnds : std::uint8_t { kLzma, kCompact };
@@ -47,11 +63,12 @@ class RangeEncoder {
   void encode_bit(BitModel& a, BitModel& b, unsigned bit);
   // `count` (<= 32) bits of `value`, most significant first, each with probability 1/2.
   void encode_raw(std::uint32_t value, unsigned count);
+  // One bit with probability p0 / 2^16 of a 0 (1 <= p0 <= 65535), from a model outside this class.
+  void encode_p0(std::uint32_t p0, unsigned bit);
   // Writes the final bytes; call exactly once, after the last symbol.
   void finish();
 
  private:
-  void encode_p0(std::uint32_t p0, unsigned bit);
   void shift_low();
   std::string& out_;
   bool compact_;
@@ -73,12 +90,12 @@ class RangeDecoder {
   unsigned decode_bit(BitModel& m);
   unsigned decode_bit(BitModel& a, BitModel& b);
   std::uint32_t decode_raw(unsigned count);
+  unsigned decode_p0(std::uint32_t p0);
   void finish() const;
   // Absolute file offset of the next unread byte (for error messages).
   std::uint64_t offset() const { return base_offset_ + pos_; }
 
  private:
-  unsigned decode_p0(std::uint32_t p0);
   std::uint8_t next_byte();
   void check_code() const;
   std::string_view bytes_;

@@ -25,11 +25,15 @@ struct GeometryOptions {
   // The order the stencils are in (grid_layout's `order`); written to the file as a header flag.
   CodingOrder order = CodingOrder::kLayout;
   // nullopt: try every candidate header and keep the smallest section. Else code with this one only
-  // (normal chaining is still tried where it may pay).
+  // (normal chaining and revision 6 are still tried where they may pay).
   std::optional<GeometryChoice> choice = std::nullopt;
   // Whether a second thread runs the range coder while the coding loop predicts: nullopt = for sections
   // of more than 32768 vertices. The bytes are the same either way (tests force both).
   std::optional<bool> coder_thread = std::nullopt;
+  // Geometry revision 6 (shape transfers, magnitude classes, logistic mixing; format 2.2): nullopt =
+  // tried on sections of up to 32768 vertices and kept where smaller; true = always; false = never (the
+  // section then decodes with format 2.1 readers).
+  std::optional<bool> shapes = std::nullopt;
 };
 
 // Encodes positions (3 floats per vertex, in coding order) using, for each vertex, the grid stencil of
@@ -45,7 +49,7 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
 std::vector<float> decode_geometry(std::string_view bytes, std::span<const GridLayout::Stencil> stencil,
                                    std::uint32_t vertex_count);
 
-// The coding order a geometry section was written in (its revision byte; in revisions 4 and 5 a flag of its
+// The coding order a geometry section was written in (its revision byte; in revisions 4-6 a flag of its
 // third byte), so the caller can build the matching stencils. Throws Error(kFormat) if the section is
 // too short or of an unknown revision.
 CodingOrder geometry_coding_order(std::string_view bytes);
