@@ -285,7 +285,19 @@ struct ResidualModel {
   // above max_len, given the decisions above it (`high`): at 14 bits, the top two never vary.
   bool forced(int high, int i, int max_len) const { return exclude && (high | (1 << i)) > max_len; }
 
-  void encode(RangeEncoder& rc, std::uint64_t u, int kind, int bucket, int max_len, const Extra& e) {
+  // Revision 6's logistic decisions are a template argument, so that revisions 1-5 decode as fast as
+  // they did before it (the branch in the loop cost cc2's decoder 3% of its instructions).
+  // `e`: revision 6's contexts (unread, and may be null, in revisions 1-5).
+  void encode(RangeEncoder& rc, std::uint64_t u, int kind, int bucket, int max_len, const Extra* e) {
+    logistic ? encode<true>(rc, u, kind, bucket, max_len, e) : encode<false>(rc, u, kind, bucket, max_len, e);
+  }
+  std::uint64_t decode(RangeDecoder& rc, int kind, int bucket, int max_len, const Extra* e) {
+    return logistic ? decode<true>(rc, kind, bucket, max_len, e)
+                    : decode<false>(rc, kind, bucket, max_len, e);
+  }
+
+  template <bool kLogistic>
+  void encode(RangeEncoder& rc, std::uint64_t u, int kind, int bucket, int max_len, const Extra* e) {
     const int len = std::bit_width(u);
     BitModel* tree = length_tree(kind, bucket);
     BitModel* kind_tree = mixed ? &general[static_cast<std::size_t>(kind) * 64] : nullptr;
@@ -295,8 +307,8 @@ struct ResidualModel {
         node = 2 * node;  // b is 0: len <= max_len
         continue;
       }
-      if (logistic) {
-        code_length_bit(rc, b, kind, bucket, e, node);
+      if constexpr (kLogistic) {
+        code_length_bit(rc, b, kind, bucket, *e, node);
       } else if (mixed) {
         rc.encode_bit(tree[node], kind_tree[node], b);
       } else {
@@ -309,8 +321,8 @@ struct ResidualModel {
     const int rest = len - 1, modelled = std::min(rest, kModelledBits);
     for (int i = 0, node = 1; i < modelled; ++i) {
       unsigned b = (u >> (rest - 1 - i)) & 1;
-      if (logistic) {
-        code_mantissa_bit(rc, b, len, kind, bucket, e, node);
+      if constexpr (kLogistic) {
+        code_mantissa_bit(rc, b, len, kind, bucket, *e, node);
       } else {
         rc.encode_bit(m[node], b);
       }
@@ -321,7 +333,8 @@ struct ResidualModel {
     rc.encode_raw(static_cast<std::uint32_t>(u & ((1u << std::min(raw, 20)) - 1)), std::min(raw, 20));
   }
 
-  std::uint64_t decode(RangeDecoder& rc, int kind, int bucket, int max_len, const Extra& e) {
+  template <bool kLogistic>
+  std::uint64_t decode(RangeDecoder& rc, int kind, int bucket, int max_len, const Extra* e) {
     BitModel* tree = length_tree(kind, bucket);
     BitModel* kind_tree = mixed ? &general[static_cast<std::size_t>(kind) * 64] : nullptr;
     int node = 1;
@@ -330,9 +343,9 @@ struct ResidualModel {
         node = 2 * node;
         continue;
       }
-      if (logistic) {
+      if constexpr (kLogistic) {
         unsigned b = 0;
-        code_length_bit(rc, b, kind, bucket, e, node);
+        code_length_bit(rc, b, kind, bucket, *e, node);
         node = 2 * node + static_cast<int>(b);
         continue;
       }
@@ -347,8 +360,8 @@ struct ResidualModel {
     std::uint64_t u = 1;
     for (int i = 0, n = 1; i < modelled; ++i) {
       unsigned b = 0;
-      if (logistic) {
-        code_mantissa_bit(rc, b, len, kind, bucket, e, n);
+      if constexpr (kLogistic) {
+        code_mantissa_bit(rc, b, len, kind, bucket, *e, n);
       } else {
         b = rc.decode_bit(m[n]);
       }
@@ -551,7 +564,7 @@ void candidates(const Hood& x, const std::int64_t* v, unsigned mask,
   p[10] = p[0] + r + c;
   // Revision 6: the parallelogram shrunk towards sw, for the distorted cells near extraordinary
   // vertices (12 and 13, the shape transfers, come from shape_transfers()).
-  p[11] = sw + ((13 * (w + s - 2 * sw) + 8) >> 4);
+  if ((mask >> 11) & 1) p[11] = sw + ((13 * (w + s - 2 * sw) + 8) >> 4);
 }
 
 // floor(sqrt(n)), exactly.
@@ -606,7 +619,9 @@ __int128 floor_div128(__int128 a, __int128 b) {  // b > 0
 // Weights of the candidates at a parallelogram vertex: the inverse square of each one's mean error
 // at the coded neighbours w, s, sw, se (integer axes summed). 0 for a missing candidate. <= 2^30.
 // Returns the magnitude class of the best candidate's mean error: bit_width(floor(4 * mean + 2)).
-int blend_weights(const Hood& x, unsigned mask, const std::uint32_t* errors, int nc,
+// nc: the revision's candidate count (a constant, so revisions 1-5 run as fast as before revision 6).
+template <int nc>
+int blend_weights(const Hood& x, unsigned mask, const std::uint32_t* errors,
                   std::array<std::int64_t, kCandidates>& weight) {
   const std::array<std::uint32_t, 4> near = {x.w, x.s, x.sw, x.se};
   std::uint64_t best = ~std::uint64_t{0};
@@ -637,10 +652,11 @@ int blend_weights(const Hood& x, unsigned mask, const std::uint32_t* errors, int
 // The weighted mean of the available candidates p[k] (mask bit k), as an offset from the
 // parallelogram p[0] (clamped to +-2^28 so the sums cannot overflow), rounded half up. Integer only,
 // so exactly reproducible.
+template <int nc>  // the revision's candidate count, as for blend_weights
 std::int64_t blend(const std::array<std::int64_t, kCandidates>& p, unsigned mask,
                    const std::array<std::int64_t, kCandidates>& weight) {
   std::int64_t num = 0, den = 0;
-  for (int k = 0; k < kCandidates; ++k) {  // mask has no bit at or above the revision's count
+  for (int k = 0; k < nc; ++k) {
     if (!((mask >> k) & 1)) continue;
     num += weight[k] * std::clamp<std::int64_t>(p[k] - p[0], -(1 << 28), 1 << 28);
     den += weight[k];
@@ -1257,7 +1273,12 @@ struct Symbol {
 void code_symbol(const Symbol& s, ResidualModel& m, RangeEncoder& rc) {
   switch (s.op) {
     case Symbol::kResidual:
-      m.encode(rc, s.value, s.ctx, s.arg, s.arg2, {s.axis, s.cls, s.prev});
+      if (m.logistic) {
+        const Extra e{s.axis, s.cls, s.prev};
+        m.encode(rc, s.value, s.ctx, s.arg, s.arg2, &e);
+      } else {
+        m.encode(rc, s.value, s.ctx, s.arg, s.arg2, nullptr);
+      }
       break;
     case Symbol::kZeros:
       m.encode_zeros(rc, static_cast<int>(s.value), s.arg);
@@ -1468,19 +1489,18 @@ struct ChainCue {
 
 // Encoder: `ints` holds each integer axis's integers (decimal exceptions are set to their
 // prediction here) and `floats` each float axis's floats. Decoder: both are filled, and `out` gets the
-// floats.
-template <bool kEncode>
+// floats. `shapes`: revision 6 (a template argument, so revisions 1-5 pay nothing for it).
+template <bool kEncode, bool shapes>
 void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
                    std::array<std::vector<std::int64_t>, 3>& ints, std::array<std::vector<float>, 3>& floats,
                    SymbolSink* sink, RangeDecoder* dec, std::vector<float>* out, ChainCue* cue = nullptr) {
   const bool any_int = h.integer_axis(0) || h.integer_axis(1) || h.integer_axis(2);
-  const bool shapes = h.revision >= kShapeRevision;
-  const int nc = shapes ? kCandidates : kOldCandidates;
+  constexpr int nc = shapes ? kCandidates : kOldCandidates;
   std::vector<std::uint32_t> errors(any_int ? std::size_t{count} * nc : 0, kNoError);
   std::array<std::vector<std::uint8_t>, 3> lengths;
   for (auto& l : lengths) l.assign(count, 0);
   std::array<std::vector<std::uint32_t>, 3> mags;  // revision 6: each coded value u, at most 2^32 - 1
-  if (shapes)
+  if constexpr (shapes)
     for (auto& m : mags) m.assign(count, 0);
   std::array<std::array<std::int64_t, 3>, 2> shape{};  // the two transfers' predictions
   std::array<std::size_t, 3> next_exception{};
@@ -1522,9 +1542,11 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
     int previous = 0;  // how the vertex's previous axis was coded: 0 none / no repeats, 1 residual, 2 repeat
     const Hood x = hoods[i];
     unsigned mask = any_int ? candidate_mask(x, h.revision, h.integer_axes()) : 0;
-    if (mask >> 12) mask &= ~shape_transfers(x, ints, mask, shape);
+    if constexpr (shapes) {
+      if (mask >> 12) mask &= ~shape_transfers(x, ints, mask, shape);
+    }
     const bool blended = any_int && x.kind == kParallelogram;
-    const int blend_class = blended ? blend_weights(x, mask, errors.data(), nc, weight) : 0;
+    const int blend_class = blended ? blend_weights<nc>(x, mask, errors.data(), weight) : 0;
     const bool across = x.kind == kOpposite || x.kind == kCorners;
     // Its across class (format spec): which running means it uses.
     const int cls = !across               ? 0
@@ -1533,7 +1555,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
     for (int a = 0; a < 3; ++a) {
       if (!h.integer_axis(a)) continue;
       candidates(x, ints[a].data(), mask, cand[a]);
-      cand[a][12] = shape[0][a], cand[a][13] = shape[1][a];
+      if constexpr (shapes) cand[a][12] = shape[0][a], cand[a][13] = shape[1][a];
     }
     const bool chained = modelled && blended;
     if (chained) {
@@ -1549,7 +1571,9 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
         bucket = shapes ? magnitude_class(mags, x, i, a, blend_class, pure)
                         : std::min(kBuckets - 1, (bucket + blend_class + 1) >> 1);
       }
-      const int prev_len = a == 0 ? 0 : std::min<int>(kBuckets - 1, lengths[a - 1][i]);
+      int prev_len = 0;  // revision 6: the length of the vertex's previous axis
+      if constexpr (shapes) prev_len = a == 0 ? 0 : std::min<int>(kBuckets - 1, lengths[a - 1][i]);
+      const Extra extra{a, pure, prev_len};  // revision 6 (the decoder's; the encoder's goes in its Symbol)
       std::uint64_t u = 0;
       bool hit = false;            // coded as a repeat
       bool candidate = true;       // may be a repeat, and joins the values seen (not a decimal exception)
@@ -1558,7 +1582,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
         std::int64_t* v = ints[a].data();
         std::int64_t pred;
         if (blended) {
-          pred = blended_pred[a] = blend(cand[a], mask, weight);
+          pred = blended_pred[a] = blend<nc>(cand[a], mask, weight);
           if (chaining) pred += chain.offset(a);
         } else if (across) {
           const std::int64_t pa = predict_kind(x, x.kind, v), pf = predict_kind(x, x.fallback, v);
@@ -1575,7 +1599,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
             // (For a repeat: only for the neighbours' magnitude classes.)
             u = zigzag64(wrapped(v[i] - pred, qmax));
           } else {
-            u = model->decode(*dec, x.ctx, bucket, h.max_length(a), {a, pure, prev_len});
+            u = model->decode(*dec, x.ctx, bucket, h.max_length(a), shapes ? &extra : nullptr);
             v[i] = (pred + unzigzag64(u)) & qmax;
           }
           if constexpr (!kEncode) (*out)[3 * std::size_t{i} + a] = h.grid.value(a, v[i]);
@@ -1607,7 +1631,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
               u = zigzag64(v[i] - pred);
             }
           } else {
-            u = model->decode(*dec, x.ctx, bucket, h.max_length(a), {a, pure, prev_len});
+            u = model->decode(*dec, x.ctx, bucket, h.max_length(a), shapes ? &extra : nullptr);
             if (plan.trailing_zeros) {
               const int t = model->decode_zeros(*dec, digits);
               const std::int64_t unit = kPow10i[t];
@@ -1639,7 +1663,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
         if (kEncode || hit) {
           u = zigzag64(image - pred);
         } else {
-          u = model->decode(*dec, x.ctx, bucket, h.max_length(a), {a, pure, prev_len});
+          u = model->decode(*dec, x.ctx, bucket, h.max_length(a), shapes ? &extra : nullptr);
           image = pred + unzigzag64(u);
           if (image < 0 || image > 0xFFFFFFFFll) fail("float residual out of range");
         }
@@ -1660,7 +1684,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
               {static_cast<std::uint64_t>(zeros), Symbol::kZeros, 0, static_cast<std::uint8_t>(digits), 0});
       }
       lengths[a][i] = static_cast<std::uint8_t>(std::bit_width(u));
-      if (shapes) mags[a][i] = static_cast<std::uint32_t>(std::min<std::uint64_t>(u, 0xFFFFFFFFu));
+      if constexpr (shapes) mags[a][i] = static_cast<std::uint32_t>(std::min<std::uint64_t>(u, 0xFFFFFFFFu));
       if (chained) {
         const std::int64_t r = ints[a][i] - blended_pred[a];
         chain.record(a, h.bits ? wrapped(r, qmax) : r);
@@ -1823,7 +1847,11 @@ std::string encode_with(std::span<const float> pos, const Hoods& hoods, std::uin
     // candidate partitions on both cores (codec.cpp).
     constexpr std::uint32_t kThreadAbove = 32768;
     SymbolSink sink(h, payload, coder_thread.value_or(count > kThreadAbove));
-    code_vertices<true>(h, hoods, count, ints, floats, &sink, nullptr, nullptr, cue);
+    if (h.revision >= kShapeRevision) {
+      code_vertices<true, true>(h, hoods, count, ints, floats, &sink, nullptr, nullptr, cue);
+    } else {
+      code_vertices<true, false>(h, hoods, count, ints, floats, &sink, nullptr, nullptr, cue);
+    }
     sink.finish();
   }
   put_varint(out, payload.size());
@@ -1973,7 +2001,11 @@ std::vector<float> decode_geometry(std::string_view bytes, std::span<const GridL
   for (int a = 0; a < 3; ++a)
     (h.integer_axis(a) ? ints[a].resize(vertex_count) : floats[a].resize(vertex_count));
   std::vector<float> out(std::size_t{vertex_count} * 3);
-  code_vertices<false>(h, hoods, vertex_count, ints, floats, nullptr, &rc, &out);
+  if (h.revision >= kShapeRevision) {
+    code_vertices<false, true>(h, hoods, vertex_count, ints, floats, nullptr, &rc, &out);
+  } else {
+    code_vertices<false, false>(h, hoods, vertex_count, ints, floats, nullptr, &rc, &out);
+  }
   rc.finish();
   return out;
 }
