@@ -11,9 +11,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <future>
 #include <memory>
 #include <string>
 #include <string_view>
+#include <system_error>
+#include <thread>
 
 #include "qsp/error.h"
 #include "qsp/mesh.h"
@@ -83,8 +86,10 @@ class TextWriter {
   std::string out_;
 };
 
-void write_positions(TextWriter& w, const QuadMesh& mesh, std::string_view prefix) {
-  for (std::size_t i = 0; i < mesh.positions.size(); i += 3) {
+// The `v` lines of vertices [begin, end).
+void write_positions(TextWriter& w, const QuadMesh& mesh, std::string_view prefix, std::size_t begin,
+                     std::size_t end) {
+  for (std::size_t i = 3 * begin; i < 3 * end; i += 3) {
     w.text(prefix);
     w.number(mesh.positions[i]);
     w.ch(' ');
@@ -97,6 +102,28 @@ void write_positions(TextWriter& w, const QuadMesh& mesh, std::string_view prefi
 
 std::size_t expected_text_size(const QuadMesh& mesh) {
   return mesh.positions.size() * 14 + mesh.quads.size() * 9 + 64;
+}
+
+// Every vertex's line. From kSplitFrom vertices the second half is formatted on a second thread: the
+// shortest float text is a quarter of decompressing mh_female_generic_cc2 (229 of 1555 M instructions).
+// The text is the same either way (a test compares it with a plain formatter).
+void write_positions(TextWriter& w, const QuadMesh& mesh, std::string_view prefix) {
+  constexpr std::size_t kSplitFrom = 1 << 16;  // below, starting a thread costs more than it saves
+  const std::size_t n = mesh.vertex_count(), half = n / 2;
+  if (n < kSplitFrom || std::thread::hardware_concurrency() == 1)
+    return write_positions(w, mesh, prefix, 0, n);
+  std::future<std::string> second;
+  try {
+    second = std::async(std::launch::async, [&mesh, prefix, half, n] {
+      TextWriter t((n - half) * 3 * 14);
+      write_positions(t, mesh, prefix, half, n);
+      return t.take();
+    });
+  } catch (const std::system_error&) {
+    return write_positions(w, mesh, prefix, 0, n);  // no thread to be had
+  }
+  write_positions(w, mesh, prefix, 0, half);
+  w.text(second.get());
 }
 
 bool write_all(int fd, std::string_view bytes, int* err) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -320,4 +321,51 @@ TEST(ReadObjParallel, MutantsReadTheSameAtEverySplit) {
     if (HasFailure()) return;
   }
   EXPECT_GE(valid, 40);  // enough mutants stay valid that the success path is compared too
+}
+
+// write_obj and write_off format the second half of a large mesh's vertices on a second thread. The
+// text must be exactly what one thread writes: every float in its shortest round-trip form, in order.
+TEST(WriteTextParallel, LargeMeshesGiveTheSingleThreadedText) {
+  std::mt19937 rng(11);
+  for (const std::size_t n : {std::size_t{65535}, std::size_t{65536}, std::size_t{100001}}) {
+    SCOPED_TRACE(n);
+    qsp::QuadMesh m;
+    m.positions.resize(3 * n);
+    for (float& f : m.positions) {
+      std::uint32_t bits = rng();
+      while ((bits & 0x7F800000u) == 0x7F800000u) bits = rng();  // finite only
+      std::memcpy(&f, &bits, 4);
+    }
+    for (std::uint32_t q = 0; q + 3 < n; q += 4) m.quads.insert(m.quads.end(), {q, q + 1, q + 2, q + 3});
+    std::string v, f;
+    char buf[32];
+    for (std::size_t i = 0; i < m.positions.size(); ++i) {
+      if (i % 3 == 0) v += "v ";
+      v.append(buf, std::to_chars(buf, buf + sizeof buf, m.positions[i]).ptr);
+      v += i % 3 == 2 ? '\n' : ' ';
+    }
+    for (std::size_t i = 0; i < m.quads.size(); i += 4) {
+      f += "f " + std::to_string(m.quads[i] + 1) + ' ' + std::to_string(m.quads[i + 1] + 1) + ' ' +
+           std::to_string(m.quads[i + 2] + 1) + ' ' + std::to_string(m.quads[i + 3] + 1) + '\n';
+    }
+    // (Compared by hand: a failing EXPECT_EQ would print megabytes.)
+    const auto first_difference = [](const std::string& a, const std::string& b) {
+      return std::mismatch(a.begin(), a.end(), b.begin(), b.end()).first - a.begin();
+    };
+    const std::string obj = qsp::write_obj(m), want = v + f;
+    EXPECT_TRUE(obj == want) << "write_obj differs at byte " << first_difference(obj, want);
+    const std::string off = qsp::write_off(m);
+    const std::string head = "OFF\n" + std::to_string(n) + ' ' + std::to_string(m.quads.size() / 4) + " 0\n";
+    ASSERT_GT(off.size(), head.size() + v.size() / 2);
+    std::string off_v = v;  // the OFF vertex lines are the OBJ ones without "v "
+    std::string stripped;
+    for (std::size_t pos = 0; pos < off_v.size();) {
+      const std::size_t end = off_v.find('\n', pos) + 1;
+      stripped.append(off_v, pos + 2, end - pos - 2);
+      pos = end;
+    }
+    const std::string got = off.substr(0, head.size() + stripped.size());
+    EXPECT_TRUE(got == head + stripped)
+        << "write_off differs at byte " << first_difference(got, head + stripped);
+  }
 }
