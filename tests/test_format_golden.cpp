@@ -319,11 +319,15 @@ std::map<std::string, Crafted> crafted() {
                                             "geometry: unknown geometry coding revision"};
   }
   {
-    // Flag bit 2 (normal chaining) exists from revision 6 only, and bit 3 in none.
+    // Flag bit 2 (normal chaining) exists in revision 6 only, and bit 3 in none.
     Parts r4 = p, r6 = p;
     r4.geometry[0] = 4;
     r4.geometry[2] = static_cast<char>(r4.geometry[2] | 0x04);
     out["qsp_chain_flag_in_revision_4"] = {assemble(r4), "format",
+                                           "geometry: reserved geometry flag bits are set"};
+    Parts r5 = r4;  // revision 5 always chains: its flag bit 2 is reserved too
+    r5.geometry[0] = 5;
+    out["qsp_chain_flag_in_revision_5"] = {assemble(r5), "format",
                                            "geometry: reserved geometry flag bits are set"};
     r6.geometry[0] = 6;
     r6.geometry[2] = static_cast<char>(r6.geometry[2] | 0x08);

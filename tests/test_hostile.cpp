@@ -308,8 +308,11 @@ std::vector<std::pair<std::string, std::string>> sweep_files() {
   // A format 1.3 file with an order section: its topology and order streams have LZMA ends.
   out.emplace_back("1.3 keep-order",
                    read_file_bytes(std::string(QSP_TESTDATA_DIR) + "/golden/v1.3/l_tromino_keep_order.qsp"));
-  // A geometry section with normal chaining (revision 5).
-  out.emplace_back("revision 5", read_file_bytes(std::string(QSP_TESTDATA_DIR) + "/golden/tilted_noise.qsp"));
+  // Geometry sections with normal chaining: revision 5, and revision 6 (flag bit 2; logistic decisions,
+  // shape transfers).
+  out.emplace_back("revision 5",
+                   read_file_bytes(std::string(QSP_TESTDATA_DIR) + "/golden/tilted_noise_no_shapes.qsp"));
+  out.emplace_back("revision 6", read_file_bytes(std::string(QSP_TESTDATA_DIR) + "/golden/tilted_noise.qsp"));
   return out;
 }
 
@@ -539,11 +542,19 @@ TEST(LimitsBound, CheapestGeometryFitsTheContentBound) {
   QuadMesh flat = testing::grid(300, 200);
   QuadMesh zero = flat;
   std::fill(zero.positions.begin(), zero.positions.end(), 0.0f);
-  EncodeOptions quant;
+  EncodeOptions quant, shapes, quant_shapes;
   quant.quantize_bits = 1;
+  // Revision 6 (forced: the encoder would not choose it above 32768 vertices): its logistic decisions
+  // are clamped to the bit models' most skewed probability, so they cost no less.
+  shapes.geometry_shapes = true;
+  quant_shapes = quant;
+  quant_shapes.geometry_shapes = true;
   for (const auto& [name, bytes] : {std::pair<std::string, std::string>{"flat grid", encode(flat)},
                                     {"all zero", encode(zero)},
-                                    {"all zero, 1 bit", encode(zero, quant)}}) {
+                                    {"all zero, 1 bit", encode(zero, quant)},
+                                    {"flat grid, revision 6", encode(flat, shapes)},
+                                    {"all zero, revision 6", encode(zero, shapes)},
+                                    {"all zero, 1 bit, revision 6", encode(zero, quant_shapes)}}) {
     const std::string geometry = section_payload(bytes, craft::kTagGeometry);
     const double per_byte = double(flat.vertex_count()) / double(geometry.size());
     std::printf("%s: %.0f vertices per geometry byte\n", name.c_str(), per_byte);
