@@ -707,6 +707,19 @@ TEST_F(CliTest, CompressDecompressRoundTrip) {
   EXPECT_EQ(k.positions, a.positions);
 }
 
+// --compat 2.1 writes what 2.1 readers decode: no geometry revision 6, the same mesh back.
+TEST_F(CliTest, CompatWritesNoRevisionSix) {
+  const std::string golden = std::string(QSP_TESTDATA_DIR) + "/golden/tilted_noise_q14.obj";
+  ASSERT_EQ(run_cli("compress --quantize 14 " + golden + " " + p("new.qsp")).status, 0);
+  ASSERT_EQ(run_cli("compress --compat 2.1 --quantize 14 " + golden + " " + p("old.qsp")).status, 0);
+  const std::string now = read_file_bytes(p("new.qsp")), old = read_file_bytes(p("old.qsp"));
+  EXPECT_EQ(inspect(now).geometry_revision, 6);
+  EXPECT_EQ(inspect(old).geometry_revision, 5);
+  EXPECT_EQ(old, read_file_bytes(std::string(QSP_TESTDATA_DIR) + "/golden/tilted_noise_q14_no_shapes.qsp"));
+  EXPECT_EQ(decode(old).positions, decode(now).positions);
+  EXPECT_EQ(run_cli("compress --compat 2.0 " + golden + " " + p("x.qsp")).status, 2);
+}
+
 TEST_F(CliTest, RefusesToOverwrite) {
   ASSERT_EQ(run_cli("compress " + p("cube.obj") + " " + p("x.qsp")).status, 0);
   CliRun r = run_cli("compress " + p("cube.obj") + " " + p("x.qsp"));

@@ -24,6 +24,7 @@ struct CompressOptions {
   bool keep_order = false;
   bool positions_only = false;
   std::string partition = "auto";  // or a PartitionMode name
+  std::string compat;              // "2.1": only what format 2.1 readers decode
 };
 
 // True when `out` names the same existing file as `in` (by device and inode, so links and
@@ -75,6 +76,7 @@ void run(const CompressOptions& o) {
     parse_partition_mode(o.partition, mode);  // CLI11 checked the name
     eo.partition = mode;
   }
+  if (o.compat == "2.1") eo.geometry_shapes = false;  // geometry revisions 4 and 5 only
   std::string bytes;
   try {
     bytes = encode(mesh, eo);
@@ -104,6 +106,10 @@ void register_compress(CLI::App& app, int& exit_code) {
   sub->add_flag("--keep-order", opt->keep_order, "Also store the vertex order, face order and first corners");
   sub->add_flag("--positions-only", opt->positions_only,
                 "Drop texture coordinates, normals, groups, materials and tags instead of refusing");
+  sub->add_option("--compat", opt->compat,
+                  "2.1: write only what qsp format 2.1 readers decode (no geometry coding revision 6; "
+                  "files of small meshes 1-2% larger)")
+      ->check(CLI::IsMember({"2.1"}));
   sub->callback([opt, &exit_code]() {
     run(*opt);
     exit_code = 0;
