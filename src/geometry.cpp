@@ -520,12 +520,12 @@ unsigned candidate_mask(const Hood& x) {
          (full && x.has(Hood::kEast) && x.has(Hood::kNorth)) << 10;
 }
 
-// Revision 6 adds the shrunk parallelogram (11, with the parallelogram's neighbours) and the shape
-// transfers from the west cell (12, with candidate 4's) and the south cell (13, with candidate 5's) when
-// every axis is an integer axis; transfer() may still take 12 and 13 away.
-unsigned candidate_mask(const Hood& x, int revision, bool integer_axes) {
+// Revision 6 (`shapes`) adds the shrunk parallelogram (11, with the parallelogram's neighbours) and the
+// shape transfers from the west cell (12, with candidate 4's) and the south cell (13, with candidate 5's)
+// when every axis is an integer axis; transfer() may still take 12 and 13 away.
+unsigned candidate_mask(const Hood& x, bool shapes, bool integer_axes) {
   const unsigned m = candidate_mask(x);
-  if (revision < kShapeRevision) return m;
+  if (!shapes) return m;
   return m | (m & 1u) << 11 | (integer_axes ? ((m >> 4) & 1u) << 12 | ((m >> 5) & 1u) << 13 : 0u);
 }
 
@@ -1274,14 +1274,11 @@ struct Symbol {
 
 void code_symbol(const Symbol& s, ResidualModel& m, RangeEncoder& rc) {
   switch (s.op) {
-    case Symbol::kResidual:
-      if (m.logistic) {
-        const Extra e{s.axis, s.cls, s.prev};
-        m.encode(rc, s.value, s.ctx, s.arg, s.arg2, &e);
-      } else {
-        m.encode(rc, s.value, s.ctx, s.arg, s.arg2, nullptr);
-      }
+    case Symbol::kResidual: {
+      const Extra e{s.axis, s.cls, s.prev};
+      m.encode(rc, s.value, s.ctx, s.arg, s.arg2, &e);
       break;
+    }
     case Symbol::kZeros:
       m.encode_zeros(rc, static_cast<int>(s.value), s.arg);
       break;
@@ -1543,7 +1540,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
   for (std::uint32_t i = 0; i < count; ++i) {
     int previous = 0;  // how the vertex's previous axis was coded: 0 none / no repeats, 1 residual, 2 repeat
     const Hood x = hoods[i];
-    unsigned mask = any_int ? candidate_mask(x, h.revision, h.integer_axes()) : 0;
+    unsigned mask = any_int ? candidate_mask(x, shapes, h.integer_axes()) : 0;
     if constexpr (shapes) {
       if (mask >> 12) mask &= ~shape_transfers(x, ints, mask, shape);
     }
