@@ -100,8 +100,9 @@ void write_positions(TextWriter& w, const QuadMesh& mesh, std::string_view prefi
   }
 }
 
+constexpr std::size_t kCoordinateChars = 14;  // a typical coordinate's text and its separator
 std::size_t expected_text_size(const QuadMesh& mesh) {
-  return mesh.positions.size() * 14 + mesh.quads.size() * 9 + 64;
+  return mesh.positions.size() * kCoordinateChars + mesh.quads.size() * 9 + 64;
 }
 
 // Every vertex's line. From kSplitFrom vertices the second half is formatted on a second thread: the
@@ -115,7 +116,7 @@ void write_positions(TextWriter& w, const QuadMesh& mesh, std::string_view prefi
   std::future<std::string> second;
   try {
     second = std::async(std::launch::async, [&mesh, prefix, half, n] {
-      TextWriter t((n - half) * 3 * 14);
+      TextWriter t((n - half) * 3 * kCoordinateChars);
       write_positions(t, mesh, prefix, half, n);
       return t.take();
     });
