@@ -261,6 +261,23 @@ ComponentPartition relabel(const ComponentPartition& part, std::uint32_t root) {
   return p;
 }
 
+// The mesh vertices of relabel(part, root)'s schematic vertices, in their order there (first appearance
+// in traversal order, as schematic_from_next numbers them), without building the relabelled component.
+std::vector<std::uint32_t> relabelled_vertex_mesh(const Schematic& s, std::uint32_t root,
+                                                  std::vector<std::uint32_t>& order,
+                                                  std::vector<std::uint8_t>& seen) {
+  TopologyCode code;
+  traverse(s, root, order, code);
+  seen.assign(s.vertex_count, 0);
+  std::vector<std::uint32_t> out;
+  out.reserve(s.vertex_count);
+  for (const std::uint32_t d : order) {
+    const std::uint32_t v = s.dart_vertex[d];
+    if (!seen[v]) seen[v] = 1, out.push_back(s.vertex_mesh[v]);
+  }
+  return out;
+}
+
 CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
                                      const ComponentPartition& part) {
   CanonicalComponent out;
@@ -273,9 +290,14 @@ CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
   out.part = relabel(part, tied[0]);
   if (tied.size() > 1) {
     out.map = layout_to_mesh(out.part, adj);
+    std::vector<std::uint32_t> order;
+    std::vector<std::uint8_t> seen;
     for (std::size_t t = 1; t < tied.size(); ++t) {
+      // Most symmetric roots lose on the schematic vertices alone: relabel only those that may win.
+      if (compare_positions(mesh, relabelled_vertex_mesh(part.schematic, tied[t], order, seen),
+                            out.part.schematic.vertex_mesh) > 0)
+        continue;
       ComponentPartition p = relabel(part, tied[t]);
-      if (compare_positions(mesh, p.schematic.vertex_mesh, out.part.schematic.vertex_mesh) > 0) continue;
       LayoutMap m = layout_to_mesh(p, adj);
       if (compare_positions(mesh, m.vertex, out.map.vertex) < 0) {
         out.part = std::move(p);

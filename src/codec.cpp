@@ -377,7 +377,8 @@ struct ChoiceRole {
 
 // The file for `mesh` stored with `partition` (of `adj`, its adjacency).
 std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition,
-                             const EncodeOptions& options, OrderMap* order_out, ChoiceRole role = {}) {
+                             const EncodeOptions& options, const Effort& effort, OrderMap* order_out,
+                             ChoiceRole role = {}) {
   const std::uint64_t nv = mesh.vertex_count(), nf = mesh.face_count();
   CanonicalMesh cm = canonicalize(mesh, adj, partition);
 
@@ -415,7 +416,6 @@ std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const P
   }
   if (vbase != nv || fbase != nf) internal("canonical form does not cover every vertex and face");
 
-  constexpr std::uint32_t kTryBothOrders = 32768;
   const CodingOrder first = options.geometry_order.value_or(CodingOrder::kPatch);
   const auto unreferenced = static_cast<std::uint32_t>(cm.unreferenced.size());
   std::vector<std::uint32_t> quads, coding;
@@ -448,7 +448,12 @@ std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const P
   GeometryOptions gopt;
   gopt.quantize_bits = options.quantize_bits;
   gopt.order = first;
+  // Revision 6 where the level tries it (and keeps it only where smaller), unless the caller forces it.
   gopt.shapes = options.geometry_shapes;
+  if (!gopt.shapes && !effort.try_shapes) gopt.shapes = false;
+  gopt.header_sample = effort.header_sample;
+  gopt.try_chaining = effort.try_chaining;
+  if (options.threads == 1) gopt.coder_thread = false;
   if (role.wait) gopt.choice = role.wait->get();  // rethrows what failed the encode that chooses
   GeometryChoice chosen;
   std::string geometry = encode_geometry(coded_positions(first), stencil, gopt, &chosen);
@@ -457,7 +462,7 @@ std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const P
     role.publish->chosen.set_value(chosen);
     role.publish->set = true;
   }
-  if (!options.geometry_order && nv <= kTryBothOrders) {
+  if (!options.geometry_order && effort.both_orders) {
     stencil.clear();
     assemble(parts, unreferenced, CodingOrder::kLayout, quads, stencil);
     gopt.order = CodingOrder::kLayout;
@@ -499,18 +504,17 @@ std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const P
 std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap* order_out) {
   const std::uint64_t nv = mesh.vertex_count(), nf = mesh.face_count();
   if (mesh.positions.size() % 3 != 0 || mesh.quads.size() % 4 != 0) {
-    throw Error(ErrorCode::kInternal, "encode: positions or quads array has a partial element");
+    throw Error(ErrorCode::kUsage, "encode: positions or quads array has a partial element");
   }
   if (nv > kFormatMaxVertices) throw Error(ErrorCode::kLimit, "mesh has more than 2^32 - 2 vertices");
   if (nf > kFormatMaxFaces) throw Error(ErrorCode::kLimit, "mesh has more than 2^30 - 1 faces");
+  const Effort effort = level_effort(options.level, nv);
   const Adjacency adj = build_adjacency(mesh);
   // Smaller partitions usually give smaller files (fewer schematic edges, longer patch rows), but not
-  // always (mh_fedora, osd_catmark_car, igl_teddy at 14 bits): small meshes try all three. Above the
-  // limit the motorcycle graph alone keeps compress time to one pass.
-  constexpr std::uint64_t kTryAllPartitions = 32768;
-  if (options.partition || nv > kTryAllPartitions) {
+  // always (mh_fedora, osd_catmark_car, igl_teddy at 14 bits): the highest levels try all three.
+  if (options.partition || !effort.all_partitions) {
     const PartitionMode mode = options.partition.value_or(PartitionMode::kMotorcycle);
-    return encode_partition(mesh, adj, qsp::partition(adj, mode, mesh.positions), options, order_out);
+    return encode_partition(mesh, adj, qsp::partition(adj, mode, mesh.positions), options, effort, order_out);
   }
   // The three encodes are independent whole pipelines over read-only inputs: greedy runs on another
   // thread while this one does the motorcycle graph and merge (the heuristics take longer).
@@ -520,7 +524,7 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
   };
   auto run = [&](PartitionMode mode, ChoiceRole role) {
     Result r;
-    r.bytes = encode_partition(mesh, adj, qsp::partition(adj, mode, mesh.positions), options,
+    r.bytes = encode_partition(mesh, adj, qsp::partition(adj, mode, mesh.positions), options, effort,
                                order_out ? &r.order : nullptr, std::move(role));
     return r;
   };
@@ -541,7 +545,7 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options, OrderMap*
   // than it saves (much more under sanitizers: the fuzzers encode thousands of tiny meshes a second).
   constexpr std::uint64_t kThreadFrom = 1024;
   std::future<Result> greedy;
-  if (nv >= kThreadFrom) {
+  if (nv >= kThreadFrom && options.threads != 1) {
     try {
       greedy = std::async(std::launch::async, candidate, PartitionMode::kGreedy, waits);
     } catch (const std::system_error&) {

@@ -32,6 +32,8 @@ const char* error_name(ErrorCode code) noexcept {
       return "checksum";
     case ErrorCode::kInternal:
       return "internal";
+    case ErrorCode::kUsage:
+      return "usage";
   }
   return "unknown";
 }

@@ -1842,10 +1842,7 @@ std::string encode_with(std::span<const float> pos, const Hoods& hoods, std::uin
   write_header(out, h, count);
   std::string payload;
   {
-    // Below this, starting a thread costs more than it saves, and small meshes already encode their
-    // candidate partitions on both cores (codec.cpp).
-    constexpr std::uint32_t kThreadAbove = 32768;
-    SymbolSink sink(h, payload, coder_thread.value_or(count > kThreadAbove));
+    SymbolSink sink(h, payload, coder_thread.value_or(count > kCoderThreadAbove));
     if (h.revision >= kShapeRevision) {
       code_vertices<true, true>(h, hoods, count, ints, floats, &sink, nullptr, nullptr, cue);
     } else {
@@ -1877,20 +1874,21 @@ Header with_shapes(Header h) {
 
 // The smallest of the candidate headers (value repeats on and off; for lossless, the decimal plan and
 // plain float bits): repeats pay on CAD-like meshes (pawn -37% at 14 bits) and cost a few percent where
-// coordinates only repeat by chance. Then the best one with normal chaining, if that is smaller: one
-// more encode, not one per header, and only where the best one's ChainCue says it may pay (chaining
-// gains on remeshed scans and is neutral elsewhere). Meshes of more than kTryAll vertices choose on
-// their first kSample (stencils only look back, so a prefix codes on its own), scaling the payload to
-// the whole mesh, and are coded once. Last, sections of up to kTryAll vertices try the winner in revision
-// 6 and keep it where smaller (`shapes`: GeometryOptions::shapes); larger ones keep revision 4 or 5,
-// which decode with half the instructions (mh_female_generic_cc2 at 14 bits: 1.56 against 2.98 G for
-// the whole decompress, for 1.6% fewer bytes).
-// `chosen` gets the index of the header it chose (before chaining).
+// coordinates only repeat by chance. Then the best one with normal chaining, if that is smaller
+// (`o.try_chaining`): one more encode, not one per header, and only where the best one's ChainCue says it
+// may pay (chaining gains on remeshed scans and is neutral elsewhere). With `o.header_sample` the
+// choice is made on the first that many vertices (stencils only look back, so a prefix codes on its
+// own), scaling the payload to the whole section, and the section is coded once. Last, a section whose
+// headers were tried in full tries the winner in revision 6 and keeps it where smaller (`o.shapes`);
+// with a sample it keeps revision 4 or 5 unless revision 6 is forced: they decode with half the
+// instructions (mh_female_generic_cc2 at 14 bits: 1.56 against 2.98 G for the whole decompress, for
+// 1.6% fewer bytes). `chosen` gets the index of the header it chose (before chaining).
 std::string encode_best(std::span<const float> pos, const Hoods& hoods, const std::vector<Header>& options,
-                        std::optional<bool> coder_thread, std::optional<bool> shapes, std::size_t& chosen) {
-  constexpr std::uint32_t kTryAll = 32768, kSample = 4096;
+                        const GeometryOptions& o, std::size_t& chosen) {
   const std::uint32_t count = hoods.size();
-  if (count <= kTryAll) {
+  const std::optional<bool> coder_thread = o.coder_thread;
+  chosen = 0;
+  if (o.header_sample == 0 || count <= o.header_sample) {
     std::string best;
     ChainCue best_cue;
     for (std::size_t i = 0; i < options.size(); ++i) {
@@ -1899,36 +1897,41 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
       if (best.empty() || bytes.size() < best.size()) best = std::move(bytes), chosen = i, best_cue = cue;
     }
     Header final = options[chosen];
-    if (const std::optional<Header> c = chained(options[chosen], best_cue)) {
+    if (const std::optional<Header> c = o.try_chaining ? chained(options[chosen], best_cue) : std::nullopt) {
       std::string bytes = encode_with(pos, hoods, count, *c, coder_thread);
       if (bytes.size() < best.size()) best = std::move(bytes), final = *c;
     }
-    if (shapes.value_or(true)) {
+    if (o.shapes.value_or(true)) {
       std::string bytes = encode_with(pos, hoods, count, with_shapes(final), coder_thread);
-      if (bytes.size() < best.size() || shapes == true) best = std::move(bytes);
+      if (bytes.size() < best.size() || o.shapes == true) best = std::move(bytes);
     }
     return best;
   }
-  const double scale = static_cast<double>(count) / kSample;
+  const std::uint32_t sample = o.header_sample;
+  const double scale = static_cast<double>(count) / sample;
   const Header* best = nullptr;
   double best_size = 0;
   auto estimate = [&](const Header& h, ChainCue* cue) {
     std::string head;
     write_header(head, h, count);
     return static_cast<double>(head.size()) +
-           scale * static_cast<double>(encode_with(pos, hoods, kSample, h, coder_thread, cue).size() -
-                                       head.size());
+           scale * static_cast<double>(encode_with(pos, hoods, sample, h, false, cue).size() - head.size());
   };
   ChainCue best_cue;
-  for (std::size_t i = 0; i < options.size(); ++i) {
-    ChainCue cue;
-    const double size = estimate(options[i], &cue);
-    if (!best || size < best_size) best = &options[i], best_size = size, best_cue = cue, chosen = i;
+  if (options.size() == 1 && !o.try_chaining) {
+    best = &options[0];  // nothing to choose
+  } else {
+    for (std::size_t i = 0; i < options.size(); ++i) {
+      ChainCue cue;
+      const double size = estimate(options[i], &cue);
+      if (!best || size < best_size) best = &options[i], best_size = size, best_cue = cue, chosen = i;
+    }
   }
   Header final = *best;
-  if (const std::optional<Header> c = chained(*best, best_cue); c && estimate(*c, nullptr) < best_size)
+  if (const std::optional<Header> c = o.try_chaining ? chained(*best, best_cue) : std::nullopt;
+      c && estimate(*c, nullptr) < best_size)
     final = *c;
-  if (shapes.value_or(false)) final = with_shapes(final);
+  if (o.shapes.value_or(false)) final = with_shapes(final);
   return encode_with(pos, hoods, count, final, coder_thread);
 }
 
@@ -1936,11 +1939,11 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
 
 std::string encode_geometry(std::span<const float> positions, std::span<const GridLayout::Stencil> stencil,
                             const GeometryOptions& options, GeometryChoice* chosen) {
-  if (positions.size() % 3 != 0) throw Error(ErrorCode::kInternal, "geometry: positions not a multiple of 3");
+  if (positions.size() % 3 != 0) throw Error(ErrorCode::kUsage, "geometry: positions not a multiple of 3");
   if (positions.size() / 3 > std::numeric_limits<std::uint32_t>::max() - 1) {
     throw Error(ErrorCode::kLimit, "geometry: too many vertices");
   }
-  if (options.quantize_bits > 30) throw Error(ErrorCode::kInternal, "geometry: quantize_bits must be 0..30");
+  if (options.quantize_bits > 30) throw Error(ErrorCode::kUsage, "geometry: quantize_bits must be 0..30");
   check_stencil(stencil, positions.size() / 3);
   Header h;
   h.order = options.order;
@@ -1982,7 +1985,7 @@ std::string encode_geometry(std::span<const float> positions, std::span<const Gr
     if (!kept.empty()) headers = std::move(kept), choices = std::move(kept_choices);
   }
   std::size_t best = 0;
-  std::string bytes = encode_best(positions, hoods, headers, options.coder_thread, options.shapes, best);
+  std::string bytes = encode_best(positions, hoods, headers, options, best);
   if (chosen) *chosen = choices[best];
   return bytes;
 }

@@ -385,9 +385,17 @@ bool round_trip(const std::string& path) {
               std::memcmp(restored.positions.data(), mesh.positions.data(), 4 * mesh.positions.size()) == 0);
   // Either coding order, forced, gives the same mesh back (the encoder picks one per file; a
   // decoder must read both). Large meshes only get patch order, which the default already covers.
-  if (mesh.vertex_count() <= 32768) {
+  if (mesh.vertex_count() <= kSearchVertexLimit) {
+    EncodeOptions best_options;
+    best_options.level = kMaxLevel;
+    const std::string best = encode(mesh, best_options);
+    // Where the default's header sample covers the whole mesh, --best tries a superset of its choices.
+    if (mesh.vertex_count() <= level_effort(kDefaultLevel, 0).header_sample) {
+      EXPECT_LE(best.size(), bytes.size()) << "--best is larger than the default";
+    }
     for (CodingOrder o : {CodingOrder::kLayout, CodingOrder::kPatch}) {
       EncodeOptions forced;
+      forced.level = kMaxLevel;
       forced.geometry_order = o;
       OrderMap forced_order;
       const std::string fb = encode(mesh, forced, &forced_order);
@@ -395,7 +403,7 @@ bool round_trip(const std::string& path) {
       EXPECT_TRUE(fi.geometry_revision >= 4 && fi.geometry_revision <= 6) << int{fi.geometry_revision};
       EXPECT_EQ(fi.geometry_order, o);
       expect_isomorphic(mesh, decode(fb), forced_order, true);
-      EXPECT_LE(bytes.size(), fb.size());  // the default keeps the smaller
+      EXPECT_LE(best.size(), fb.size());  // the highest level keeps the smaller
     }
   }
   FileInfo info = inspect(bytes);
@@ -512,7 +520,8 @@ TEST(Codec, EveryPartitionModeIsCanonical) {
 
 // By default a mesh of up to 32768 vertices is stored with whichever partition gives the smallest
 // file, the first of motorcycle, greedy, merge on a tie.
-TEST(Codec, DefaultKeepsTheSmallestPartition) {
+// The levels that search partitions keep the smallest of the three (levels 8 and 9).
+TEST(Codec, BestKeepsTheSmallestPartition) {
   std::vector<std::string> files = mesh_files(QSP_TESTDATA_DIR);
   for (const char* name : {"igl_horse_quad.obj", "quadriflow_gargoyle.obj", "mh_fedora.obj"}) {
     const std::string p = std::string(QSP_SHARED_DIR) + "/meshes/" + name;
@@ -525,6 +534,7 @@ TEST(Codec, DefaultKeepsTheSmallestPartition) {
     for (std::uint32_t bits : {0u, 14u}) {
       EncodeOptions o;
       o.quantize_bits = bits;
+      o.level = kMaxLevel;
       const std::string chosen = encode(mesh, o);
       std::string best;
       for (PartitionMode mode : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
@@ -559,6 +569,7 @@ TEST(Codec, RevisionSixRoundTripsAndNeverGrowsAFile) {
     for (std::uint32_t bits : {0u, 14u}) {
       EncodeOptions o;
       o.quantize_bits = bits;
+      o.level = kMaxLevel;  // the levels that try revision 6
       o.partition = PartitionMode::kMotorcycle;
       const std::string chosen = encode(mesh, o);
       o.geometry_shapes = false;
@@ -710,8 +721,8 @@ TEST_F(CliTest, CompressDecompressRoundTrip) {
 // --compat 2.1 writes what 2.1 readers decode: no geometry revision 6, the same mesh back.
 TEST_F(CliTest, CompatWritesNoRevisionSix) {
   const std::string golden = std::string(QSP_TESTDATA_DIR) + "/golden/tilted_noise_q14.obj";
-  ASSERT_EQ(run_cli("compress --quantize 14 " + golden + " " + p("new.qsp")).status, 0);
-  ASSERT_EQ(run_cli("compress --compat 2.1 --quantize 14 " + golden + " " + p("old.qsp")).status, 0);
+  ASSERT_EQ(run_cli("compress --best --quantize 14 " + golden + " " + p("new.qsp")).status, 0);
+  ASSERT_EQ(run_cli("compress --best --compat 2.1 --quantize 14 " + golden + " " + p("old.qsp")).status, 0);
   const std::string now = read_file_bytes(p("new.qsp")), old = read_file_bytes(p("old.qsp"));
   EXPECT_EQ(inspect(now).geometry_revision, 6);
   EXPECT_EQ(inspect(old).geometry_revision, 5);

@@ -25,20 +25,45 @@ inline constexpr std::uint8_t kFormatMajor = 2;
 inline constexpr std::uint8_t kFormatMinor = 2;
 inline constexpr std::uint8_t kOldestMajor = 1;  // 1.0 to 1.3 files still decode
 
+// Compression levels, as gzip's and zstd's: 1 is the fastest, 9 the smallest. Every level is canonical
+// (isomorphic meshes with the same positions give the same bytes) and every file decodes with the same
+// decoder; a level only decides how much the encoder searches.
+inline constexpr int kMinLevel = 1, kMaxLevel = 9, kDefaultLevel = 2;
+// Above this many vertices a mesh is coded in one partition (the motorcycle graph) and one coding order
+// with sampled headers at every level: the search would multiply a long compress for a fraction of a
+// percent.
+inline constexpr std::uint64_t kSearchVertexLimit = 32768;
+
+// What a level searches. Every field has one meaning; level_effort() is the one place that sets them.
+struct Effort {
+  bool all_partitions = false;      // also greedy and merge; keep the smallest file (first on a tie)
+  bool both_orders = false;         // patch and layout order; keep the smaller geometry section
+  std::uint32_t header_sample = 0;  // GeometryOptions::header_sample (0: every header coded in full)
+  bool try_chaining = false;        // GeometryOptions::try_chaining
+  bool try_shapes = false;          // geometry revision 6, kept where smaller (needs full header trials)
+};
+
+// The search of `level` for a mesh of `vertex_count` vertices (kSearchVertexLimit applied). Throws
+// Error(kUsage) unless kMinLevel <= level <= kMaxLevel.
+Effort level_effort(int level, std::uint64_t vertex_count);
+// One line saying what `level` searches, for --help and stats. Throws as level_effort does.
+std::string level_description(int level);
+
 struct EncodeOptions {
   std::uint32_t quantize_bits = 0;  // 0 = lossless; 1..30 = uniform grid (GeometryOptions)
   bool keep_order = false;          // also store vertex order, face order and first corners
+  int level = kDefaultLevel;        // kMinLevel..kMaxLevel: how much the encoder searches (Effort)
+  // Threads the encoder may use: 0 = as it sees fit (at most two), 1 = this thread only. The bytes
+  // are the same for every count.
+  unsigned threads = 0;
   // Which structured partition to store; any decodes with the same decoder (all three are canonical).
-  // nullopt: meshes of up to 32768 vertices are encoded with each of the three and keep the smallest
-  // file (the first of motorcycle, greedy, merge on a tie), greedy on a second thread from 1024
-  // vertices; larger ones use the motorcycle graph.
+  // nullopt: the level decides (Effort::all_partitions, else the motorcycle graph).
   std::optional<PartitionMode> partition;
-  // Geometry coding order (format-spec, "Coding orders"). nullopt: meshes of up to 32768 vertices
-  // are coded in both and keep the smaller; larger ones in patch order, which is smaller on nearly
-  // every mesh measured and needs one set of stencils in memory.
+  // Geometry coding order (format-spec, "Coding orders"). nullopt: the level decides
+  // (Effort::both_orders, else patch order, which is smaller on nearly every mesh measured).
   std::optional<CodingOrder> geometry_order;
-  // Geometry coding revision 6 (format 2.2; GeometryOptions::shapes). nullopt: where it is smaller, on
-  // meshes of up to 32768 vertices; false: never, so format 2.1 decoders read the file; true: always.
+  // Geometry coding revision 6 (format 2.2; GeometryOptions::shapes). nullopt: the level decides
+  // (Effort::try_shapes); false: never, so format 2.1 decoders read the file; true: always.
   std::optional<bool> geometry_shapes;
 };
 

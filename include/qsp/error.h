@@ -23,6 +23,7 @@ enum class ErrorCode : std::uint8_t {
   kVersion = 12,        // a .qsp written by a newer major format version
   kChecksum = 13,       // a .qsp whose checksum does not match
   kInternal = 14,       // an invariant of qsp itself failed (a bug): never a wrong result
+  kUsage = 15,          // a caller passed an argument outside its contract (a level of 12, 31 bits, ...)
 };
 
 // What went wrong, where. `what()` is the full human message, already carrying the location.

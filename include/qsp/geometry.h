@@ -19,20 +19,30 @@ struct GeometryChoice {
   bool decimal = false;  // lossless: the decimal-grid plan, where there is one (else float bits)
 };
 
+// Sections above this many vertices run the range coder on a second thread by default: below it,
+// starting a thread costs more than it saves.
+inline constexpr std::uint32_t kCoderThreadAbove = 32768;
+
 struct GeometryOptions {
   // 0 = lossless (float32 bit-exact). 1..30 = uniform grid over the bounding box's largest extent.
   std::uint32_t quantize_bits = 0;
   // The order the stencils are in (grid_layout's `order`); written to the file as a header flag.
   CodingOrder order = CodingOrder::kLayout;
-  // nullopt: try every candidate header and keep the smallest section. Else code with this one only
-  // (normal chaining and revision 6 are still tried where they may pay).
+  // nullopt: choose among the candidate headers (header_sample says how). Else code with this one only
+  // (normal chaining and revision 6 are still tried where the options below allow).
   std::optional<GeometryChoice> choice = std::nullopt;
+  // 0: every candidate header is coded in full and the smallest section kept. N > 0: the header (and
+  // chaining) is chosen on the first N vertices' encodes, scaled to the section, which is then coded
+  // once; a section of at most N vertices is tried in full.
+  std::uint32_t header_sample = 0;
+  // Whether normal chaining (revision 5) is tried where the chosen header's statistics say it may pay.
+  bool try_chaining = true;
   // Whether a second thread runs the range coder while the coding loop predicts: nullopt = for sections
-  // of more than 32768 vertices. The bytes are the same either way (tests force both).
+  // of more than kCoderThreadAbove vertices. The bytes are the same either way (tests force both).
   std::optional<bool> coder_thread = std::nullopt;
   // Geometry revision 6 (shape transfers, magnitude classes, logistic mixing; format 2.2): nullopt =
-  // tried on sections of up to 32768 vertices and kept where smaller; true = always; false = never (the
-  // section then decodes with format 2.1 readers).
+  // tried and kept where smaller when the headers are tried in full, not with a sample; true = always;
+  // false = never (the section then decodes with format 2.1 readers).
   std::optional<bool> shapes = std::nullopt;
 };
 

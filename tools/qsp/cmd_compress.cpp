@@ -25,6 +25,8 @@ struct CompressOptions {
   bool positions_only = false;
   std::string partition = "auto";  // or a PartitionMode name
   std::string compat;              // "2.1": only what format 2.1 readers decode
+  int level = kDefaultLevel;       // -1 .. -9, --fast, --best
+  unsigned threads = 0;            // 0: as the encoder sees fit
 };
 
 // True when `out` names the same existing file as `in` (by device and inode, so links and
@@ -71,6 +73,8 @@ void run(const CompressOptions& o) {
   EncodeOptions eo;
   eo.quantize_bits = o.quantize;
   eo.keep_order = o.keep_order;
+  eo.level = o.level;
+  eo.threads = o.threads;
   if (o.partition != "auto") {
     PartitionMode mode = PartitionMode::kMotorcycle;
     parse_partition_mode(o.partition, mode);  // CLI11 checked the name
@@ -96,8 +100,8 @@ void register_compress(CLI::App& app, int& exit_code) {
   sub->add_option("-o,--output", opt->output_flag, "Output file (same as OUT)");
   sub->add_option("--format", opt->input_format, "Format of standard input: obj, off or ply");
   sub->add_option("--partition", opt->partition,
-                  "Structured partition to store (all canonical): auto (default: the smallest file of the "
-                  "three for meshes of up to 32768 vertices, else motorcycle), motorcycle, greedy or merge")
+                  "Structured partition to store (all canonical): auto (default: the level decides; "
+                  "levels 8 and 9 keep the smallest file of the three), motorcycle, greedy or merge")
       ->check(CLI::IsMember({"auto", "motorcycle", "greedy", "merge"}));
   sub->add_flag("-f,--force", opt->force, "Replace OUT if it exists (never the input)");
   sub->add_option("--quantize", opt->quantize,
@@ -110,6 +114,17 @@ void register_compress(CLI::App& app, int& exit_code) {
                   "2.1: write only what qsp format 2.1 readers decode (no geometry coding revision 6; "
                   "files of small meshes 1-2% larger)")
       ->check(CLI::IsMember({"2.1"}));
+  // gzip's and zstd's spelling: -1 fastest .. -9 smallest, --fast = -1, --best = -9.
+  for (int l = kMinLevel; l <= kMaxLevel; ++l) {
+    const std::string name = "-" + std::to_string(l);
+    sub->add_flag_callback(
+        name, [opt, l] { opt->level = l; }, "Level " + std::to_string(l) + ": " + level_description(l));
+  }
+  sub->add_flag_callback(
+      "--fast", [opt] { opt->level = kMinLevel; }, "Same as -1");
+  sub->add_flag_callback(
+      "--best", [opt] { opt->level = kMaxLevel; }, "Same as -9");
+  sub->add_option("--threads", opt->threads, "Threads to use (default 0: up to two; 1: one)");
   sub->callback([opt, &exit_code]() {
     run(*opt);
     exit_code = 0;

@@ -12,6 +12,8 @@ namespace {
 // Exit codes (documented in README.md): 0 ok, 1 bad input or refused, 2 usage, 3 I/O, 4 internal.
 int exit_code_for(qsp::ErrorCode code) {
   switch (code) {
+    case qsp::ErrorCode::kUsage:
+      return 2;
     case qsp::ErrorCode::kIo:
       return 3;
     case qsp::ErrorCode::kInternal:

@@ -1,0 +1,64 @@
+// Compression levels: what each one searches, decided here and nowhere else.
+#include <array>
+#include <string>
+
+#include "qsp/codec.h"
+#include "qsp/error.h"
+
+namespace qsp {
+namespace {
+
+// Headers chosen on a prefix of this many vertices: enough for the estimate to pick what full trials
+// pick on nearly every mesh, a fraction of one pass on meshes of 10k vertices and more.
+constexpr std::uint32_t kSample = 4096, kSmallSample = 1024;
+
+struct Level {
+  Effort effort;
+  const char* description;
+};
+
+// Levels 1-4 code each mesh once in one partition (the motorcycle graph), in revision 4 or 5: the
+// decoder then runs the cheaper model. 5-6 try every header in full, 7 adds revision 6 (shape
+// transfers, logistic mixing: a few percent smaller, twice the decode time), 8-9 every partition.
+constexpr std::array<Level, kMaxLevel> kLevels = {{
+    {{false, false, kSmallSample, false, false},
+     "motorcycle graph, patch order, header chosen on 1024 vertices, no chaining trial"},
+    {{false, false, kSmallSample, true, false}, "as 1, with the normal-chaining trial"},
+    {{false, false, kSample, true, false}, "as 2, header chosen on 4096 vertices (often no smaller than 2)"},
+    {{false, true, kSample, true, false}, "as 3, in both coding orders (the smaller kept)"},
+    {{false, false, 0, true, false}, "motorcycle graph, patch order, every header coded in full"},
+    {{false, true, 0, true, false}, "as 5, in both coding orders"},
+    {{false, true, 0, true, true}, "as 6, and geometry revision 6 where smaller"},
+    {{true, false, 0, true, true},
+     "as 7 in patch order, the smallest of the motorcycle, greedy and merge partitions"},
+    {{true, true, 0, true, true}, "as 8, in both coding orders"},
+}};
+
+const Level& level_entry(int level) {
+  if (level < kMinLevel || level > kMaxLevel) {
+    throw Error(ErrorCode::kUsage, "compression level " + std::to_string(level) + " is not between " +
+                                       std::to_string(kMinLevel) + " and " + std::to_string(kMaxLevel));
+  }
+  return kLevels[static_cast<std::size_t>(level - kMinLevel)];
+}
+
+}  // namespace
+
+Effort level_effort(int level, std::uint64_t vertex_count) {
+  Effort e = level_entry(level).effort;
+  if (vertex_count > kSearchVertexLimit) {
+    e.all_partitions = e.both_orders = e.try_shapes = false;
+    if (e.header_sample == 0) e.header_sample = kSample;
+  }
+  return e;
+}
+
+std::string level_description(int level) {
+  return std::string(level_entry(level).description) + (level == kDefaultLevel ? " (the default)" : "") +
+         (level_entry(level).effort.header_sample == 0 || level_entry(level).effort.all_partitions ||
+                  level_entry(level).effort.both_orders
+              ? "; above " + std::to_string(kSearchVertexLimit) + " vertices as 3"
+              : "");
+}
+
+}  // namespace qsp
