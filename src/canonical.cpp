@@ -2,6 +2,8 @@
 // a full traversal decides among them, positions break ties left by symmetry.
 #include "qsp/canonical.h"
 
+// Header-only (XXH_INLINE_ALL): the installed library needs no xxhash to link against.
+#define XXH_INLINE_ALL
 #include <xxhash.h>
 
 #include <algorithm>

@@ -2,6 +2,8 @@
 // decode / inspect on top of the partition, canonical, topology, geometry and order stages.
 #include "qsp/codec.h"
 
+// Header-only (XXH_INLINE_ALL): the installed library needs no xxhash to link against.
+#define XXH_INLINE_ALL
 #include <xxhash.h>
 
 #include <algorithm>
@@ -453,7 +455,15 @@ std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const P
   if (!gopt.shapes && !effort.try_shapes) gopt.shapes = false;
   gopt.header_sample = effort.header_sample;
   gopt.try_chaining = effort.try_chaining;
-  if (options.threads == 1) gopt.coder_thread = false;
+  gopt.repeats_must_pay = effort.repeats_must_pay;
+  // One pipeline leaves the second core idle: give it the range coder from a smaller section than
+  // geometry's own default, which assumes the partitions' pipelines keep both cores busy.
+  constexpr std::uint64_t kCoderThreadAloneAbove = 8192;
+  if (options.threads == 1) {
+    gopt.coder_thread = false;
+  } else if (!effort.all_partitions && nv > kCoderThreadAloneAbove) {
+    gopt.coder_thread = true;
+  }
   if (role.wait) gopt.choice = role.wait->get();  // rethrows what failed the encode that chooses
   GeometryChoice chosen;
   std::string geometry = encode_geometry(coded_positions(first), stencil, gopt, &chosen);

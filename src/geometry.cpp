@@ -1923,7 +1923,8 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
   } else {
     for (std::size_t i = 0; i < options.size(); ++i) {
       ChainCue cue;
-      const double size = estimate(options[i], &cue);
+      double size = estimate(options[i], &cue);
+      if (o.repeats_must_pay && options[i].repeats) size += size / 31;  // saves 1/32 of it, or lose
       if (!best || size < best_size) best = &options[i], best_size = size, best_cue = cue, chosen = i;
     }
   }

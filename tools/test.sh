@@ -16,7 +16,18 @@ start=$SECONDS
 tools/setup.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DQSP_WERROR=ON >/dev/null
 cmake --build build -j"$(nproc)"
-ctest --test-dir build --output-on-failure -j"$(nproc)"
+ctest --test-dir build --output-on-failure --no-tests=error -j"$(nproc)"
+# The installed package, used from outside the tree: CMake's find_package and pkg-config.
+consumer=$(mktemp -d)
+trap 'rm -rf "$consumer"' EXIT
+cmake --install build --prefix "$consumer/prefix" >/dev/null
+cmake -S tests/consumer -B "$consumer/build" -G Ninja -DCMAKE_PREFIX_PATH="$consumer/prefix" >/dev/null
+cmake --build "$consumer/build" >/dev/null
+"$consumer/build/qsp_consumer"
+# shellcheck disable=SC2046  # pkg-config prints several words on purpose
+g++ -o "$consumer/pc" tests/consumer/main.cpp \
+  $(PKG_CONFIG_PATH="$consumer/prefix/lib/pkgconfig" pkg-config --cflags --libs --static qsp)
+"$consumer/pc"
 if ((!quick)); then
   tools/hardening.sh
 fi

@@ -41,6 +41,7 @@ struct Effort {
   std::uint32_t header_sample = 0;  // GeometryOptions::header_sample (0: every header coded in full)
   bool try_chaining = false;        // GeometryOptions::try_chaining
   bool try_shapes = false;          // geometry revision 6, kept where smaller (needs full header trials)
+  bool repeats_must_pay = false;    // GeometryOptions::repeats_must_pay
 };
 
 // The search of `level` for a mesh of `vertex_count` vertices (kSearchVertexLimit applied). Throws

@@ -30,17 +30,8 @@ awk -F'\t' 'NR > 1 && $11 == "True" {print $1}' "$shared/MANIFEST.tsv" | while r
   if [[ $ext == obj ]]; then  # positions only: v and f lines, vertex indices only
     awk '/^v /{print $1, $2, $3, $4} /^f /{printf "f"; for (i = 2; i <= NF; ++i) {split($i, a, "/"); printf " %s", a[1]} print ""}' \
       "$src" > "$work/in.obj"
-  else  # OFF: Draco reads OBJ, so both get the same OBJ text
-    python3 -c '
-import sys
-t = open(sys.argv[1]).read().split("\n")
-w = [l.split("#")[0].split() for l in t]
-w = [x for x in w if x]
-assert w[0][0] == "OFF"
-nv, nf = int(w[1][0]), int(w[1][1])
-out = ["v %s %s %s" % tuple(x[:3]) for x in w[2:2 + nv]]
-out += ["f " + " ".join(str(int(i) + 1) for i in x[1:1 + int(x[0])]) for x in w[2 + nv:2 + nv + nf]]
-open(sys.argv[2], "w").write("\n".join(out) + "\n")' "$src" "$work/in.obj"
+  else  # OFF: Draco reads OBJ; qsp's lossless --keep-order round trip writes the same mesh as OBJ
+    "$QSP" compress -f --keep-order "$src" "$work/t.qsp" && "$QSP" decompress -f "$work/t.qsp" "$work/in.obj"
   fi
   in=$work/in.obj
   if ! "$QSP" compress -f -1 "$in" "$work/q.qsp" 2> "$work/err"; then

@@ -6,6 +6,7 @@
 #include "commands.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
+#include "qsp/version.h"
 
 namespace {
 
@@ -29,7 +30,7 @@ int main(int argc, char** argv) {
   CLI::App app{"qsp: quad mesh compression by canonical motorcycle-graph partition"};
   // The file format too: users keeping .qsp archives need to know what this build writes and reads.
   const std::string writes = std::to_string(qsp::kFormatMajor) + "." + std::to_string(qsp::kFormatMinor);
-  app.set_version_flag("--version", std::string("qsp ") + QSP_VERSION + " (writes .qsp format " + writes +
+  app.set_version_flag("--version", std::string("qsp ") + qsp::version() + " (writes .qsp format " + writes +
                                         ", reads " + std::to_string(qsp::kOldestMajor) + ".0 to " + writes +
                                         ")");
   app.require_subcommand(1);
