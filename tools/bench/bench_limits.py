@@ -6,7 +6,7 @@ memory"), measured here rather than in unit tests (CONTRIBUTING.md: never time a
    `qsp --version`, plus the input file and the output text (meshes of testdata/, the largest shared
    mesh when ../shared is there, and a 700 x 600 patch of 421k vertices written here).
 2. Refused files (testdata/invalid/qsp_*.qsp, among them files of a few dozen bytes declaring huge
-   meshes): decompress and stats need no more memory than decompressing a 98-vertex cube plus 8 MiB,
+   meshes; decompress refuses each): decompress and stats need no more memory than decompressing a 98-vertex cube plus 8 MiB,
    and under 2 s each.
 
 Usage: tools/bench/bench_limits.py [QSP]   (default build/qsp). Exits 1 if any bound is exceeded.
@@ -76,7 +76,7 @@ def main():
             args = [command, os.path.join(invalid, name)] + (["-"] if command == "decompress" else [])
             code, peak, seconds = run(*args)
             worst_rss, worst_time = max(worst_rss, peak - ref[1]), max(worst_time, seconds)
-            if code != 1:
+            if command == "decompress" and code != 1:  # stats reads no geometry: it may accept some
                 failed.append(f"{command} {name}: exit {code}, expected 1")
             if peak >= ref[1] + 8 * 1024 or seconds >= 2.0:
                 failed.append(f"{command} {name}: {peak} KiB (cube {ref[1]}), {seconds:.2f} s")
