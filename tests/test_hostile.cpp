@@ -291,7 +291,6 @@ std::vector<std::pair<std::string, std::string>> sweep_files() {
   out.emplace_back("grid keep-order", encode(grid, keep));
   out.emplace_back("mixed", encode(mixed));
   out.emplace_back("mixed quantized", encode(mixed, quant));
-  out.emplace_back("l_shape", encode(load("l_shape.obj")));
   // A format 1.3 file with an order section: its topology and order streams have LZMA ends.
   out.emplace_back("1.3 keep-order",
                    read_file_bytes(std::string(QSP_TESTDATA_DIR) + "/golden/v1.3/l_tromino_keep_order.qsp"));
