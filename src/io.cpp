@@ -149,6 +149,12 @@ void sync_dir(const std::string& dir) {
   }
 }
 
+void (*before_rename_hook)() = nullptr;  // set_before_rename_hook
+
+void before_rename() {
+  if (before_rename_hook) before_rename_hook();
+}
+
 // Linux: writes `bytes` to an unnamed file in `dir` (O_TMPFILE), then gives it its name. A process
 // killed at any point before that leaves nothing behind, not even a temporary file. Without -f the
 // name is created by linkat, which fails if it exists (atomic no-replace); with -f the file is
@@ -171,6 +177,7 @@ bool write_anonymous_then_link(const std::string& path, const std::string& dir, 
   };
   if (!write_all(fd, bytes, &err)) fail_closed("cannot write", err);
   if (::fsync(fd) != 0) fail_closed("cannot flush to disk", errno);
+  before_rename();
   const std::string self = "/proc/self/fd/" + std::to_string(fd);
   std::string target = path;
   if (overwrite) {
@@ -354,6 +361,8 @@ QuadMesh read_mesh_file(const std::string& path, ReadReport* report, MeshFormat 
                                   : ": unknown mesh format (expected .obj, .off or .ply)"));
 }
 
+void set_before_rename_hook(void (*hook)()) { before_rename_hook = hook; }
+
 void write_file_atomic(const std::string& path, std::string_view bytes, bool overwrite) {
   int err = 0;
   if (path == "-") {
@@ -408,6 +417,7 @@ void write_file_atomic(const std::string& path, std::string_view bytes, bool ove
     fail_and_remove("cannot flush to disk", err);
   }
   if (::close(fd) != 0) fail_and_remove("cannot close", errno);
+  before_rename();
 
   if (overwrite) {
     if (::rename(temp.c_str(), path.c_str()) != 0) fail_and_remove("cannot rename into place", errno);

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -23,6 +24,8 @@
 #include "qsp/partition.h"
 #include "qsp/smaller.h"
 #include "support/corpus.h"
+#include "support/mesh_gen.h"
+#include "support/quantized.h"
 
 namespace fs = std::filesystem;
 
@@ -419,30 +422,33 @@ TEST(Codec, RoundTripTestdata) {
   for (const auto& f : files) EXPECT_TRUE(round_trip(f)) << f;
 }
 
-TEST(Codec, RoundTripSharedMeshes) {
-  auto files = mesh_files(std::string(QSP_SHARED_DIR) + "/meshes");
-  if (files.empty()) GTEST_SKIP() << "no shared meshes";
+// Every shared mesh the manifest calls valid round-trips, every other one is refused cleanly: a
+// reader or codec that refuses valid meshes fails here, not only one that corrupts them.
+void round_trip_shared(const fs::path& dir) {
+  QSP_NEEDS_SHARED();
+  const auto files = testing::mesh_files_in(dir);
+  const auto manifest = testing::read_manifest(dir / "MANIFEST.tsv");
+  EXPECT_EQ(files.size(), manifest.size()) << "files in " << dir << " against rows in its MANIFEST.tsv";
   int ok = 0;
-  for (const auto& f : files) ok += round_trip(f);
-  EXPECT_GE(ok, 20);
+  for (const auto& f : files) {
+    const bool valid = round_trip(f.string());
+    EXPECT_EQ(valid, testing::expected_valid(f)) << f;
+    ok += valid;
+  }
+  EXPECT_EQ(ok, testing::expected_valid_count(files));
 }
 
-TEST(Codec, RoundTripOpenSubdivShapes) {
-  auto files = mesh_files(std::string(QSP_SHARED_DIR) + "/meshes/osd_shapes");
-  if (files.empty()) GTEST_SKIP() << "no shared osd shapes";
-  int ok = 0;
-  for (const auto& f : files) ok += round_trip(f);
-  EXPECT_GT(ok, 0);
-}
+TEST(Codec, RoundTripSharedMeshes) { round_trip_shared(testing::shared_dir() / "meshes"); }
+
+TEST(Codec, RoundTripOpenSubdivShapes) { round_trip_shared(testing::shared_dir() / "meshes" / "osd_shapes"); }
 
 // Patch order predicts every point from mesh neighbours one edge away; on coarse meshes with small
 // patches it beats layout order, which predicts schematic vertices from others a patch side away.
 TEST(Codec, PatchOrderPaysOnSmallPatches) {
-  int seen = 0;
+  QSP_NEEDS_SHARED();
   for (const char* name :
-       {"igl_horse_quad.obj", "quadriflow_gargoyle.obj", "igl_inspired_mesh_quads_conjugate.obj"}) {
-    const std::string p = std::string(QSP_SHARED_DIR) + "/meshes/" + name;
-    if (!fs::exists(p)) continue;
+       {"igl_horse_quad.obj", "quadriflow_gargoyle.obj", "igl_inspired_mesh_quads_conjugate.off"}) {
+    const std::string p = (testing::shared_dir() / "meshes" / name).string();
     SCOPED_TRACE(name);
     const QuadMesh mesh = load(p);
     for (std::uint32_t bits : {0u, 14u}) {
@@ -456,9 +462,7 @@ TEST(Codec, PatchOrderPaysOnSmallPatches) {
       // Lossless gains less: the low bits of decimal residuals are noise in either order.
       EXPECT_LT(static_cast<double>(patch), (bits ? 0.97 : 0.99) * static_cast<double>(layout)) << bits;
     }
-    ++seen;
   }
-  if (seen == 0) GTEST_SKIP() << "no shared meshes";
 }
 
 QuadMesh shuffled(const QuadMesh& m, std::uint32_t seed) {
@@ -483,8 +487,8 @@ TEST(Codec, ShuffledCopiesGiveIdenticalBytes) {
   std::vector<std::string> files = mesh_files(QSP_TESTDATA_DIR);
   for (const char* name :
        {"igl_horse_quad.obj", "mh_base.obj", "osd_catmark_car.obj", "pmp_hole_capsule.off"}) {
-    std::string p = std::string(QSP_SHARED_DIR) + "/meshes/" + name;
-    if (fs::exists(p)) files.push_back(p);
+    const fs::path p = testing::shared_dir() / "meshes" / name;
+    if (testing::shared_present()) files.push_back(p.string());
   }
   for (const auto& f : files) {
     SCOPED_TRACE(f);
@@ -498,16 +502,12 @@ TEST(Codec, ShuffledCopiesGiveIdenticalBytes) {
 // (the cubes) greedy and merge must pick among equivalent partitions by position, as the codec does.
 TEST(Codec, EveryPartitionModeIsCanonical) {
   std::vector<std::string> files = mesh_files(QSP_TESTDATA_DIR);
-  for (const auto& f : mesh_files(std::string(QSP_SHARED_DIR) + "/meshes/osd_shapes")) files.push_back(f);
+  for (const auto& f : testing::mesh_files_in(testing::shared_dir() / "meshes" / "osd_shapes"))
+    files.push_back(f.string());
   for (const auto& f : files) {
     SCOPED_TRACE(f);
     QuadMesh mesh;
-    try {
-      mesh = load(f);
-      build_adjacency(mesh);
-    } catch (const Error&) {
-      continue;  // not a valid quad mesh: round_trip checks its refusal
-    }
+    if (!testing::read_valid(f, mesh)) continue;
     for (PartitionMode mode : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
       EncodeOptions o;
       o.partition = mode;
@@ -524,8 +524,8 @@ TEST(Codec, EveryPartitionModeIsCanonical) {
 TEST(Codec, BestKeepsTheSmallestPartition) {
   std::vector<std::string> files = mesh_files(QSP_TESTDATA_DIR);
   for (const char* name : {"igl_horse_quad.obj", "quadriflow_gargoyle.obj", "mh_fedora.obj"}) {
-    const std::string p = std::string(QSP_SHARED_DIR) + "/meshes/" + name;
-    if (fs::exists(p)) files.push_back(p);
+    const fs::path p = testing::shared_dir() / "meshes" / name;
+    if (testing::shared_present()) files.push_back(p.string());
   }
   int smaller = 0;
   for (const auto& f : files) {
@@ -549,6 +549,19 @@ TEST(Codec, BestKeepsTheSmallestPartition) {
   EXPECT_GT(smaller, 0) << "no mesh is smaller with another partition than the motorcycle graph";
 }
 
+// The codec's threads on both sides of their thresholds (src/codec.cpp): the greedy partition tried on a
+// second thread from 1024 vertices, the decoder's mesh check beside the geometry decoder from 4096
+// faces. Each gives the mesh back exactly; tools/hardening.sh runs this under ThreadSanitizer.
+TEST(Codec, ThreadedPathsGiveTheMeshBack) {
+  for (const auto& [a, b] : {std::pair{20, 20}, std::pair{40, 30}, std::pair{80, 60}}) {
+    SCOPED_TRACE(std::to_string(a) + "x" + std::to_string(b));
+    const QuadMesh m = testing::grid(a, b);
+    OrderMap order;
+    const std::string bytes = encode(m, {}, &order);
+    expect_isomorphic(m, decode(bytes), order, true);
+  }
+}
+
 // Geometry revision 6 (format 2.2) over every mesh of the corpus, lossless and at 14 bits: forced on, it
 // decodes to exactly the mesh revisions 4 and 5 give; by default (meshes of up to 32768 vertices) the
 // encoder keeps whichever is smaller, so no file grows against 2.1's coding, nor against forcing it.
@@ -558,12 +571,7 @@ TEST(Codec, RevisionSixRoundTripsAndNeverGrowsAFile) {
   int tried = 0, smaller = 0, pawn_ratio_checked = 0;
   for (const auto& path : qsp::testing::corpus()) {
     QuadMesh mesh;
-    try {
-      mesh = load(path.string());
-      build_adjacency(mesh);
-    } catch (const Error&) {
-      continue;  // invalid meshes: round_trip() checks their refusal
-    }
+    if (!testing::read_valid(path, mesh)) continue;
     if (mesh.vertex_count() > 32768 || mesh.face_count() == 0) continue;
     SCOPED_TRACE(path.string());
     for (std::uint32_t bits : {0u, 14u}) {
@@ -599,7 +607,7 @@ TEST(Codec, RevisionSixRoundTripsAndNeverGrowsAFile) {
   }
   EXPECT_GE(tried, 20);
   EXPECT_GE(smaller, tried / 2) << "revision 6 is smaller on too few meshes";
-  if (fs::exists(std::string(QSP_SHARED_DIR) + "/meshes/osd_catmark_pawn.obj")) {
+  if (testing::shared_present()) {
     EXPECT_EQ(pawn_ratio_checked, 1);
   }
 }
@@ -627,15 +635,33 @@ TEST(Codec, UnreferencedVerticesKeepTheirPositions) {
   EXPECT_EQ(inspect(bytes).unreferenced, 2u);
 }
 
+// Quantized decodes against their input, on every corpus mesh at several depths: each coordinate within
+// half a grid step of the original, plus float rounding (testing::quantization_bound).
 TEST(Codec, QuantizedStaysWithinTheGrid) {
-  QuadMesh m = load(std::string(QSP_TESTDATA_DIR) + "/keenan_spot_quadrangulated.obj");
-  EncodeOptions o;
-  o.quantize_bits = 12;
-  OrderMap order;
-  std::string bytes = encode(m, o, &order);
-  EXPECT_LT(bytes.size(), encode(m).size());
-  QuadMesh d = decode(bytes);
-  expect_isomorphic(m, d, order, false);
+  int checked = 0;
+  for (const auto& path : testing::corpus()) {
+    QuadMesh m;
+    if (!testing::read_valid(path, m)) continue;
+    SCOPED_TRACE(path.string());
+    for (std::uint32_t bits : {4u, 11u, 14u, 20u}) {
+      EncodeOptions o;
+      o.quantize_bits = bits;
+      o.partition = PartitionMode::kMotorcycle;  // the grid does not depend on it; the search is costly
+      OrderMap order;
+      const std::string bytes = encode(m, o, &order);
+      const QuadMesh d = decode(bytes);
+      expect_isomorphic(m, d, order, false);
+      const double bound = testing::quantization_bound(m.positions, bits);
+      double worst = 0;
+      for (std::size_t v = 0; v < m.vertex_count(); ++v)
+        for (int k = 0; k < 3; ++k)
+          worst = std::max(
+              worst, std::abs(double{d.positions[3 * order.vertex[v] + k]} - double{m.positions[3 * v + k]}));
+      EXPECT_LE(worst, bound) << bits << " bits: worst error " << worst << ", bound " << bound;
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, testing::expected_valid_count(testing::corpus()));
 }
 
 TEST(Codec, LimitsRefuseBeforeDecoding) {
@@ -798,7 +824,7 @@ namespace {
 TEST(Measure, DISABLED_SizeTable) {
   std::printf("%-40s %8s %8s %7s %9s %7s %9s %7s\n", "mesh", "V", "F", "conn.B", "conn.bpv", "geom.B",
               "geom.bpv", "q14.B");
-  for (const auto& f : mesh_files(std::string(QSP_SHARED_DIR) + "/meshes")) {
+  for (const auto& f : mesh_files((testing::shared_dir() / "meshes").string())) {
     QuadMesh m;
     try {
       m = load(f);

@@ -17,6 +17,7 @@
 #include "qsp/geometry.h"
 #include "qsp/io.h"
 #include "qsp/partition.h"
+#include "support/corpus.h"
 
 namespace {
 
@@ -385,7 +386,7 @@ TEST(Geometry, CallerMistakesAreInternalErrors) {
 // False if ../shared/meshes/NAME is not there.
 bool shared_mesh_along_partition(const char* name, std::vector<float>& pos,
                                  std::vector<GridLayout::Stencil>& st) {
-  const std::filesystem::path path = std::filesystem::path(QSP_SHARED_DIR) / "meshes" / name;
+  const std::filesystem::path path = qsp::testing::shared_dir() / "meshes" / name;
   if (!std::filesystem::exists(path)) return false;
   const qsp::QuadMesh mesh = qsp::read_mesh_file(path.string());
   const qsp::Adjacency adj = qsp::build_adjacency(mesh);
@@ -406,12 +407,13 @@ bool shared_mesh_along_partition(const char* name, std::vector<float>& pos,
 }
 
 TEST(Geometry, RealMeshesAlongTheirPartition) {
+  QSP_NEEDS_SHARED();
   for (const char* name :
        {"keenan_spot_quadrangulated.obj", "quadriflow_gargoyle.obj", "mh_fedora.obj", "igl_horse_quad.obj"}) {
     SCOPED_TRACE(name);
     std::vector<float> pos;
     std::vector<GridLayout::Stencil> st;
-    if (!shared_mesh_along_partition(name, pos, st)) GTEST_SKIP() << "no shared mesh " << name;
+    ASSERT_TRUE(shared_mesh_along_partition(name, pos, st)) << "no shared mesh " << name;
     std::size_t lossless = 0, q14 = 0;
     EXPECT_TRUE(bit_equal(round_trip(pos, st, 0, &lossless), pos));
     EXPECT_LT(lossless * 8.0 / st.size(), 60.0);  // raw floats: 96
@@ -570,11 +572,12 @@ TEST(Geometry, ShapeTransfersFollowSimilarCells) {
 // patches are small: CAD-like subdivision cages, where the opposite side of a patch is often an
 // exact copy. Without those fields the coder falls back to predicting along the edge.
 TEST(Geometry, AcrossPatchPredictionPaysOnSmallPatches) {
+  QSP_NEEDS_SHARED();
   for (const char* name : {"osd_catmark_pawn.obj", "osd_catmark_car.obj", "osd_catmark_lefthanded.obj"}) {
     SCOPED_TRACE(name);
     std::vector<float> pos;
     std::vector<GridLayout::Stencil> st;
-    if (!shared_mesh_along_partition(name, pos, st)) GTEST_SKIP() << "no shared mesh " << name;
+    ASSERT_TRUE(shared_mesh_along_partition(name, pos, st)) << "no shared mesh " << name;
     auto along = st;
     std::size_t used = 0;
     for (auto& s : along) {

@@ -5,8 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -25,6 +24,7 @@
 #include "qsp/io.h"
 #include "qsp/mesh.h"
 #include "support/corpus.h"
+#include "support/openmesh.h"
 
 namespace fs = std::filesystem;
 
@@ -296,8 +296,8 @@ TEST(ReadOff, CountsOnHeaderLineAndVariants) {
 }
 
 TEST(ReadOff, SharedIglMultiLineFile) {
-  const fs::path p = fs::path(QSP_SHARED_DIR) / "meshes" / "igl_inspired_mesh_quads_conjugate.off";
-  if (!fs::exists(p)) GTEST_SKIP() << p << " not present";
+  QSP_NEEDS_SHARED();
+  const fs::path p = qsp::testing::shared_dir() / "meshes" / "igl_inspired_mesh_quads_conjugate.off";
   const qsp::QuadMesh m = qsp::read_mesh_file(p.string());
   EXPECT_EQ(m.vertex_count(), 1749u);
   EXPECT_EQ(m.face_count(), 1633u);
@@ -547,28 +547,6 @@ TEST(ReadPly, AsciiFaceLinesAndExactFloats) {
 
 namespace {
 
-// OpenMesh's reading of a PLY file as a QuadMesh (its add_face keeps corner order and gives the face
-// the halfedge from the last corner to the first). Used only to cross-check qsp's reader.
-qsp::QuadMesh read_with_openmesh(const fs::path& p) {
-  OpenMesh::PolyMesh_ArrayKernelT<> om;
-  OpenMesh::IO::Options options;
-  EXPECT_TRUE(OpenMesh::IO::read_mesh(om, p.string(), options)) << p;
-  qsp::QuadMesh m;
-  for (const auto vh : om.vertices()) {
-    const auto& pt = om.point(vh);
-    m.positions.insert(m.positions.end(), {pt[0], pt[1], pt[2]});
-  }
-  for (const auto fh : om.faces()) {
-    const auto h0 = om.halfedge_handle(fh);
-    auto h = h0;
-    do {
-      m.quads.push_back(static_cast<std::uint32_t>(om.to_vertex_handle(h).idx()));
-      h = om.next_halfedge_handle(h);
-    } while (h != h0);
-  }
-  return m;
-}
-
 void write_ply(const fs::path& p, const qsp::QuadMesh& m, bool binary) {
   std::string out = std::string("ply\nformat ") + (binary ? "binary_little_endian" : "ascii") +
                     " 1.0\nelement vertex " + std::to_string(m.vertex_count()) +
@@ -600,8 +578,8 @@ void write_ply(const fs::path& p, const qsp::QuadMesh& m, bool binary) {
 
 TEST(ReadPly, AgreesWithObjAndOpenMeshOnSharedMesh) {
   // A real mesh written as ASCII and binary PLY reads back as the OBJ did, and as OpenMesh reads it.
-  const fs::path src = fs::path(QSP_SHARED_DIR) / "meshes" / "igl_horse_quad.obj";
-  if (!fs::exists(src)) GTEST_SKIP() << src << " not present";
+  QSP_NEEDS_SHARED();
+  const fs::path src = qsp::testing::shared_dir() / "meshes" / "igl_horse_quad.obj";
   const qsp::QuadMesh obj = qsp::read_mesh_file(src.string());
   TempDir dir;
   for (const bool binary : {false, true}) {
@@ -609,7 +587,7 @@ TEST(ReadPly, AgreesWithObjAndOpenMeshOnSharedMesh) {
     write_ply(p, obj, binary);
     const qsp::QuadMesh ply = qsp::read_mesh_file(p.string());
     expect_bit_exact(obj, ply);
-    expect_bit_exact(ply, read_with_openmesh(p));
+    expect_bit_exact(ply, qsp::testing::read_with_openmesh(p));
   }
 }
 
@@ -660,7 +638,7 @@ TEST(ReadPly, NonManifoldInputIsKeptAsWritten) {
   const qsp::QuadMesh m = qsp::read_mesh_file(p.string());
   EXPECT_EQ(m.vertex_count(), 8u);
   EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{0, 1, 2, 3, 1, 0, 5, 4, 0, 1, 6, 7}));
-  EXPECT_NE(read_with_openmesh(p).vertex_count(), 8u);  // what qsp avoids
+  EXPECT_NE(qsp::testing::read_with_openmesh(p).vertex_count(), 8u);  // what qsp avoids
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -695,96 +673,165 @@ TEST(InvalidFiles, EachIsRefusedWithExpectedCodeAndLocation) {
   EXPECT_GE(checked, 40);
 }
 
+// invalid/topology/: files the reader accepts and build_adjacency refuses, with the code= and message=
+// of each sidecar.
+TEST(InvalidFiles, TopologyDefectsAreRefusedWithExpectedCode) {
+  const fs::path dir = fs::path(QSP_TESTDATA_DIR) / "invalid" / "topology";
+  int checked = 0;
+  for (const fs::path& p : qsp::testing::invalid_meshes()) {
+    if (p.parent_path() != dir) continue;
+    SCOPED_TRACE(p.filename().string());
+    auto expect = qsp::testing::read_expect(fs::path(p).replace_extension(".expect"));
+    ASSERT_TRUE(expect.count("code") && expect.count("message"));
+    const qsp::QuadMesh m = qsp::read_mesh_file(p.string());
+    // The CLI adds "file:line: " (cli::load_mesh); the library names faces and vertices.
+    std::string want = expect["message"];
+    if (const auto at = want.find(p.filename().string() + ":"); at != std::string::npos)
+      want = want.substr(want.find(": ", at) + 2);
+    try {
+      (void)qsp::build_adjacency(m);
+      ADD_FAILURE() << "accepted";
+    } catch (const qsp::Error& e) {
+      EXPECT_EQ(qsp::error_name(e.code()), expect["code"]) << e.what();
+      EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << e.what() << "\nexpected: " << want;
+    }
+    ++checked;
+  }
+  EXPECT_EQ(checked, 4);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Shared real-world meshes
 
 namespace {
 
-struct ManifestRow {
-  std::uint64_t v = 0, f = 0, degenerate = 0;
-  bool all_quad = false;
+// The topology columns of a manifest row, counted here from the face lists alone (an edge map and a
+// union-find), independently of qsp's half-edge adjacency.
+struct Topology {
+  long components = 0, edges = 0, boundary_edges = 0, boundary_loops = 0, euler = 0;
+  long interior_irregular = 0, boundary_irregular = 0, corners = 0;
 };
 
-// name -> row, from a MANIFEST.tsv whose first line names the columns.
-std::map<std::string, ManifestRow> read_manifest(const fs::path& p) {
-  std::map<std::string, ManifestRow> rows;
-  std::istringstream in(slurp(p));
-  std::string line;
-  std::vector<std::string> header;
-  const auto split = [](const std::string& s) {
-    std::vector<std::string> out;
-    std::string cell;
-    std::istringstream cells(s);
-    while (std::getline(cells, cell, '\t')) out.push_back(cell);
-    return out;
+Topology count_topology(const qsp::QuadMesh& m) {
+  const std::size_t nv = m.vertex_count();
+  std::vector<std::uint32_t> root(nv);
+  for (std::uint32_t v = 0; v < nv; ++v) root[v] = v;
+  const auto find = [&](std::uint32_t v) {
+    while (root[v] != v) v = root[v] = root[root[v]];
+    return v;
   };
-  if (!std::getline(in, line)) return rows;
-  header = split(line);
-  const auto col = [&](const std::string& name) {
-    for (std::size_t i = 0; i < header.size(); ++i) {
-      if (header[i] == name) return static_cast<int>(i);
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> faces_on_edge;
+  std::vector<bool> referenced(nv);
+  for (std::size_t f = 0; f < m.face_count(); ++f) {
+    for (int c = 0; c < 4; ++c) {
+      const std::uint32_t a = m.quads[4 * f + c], b = m.quads[4 * f + (c + 1) % 4];
+      ++faces_on_edge[{std::min(a, b), std::max(a, b)}];
+      root[find(a)] = find(b);
+      referenced[a] = true;
     }
-    return -1;
-  };
-  const int name = col("name") >= 0 ? col("name") : col("file");
-  const int v = col("V"), f = col("F"), q = col("all_quad"), d = col("degenerate_faces");
-  if (name < 0 || v < 0 || f < 0 || q < 0) return rows;
-  while (std::getline(in, line)) {
-    const auto c = split(line);
-    if (static_cast<int>(c.size()) <= std::max({name, v, f, q, d})) continue;
-    ManifestRow r;
-    r.v = std::stoull(c[v]);
-    r.f = std::stoull(c[f]);
-    r.all_quad = c[q] == "True";
-    r.degenerate = d >= 0 ? std::stoull(c[d]) : 0;
-    rows[c[name]] = r;
   }
-  return rows;
+  Topology t;
+  std::vector<long> valence(nv), boundary_degree(nv);
+  std::vector<std::uint32_t> loop_root(nv);
+  for (std::uint32_t v = 0; v < nv; ++v) loop_root[v] = v;
+  const auto find_loop = [&](std::uint32_t v) {
+    while (loop_root[v] != v) v = loop_root[v] = loop_root[loop_root[v]];
+    return v;
+  };
+  for (const auto& [e, n] : faces_on_edge) {
+    ++valence[e.first], ++valence[e.second];
+    if (n == 1) {
+      ++t.boundary_edges;
+      ++boundary_degree[e.first], ++boundary_degree[e.second];
+      loop_root[find_loop(e.first)] = find_loop(e.second);
+    }
+  }
+  t.edges = static_cast<long>(faces_on_edge.size());
+  // The manifest's Euler characteristic is of the surface: bare (unreferenced) vertices do not count.
+  t.euler = static_cast<long>(std::count(referenced.begin(), referenced.end(), true)) - t.edges +
+            static_cast<long>(m.face_count());
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    if (!referenced[v]) continue;
+    t.components += find(v) == v;
+    if (boundary_degree[v] == 0) {
+      t.interior_irregular += valence[v] != 4;
+    } else {
+      t.boundary_loops += find_loop(v) == v;
+      t.boundary_irregular += valence[v] > 3;
+      t.corners += valence[v] == 2;
+    }
+  }
+  return t;
 }
 
 }  // namespace
 
-TEST(SharedMeshes, EveryFileIsReadOrRefusedAndQuadCountsMatchManifest) {
-  const fs::path root = fs::path(QSP_SHARED_DIR) / "meshes";
-  if (!fs::is_directory(root)) GTEST_SKIP() << root << " not present";
-  int read = 0, refused = 0, matched = 0;
-  for (const fs::path& dir : {root, root / "osd_shapes"}) {
-    if (!fs::is_directory(dir)) continue;
-    const auto manifest = read_manifest(dir / "MANIFEST.tsv");
-    for (const auto& entry : fs::directory_iterator(dir)) {
-      const fs::path p = entry.path();
-      const std::string ext = p.extension().string();
-      if (ext != ".obj" && ext != ".off") continue;
-      SCOPED_TRACE(p.string());
-      const auto row = manifest.find(p.filename().string());
+// Every row of both manifests (../shared/meshes and osd_shapes/): a file the row calls a valid quad mesh
+// is read with its V and F, and its components, edges, boundary edges and loops, Euler characteristic
+// and irregular vertices counted from the faces as read equal the row's (and qsp's adjacency agrees on
+// the components); any other file is refused with an error naming one of the defects the row lists.
+TEST(SharedMeshes, EveryManifestRowHoldsForTheFileAsRead) {
+  QSP_NEEDS_SHARED();
+  std::size_t rows = 0, valid = 0;
+  for (const fs::path& dir : qsp::testing::shared_mesh_dirs()) {
+    const auto manifest = qsp::testing::read_manifest(dir / "MANIFEST.tsv");
+    ASSERT_FALSE(manifest.empty()) << dir;
+    for (const auto& [name, row] : manifest) {
+      SCOPED_TRACE((dir / name).string());
+      ++rows;
+      qsp::QuadMesh m;
       try {
-        const qsp::QuadMesh m = qsp::read_mesh_file(p.string());
-        ++read;
-        if (row != manifest.end()) {
-          EXPECT_TRUE(row->second.all_quad);
-          EXPECT_EQ(m.vertex_count(), row->second.v);
-          EXPECT_EQ(m.face_count(), row->second.f);
-          ++matched;
-        }
+        m = qsp::read_mesh_file((dir / name).string());
+        const qsp::Adjacency adj = qsp::build_adjacency(m);
+        EXPECT_TRUE(row.valid()) << "accepted, but the manifest lists a defect";
+        EXPECT_EQ(static_cast<long>(adj.component_count), row.num("components"));
       } catch (const qsp::Error& e) {
-        ++refused;
-        // all_quad files are refused only for faces repeating a vertex.
-        if (row != manifest.end() && row->second.all_quad) {
-          EXPECT_GT(row->second.degenerate, 0u) << e.what();
-          EXPECT_EQ(e.code(), qsp::ErrorCode::kDegenerateFace) << e.what();
-        } else if (row != manifest.end()) {
-          EXPECT_TRUE(e.code() == qsp::ErrorCode::kNotQuad || e.code() == qsp::ErrorCode::kDegenerateFace)
-              << e.what();
-        }
-      } catch (const std::exception& e) {
-        ADD_FAILURE() << "non-qsp exception: " << e.what();
+        EXPECT_FALSE(row.valid()) << e.what();
+        std::vector<qsp::ErrorCode> listed;
+        if (row.col.at("all_quad") != "True") listed.push_back(qsp::ErrorCode::kNotQuad);
+        if (row.num("degenerate_faces") > 0) listed.push_back(qsp::ErrorCode::kDegenerateFace);
+        if (row.num("nonmanifold_edges") + row.num("nonmanifold_vertices") > 0)
+          listed.push_back(qsp::ErrorCode::kNonManifold);
+        if (row.num("flipped_edges") > 0) listed.push_back(qsp::ErrorCode::kOrientation);
+        EXPECT_NE(std::find(listed.begin(), listed.end(), e.code()), listed.end()) << e.what();
+        continue;
       }
+      ++valid;
+      EXPECT_EQ(static_cast<long>(m.vertex_count()), row.num("V"));
+      EXPECT_EQ(static_cast<long>(m.face_count()), row.num("F"));
+      EXPECT_EQ(row.num("quads"), row.num("F"));
+      const Topology t = count_topology(m);
+      EXPECT_EQ(t.components, row.num("components"));
+      if (row.col.count("E")) {
+        EXPECT_EQ(t.edges, row.num("E"));
+      }
+      EXPECT_EQ(t.boundary_edges, row.num("boundary_edges"));
+      EXPECT_EQ(t.boundary_loops, row.num("boundary_loops"));
+      EXPECT_EQ(t.euler, row.num("euler"));
+      EXPECT_EQ(t.interior_irregular, row.num("interior_irregular"));
+      EXPECT_EQ(t.boundary_irregular, row.num("boundary_irregular"));
+      EXPECT_EQ(t.corners, row.num("boundary_corners_val2"));
+      EXPECT_EQ(t.interior_irregular + t.boundary_irregular, row.num("extraordinary"));
     }
   }
-  EXPECT_GT(read, 0);
-  EXPECT_GT(matched, 50);
-  RecordProperty("read", read);
-  RecordProperty("refused", refused);
+  const auto files = qsp::testing::shared_meshes();
+  EXPECT_EQ(rows, files.size()) << "manifest rows against mesh files";
+  EXPECT_EQ(static_cast<int>(valid), qsp::testing::expected_valid_count(files));
+  std::printf("%zu manifest rows checked, %zu of them valid quad meshes\n", rows, valid);
+}
+
+// OpenMesh's own OBJ and OFF readers give every valid shared mesh the same positions (bit for bit) and
+// the same faces, corner for corner, as qsp's reader.
+TEST(SharedMeshes, OpenMeshReadsEveryValidFileAlike) {
+  QSP_NEEDS_SHARED();
+  int compared = 0;
+  for (const fs::path& p : qsp::testing::shared_meshes()) {
+    if (p.extension() == ".ply" || !qsp::testing::expected_valid(p)) continue;
+    SCOPED_TRACE(p.string());
+    expect_bit_exact(qsp::testing::read_with_openmesh(p), qsp::read_mesh_file(p.string()));
+    ++compared;
+  }
+  EXPECT_EQ(compared, qsp::testing::expected_valid_count(qsp::testing::shared_meshes()));
 }
 
 // ---------------------------------------------------------------------------------------------

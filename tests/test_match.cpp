@@ -151,12 +151,7 @@ TEST(Match, ShuffledCorpusMeshesMatchFaceByFace) {
   for (const auto& path : testing::corpus()) {
     SCOPED_TRACE(path.string());
     QuadMesh m;
-    try {
-      m = read_mesh_file(path.string());
-      build_adjacency(m);
-    } catch (const Error&) {
-      continue;
-    }
+    if (!testing::read_valid(path, m)) continue;
     std::vector<std::uint32_t> old;
     const QuadMesh s = testing::shuffled(m, 7 + n, &old);
     const MatchResult r = match(m, s);
@@ -171,7 +166,7 @@ TEST(Match, ShuffledCorpusMeshesMatchFaceByFace) {
     ambiguous += r.ambiguous;
     ++n;
   }
-  EXPECT_GT(n, 10);
+  EXPECT_EQ(n, testing::expected_valid_count(testing::corpus()));
   std::printf("[ match    ] %d corpus meshes, %d with several isomorphisms, %d of them ambiguous\n", n,
               symmetric, ambiguous);
 }
@@ -234,8 +229,8 @@ double component_centered_cost(const QuadMesh& a, const QuadMesh& b, const std::
 }
 
 TEST(Match, MakeHumanBaseMatchesItsMorphs) {
-  const fs::path dir = fs::path(QSP_SHARED_DIR) / "meshes";
-  if (!fs::exists(dir / "mh_base.obj")) GTEST_SKIP() << "no " << dir / "mh_base.obj";
+  QSP_NEEDS_SHARED();
+  const fs::path dir = testing::shared_dir() / "meshes";
   const QuadMesh base = read_mesh_file((dir / "mh_base.obj").string());
   ASSERT_EQ(build_adjacency(base).component_count, 154u);  // body plus 153 helpers, 125 of them 6-quad cubes
   int morphs = 0;
@@ -305,16 +300,12 @@ TEST(Match, SmallCorpusMeshesAgreeWithBruteForce) {
   int n = 0;
   for (const auto& path : testing::corpus()) {
     QuadMesh m;
-    try {
-      m = read_mesh_file(path.string());
-      const Adjacency adj = build_adjacency(m);
-      if (adj.component_count != 1 || m.face_count() > 600) continue;
-      bool unreferenced = false;
-      for (auto v : adj.valence) unreferenced |= v == 0;
-      if (unreferenced) continue;
-    } catch (const Error&) {
-      continue;
-    }
+    Adjacency adj;
+    if (!testing::read_valid(path, m, &adj)) continue;
+    if (adj.component_count != 1 || m.face_count() > 600) continue;
+    bool unreferenced = false;
+    for (auto v : adj.valence) unreferenced |= v == 0;
+    if (unreferenced) continue;
     SCOPED_TRACE(path.string());
     const QuadMesh s = testing::shuffled(m, 3);
     const MatchResult r = match(m, s);

@@ -87,4 +87,10 @@ std::string read_file_bytes(const std::string& path);
 // left on device").
 void write_file_atomic(const std::string& path, std::string_view bytes, bool overwrite);
 
+// Test seam: `hook` (nullptr, the default, for none) is called by write_file_atomic once the output is
+// complete and flushed in its temporary file, just before it gets its name. The CLI sets it only for
+// tests (QSP_TEST_STOP_BEFORE_RENAME), which stop the process there to kill it inside that window.
+// Not to be changed while another thread writes.
+void set_before_rename_hook(void (*hook)());
+
 }  // namespace qsp

@@ -1,11 +1,14 @@
 // qsp command-line entry: parses, runs one subcommand, maps qsp::Error to an exit code in one place.
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <string>
 
 #include "commands.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
+#include "qsp/io.h"
 #include "qsp/version.h"
 
 namespace {
@@ -34,6 +37,10 @@ int main(int argc, char** argv) {
                                         ", reads " + std::to_string(qsp::kOldestMajor) + ".0 to " + writes +
                                         ")");
   app.require_subcommand(1);
+  // Test seam (tests/test_hostile.cpp, AtomicOutput): stop just before an output file gets its name, so
+  // a test knows its kill lands while only the temporary file exists.
+  if (const char* stop = std::getenv("QSP_TEST_STOP_BEFORE_RENAME"); stop && std::string(stop) == "1")
+    qsp::set_before_rename_hook([] { std::raise(SIGSTOP); });
   int exit_code = 0;
   qsp::cli::register_compress(app, exit_code);
   qsp::cli::register_decompress(app, exit_code);
