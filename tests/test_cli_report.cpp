@@ -159,6 +159,34 @@ TEST_F(CliReport, MatchAcceptsMirrorsOnlyWhenAskedAndSaysWhichKind) {
   EXPECT_EQ(r.out.find("orientation-reversing"), std::string::npos) << r.out;
 }
 
+// A cube with every vertex at one point: all 24 isomorphisms are equally near. --prefer-order takes the
+// identity, and the choice is then not ambiguous.
+TEST_F(CliReport, PreferOrderKeepsTheIdentityAmongEquallyNearIsomorphisms) {
+  const QuadMesh cube = read_mesh_file(kData + "/cube_4.obj");
+  std::ostringstream obj;
+  for (std::size_t v = 0; v < cube.vertex_count(); ++v) obj << "v 0 0 0\n";
+  for (std::size_t f = 0; f < cube.face_count(); ++f)
+    obj << "f " << 1 + cube.quads[4 * f] << " " << 1 + cube.quads[4 * f + 1] << " "
+        << 1 + cube.quads[4 * f + 2] << " " << 1 + cube.quads[4 * f + 3] << "\n";
+  std::ofstream(p("point.obj")) << obj.str();
+  auto r = run_qsp("match " + quote(p("point.obj")) + " " + quote(p("point.obj")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("ambiguous"), std::string::npos) << r.out;
+  r = run_qsp("match --prefer-order " + quote(p("point.obj")) + " " + quote(p("point.obj")) + " -o " +
+              quote(p("map.txt")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.find("ambiguous"), std::string::npos) << r.out;
+  std::istringstream map(slurp(p("map.txt")));
+  std::uint32_t v = 0, i = 0;
+  for (; map >> v; ++i) EXPECT_EQ(v, i);
+  EXPECT_EQ(i, cube.vertex_count());
+  r = run_qsp("reorder --prefer-order --like " + quote(p("point.obj")) + " " + quote(p("point.obj")) +
+              " -o " + quote(p("same.obj")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");  // no "ambiguous" warning
+  EXPECT_EQ(read_mesh_file(p("same.obj")).quads, cube.quads);
+}
+
 // 30 copies of a cube: 24^30 * 30! isomorphisms, about 2^245.3 -- not UINT64_MAX.
 TEST_F(CliReport, HugeIsomorphismCountsArePrintedReadably) {
   const QuadMesh cube = read_mesh_file(kData + "/cube_4.obj");

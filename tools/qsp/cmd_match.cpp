@@ -30,6 +30,7 @@ struct MatchCliOptions {
   bool force = false;
   bool quiet = false;
   bool allow_mirror = false;  // also accept orientation-reversing isomorphisms
+  bool prefer_order = false;  // among equally near isomorphisms, the closest to the identity
 };
 
 Centering parse_centering(const std::string& s) {
@@ -161,6 +162,7 @@ int run(const MatchCliOptions& o) {
   MatchOptions mo;
   mo.centering = parse_centering(o.centering);
   mo.max_full_evaluations = o.max_evaluations;
+  mo.prefer_order = o.prefer_order;
   MatchResult r = match(a, b, mo);
   bool mirror = false;
   if (!r.isomorphic && (o.allow_mirror || !o.quiet)) {
@@ -223,6 +225,10 @@ void register_match(CLI::App& app, int& exit_code) {
                   "Per component, isomorphisms scored on all vertices at most (default 64)")
       ->check(CLI::Range(1u, 1u << 30));
   cmd->add_flag("-q,--quiet", opt->quiet, "Print nothing; the exit code says it");
+  cmd->add_flag(
+      "--prefer-order", opt->prefer_order,
+      "Among equally near isomorphisms (symmetric parts), the one keeping most vertices at their own "
+      "index (meshes exported in one order)");
   cmd->add_flag("--allow-mirror", opt->allow_mirror,
                 "Also accept orientation-reversing isomorphisms (B mirrored or with flipped normals) when no "
                 "orientation-preserving one exists; the report says which kind was found");

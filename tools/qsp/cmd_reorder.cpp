@@ -23,6 +23,7 @@ struct ReorderOptions {
   std::string centering = "component";
   bool force = false;
   bool positions_only = false;
+  bool prefer_order = false;  // MatchOptions::prefer_order
 };
 
 struct Read {
@@ -68,6 +69,7 @@ int run(const ReorderOptions& o) {
   mo.centering = o.centering == "mesh"   ? Centering::kMesh
                  : o.centering == "none" ? Centering::kNone
                                          : Centering::kComponent;
+  mo.prefer_order = o.prefer_order;
   const MatchResult r = match(prepare_located(ref, o.ref), prepare_located(in, o.input), mo);
   if (!r.isomorphic) {
     std::fprintf(stderr, "qsp: %s is not isomorphic to %s: %s\n", o.input.c_str(), o.ref.c_str(),
@@ -124,6 +126,8 @@ void register_reorder(CLI::App& app, int& exit_code) {
          "--centering", opt->centering,
          "Positions compared to choose among symmetric isomorphisms: component (default), mesh, none")
       ->check(CLI::IsMember({"component", "mesh", "none"}));
+  cmd->add_flag("--prefer-order", opt->prefer_order,
+                "Among equally near isomorphisms, the one keeping most vertices at their own index");
   cmd->add_flag("--positions-only", opt->positions_only,
                 "Drop IN's texture coordinates, normals, groups, ... instead of refusing");
   cmd->callback([opt, &exit_code] { exit_code = run(*opt); });
