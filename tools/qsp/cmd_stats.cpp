@@ -286,7 +286,8 @@ void register_stats(CLI::App& app, int& exit_code) {
       app.add_subcommand("stats", "Print the paper's Table-1 row (mesh vs schematic partition) per file");
   cmd->add_option("files", opt->files, "Mesh files (.obj .off .ply) or .qsp files")->required();
   cmd->add_flag("--json", opt->json,
-                "A JSON array: an object per row, {\"file\", \"error\"} for a file that could not be read");
+                "A JSON array: an object per row (\"relative\" in percent), {\"file\", \"error\"} for a file "
+                "that could not be read");
   cmd->add_flag("--json-lines", opt->json_lines, "The same objects, one per line, no array");
   add_format_option(cmd, opt->format);
   cmd->add_flag("--verbose", opt->verbose, "Add a per-component breakdown");
