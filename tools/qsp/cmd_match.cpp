@@ -165,7 +165,10 @@ int run(const MatchCliOptions& o) {
   mo.prefer_order = o.prefer_order;
   MatchResult r = match(a, b, mo);
   bool mirror = false;
-  if (!r.isomorphic && (o.allow_mirror || !o.quiet)) {
+  // Reversing every face keeps the component sizes and extraordinary vertices: only a difference in
+  // the schematic (the right-hand rule depends on orientation) or the code can be a mirror.
+  const bool may_be_mirror = r.level == MatchLevel::kSchematic || r.level == MatchLevel::kCode;
+  if (!r.isomorphic && may_be_mirror && (o.allow_mirror || !o.quiet)) {
     // Orientation-reversing: accepted with --allow-mirror, else only named as the likely cause.
     MatchResult m = mirrored_match(a, b, mo);
     if (m.isomorphic && o.allow_mirror) {
