@@ -420,8 +420,17 @@ TEST_F(CliFiles, VerboseQuietAndTheQuantizeWarning) {
   const std::string size = std::to_string(fs::file_size(p("a.obj.qsp")));
   for (const std::string& part : std::vector<std::string>{
            a + " -> " + a + ".qsp: " + std::to_string(inputs_["a.obj"].size()) + " -> " + size + " bytes",
-           "x smaller", "bits/vertex", "lossless", "partition auto", " s\n"})
+           "x smaller", "bits/vertex", "lossless", " (auto), ", " s\n"})
     EXPECT_NE(r.err.find(part), std::string::npos) << part << "\n" << r.err;
+  // The partition auto chose: that mode's file is the same bytes.
+  const std::size_t at = r.err.find("partition "), end = r.err.find(" (auto)");
+  ASSERT_TRUE(at != std::string::npos && end != std::string::npos) << r.err;
+  const std::string mode = r.err.substr(at + 10, end - at - 10);
+  ASSERT_EQ(
+      run_qsp("compress -f --partition " + mode + " " + quote(a) + " " + quote(p("mode.qsp"))).exit_code, 0)
+      << mode;
+  EXPECT_TRUE(slurp(p("mode.qsp")) == slurp(p("a.obj.qsp"))) << mode;
+  fs::remove(p("mode.qsp"));
   // cube_4's integer positions cost less losslessly than on any grid: say so, with the lossless size.
   r = run_qsp("compress -f --quantize 14 " + quote(a));
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -32,6 +32,24 @@ struct CompressOptions {
 // not pay (the partition search already costs more there); above it only with --verbose.
 constexpr std::size_t kSizeCheckVertices = 32768;
 
+// EncodeOptions::partition: above this many vertices the default is the motorcycle graph, below it
+// the smallest file of the three partitions.
+constexpr std::size_t kAutoSearchVertices = 32768;
+
+// The partition `bytes` stores, for --verbose: the option, or for auto the mode whose file is the
+// same bytes (the codec keeps the smallest; up to three more encodes, only when asked).
+std::string stored_partition(const QuadMesh& mesh, const EncodeOptions& eo, const std::string& bytes,
+                             const std::string& option) {
+  if (option != "auto") return option;
+  if (mesh.vertex_count() > kAutoSearchVertices) return "motorcycle (auto)";
+  for (PartitionMode m : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
+    EncodeOptions one = eo;
+    one.partition = m;
+    if (encode(mesh, one) == bytes) return std::string(partition_mode_name(m)) + " (auto)";
+  }
+  return "auto";
+}
+
 EncodeOptions encode_options(const CompressOptions& o) {
   EncodeOptions eo;
   eo.quantize_bits = o.quantize;
@@ -103,7 +121,8 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
                  (unsigned long long)(ec ? 0 : in_size), bytes.size());
     if (!ec && in_size) std::fprintf(stderr, " (%.2fx smaller)", double(in_size) / double(bytes.size()));
     std::fprintf(stderr, ", %.2f bits/vertex, %s%s, partition %s, %.3f s\n", 8.0 * bytes.size() / v,
-                 kind.c_str(), o.keep_order ? ", order kept" : "", o.partition.c_str(), seconds);
+                 kind.c_str(), o.keep_order ? ", order kept" : "",
+                 stored_partition(mesh, eo, bytes, o.partition).c_str(), seconds);
   }
 }
 
