@@ -440,7 +440,8 @@ TEST_F(CliFiles, VerboseQuietAndTheQuantizeWarning) {
   EXPECT_EQ(r.err, "");
   r = run_qsp("decompress -v -f " + quote(p("a.obj.qsp")) + " -o " + quote(p("b.obj")));
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("98 vertices, 96 faces"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("98 vertices, 96 faces, quantized 14 bits, canonical order"), std::string::npos)
+      << r.err;
   // An empty mesh is written, with a warning.
   const std::string empty = add_bytes("empty.obj", "# nothing\n");
   r = run_qsp("compress " + quote(empty));

@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "files.h"
+#include "load.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
@@ -64,9 +65,12 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
   write_output(job.output, text, {o.force, o.verbosity.quiet, other_ways(job)});
   if (o.verbosity.verbose && !o.verbosity.quiet) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(stderr, "qsp: %s -> %s: %zu -> %zu bytes, %zu vertices, %zu faces, %.3f s\n",
+    const FileInfo info = inspect(bytes, limits);
+    const int bits = geometry_bits(bytes, info);
+    const std::string kind = bits > 0 ? "quantized " + std::to_string(bits) + " bits" : "lossless";
+    std::fprintf(stderr, "qsp: %s -> %s: %zu -> %zu bytes, %zu vertices, %zu faces, %s, %s order, %.3f s\n",
                  job.input.c_str(), job.output.c_str(), bytes.size(), text.size(), mesh.vertex_count(),
-                 mesh.face_count(), seconds);
+                 mesh.face_count(), kind.c_str(), info.keep_order ? "original" : "canonical", seconds);
   }
 }
 

@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
@@ -33,6 +34,10 @@ bool read_stdin_if_unknown(const std::string& path, MeshFormat format, std::stri
 // `format` as read_input_mesh's (files.h): kUnknown = by name, else detected from the bytes.
 QuadMesh read_mesh_or_qsp(const std::string& path, ReadReport& report,
                           MeshFormat format = MeshFormat::kUnknown);
+
+// A .qsp's position precision: 0 lossless, 1..30 the quantization bits (the geometry section's `bits`
+// field), -1 if `info` (inspect(bytes)) lists no geometry section. Reads only what inspect() checked.
+int geometry_bits(const std::string& bytes, const FileInfo& info);
 
 // Rethrows `e` with "path:LINE: " in front when it names a face the report has a line for.
 [[noreturn]] void rethrow_located(const Error& e, const std::string& path, const ReadReport& report);
