@@ -80,6 +80,26 @@ TEST_F(CliReport, StatsOnAQspSaysWhatItHoldsAndItsBytesAddUp) {
   }
 }
 
+// Every golden .qsp, of every format version: the parts add up to the file's size, and the precision is
+// the one its name says (the *_q14 goldens are quantized to 14 bits, the others lossless).
+TEST_F(CliReport, EveryGoldenFilesBytesAddUpAndNameItsPrecision) {
+  int n = 0;
+  for (const auto& e : fs::recursive_directory_iterator(kData + "/golden")) {
+    if (e.path().extension() != ".qsp") continue;
+    SCOPED_TRACE(e.path().string());
+    const auto r = run_qsp("stats " + quote(e.path().string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto parts = byte_parts(r.out);
+    ASSERT_EQ(parts.size(), 5u) << r.out;
+    EXPECT_EQ(parts[0], fs::file_size(e.path()));
+    EXPECT_EQ(parts[0], parts[1] + parts[2] + parts[3] + parts[4]) << r.out;
+    const bool q14 = e.path().filename().string().find("_q14") != std::string::npos;
+    EXPECT_NE(r.out.find(q14 ? "; quantized to 14 bits, " : "; lossless, "), std::string::npos) << r.out;
+    ++n;
+  }
+  EXPECT_GT(n, 40);
+}
+
 // A torus is one patch in every partition mode, in the stored row too; --partition on a .qsp decodes it
 // and computes the rows asked for.
 TEST_F(CliReport, CountsAgreeAcrossModesAndPartitionRecomputesOnAQsp) {
