@@ -499,10 +499,13 @@ class PlyData {
 }  // namespace
 
 QuadMesh read_ply_file(const std::string& path, ReadReport* report) {
+  return read_ply(read_file_bytes(path), path, report);
+}
+
+QuadMesh read_ply(std::string_view bytes, const std::string& path, ReadReport* report) {
   ReadReport local;
   ReadReport& r = report ? *report : local;
   r = ReadReport{};
-  const std::string bytes = read_file_bytes(path);
   const PlyHeader header = parse_header(bytes, path);
   const PlyLayout layout = check_header(header, bytes, path, r);
 

@@ -443,8 +443,20 @@ PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepar
   }
   std::sort(cand.begin(), cand.end());
 
+  // Vertices an isomorphism moves away from their own index, in the callers' numberings.
+  const auto moved = [&](const LayoutMap& m) {
+    std::size_t count = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::uint32_t va = ca.map.vertex[k], vb = m.vertex[k];
+      count += (pa.vertex_old.empty() ? va : pa.vertex_old[va]) !=
+               (pb.vertex_old.empty() ? vb : pb.vertex_old[vb]);
+    }
+    return count;
+  };
   // Full costs in order of lower bound, until no remaining candidate can tie or beat the best.
   double best = HUGE_VAL, rival = HUGE_VAL;
+  std::vector<std::pair<double, std::size_t>> scored;  // prefer_order: (cost, moved) of each
+  std::vector<LayoutMap> maps;
   for (const auto& [bound, s] : cand) {
     if (bound > best + tol(best)) break;
     if (out.info.scored == opt.max_full_evaluations) {
@@ -454,6 +466,10 @@ PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepar
     LayoutMap m = layout_to_mesh(canonical_from_start(adj, cb, s), adj);
     const double c = cost_of(a, ca.map.vertex.data(), b, m.vertex.data(), n, t);
     ++out.info.scored;
+    if (opt.prefer_order) {
+      scored.emplace_back(c, moved(m));
+      maps.push_back(m);
+    }
     if (c < best) {
       rival = best;
       best = c;
@@ -464,6 +480,25 @@ PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepar
   }
   out.info.cost = best;
   out.info.ambiguous = !out.info.exhaustive || rival <= best + tol(best);
+  if (opt.prefer_order && out.info.exhaustive) {
+    // Among the nearest (within the tie tolerance), the one moving fewest vertices; ambiguous only if
+    // another of them moves as few.
+    std::size_t pick = scored.size(), ties = 0;
+    for (std::size_t i = 0; i < scored.size(); ++i) {
+      if (scored[i].first > best + tol(best)) continue;
+      if (pick == scored.size() || scored[i].second < scored[pick].second) {
+        pick = i;
+        ties = 1;
+      } else if (scored[i].second == scored[pick].second) {
+        ++ties;
+      }
+    }
+    if (pick < scored.size()) {
+      out.map = std::move(maps[pick]);
+      out.info.cost = scored[pick].first;
+      out.info.ambiguous = ties > 1;
+    }
+  }
   return out;
 }
 

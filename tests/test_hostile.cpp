@@ -738,9 +738,9 @@ TEST_F(AtomicOutput, TheInputIsNeverOverwrittenEvenWithForce) {
   fs::create_hard_link(p("c.qsp"), p("c_link.obj"));
   for (const std::string& cmd : {"compress -f " + quote(p("cube.obj")) + " " + quote(p("cube.obj")),
                                  "compress -f " + quote(p("cube.obj")) + " -o " + quote(p("sub/../cube.obj")),
-                                 "compress -f " + quote(p("cube.obj")) + " " + quote(p("hard.obj")),
-                                 "compress -f " + quote(p("cube.obj")) + " " + quote(p("soft.obj")),
-                                 "compress -f " + quote(p("soft.obj")) + " " + quote(p("cube.obj")),
+                                 "compress -f " + quote(p("cube.obj")) + " -o " + quote(p("hard.obj")),
+                                 "compress -f " + quote(p("cube.obj")) + " -o " + quote(p("soft.obj")),
+                                 "compress -f " + quote(p("soft.obj")) + " -o " + quote(p("cube.obj")),
                                  "decompress -f " + quote(p("c.qsp")) + " " + quote(p("c_link.obj"))}) {
     SCOPED_TRACE(cmd);
     const auto r = run_qsp(cmd);

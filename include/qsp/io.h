@@ -66,6 +66,10 @@ QuadMesh read_off(std::string_view text, std::string_view source, ReadReport* re
 // Not OpenMesh: it silently rewrites non-manifold or degenerate input while reporting success.
 QuadMesh read_ply_file(const std::string& path, ReadReport* report = nullptr);
 
+// read_ply_file on bytes already in memory (standard input read once to detect its format); `source`
+// names the input in messages. Same guarantees; safe on untrusted input.
+QuadMesh read_ply(std::string_view bytes, const std::string& source, ReadReport* report = nullptr);
+
 // Read a mesh file by extension (`-` = standard input, needs `format`). Throws Error(kIo) when the
 // file cannot be read, kUnsupported for an unknown extension.
 QuadMesh read_mesh_file(const std::string& path, ReadReport* report = nullptr,

@@ -34,6 +34,11 @@ struct MatchOptions {
   // Two isomorphisms tie when their costs differ by at most this fraction of the best cost (plus
   // 1e-12 * vertices * bounding-box diagonal², so exact zeros tie too).
   double tie_tolerance = 1e-6;
+  // Among a component's isomorphisms that tie for nearest, take the one that moves the fewest vertices
+  // away from their own index (A's vertex i to B's vertex i): meshes exported in one order (morphs of
+  // a base) keep it on symmetric parts. Off: the first found in canonical order. Costs a copy of each
+  // fully scored map.
+  bool prefer_order = false;
 };
 
 // The first level at which two meshes differ, coarse to fine. kNone when they are isomorphic.

@@ -106,7 +106,7 @@ for name in "${meshes[@]}"; do
     >> "$rows" <<'EOF'
 import json, sys
 name, objb, ql, qq, drc, drc1, mo, zs, xzs = sys.argv[1:]
-ql, qq = json.loads(ql), json.loads(qq)
+ql, qq = json.loads(ql)[0], json.loads(qq)[0]  # stats --json is always an array
 mv, mq, mi, mit, mf, mqz = map(int, mo.split())
 V = ql["mesh"]["vertices"]
 assert mv == V, (name, mv, V)

@@ -1,11 +1,13 @@
-// `qsp compress IN [OUT]`: mesh file -> .qsp (format-spec/qsp_format.md).
-#include <sys/stat.h>
+// `qsp compress IN... [OUT]`: mesh files -> .qsp (format-spec/qsp_format.md), gzip's way (files.h).
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 #include "commands.h"
+#include "files.h"
 #include "load.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
@@ -15,11 +17,10 @@ namespace qsp::cli {
 namespace {
 
 struct CompressOptions {
-  std::string input;
-  std::string output;        // positional OUT
-  std::string output_flag;   // -o OUT
-  std::string input_format;  // for standard input: obj, off
+  FileArgs files;
+  std::string input_format;  // obj, off, ply; "" = by name, else detected
   bool force = false;
+  Verbosity verbosity;
   std::uint32_t quantize = 0;
   bool keep_order = false;
   bool positions_only = false;
@@ -29,47 +30,27 @@ struct CompressOptions {
   unsigned threads = 0;            // 0: as the encoder sees fit
 };
 
-// True when `out` names the same existing file as `in` (by device and inode, so links and
-// different spellings of one path are caught).
-bool same_file(const std::string& in, const std::string& out) {
-  if (in == "-" || out == "-") return false;
-  struct stat a {
-  }, b{};
-  if (::stat(in.c_str(), &a) != 0 || ::stat(out.c_str(), &b) != 0) return false;
-  return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+// Up to this many vertices a quantized file is also encoded losslessly to warn when quantizing does
+// not pay (a millisecond or two); above it only with --verbose or from level 5, whose search costs more
+// than the check: at the fast default levels it would double the compress time.
+constexpr std::size_t kSizeCheckVertices = 1024;
+constexpr int kSizeCheckLevel = 5;
+
+// The partition `bytes` stores, for --verbose: the option, or for auto the mode whose file is the
+// same bytes (the codec keeps the smallest; up to three more encodes, only when asked).
+std::string stored_partition(const QuadMesh& mesh, const EncodeOptions& eo, const std::string& bytes,
+                             const std::string& option) {
+  if (option != "auto") return option;
+  if (!level_effort(eo.level, mesh.vertex_count()).all_partitions) return "motorcycle (auto)";
+  for (PartitionMode m : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
+    EncodeOptions one = eo;
+    one.partition = m;
+    if (encode(mesh, one) == bytes) return std::string(partition_mode_name(m)) + " (auto)";
+  }
+  return "auto";
 }
 
-void run(const CompressOptions& o) {
-  if (!o.output.empty() && !o.output_flag.empty()) throw CLI::ValidationError("give OUT or -o OUT, not both");
-  std::string out = !o.output_flag.empty() ? o.output_flag : o.output;
-  if (out.empty()) out = o.input == "-" ? "-" : o.input + ".qsp";
-  if (same_file(o.input, out))
-    throw Error(ErrorCode::kIo, out + ": is the input file; refusing to write over it");
-  if (out == "-" && ::isatty(STDOUT_FILENO)) {
-    throw Error(ErrorCode::kIo,
-                "-: refusing to write compressed data to a terminal (redirect it or give OUT)");
-  }
-
-  MeshFormat format = MeshFormat::kUnknown;
-  if (!o.input_format.empty()) {
-    format = format_from_path("x." + o.input_format);
-    if (format == MeshFormat::kUnknown || format == MeshFormat::kQsp) {
-      throw CLI::ValidationError("--format must be obj, off or ply");
-    }
-  } else if (o.input == "-") {
-    format = MeshFormat::kObj;
-  }
-  ReadReport report;
-  QuadMesh mesh = read_mesh_file(o.input, &report, format);
-  if (report.has_extra_data()) {
-    if (!o.positions_only) {
-      throw Error(ErrorCode::kUnsupported,
-                  o.input + ": has " + report.describe_extra_data() +
-                      ", which .qsp does not store; pass --positions-only to drop them");
-    }
-    std::fprintf(stderr, "qsp: %s: dropped %s (--positions-only)\n", o.input.c_str(),
-                 report.describe_extra_data().c_str());
-  }
+EncodeOptions encode_options(const CompressOptions& o) {
   EncodeOptions eo;
   eo.quantize_bits = o.quantize;
   eo.keep_order = o.keep_order;
@@ -81,29 +62,97 @@ void run(const CompressOptions& o) {
     eo.partition = mode;
   }
   if (o.compat == "2.1") eo.geometry_shapes = false;  // geometry revisions 4 and 5 only
+  return eo;
+}
+
+void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::string& in = job.input;
+  const MeshFormat out_format = format_from_path(job.output);
+  if (out_format == MeshFormat::kObj || out_format == MeshFormat::kOff || out_format == MeshFormat::kPly)
+    throw Error(ErrorCode::kUnsupported, job.output +
+                                             ": a compressed file must not take a mesh name; name it " +
+                                             job.output + ".qsp (or any name ending in .qsp)");
+  if (job.output == "-" && ::isatty(STDOUT_FILENO))
+    throw Error(ErrorCode::kIo,
+                "-: refusing to write compressed data to a terminal (redirect it, or give OUT)");
+
+  ReadReport report;
+  const QuadMesh mesh = read_input_mesh(in, format, &report);
+  const bool quiet = o.verbosity.quiet;
+  if (report.has_extra_data()) {
+    if (!o.positions_only) {
+      throw Error(ErrorCode::kUnsupported,
+                  in + ": has " + report.describe_extra_data() +
+                      ", which .qsp does not store; pass --positions-only to drop them");
+    }
+    if (!quiet)
+      std::fprintf(stderr, "qsp: %s: dropped %s (--positions-only)\n", in.c_str(),
+                   report.describe_extra_data().c_str());
+  }
+  if (mesh.face_count() == 0 && !quiet)
+    std::fprintf(stderr, "qsp: warning: %s: has no faces (%zu vertices); writing an empty mesh\n", in.c_str(),
+                 mesh.vertex_count());
+  const EncodeOptions eo = encode_options(o);
   std::string bytes;
+  std::uint64_t lossless_size = 0;
   try {
     bytes = encode(mesh, eo);
+    if (o.quantize && !quiet &&
+        (mesh.vertex_count() <= kSizeCheckVertices || o.level >= kSizeCheckLevel || o.verbosity.verbose)) {
+      EncodeOptions exact = eo;
+      exact.quantize_bits = 0;
+      lossless_size = encode(mesh, exact).size();
+    }
   } catch (const Error& e) {
-    rethrow_located(e, o.input, report);  // topology errors name a face: say file:line
+    rethrow_located(e, in, report);  // topology errors name a face: say file:line
   }
-  write_file_atomic(out, bytes, o.force);
+  write_output(job.output, bytes, {o.force, quiet, other_ways(job)});
+  if (lossless_size && bytes.size() >= lossless_size)
+    std::fprintf(stderr,
+                 "qsp: warning: %s: at --quantize %u the file is %zu bytes, not smaller than lossless (%llu "
+                 "bytes): positions are probably on a coarser grid already; drop --quantize\n",
+                 in.c_str(), o.quantize, bytes.size(), (unsigned long long)lossless_size);
+  if (o.verbosity.verbose && !quiet) {
+    std::error_code ec;
+    const auto in_size = in == "-" ? 0 : std::filesystem::file_size(in, ec);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double v = mesh.vertex_count() ? double(mesh.vertex_count()) : 1.0;
+    std::string kind = o.quantize ? "quantized " + std::to_string(o.quantize) + " bits" : "lossless";
+    if (lossless_size) kind += " (lossless " + std::to_string(lossless_size) + ")";
+    std::fprintf(stderr, "qsp: %s -> %s: %llu -> %zu bytes", in.c_str(), job.output.c_str(),
+                 (unsigned long long)(ec ? 0 : in_size), bytes.size());
+    if (!ec && in_size) std::fprintf(stderr, " (%.2fx smaller)", double(in_size) / double(bytes.size()));
+    std::fprintf(stderr, ", %.2f bits/vertex, %s%s, level %d, partition %s, %.3f s\n", 8.0 * bytes.size() / v,
+                 kind.c_str(), o.keep_order ? ", order kept" : "", o.level,
+                 stored_partition(mesh, eo, bytes, o.partition).c_str(), seconds);
+  }
+}
+
+void run(const CompressOptions& o, int& exit_code) {
+  const MeshFormat format = parse_format_option(o.input_format);
+  OutputNaming naming;
+  naming.is_output_name = [](const std::string& p) { return format_from_path(p) == MeshFormat::kQsp; };
+  naming.beside = [](const std::string& in) { return in + ".qsp"; };
+  naming.rule = "must end in .qsp";
+  naming.verb = "compress";
+  naming.stdin_name = "stdin.qsp";
+  exit_code = run_jobs(o.files, naming, [&](const Job& job) { compress_one(job, format, o); });
 }
 
 }  // namespace
 
 void register_compress(CLI::App& app, int& exit_code) {
   auto opt = std::make_shared<CompressOptions>();
-  CLI::App* sub = app.add_subcommand("compress", "Compress a quad mesh (.obj, .off, .ply) into a .qsp file");
-  sub->add_option("IN", opt->input, "Input mesh, or - for standard input (OBJ unless --format)")->required();
-  sub->add_option("OUT", opt->output, "Output file (default: IN.qsp; - for standard output)");
-  sub->add_option("-o,--output", opt->output_flag, "Output file (same as OUT)");
-  sub->add_option("--format", opt->input_format, "Format of standard input: obj, off or ply");
+  CLI::App* sub = app.add_subcommand("compress", "Compress quad meshes (.obj, .off, .ply) into .qsp files");
+  add_file_args(sub, opt->files, "Input meshes (IN.qsp is written beside each)", "ending in .qsp");
+  add_format_option(sub, opt->input_format);
+  sub->add_flag("-f,--force", opt->force, "Replace outputs that exist (never an input)");
+  add_verbosity_flags(sub, opt->verbosity);
   sub->add_option("--partition", opt->partition,
                   "Structured partition to store (all canonical): auto (default: the level decides; "
                   "levels 8 and 9 keep the smallest file of the three), motorcycle, greedy or merge")
       ->check(CLI::IsMember({"auto", "motorcycle", "greedy", "merge"}));
-  sub->add_flag("-f,--force", opt->force, "Replace OUT if it exists (never the input)");
   sub->add_option("--quantize", opt->quantize,
                   "Lossy: quantize positions to BITS bits over the bounding box (1-30)")
       ->check(CLI::Range(1, 30));
@@ -125,10 +174,7 @@ void register_compress(CLI::App& app, int& exit_code) {
   sub->add_flag_callback(
       "--best", [opt] { opt->level = kMaxLevel; }, "Same as -9");
   sub->add_option("--threads", opt->threads, "Threads to use (default 0: up to two; 1: one)");
-  sub->callback([opt, &exit_code]() {
-    run(*opt);
-    exit_code = 0;
-  });
+  sub->callback([opt, &exit_code]() { run(*opt, exit_code); });
 }
 
 }  // namespace qsp::cli

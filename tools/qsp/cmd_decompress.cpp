@@ -1,9 +1,14 @@
-// `qsp decompress IN [OUT]`: .qsp -> OBJ or OFF (by OUT's extension).
+// `qsp decompress IN... [OUT]`: .qsp files -> OBJ or OFF (by the output's extension), gzip's way
+// (files.h).
 #include <sys/stat.h>
 
+#include <chrono>
+#include <cstdio>
 #include <string>
 
 #include "commands.h"
+#include "files.h"
+#include "load.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
@@ -12,45 +17,41 @@ namespace qsp::cli {
 namespace {
 
 struct DecompressOptions {
-  std::string input;
-  std::string output;       // positional OUT
-  std::string output_flag;  // -o OUT
+  FileArgs files;
   bool force = false;
+  Verbosity verbosity;
   std::uint64_t max_vertices = DecodeLimits{}.max_vertices;
   std::uint64_t max_faces = DecodeLimits{}.max_faces;
 };
 
-bool same_file(const std::string& in, const std::string& out) {
-  if (in == "-" || out == "-") return false;
-  struct stat a {
-  }, b{};
-  if (::stat(in.c_str(), &a) != 0 || ::stat(out.c_str(), &b) != 0) return false;
-  return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
-}
-
-// IN minus ".qsp", plus ".obj" unless what is left already names a mesh format.
-std::string default_output(const std::string& in) {
-  if (in == "-") return "-";
-  if (format_from_path(in) != MeshFormat::kQsp) {
-    throw CLI::ValidationError(in + " does not end in .qsp: give OUT");
-  }
+// IN minus ".qsp", plus ".obj" unless what is left already names a mesh format; "" without .qsp.
+std::string beside(const std::string& in) {
+  if (format_from_path(in) != MeshFormat::kQsp) return "";
   std::string base = in.substr(0, in.size() - 4);
   MeshFormat f = format_from_path(base);
   return f == MeshFormat::kObj || f == MeshFormat::kOff ? base : base + ".obj";
 }
 
-void run(const DecompressOptions& o) {
-  if (!o.output.empty() && !o.output_flag.empty()) throw CLI::ValidationError("give OUT or -o OUT, not both");
-  std::string out = !o.output_flag.empty() ? o.output_flag : o.output;
-  if (out.empty()) out = default_output(o.input);
-  MeshFormat format = out == "-" ? MeshFormat::kObj : format_from_path(out);
-  if (format != MeshFormat::kObj && format != MeshFormat::kOff) {
-    throw Error(ErrorCode::kUnsupported, out + ": can write .obj or .off only");
-  }
-  if (same_file(o.input, out))
-    throw Error(ErrorCode::kIo, out + ": is the input file; refusing to write over it");
+void decompress_one(const Job& job, const DecompressOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  if (job.output.empty())
+    throw Error(ErrorCode::kUnsupported, job.input +
+                                             ": does not end in .qsp, so no output name can be made from it; "
+                                             "give -o NAME.obj or -c");
+  const MeshFormat format = job.output == "-" ? MeshFormat::kObj : format_from_path(job.output);
+  if (format != MeshFormat::kObj && format != MeshFormat::kOff)
+    throw Error(ErrorCode::kUnsupported, job.output + ": can write .obj or .off only");
+  struct stat st {};
+  if (job.derived && !o.force && ::lstat(job.output.c_str(), &st) == 0)
+    // x.obj.qsp -> x.obj is most likely the very mesh it came from, and the text written back differs
+    // from it byte for byte (number formatting, and the canonical order unless --keep-order).
+    throw Error(ErrorCode::kIo,
+                job.output + ": already exists (perhaps the mesh " + job.input +
+                    " was made from; decompress writes its own text, not the original bytes); "
+                    "pass -f to replace it, or " +
+                    other_ways(job));
 
-  const std::string bytes = read_file_bytes(o.input);
+  const std::string bytes = read_file_bytes(job.input);
   DecodeLimits limits;
   limits.max_vertices = o.max_vertices;
   limits.max_faces = o.max_faces;
@@ -58,27 +59,47 @@ void run(const DecompressOptions& o) {
   try {
     mesh = decode(bytes, limits);
   } catch (const Error& e) {
-    throw Error(e.code(), o.input + ": " + e.what());
+    throw Error(e.code(), job.input + ": " + e.what());
   }
-  write_file_atomic(out, format == MeshFormat::kOff ? write_off(mesh) : write_obj(mesh), o.force);
+  const std::string text = format == MeshFormat::kOff ? write_off(mesh) : write_obj(mesh);
+  write_output(job.output, text, {o.force, o.verbosity.quiet, other_ways(job)});
+  if (o.verbosity.verbose && !o.verbosity.quiet) {
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const FileInfo info = inspect(bytes, limits);
+    const int bits = geometry_bits(bytes, info);
+    const std::string kind = bits > 0 ? "quantized " + std::to_string(bits) + " bits" : "lossless";
+    std::fprintf(stderr, "qsp: %s -> %s: %zu -> %zu bytes, %zu vertices, %zu faces, %s, %s order, %.3f s\n",
+                 job.input.c_str(), job.output.c_str(), bytes.size(), text.size(), mesh.vertex_count(),
+                 mesh.face_count(), kind.c_str(), info.keep_order ? "original" : "canonical", seconds);
+  }
+}
+
+void run(const DecompressOptions& o, int& exit_code) {
+  OutputNaming naming;
+  naming.is_output_name = [](const std::string& p) {
+    const MeshFormat f = format_from_path(p);
+    return f == MeshFormat::kObj || f == MeshFormat::kOff || f == MeshFormat::kPly;
+  };
+  naming.beside = beside;
+  naming.rule = "must end in .obj or .off";
+  naming.verb = "decompress";
+  naming.stdin_name = "stdin.obj";
+  exit_code = run_jobs(o.files, naming, [&](const Job& job) { decompress_one(job, o); });
 }
 
 }  // namespace
 
 void register_decompress(CLI::App& app, int& exit_code) {
   auto opt = std::make_shared<DecompressOptions>();
-  CLI::App* sub = app.add_subcommand("decompress", "Decompress a .qsp file into a mesh (.obj or .off)");
-  sub->add_option("IN", opt->input, "Input .qsp, or - for standard input")->required();
-  sub->add_option("OUT", opt->output,
-                  "Output mesh (default: IN without .qsp, .obj added if needed; - for stdout)");
-  sub->add_option("-o,--output", opt->output_flag, "Output mesh (same as OUT)");
-  sub->add_flag("-f,--force", opt->force, "Replace OUT if it exists (never the input)");
+  CLI::App* sub = app.add_subcommand("decompress", "Decompress .qsp files into meshes (.obj or .off)");
+  add_file_args(sub, opt->files,
+                "Input .qsp files (IN without .qsp, .obj added if needed, is written beside each)",
+                "ending in .obj or .off");
+  sub->add_flag("-f,--force", opt->force, "Replace outputs that exist (never an input)");
+  add_verbosity_flags(sub, opt->verbosity);
   sub->add_option("--max-vertices", opt->max_vertices, "Refuse files declaring more vertices (default 2^26)");
   sub->add_option("--max-faces", opt->max_faces, "Refuse files declaring more faces (default 2^26)");
-  sub->callback([opt, &exit_code]() {
-    run(*opt);
-    exit_code = 0;
-  });
+  sub->callback([opt, &exit_code]() { run(*opt, exit_code); });
 }
 
 }  // namespace qsp::cli

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "files.h"
 #include "load.h"
 #include "qsp/canonical.h"
 #include "qsp/codec.h"
@@ -23,6 +24,7 @@ namespace {
 struct FingerprintOptions {
   std::vector<std::string> files;
   bool group = false;
+  std::string format;  // --format for standard input
 };
 
 // prepare_match: the canonical form, computed on a locality-friendly numbering if the file's is scrambled.
@@ -34,8 +36,7 @@ std::uint64_t mesh_fingerprint(QuadMesh mesh) {
 // returns its codes, rebuilt here into the mesh's connectivity (canonical numbering, positions left at
 // zero). The codes cannot be hashed as stored: a file may hold a greedy or merged partition (compress
 // chooses the smallest), and the fingerprint is defined on the motorcycle partition.
-std::uint64_t qsp_fingerprint(const std::string& path) {
-  const std::string bytes = read_file_bytes(path);
+std::uint64_t qsp_fingerprint(const std::string& path, const std::string& bytes) {
   try {
     const FileTopology topology = file_topology(bytes);
     QuadMesh mesh;
@@ -52,10 +53,19 @@ std::uint64_t qsp_fingerprint(const std::string& path) {
   }
 }
 
-std::uint64_t file_fingerprint(const std::string& path) {
-  if (format_from_path(path) == MeshFormat::kQsp) return qsp_fingerprint(path);
+std::uint64_t file_fingerprint(const std::string& path, MeshFormat format) {
+  std::string bytes;
   ReadReport report;
-  QuadMesh mesh = read_mesh_file(path, &report);
+  QuadMesh mesh;
+  if (read_stdin_if_unknown(path, format, bytes)) {
+    if (detect_format(bytes) == MeshFormat::kQsp) return qsp_fingerprint(path, bytes);
+    mesh = read_mesh_bytes(bytes, path, &report);
+  } else if (format_from_path(path) == MeshFormat::kQsp) {
+    refuse_folder(path);
+    return qsp_fingerprint(path, read_file_bytes(path));
+  } else {
+    mesh = read_input_mesh(path, format, &report);
+  }
   try {
     return mesh_fingerprint(std::move(mesh));
   } catch (const Error& e) {
@@ -63,18 +73,23 @@ std::uint64_t file_fingerprint(const std::string& path) {
   }
 }
 
-void run(const FingerprintOptions& o) {
-  std::vector<std::uint64_t> fp;
-  for (const auto& f : o.files) {
-    fp.push_back(file_fingerprint(f));
+// Goes on after a file that cannot be read (its error on stderr); returns the first failure's exit code.
+int run(const FingerprintOptions& o) {
+  const MeshFormat format = parse_format_option(o.format);
+  std::vector<std::uint64_t> fp(o.files.size());
+  std::vector<bool> ok(o.files.size(), false);
+  const int rc = for_each_file(o.files, [&](std::size_t i) {
+    fp[i] = file_fingerprint(o.files[i], format);
+    ok[i] = true;
     // Without --group, print as we go: one slow file does not hold back the others' lines.
-    if (!o.group) std::printf("%016" PRIx64 "  %s\n", fp.back(), f.c_str());
-  }
-  if (!o.group) return;
+    if (!o.group) std::printf("%016" PRIx64 "  %s\n", fp[i], o.files[i].c_str());
+  });
+  if (!o.group) return rc;
   // Groups in order of first appearance, files in command-line order, a blank line between groups.
   std::unordered_map<std::uint64_t, std::size_t> group_of;
   std::vector<std::vector<std::size_t>> groups;
   for (std::size_t i = 0; i < fp.size(); ++i) {
+    if (!ok[i]) continue;
     const auto [it, fresh] = group_of.try_emplace(fp[i], groups.size());
     if (fresh) groups.emplace_back();
     groups[it->second].push_back(i);
@@ -83,6 +98,7 @@ void run(const FingerprintOptions& o) {
     if (g) std::printf("\n");
     for (std::size_t i : groups[g]) std::printf("%016" PRIx64 "  %s\n", fp[i], o.files[i].c_str());
   }
+  return rc;
 }
 
 }  // namespace
@@ -96,10 +112,8 @@ void register_fingerprint(CLI::App& app, int& exit_code) {
       ->required();
   cmd->add_flag("--group", opt->group,
                 "List files with equal fingerprints together, groups separated by a blank line");
-  cmd->callback([opt, &exit_code] {
-    run(*opt);
-    exit_code = 0;
-  });
+  add_format_option(cmd, opt->format);
+  cmd->callback([opt, &exit_code] { exit_code = run(*opt); });
 }
 
 }  // namespace qsp::cli

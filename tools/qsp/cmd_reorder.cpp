@@ -7,6 +7,7 @@
 #include <string>
 
 #include "commands.h"
+#include "files.h"
 #include "load.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
@@ -18,27 +19,21 @@ namespace {
 
 struct ReorderOptions {
   std::string ref, input, output;
+  std::string format;  // --format for standard input
   std::string centering = "component";
   bool force = false;
   bool positions_only = false;
+  bool prefer_order = false;  // MatchOptions::prefer_order
 };
-
-bool same_file(const std::string& x, const std::string& y) {
-  if (x == "-" || y == "-") return false;
-  struct stat a {
-  }, b{};
-  if (::stat(x.c_str(), &a) != 0 || ::stat(y.c_str(), &b) != 0) return false;
-  return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
-}
 
 struct Read {
   QuadMesh mesh;
   ReadReport report;
 };
 
-Read read_any(const std::string& path) {
+Read read_any(const std::string& path, MeshFormat format) {
   Read out;
-  out.mesh = read_mesh_or_qsp(path, out.report);
+  out.mesh = read_mesh_or_qsp(path, out.report, format);
   return out;
 }
 
@@ -54,12 +49,13 @@ int run(const ReorderOptions& o) {
   const MeshFormat format = o.output == "-" ? MeshFormat::kObj : format_from_path(o.output);
   if (format != MeshFormat::kObj && format != MeshFormat::kOff && format != MeshFormat::kQsp)
     throw Error(ErrorCode::kUnsupported, o.output + ": can write .obj, .off or .qsp only");
-  for (const std::string* in : {&o.ref, &o.input})
-    if (same_file(*in, o.output))
-      throw Error(ErrorCode::kIo, o.output + ": is an input file; refusing to write over it");
+  if (o.ref == "-" && o.input == "-")
+    throw CLI::ValidationError("REF and IN cannot both be standard input (-)");
+  check_outputs({o.ref, o.input}, {{o.output, "-o"}});
 
-  const Read ref = read_any(o.ref);
-  const Read in = read_any(o.input);
+  const MeshFormat in_format = parse_format_option(o.format);
+  const Read ref = read_any(o.ref, in_format);
+  const Read in = read_any(o.input, in_format);
   // Only IN's data reaches OUT; REF contributes its order alone.
   if (in.report.has_extra_data()) {
     if (!o.positions_only)
@@ -73,10 +69,11 @@ int run(const ReorderOptions& o) {
   mo.centering = o.centering == "mesh"   ? Centering::kMesh
                  : o.centering == "none" ? Centering::kNone
                                          : Centering::kComponent;
+  mo.prefer_order = o.prefer_order;
   const MatchResult r = match(prepare_located(ref, o.ref), prepare_located(in, o.input), mo);
   if (!r.isomorphic) {
     std::fprintf(stderr, "qsp: %s is not isomorphic to %s: %s\n", o.input.c_str(), o.ref.c_str(),
-                 r.reason.c_str());
+                 name_meshes(r.reason, o.ref, o.input).c_str());
     return 1;
   }
   if (r.ambiguous)
@@ -108,7 +105,7 @@ int run(const ReorderOptions& o) {
   } else {
     bytes = format == MeshFormat::kOff ? write_off(out) : write_obj(out);
   }
-  write_file_atomic(o.output, bytes, o.force);
+  write_output(o.output, bytes, {o.force, false, "name another output (-o NAME)"});
   return 0;
 }
 
@@ -124,10 +121,13 @@ void register_reorder(CLI::App& app, int& exit_code) {
                   "Output .obj, .off or .qsp (keeps the order) (- = OBJ on stdout)")
       ->required();
   cmd->add_flag("-f,--force", opt->force, "Replace OUT if it exists (never an input)");
+  add_format_option(cmd, opt->format);
   cmd->add_option(
          "--centering", opt->centering,
          "Positions compared to choose among symmetric isomorphisms: component (default), mesh, none")
       ->check(CLI::IsMember({"component", "mesh", "none"}));
+  cmd->add_flag("--prefer-order", opt->prefer_order,
+                "Among equally near isomorphisms, the one keeping most vertices at their own index");
   cmd->add_flag("--positions-only", opt->positions_only,
                 "Drop IN's texture coordinates, normals, groups, ... instead of refusing");
   cmd->callback([opt, &exit_code] { exit_code = run(*opt); });

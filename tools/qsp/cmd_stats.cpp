@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "files.h"
 #include "load.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
@@ -19,6 +20,8 @@ namespace {
 struct StatsOptions {
   std::vector<std::string> files;
   bool json = false;
+  bool json_lines = false;
+  std::string format;  // --format for standard input
   bool verbose = false;
   std::string partition = "motorcycle";  // a PartitionMode name, "auto" (as compress) or "all" (a row each)
   bool sizes = false;
@@ -26,11 +29,16 @@ struct StatsOptions {
 
 struct Row {
   std::string file;
+  std::string error;      // set (and nothing else) when the file could not be read
   std::string partition;  // mode name; shown in the table when not the default
   std::uint64_t vertices = 0, edges = 0, faces = 0, components = 0, extraordinary = 0, unreferenced = 0;
   std::uint64_t sx = 0, se = 0, patches = 0;
   bool has_bytes = false;  // a .qsp, or a mesh compressed in memory (--sizes)
-  std::uint64_t total_bytes = 0, connectivity_bytes = 0, geometry_bytes = 0;
+  std::uint64_t total_bytes = 0, header_bytes = 0, connectivity_bytes = 0, geometry_bytes = 0,
+                order_bytes = 0,
+                other_bytes = 0;  // the parts add up to the total
+  bool keep_order = false;
+  int quantize_bits = -1;  // 0 lossless, 1..30 quantized; -1 unknown
   int version_major = 0, version_minor = 0, geometry_revision = 0;
   const char* geometry_order = "";  // "patch" or "layout"
   struct Comp {
@@ -41,11 +49,16 @@ struct Row {
   std::vector<Comp> comps;
 };
 
-void add_sizes(Row& r, const FileInfo& info) {
+void add_sizes(Row& r, const FileInfo& info, const std::string& bytes) {
   r.has_bytes = true;
   r.total_bytes = info.total_bytes;
+  r.header_bytes = info.header_bytes;
   r.connectivity_bytes = info.connectivity_bytes;
   r.geometry_bytes = info.geometry_bytes;
+  r.order_bytes = info.order_bytes;
+  r.other_bytes = info.other_bytes;
+  r.keep_order = info.keep_order;
+  r.quantize_bits = geometry_bits(bytes, info);
   r.version_major = info.version_major;
   r.version_minor = info.version_minor;
   r.geometry_revision = info.geometry_revision;
@@ -69,16 +82,17 @@ Row info_row(const std::string& file, const std::string& bytes, const char* part
   r.components = info.components.size();
   r.extraordinary = info.extraordinary;
   r.unreferenced = info.unreferenced;
-  r.sx = info.schematic_vertices;
-  r.se = info.schematic_edges;
-  r.patches = info.patches;
   for (const auto& c : info.components) {
     const bool closed = c.kind == ComponentKind::kAnnulus || c.kind == ComponentKind::kTorus;
     // A .qsp does not store per-component edge or extraordinary counts; those columns read 0.
     r.comps.push_back({component_kind_name(c.kind), c.vertices, 0, c.faces, 0, c.schematic_vertices,
                        c.schematic_edges, closed ? 1u : c.patches, 0});
+    // Totals as mesh_row counts them: an annulus or torus is one patch, as in every partition mode.
+    r.sx += r.comps.back().sx;
+    r.se += r.comps.back().se;
+    r.patches += r.comps.back().patches;
   }
-  add_sizes(r, info);
+  add_sizes(r, info, bytes);
   return r;
 }
 
@@ -116,7 +130,8 @@ Row mesh_row(const std::string& file, const LoadedMesh& loaded, PartitionMode mo
   if (sizes) {
     EncodeOptions eo;
     eo.partition = mode;
-    add_sizes(r, inspect(encode(mesh, eo)));
+    const std::string bytes = encode(mesh, eo);
+    add_sizes(r, inspect(bytes), bytes);
   }
   return r;
 }
@@ -140,10 +155,18 @@ std::string json_string(const std::string& s) {
   return out + "\"";
 }
 
-void print_json(const std::vector<Row>& rows, bool verbose) {
-  if (rows.size() > 1) std::printf("[\n");
+// One object per row, an array unless `lines` (then one object per line); a file that failed is
+// {"file": ..., "error": ...} in its place.
+void print_json(const std::vector<Row>& rows, bool verbose, bool lines) {
+  if (!lines) std::printf("[\n");
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const Row& r = rows[i];
+    const char* sep = lines || i + 1 == rows.size() ? "" : ",";
+    if (!r.error.empty()) {
+      std::printf("{\"file\": %s, \"error\": %s}%s\n", json_string(r.file).c_str(),
+                  json_string(r.error).c_str(), sep);
+      continue;
+    }
     std::printf(
         "{\"file\": %s, \"partition\": \"%s\", \"mesh\": {\"vertices\": %llu, \"edges\": %llu, \"faces\": "
         "%llu, \"components\": %llu, "
@@ -157,13 +180,16 @@ void print_json(const std::vector<Row>& rows, bool verbose) {
     if (r.has_bytes) {
       const double v = r.vertices ? double(r.vertices) : 1.0;
       std::printf(
-          ", \"bytes\": {\"total\": %llu, \"connectivity\": %llu, \"geometry\": %llu}, "
+          ", \"bytes\": {\"total\": %llu, \"header\": %llu, \"connectivity\": %llu, \"geometry\": %llu, "
+          "\"order\": %llu, \"other\": %llu}, "
           "\"bits_per_vertex\": {\"total\": %.4f, \"connectivity\": %.4f, \"geometry\": %.4f}, "
-          "\"format\": \"%d.%d\", \"geometry_coding\": {\"revision\": %d, \"order\": \"%s\"}",
-          (unsigned long long)r.total_bytes, (unsigned long long)r.connectivity_bytes,
-          (unsigned long long)r.geometry_bytes, 8.0 * r.total_bytes / v, 8.0 * r.connectivity_bytes / v,
-          8.0 * r.geometry_bytes / v, r.version_major, r.version_minor, r.geometry_revision,
-          r.geometry_order);
+          "\"format\": \"%d.%d\", \"geometry_coding\": {\"revision\": %d, \"order\": \"%s\"}, "
+          "\"quantize_bits\": %d, \"keep_order\": %s",
+          (unsigned long long)r.total_bytes, (unsigned long long)r.header_bytes,
+          (unsigned long long)r.connectivity_bytes, (unsigned long long)r.geometry_bytes,
+          (unsigned long long)r.order_bytes, (unsigned long long)r.other_bytes, 8.0 * r.total_bytes / v,
+          8.0 * r.connectivity_bytes / v, 8.0 * r.geometry_bytes / v, r.version_major, r.version_minor,
+          r.geometry_revision, r.geometry_order, r.quantize_bits, r.keep_order ? "true" : "false");
     }
     if (verbose) {
       std::printf(", \"components\": [");
@@ -179,20 +205,23 @@ void print_json(const std::vector<Row>& rows, bool verbose) {
       }
       std::printf("]");
     }
-    std::printf("}%s\n", i + 1 < rows.size() ? "," : "");
+    std::printf("}%s\n", sep);
   }
-  if (rows.size() > 1) std::printf("]\n");
+  if (!lines) std::printf("]\n");
 }
 
 void print_table(const std::vector<Row>& rows, bool verbose) {
+  if (std::all_of(rows.begin(), rows.end(), [](const Row& r) { return !r.error.empty(); })) return;
   int width = 5;  // the model column fits the longest name
   for (const Row& r : rows) {
+    if (!r.error.empty()) continue;
     const std::size_t n = r.file.size() + (r.partition == "motorcycle" ? 0 : r.partition.size() + 3);
     width = std::max(width, static_cast<int>(n));
   }
   std::printf("%-*s %9s %9s %9s %6s | %7s %7s %7s | %7s %7s\n", width, "model", "V", "E", "F", "xord",
               "sch.V", "sch.E", "patches", "V%", "E%");
   for (const Row& r : rows) {
+    if (!r.error.empty()) continue;  // said on stderr
     const std::string model = r.partition == "motorcycle" ? r.file : r.file + " [" + r.partition + "]";
     std::printf("%-*s %9llu %9llu %9llu %6llu | %7llu %7llu %7llu | %6.2f%% %6.2f%%\n", width, model.c_str(),
                 (unsigned long long)r.vertices, (unsigned long long)r.edges, (unsigned long long)r.faces,
@@ -201,11 +230,24 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
     if (r.has_bytes) {
       const double v = r.vertices ? double(r.vertices) : 1.0;
       std::printf(
-          "  bytes: %llu total = %llu connectivity (%.3f bits/vertex) + %llu geometry (%.2f bits/vertex)\n"
-          "  format %d.%d, geometry coding revision %d, %s order\n",
-          (unsigned long long)r.total_bytes, (unsigned long long)r.connectivity_bytes,
-          8.0 * r.connectivity_bytes / v, (unsigned long long)r.geometry_bytes, 8.0 * r.geometry_bytes / v,
-          r.version_major, r.version_minor, r.geometry_revision, r.geometry_order);
+          "  bytes: %llu total = %llu header + %llu connectivity (%.3f bits/vertex) + %llu geometry (%.2f "
+          "bits/vertex)",
+          (unsigned long long)r.total_bytes, (unsigned long long)r.header_bytes,
+          (unsigned long long)r.connectivity_bytes, 8.0 * r.connectivity_bytes / v,
+          (unsigned long long)r.geometry_bytes, 8.0 * r.geometry_bytes / v);
+      if (r.order_bytes) std::printf(" + %llu order", (unsigned long long)r.order_bytes);
+      if (r.other_bytes) std::printf(" + %llu other", (unsigned long long)r.other_bytes);
+      const std::string positions = r.quantize_bits > 0
+                                        ? "quantized to " + std::to_string(r.quantize_bits) + " bits"
+                                    : r.quantize_bits == 0 ? "lossless"
+                                                           : "positions unknown";
+      // Format 2.2 headers with geometry revision 5 or lower are what --compat 2.1 writes: 2.1 readers
+      // decode them.
+      const bool old_readers = r.version_major == 2 && r.version_minor == 2 && r.geometry_revision <= 5;
+      std::printf("\n  format %d.%d, geometry coding revision %d, %s order%s; %s, %s\n", r.version_major,
+                  r.version_minor, r.geometry_revision, r.geometry_order,
+                  old_readers ? " (2.1 readers decode it)" : "", positions.c_str(),
+                  r.keep_order ? "original order kept" : "canonical order");
     }
     if (!verbose) continue;
     for (std::size_t c = 0; c < r.comps.size(); ++c) {
@@ -225,34 +267,66 @@ void register_stats(CLI::App& app, int& exit_code) {
   CLI::App* cmd =
       app.add_subcommand("stats", "Print the paper's Table-1 row (mesh vs schematic partition) per file");
   cmd->add_option("files", opt->files, "Mesh files (.obj .off .ply) or .qsp files")->required();
-  cmd->add_flag("--json", opt->json, "One JSON object per file (an array for several files)");
+  cmd->add_flag("--json", opt->json,
+                "A JSON array: an object per row (\"relative\" in percent), {\"file\", \"error\"} for a file "
+                "that could not be read");
+  cmd->add_flag("--json-lines", opt->json_lines, "The same objects, one per line, no array");
+  add_format_option(cmd, opt->format);
   cmd->add_flag("--verbose", opt->verbose, "Add a per-component breakdown");
   cmd->add_flag("--sizes", opt->sizes, "For meshes: compress in memory and report the .qsp sizes");
   cmd->add_option("--partition", opt->partition,
                   "Partition: motorcycle (default), greedy, merge, auto (the one compress stores, with its "
                   "sizes), or all (a row each)")
       ->check(CLI::IsMember({"motorcycle", "greedy", "merge", "auto", "all"}));
-  cmd->callback([opt, &exit_code] {
+  cmd->callback([opt, cmd, &exit_code] {
+    const MeshFormat format = parse_format_option(opt->format);
     std::vector<Row> rows;
     std::vector<PartitionMode> modes;
     for (PartitionMode m : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge})
       if (opt->partition == "all" || opt->partition == partition_mode_name(m)) modes.push_back(m);
-    for (const auto& f : opt->files) {
-      if (format_from_path(f) == MeshFormat::kQsp) {
-        rows.push_back(info_row(f, read_file_bytes(f), "stored"));
-        continue;
-      }
-      const LoadedMesh loaded = load_mesh(f);
+    const bool partition_given = cmd->count("--partition") > 0;
+    const auto add_mesh_rows = [&](const std::string& f, const LoadedMesh& loaded) {
       for (PartitionMode m : modes) rows.push_back(mesh_row(f, loaded, m, opt->sizes));
       // What `qsp compress` would write (default options): its partition and sizes, from the bytes.
       if (opt->partition == "auto" || opt->partition == "all")
         rows.push_back(info_row(f, encode(loaded.mesh), "auto"));
-    }
-    if (opt->json)
-      print_json(rows, opt->verbose);
+    };
+    std::size_t file_start = 0;  // rows of the file being read: dropped if it fails part-way
+    const auto one = [&](std::size_t i) {
+      file_start = rows.size();
+      const std::string& f = opt->files[i];
+      std::string bytes;
+      const bool from_stdin = read_stdin_if_unknown(f, format, bytes);
+      if (from_stdin ? detect_format(bytes) == MeshFormat::kQsp : format_from_path(f) == MeshFormat::kQsp) {
+        refuse_folder(f);
+        if (!from_stdin) bytes = read_file_bytes(f);
+        rows.push_back(info_row(f, bytes, "stored"));
+        if (!partition_given) return;
+        // --partition asks for partitions the file does not store: decode it and compute them.
+        LoadedMesh loaded;
+        try {
+          loaded.mesh = decode(bytes);
+        } catch (const Error& e) {
+          throw Error(e.code(), f + ": " + e.what());
+        }
+        loaded.adjacency = build_adjacency(loaded.mesh);
+        add_mesh_rows(f, loaded);
+        return;
+      }
+      add_mesh_rows(f, from_stdin ? load_mesh_bytes(bytes, f) : load_mesh(f, format));
+    };
+    const auto failed = [&](std::size_t i, const std::string& message) {
+      rows.resize(file_start);
+      Row r;
+      r.file = opt->files[i];
+      r.error = message;
+      rows.push_back(r);
+    };
+    exit_code = for_each_file(opt->files, one, failed);
+    if (opt->json || opt->json_lines)
+      print_json(rows, opt->verbose, opt->json_lines);
     else
       print_table(rows, opt->verbose);
-    exit_code = 0;
   });
 }
 

@@ -1,5 +1,6 @@
 #include "load.h"
 
+#include "files.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 
@@ -13,9 +14,18 @@ void rethrow_located(const Error& e, const std::string& path, const ReadReport& 
   throw e;
 }
 
-QuadMesh read_mesh_or_qsp(const std::string& path, ReadReport& report) {
-  if (format_from_path(path) != MeshFormat::kQsp) return read_mesh_file(path, &report);
-  const std::string bytes = read_file_bytes(path);
+QuadMesh read_mesh_or_qsp(const std::string& path, ReadReport& report, MeshFormat format) {
+  refuse_folder(path);
+  format = format_for(path, format);
+  std::string bytes;
+  if (read_stdin_if_unknown(path, format, bytes)) {
+    // Standard input may be a .qsp too: read once, then look.
+    if (detect_format(bytes) != MeshFormat::kQsp) return read_mesh_bytes(bytes, path, &report);
+  } else if (format != MeshFormat::kUnknown || format_from_path(path) != MeshFormat::kQsp) {
+    return read_input_mesh(path, format, &report);
+  } else {
+    bytes = read_file_bytes(path);
+  }
   try {
     return decode(bytes);
   } catch (const Error& e) {
@@ -23,15 +33,53 @@ QuadMesh read_mesh_or_qsp(const std::string& path, ReadReport& report) {
   }
 }
 
-LoadedMesh load_mesh(const std::string& path) {
-  LoadedMesh out;
-  out.mesh = read_mesh_file(path, &out.report);
+namespace {
+
+LoadedMesh with_adjacency(LoadedMesh out, const std::string& path) {
   try {
     out.adjacency = build_adjacency(out.mesh);
   } catch (const Error& e) {
     rethrow_located(e, path, out.report);
   }
   return out;
+}
+
+}  // namespace
+
+LoadedMesh load_mesh(const std::string& path, MeshFormat format) {
+  LoadedMesh out;
+  out.mesh = read_input_mesh(path, format, &out.report);
+  return with_adjacency(std::move(out), path);
+}
+
+LoadedMesh load_mesh_bytes(std::string_view bytes, const std::string& path) {
+  LoadedMesh out;
+  out.mesh = read_mesh_bytes(bytes, path, &out.report);
+  return with_adjacency(std::move(out), path);
+}
+
+// The geometry section's `bits` field (format-spec "Geometry", Layout): after the tag, the section
+// length, the revision byte and, up to revision 3, the vertex count. -1 if not found; `bytes` has been
+// checked by inspect(), this only reads what it already accepted.
+int geometry_bits(const std::string& bytes, const FileInfo& info) {
+  const auto varint_end = [&](std::size_t at) {
+    while (at < bytes.size() && (static_cast<unsigned char>(bytes[at]) & 0x80)) ++at;
+    return at + 1;
+  };
+  for (const SectionInfo& s : info.sections) {
+    if (s.tag != 0x03) continue;  // geometry
+    std::size_t at = varint_end(s.offset + 1);
+    const int revision = at < bytes.size() ? static_cast<unsigned char>(bytes[at]) : 0;
+    at = revision <= 3 ? varint_end(at + 1) : at + 1;
+    return at < bytes.size() ? static_cast<unsigned char>(bytes[at]) : -1;
+  }
+  return -1;
+}
+
+bool read_stdin_if_unknown(const std::string& path, MeshFormat format, std::string& bytes) {
+  if (path != "-" || format != MeshFormat::kUnknown) return false;
+  bytes = read_file_bytes(path);
+  return true;
 }
 
 }  // namespace qsp::cli

@@ -1,11 +1,14 @@
 // qsp command-line entry: parses, runs one subcommand, maps qsp::Error to an exit code in one place.
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <string>
+#include <vector>
 
 #include "commands.h"
+#include "files.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
@@ -13,18 +16,37 @@
 
 namespace {
 
-// Exit codes (documented in README.md): 0 ok, 1 bad input or refused, 2 usage, 3 I/O, 4 internal.
-int exit_code_for(qsp::ErrorCode code) {
-  switch (code) {
-    case qsp::ErrorCode::kUsage:
-      return 2;
-    case qsp::ErrorCode::kIo:
-      return 3;
-    case qsp::ErrorCode::kInternal:
-      return 4;
-    default:
-      return 1;
+// After a usage error: the subcommand or option the user probably meant, or "" when nothing is near.
+std::string suggestion(CLI::App& app, int argc, char** argv) {
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+  int i = 1;
+  while (i < argc && argv[i][0] == '-') ++i;
+  if (i == argc) return "";
+  CLI::App* sub = nullptr;
+  for (CLI::App* s : app.get_subcommands({}))
+    if (s->get_name() == argv[i]) sub = s;
+  if (!sub) {
+    const std::string near = qsp::cli::nearest(argv[i], names);
+    return std::string("'") + argv[i] + "' is not a subcommand" +
+           (near.empty() ? "" : "; did you mean " + near + "?") + " (qsp --help lists them)";
   }
+  std::vector<std::string> options;
+  for (const CLI::Option* opt : sub->get_options()) {
+    for (const std::string& n : opt->get_lnames()) options.push_back("--" + n);
+  }
+  for (int k = i + 1; k < argc; ++k) {
+    std::string word = argv[k];
+    if (word == "--") break;
+    if (word.rfind("--", 0) != 0) continue;
+    word = word.substr(0, word.find('='));
+    if (std::find(options.begin(), options.end(), word) != options.end()) continue;
+    const std::string near = qsp::cli::nearest(word, options);
+    return word + " is not an option of qsp " + sub->get_name() +
+           (near.empty() ? "" : "; did you mean " + near + "?") + " (qsp " + sub->get_name() +
+           " --help lists them)";
+  }
+  return "";
 }
 
 }  // namespace
@@ -51,11 +73,19 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    const std::string hint = e.get_exit_code() == 0 ? "" : suggestion(app, argc, argv);
+    if (hint.find("is not a subcommand") != std::string::npos) {
+      // CLI11 would say "A subcommand is required", which is not what went wrong.
+      std::fprintf(stderr, "qsp: error: %s\n", hint.c_str());
+      return 2;
+    }
     int rc = app.exit(e);
-    return rc == 0 ? 0 : 2;
+    if (rc == 0) return 0;
+    if (!hint.empty()) std::fprintf(stderr, "qsp: %s\n", hint.c_str());
+    return 2;
   } catch (const qsp::Error& e) {
     std::fprintf(stderr, "qsp: error: %s\n", e.what());
-    return exit_code_for(e.code());
+    return qsp::cli::exit_code_for(e.code());
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "qsp: error: out of memory\n");
     return 4;

@@ -1,0 +1,234 @@
+// What `qsp stats` says about a .qsp and what `qsp match` reports, end to end: lossless or quantized,
+// order kept, bytes that add up, the same patch counts in every mode; mirror matches on request and a
+// hint otherwise; isomorphism counts beyond 64 bits printed readably.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "qsp/io.h"
+#include "support/cli.h"
+
+namespace qsp {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::quote;
+using testing::run_qsp;
+using testing::slurp;
+
+const std::string kData = QSP_TESTDATA_DIR;
+
+class CliReport : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::path(::testing::TempDir()) / ("qsp_report_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string p(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+// The numbers of "bytes: T total = H header + C connectivity (...) + G geometry (...)[ + O order]".
+std::vector<std::uint64_t> byte_parts(const std::string& out) {
+  std::smatch m;
+  static const std::regex re(
+      R"(bytes: (\d+) total = (\d+) header \+ (\d+) connectivity \([^)]*\) \+ (\d+) geometry \([^)]*\)(?: \+ (\d+) order)?)");
+  if (!std::regex_search(out, m, re)) return {};
+  std::vector<std::uint64_t> v;
+  for (int i = 1; i <= 5; ++i) v.push_back(m[i].matched ? std::stoull(m[i].str()) : 0);
+  return v;
+}
+
+TEST_F(CliReport, StatsOnAQspSaysWhatItHoldsAndItsBytesAddUp) {
+  const std::string mesh = kData + "/keenan_spot_quadrangulated.obj";
+  struct Case {
+    std::string options, says;
+  };
+  for (const Case& c :
+       {Case{"", "lossless, canonical order"}, Case{"--quantize 12", "quantized to 12 bits, canonical order"},
+        Case{"--quantize 14 --keep-order", "quantized to 14 bits, original order kept"},
+        Case{"--keep-order --compat 2.1", "(2.1 readers decode it); lossless, original order kept"}}) {
+    SCOPED_TRACE(c.options);
+    const std::string q = p("x.qsp");
+    ASSERT_EQ(run_qsp("compress -f -q --positions-only " + c.options + " " + quote(mesh) + " " + quote(q))
+                  .exit_code,
+              0);
+    auto r = run_qsp("stats " + quote(q));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find(c.says), std::string::npos) << r.out;
+    const auto parts = byte_parts(r.out);
+    ASSERT_EQ(parts.size(), 5u) << r.out;
+    EXPECT_EQ(parts[0], fs::file_size(q));
+    EXPECT_EQ(parts[0], parts[1] + parts[2] + parts[3] + parts[4]) << r.out;
+    EXPECT_EQ(parts[4] > 0, c.options.find("--keep-order") != std::string::npos) << r.out;
+    r = run_qsp("stats --json " + quote(q));
+    const std::string bits =
+        c.options.find("--quantize") == std::string::npos ? "0" : c.options.substr(11, 2);
+    EXPECT_NE(r.out.find("\"quantize_bits\": " + bits + ","), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\"header\": " + std::to_string(parts[1]) + ", \"connectivity\": " +
+                         std::to_string(parts[2]) + ", \"geometry\": " + std::to_string(parts[3]) +
+                         ", \"order\": " + std::to_string(parts[4]) + ", \"other\": 0}"),
+              std::string::npos)
+        << r.out;
+  }
+}
+
+// Every golden .qsp, of every format version: the parts add up to the file's size, and the precision is
+// the one its name says (the *_q14 goldens are quantized to 14 bits, the others lossless).
+TEST_F(CliReport, EveryGoldenFilesBytesAddUpAndNameItsPrecision) {
+  int n = 0;
+  for (const auto& e : fs::recursive_directory_iterator(kData + "/golden")) {
+    if (e.path().extension() != ".qsp") continue;
+    SCOPED_TRACE(e.path().string());
+    const auto r = run_qsp("stats " + quote(e.path().string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto parts = byte_parts(r.out);
+    ASSERT_EQ(parts.size(), 5u) << r.out;
+    EXPECT_EQ(parts[0], fs::file_size(e.path()));
+    EXPECT_EQ(parts[0], parts[1] + parts[2] + parts[3] + parts[4]) << r.out;
+    const bool q14 = e.path().filename().string().find("_q14") != std::string::npos;
+    EXPECT_NE(r.out.find(q14 ? "; quantized to 14 bits, " : "; lossless, "), std::string::npos) << r.out;
+    ++n;
+  }
+  EXPECT_GT(n, 40);
+}
+
+// A torus is one patch in every partition mode, in the stored row too; --partition on a .qsp decodes it
+// and computes the rows asked for.
+TEST_F(CliReport, CountsAgreeAcrossModesAndPartitionRecomputesOnAQsp) {
+  const std::string mesh = kData + "/torus_twist_9x6_t2.obj";
+  const std::string q = p("t.qsp");
+  ASSERT_EQ(run_qsp("compress " + quote(mesh) + " " + quote(q)).exit_code, 0);
+  auto r = run_qsp("stats --partition all " + quote(mesh) + " " + quote(q));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::string line;
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    if (line.find(" | ") == std::string::npos || line.rfind("model", 0) == 0) continue;
+    ++rows;
+    EXPECT_NE(line.find("|       0       0       1 |"), std::string::npos) << line;
+  }
+  EXPECT_EQ(rows, 2 * 4 + 1) << r.out;  // mesh: 3 modes + auto; .qsp: stored + 3 modes + auto
+  EXPECT_NE(r.out.find(q + " [stored]"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(q + " [greedy]"), std::string::npos) << r.out;
+  r = run_qsp("stats " + quote(q));
+  EXPECT_EQ(r.out.find("[greedy]"), std::string::npos) << r.out;  // without --partition: the stored row only
+}
+
+// A flat L with arms of 6 and 3 cells: no mirror symmetry, so reversing its faces gives a mesh that is
+// only isomorphic to it by an orientation-reversing map.
+std::string chiral_obj(bool reversed) {
+  std::string obj;
+  for (int y = 0; y <= 4; ++y)
+    for (int x = 0; x <= 6; ++x) obj += "v " + std::to_string(x) + " " + std::to_string(y) + " 0\n";
+  const auto id = [](int x, int y) { return std::to_string(1 + y * 7 + x); };  // OBJ counts from 1
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 6; ++x) {
+      if (!(y == 0 || x == 0)) continue;
+      if (x == 0 && y == 3) continue;
+      const std::string corners[4] = {id(x, y), id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)};
+      obj += "f";
+      for (int k = 0; k < 4; ++k) {
+        obj += ' ';
+        obj += corners[reversed ? (4 - k) % 4 : k];
+      }
+      obj += '\n';
+    }
+  return obj;
+}
+
+TEST_F(CliReport, MatchAcceptsMirrorsOnlyWhenAskedAndSaysWhichKind) {
+  std::ofstream(p("l.obj")) << chiral_obj(false);
+  std::ofstream(p("l_flipped.obj")) << chiral_obj(true);
+  auto r =
+      run_qsp("match " + quote(p("l.obj")) + " " + quote(p("l_flipped.obj")) + " -o " + quote(p("map.txt")));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("not isomorphic"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(p("l_flipped.obj") + " is " + p("l.obj") + " with every face reversed"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("pass --allow-mirror"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(p("map.txt")));
+  r = run_qsp("match --allow-mirror " + quote(p("l.obj")) + " " + quote(p("l_flipped.obj")) + " -o " +
+              quote(p("map.txt")) + " --faces " + quote(p("faces.txt")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("isomorphic (orientation-reversing"), std::string::npos) << r.out;
+  // The maps are a true orientation-reversing isomorphism: A's corner c of face f is vertex
+  // map[A.quads[f][c]] = B.quads[G][(R - c) % 4].
+  const QuadMesh a = read_mesh_file(p("l.obj")), b = read_mesh_file(p("l_flipped.obj"));
+  std::istringstream vm(slurp(p("map.txt"))), fm(slurp(p("faces.txt")));
+  std::vector<std::uint32_t> map(a.vertex_count());
+  for (auto& v : map) vm >> v;
+  for (std::size_t f = 0; f < a.face_count(); ++f) {
+    std::uint32_t g = 0, rot = 0;
+    ASSERT_TRUE(fm >> g >> rot);
+    for (std::uint32_t c = 0; c < 4; ++c)
+      EXPECT_EQ(map[a.quads[4 * f + c]], b.quads[4 * std::size_t(g) + ((rot + 4 - c) & 3u)]) << f << " " << c;
+  }
+  // An orientation-preserving match is still reported as such with the flag.
+  r = run_qsp("match --allow-mirror " + quote(p("l.obj")) + " " + quote(p("l.obj")));
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.out.find("orientation-reversing"), std::string::npos) << r.out;
+}
+
+// A cube with every vertex at one point: all 24 isomorphisms are equally near. --prefer-order takes the
+// identity, and the choice is then not ambiguous.
+TEST_F(CliReport, PreferOrderKeepsTheIdentityAmongEquallyNearIsomorphisms) {
+  const QuadMesh cube = read_mesh_file(kData + "/cube_4.obj");
+  std::ostringstream obj;
+  for (std::size_t v = 0; v < cube.vertex_count(); ++v) obj << "v 0 0 0\n";
+  for (std::size_t f = 0; f < cube.face_count(); ++f)
+    obj << "f " << 1 + cube.quads[4 * f] << " " << 1 + cube.quads[4 * f + 1] << " "
+        << 1 + cube.quads[4 * f + 2] << " " << 1 + cube.quads[4 * f + 3] << "\n";
+  std::ofstream(p("point.obj")) << obj.str();
+  auto r = run_qsp("match " + quote(p("point.obj")) + " " + quote(p("point.obj")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("ambiguous"), std::string::npos) << r.out;
+  r = run_qsp("match --prefer-order " + quote(p("point.obj")) + " " + quote(p("point.obj")) + " -o " +
+              quote(p("map.txt")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.find("ambiguous"), std::string::npos) << r.out;
+  std::istringstream map(slurp(p("map.txt")));
+  std::uint32_t v = 0, i = 0;
+  for (; map >> v; ++i) EXPECT_EQ(v, i);
+  EXPECT_EQ(i, cube.vertex_count());
+  r = run_qsp("reorder --prefer-order --like " + quote(p("point.obj")) + " " + quote(p("point.obj")) +
+              " -o " + quote(p("same.obj")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");  // no "ambiguous" warning
+  EXPECT_EQ(read_mesh_file(p("same.obj")).quads, cube.quads);
+}
+
+// 30 copies of a cube: 24^30 * 30! isomorphisms, about 2^245.3 -- not UINT64_MAX.
+TEST_F(CliReport, HugeIsomorphismCountsArePrintedReadably) {
+  const QuadMesh cube = read_mesh_file(kData + "/cube_4.obj");
+  std::ostringstream obj;
+  for (int k = 0; k < 30; ++k)
+    for (std::size_t v = 0; v < cube.vertex_count(); ++v)
+      obj << "v " << cube.positions[3 * v] + 10.0f * k << " " << cube.positions[3 * v + 1] << " "
+          << cube.positions[3 * v + 2] << "\n";
+  for (int k = 0; k < 30; ++k)
+    for (std::size_t f = 0; f < cube.face_count(); ++f) {
+      obj << "f";
+      for (int c = 0; c < 4; ++c) obj << " " << 1 + k * cube.vertex_count() + cube.quads[4 * f + c];
+      obj << "\n";
+    }
+  std::ofstream(p("cubes.obj")) << obj.str();
+  auto r = run_qsp("match " + quote(p("cubes.obj")) + " " + quote(p("cubes.obj")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("about 2^245.3 (6.8e73) isomorphisms"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("18446744073709551615"), std::string::npos) << r.out;
+  r = run_qsp("match " + quote(kData + "/cube_4.obj") + " " + quote(kData + "/cube_4.obj"));
+  EXPECT_NE(r.out.find("isomorphic: 24 isomorphisms"), std::string::npos) << r.out;  // exact when it fits
+}
+
+}  // namespace
+}  // namespace qsp
