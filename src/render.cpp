@@ -123,18 +123,20 @@ struct Raster {
     if (x0 > x1 || y0 > y1) return;
     const float inv = 1.0f / area;
     const float za = p.z[a], zb = p.z[b], zc = p.z[c];
+    // Barycentric weights, normalised by the signed area so both windings are filled; stepped along
+    // each row (the same order every run, so the same bytes).
+    const float dwa = (by - cy) * inv, dwb = (cy - ay) * inv;
     for (int y = y0; y <= y1; ++y) {
-      const float py = static_cast<float>(y) + 0.5f;
-      for (int x = x0; x <= x1; ++x) {
-        const float px = static_cast<float>(x) + 0.5f;
-        // Barycentric weights, normalised so both windings are filled.
-        const float wa = ((bx - px) * (cy - py) - (by - py) * (cx - px)) * inv;
-        const float wb = ((cx - px) * (ay - py) - (cy - py) * (ax - px)) * inv;
+      const float py = static_cast<float>(y) + 0.5f, px = static_cast<float>(x0) + 0.5f;
+      float wa = ((bx - px) * (cy - py) - (by - py) * (cx - px)) * inv;
+      float wb = ((cx - px) * (ay - py) - (cy - py) * (ax - px)) * inv;
+      float* row_depth = depth.data() + static_cast<std::size_t>(y) * w;
+      std::uint32_t* row_face = face.data() + static_cast<std::size_t>(y) * w;
+      for (int x = x0; x <= x1; ++x, wa += dwa, wb += dwb) {
         const float wc = 1.0f - wa - wb;
         if (wa < 0 || wb < 0 || wc < 0) continue;
-        const float z = wa * za + wb * zb + wc * zc;
-        const std::size_t i = static_cast<std::size_t>(y) * w + x;
-        if (z > depth[i]) depth[i] = z, face[i] = f;
+        const float z = za + wb * (zb - za) + wc * (zc - za);
+        if (z > row_depth[x]) row_depth[x] = z, row_face[x] = f;
       }
     }
   }
@@ -195,7 +197,7 @@ struct Sizes {
 };
 Sizes sizes_for(const RenderOptions& o) {
   const float s = static_cast<float>(std::min(o.width, o.height)) / 1024.0f;
-  return {std::max(0.6f, 0.9f * s), std::max(1.5f, 2.8f * s), std::max(1.5f, 2.6f * s)};
+  return {std::max(0.6f, 0.9f * s), std::max(1.5f, 2.6f * s), std::max(1.5f, 2.6f * s)};
 }
 
 }  // namespace
@@ -234,7 +236,10 @@ Image render_image(const QuadMesh& mesh, const PatchView& view, const RenderOpti
     for (std::uint32_t k = view.edge_first[e]; k + 1 < view.edge_first[e + 1]; ++k)
       r.segment(p, view.edge_path[k], view.edge_path[k + 1], sz.line * kSuper, tol, &kLine, nullptr);
   for (std::uint32_t v : view.t_junctions) r.mark(p, v, sz.tee * kSuper, tol, true, kTee);
-  for (std::uint32_t v : view.extraordinary) r.mark(p, v, sz.dot * kSuper, tol, false, kDot);
+  for (std::uint32_t v : view.extraordinary) {  // a light ring sets the dot off from the lines
+    r.mark(p, v, sz.dot * kSuper * 1.5f, tol, false, kBackground);
+    r.mark(p, v, sz.dot * kSuper, tol, false, kDot);
+  }
 
   Image img;
   img.width = o.width;
@@ -372,8 +377,8 @@ std::string render_svg(const QuadMesh& mesh, const Adjacency& adj, const PatchVi
   out += buf;
   std::snprintf(buf, sizeof buf,
                 "<style>.s{fill:none;stroke:#1e1e22;stroke-width:%.2f;stroke-linecap:round}"
-                ".x{fill:#141414}.t{fill:#d21e1e}</style>\n",
-                2 * sz.line);
+                ".x{fill:#141414;stroke:#ffffff;stroke-width:%.2f}.t{fill:#d21e1e}</style>\n",
+                2 * sz.line, sz.dot);
   out += buf;
   out += "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n<g stroke-linejoin=\"round\">\n";
   std::size_t next_item = 0;
