@@ -16,6 +16,7 @@
 #include "qsp/io.h"
 #include "qsp/smaller.h"
 #include "support/cli.h"
+#include "support/mesh_gen.h"
 #include "support/png.h"
 
 namespace qsp {
@@ -24,13 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::quote;
 using testing::run_qsp;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
+using testing::slurp;
 
 class CliShow : public ::testing::Test {
  protected:
@@ -159,6 +154,17 @@ TEST_F(CliShow, BadArgumentsFailCleanly) {
   EXPECT_FALSE(fs::exists(out)) << "no output on failure";
   EXPECT_EQ(run_qsp("layout " + quote(kSpot)).exit_code, 2) << "needs an output";
   EXPECT_EQ(run_qsp("layout " + quote(kSpot) + " -o " + quote(tmp("x.ply"))).exit_code, 2);
+}
+
+TEST_F(CliShow, SvgRefusesBeyondItsFaceLimit) {
+  const std::string in = tmp("grid.obj"), out = tmp("grid.svg");
+  write_file_atomic(in, write_obj(testing::grid(320, 320)), true);  // 102400 faces
+  const auto r = run_qsp("show " + quote(in) + " -o " + quote(out));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("at most 100000 faces"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(".png"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(run_qsp("show " + quote(in) + " -o " + quote(tmp("grid.png")) + " --size 64x64").exit_code, 0);
 }
 
 // Mesh faces as sorted vertex lists, for comparing face sets across files.

@@ -79,26 +79,7 @@ void check_view(const QuadMesh& m, const Adjacency& adj, PartitionMode mode) {
   for (std::uint32_t x : v.t_junctions) EXPECT_EQ(adj.deficiency(x), 0);
 }
 
-TEST(Render, ViewCoversTheMeshOnEveryCorpusMesh) {
-  for (const auto& path : testing::corpus()) {
-    SCOPED_TRACE(path.string());
-    QuadMesh m;
-    Adjacency adj;
-    try {
-      m = read_mesh_file(path.string());
-      adj = build_adjacency(m);
-    } catch (const Error& e) {
-      EXPECT_NE(e.code(), ErrorCode::kInternal) << e.what();
-      continue;
-    }
-    for (PartitionMode mode : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
-      SCOPED_TRACE(partition_mode_name(mode));
-      check_view(m, adj, mode);
-    }
-  }
-}
-
-TEST(Render, PngDecodesToTheImageOnEveryCorpusMesh) {
+TEST(Render, ViewAndPngOnEveryCorpusMesh) {
   RenderOptions o;
   o.width = 96;
   o.height = 64;
@@ -108,11 +89,10 @@ TEST(Render, PngDecodesToTheImageOnEveryCorpusMesh) {
     SCOPED_TRACE(path.string());
     QuadMesh m;
     Adjacency adj;
-    try {
-      m = read_mesh_file(path.string());
-      adj = build_adjacency(m);
-    } catch (const Error&) {
-      continue;
+    if (!testing::load_valid(path, m, adj)) continue;
+    for (PartitionMode mode : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
+      SCOPED_TRACE(partition_mode_name(mode));
+      check_view(m, adj, mode);
     }
     const PatchView v = view_of(m, adj, PartitionMode::kMotorcycle);
     const Image img = render_image(m, v, o);

@@ -2,6 +2,8 @@
 // and their NAME.expect sidecars.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -9,7 +11,24 @@
 #include <string>
 #include <vector>
 
+#include "qsp/error.h"
+#include "qsp/io.h"
+#include "qsp/mesh.h"
+
 namespace qsp::testing {
+
+// Reads a corpus mesh and its adjacency; false for a mesh qsp refuses (non-quads, non-manifold),
+// which must be refused with a clear error, never an internal one.
+inline bool load_valid(const std::filesystem::path& path, QuadMesh& mesh, Adjacency& adj) {
+  try {
+    mesh = read_mesh_file(path.string());
+    adj = build_adjacency(mesh);
+    return true;
+  } catch (const Error& e) {
+    if (e.code() == ErrorCode::kInternal) ADD_FAILURE() << path << ": " << e.what();
+    return false;
+  }
+}
 
 inline std::vector<std::filesystem::path> corpus() {
   namespace fs = std::filesystem;
