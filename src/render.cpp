@@ -378,7 +378,7 @@ std::string render_svg(const QuadMesh& mesh, const Adjacency& adj, const PatchVi
   std::snprintf(buf, sizeof buf,
                 "<style>.s{fill:none;stroke:#1e1e22;stroke-width:%.2f;stroke-linecap:round}"
                 ".x{fill:#141414;stroke:#ffffff;stroke-width:%.2f}.t{fill:#d21e1e}</style>\n",
-                2 * sz.line, sz.dot);
+                2 * sz.line, 0.5f * sz.dot);
   out += buf;
   out += "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n<g stroke-linejoin=\"round\">\n";
   std::size_t next_item = 0;
@@ -405,7 +405,7 @@ std::string render_svg(const QuadMesh& mesh, const Adjacency& adj, const PatchVi
                       p.y[it.a], p.x[it.b], p.y[it.b]);
       } else if (it.kind == 1) {
         std::snprintf(buf, sizeof buf, "<circle class=\"x\" cx=\"%.1f\" cy=\"%.1f\" r=\"%.1f\"/>\n",
-                      p.x[it.a], p.y[it.a], sz.dot);
+                      p.x[it.a], p.y[it.a], 1.2f * sz.dot);
       } else {
         std::snprintf(buf, sizeof buf,
                       "<rect class=\"t\" x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\"/>\n",
