@@ -17,7 +17,9 @@
 namespace qsp {
 namespace {
 
-constexpr int kSuper = 2;         // raster samples per pixel side
+// Raster samples per pixel side: 2 (anti-aliased) up to this many pixels, 1 beyond, so the buffers
+// (11 bytes a sample) stay within a few hundred MB at kMaxRenderSide.
+constexpr std::uint64_t kSuperPixels = std::uint64_t{1} << 24;
 constexpr float kMargin = 0.04f;  // picture border left free, per side
 constexpr std::array<std::uint8_t, 3> kLine = {30, 30, 34};
 constexpr std::array<std::uint8_t, 3> kDot = {20, 20, 20};
@@ -204,6 +206,7 @@ Sizes sizes_for(const RenderOptions& o) {
 
 Image render_image(const QuadMesh& mesh, const PatchView& view, const RenderOptions& o) {
   check_size(o);
+  const int kSuper = std::uint64_t{o.width} * o.height <= kSuperPixels ? 2 : 1;
   const Projection p = project(mesh, o, kSuper);
   const auto colour = face_colours(mesh, view, p);
   Raster r;

@@ -26,8 +26,8 @@ struct PatchView {
   std::vector<std::uint32_t> edge_first;  // per schematic edge e: its path is edge_path[first[e], first[e+1])
   std::vector<std::uint32_t> edge_path;   // mesh vertices of all paths
   std::vector<std::uint32_t> extraordinary;  // mesh vertices, in schematic order
-  std::vector<std::uint32_t> t_junctions;    // schematic vertices of mesh deficiency 0 that lie on a
-                                             // patch side without being its corner (a particle's stop)
+  std::vector<std::uint32_t> t_junctions;    // mesh vertices: schematic vertices of deficiency 0 on a
+                                             // patch side but not its corner (where a particle stopped)
   std::uint32_t edge_count() const { return static_cast<std::uint32_t>(edge_first.size()) - 1; }
 };
 

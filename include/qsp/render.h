@@ -21,7 +21,7 @@ struct RenderOptions {
   bool grid = false;  // also draw every mesh edge (thin, darker than the face)
 };
 
-inline constexpr std::uint32_t kMaxRenderSide = 16384;
+inline constexpr std::uint32_t kMaxRenderSide = 8192;
 // SVG holds a path per face; beyond this many faces the file is too large to be useful.
 inline constexpr std::uint64_t kMaxSvgFaces = 100000;
 
@@ -32,7 +32,8 @@ struct Image {
 
 // The mesh flat-shaded with each face in its patch's colour (view.patch_colour through
 // patch_palette), the schematic edges as dark lines, extraordinary vertices as dark dots, T-junctions
-// as red squares, hidden parts hidden (drawn at twice the size and averaged down). `view` must be
+// as red squares, hidden parts hidden (drawn at twice the size and averaged down, up to 2^24
+// pixels). `view` must be
 // view_partition() of this mesh. Throws Error(kLimit) for a size of 0 or beyond kMaxRenderSide.
 // Deterministic (one thread, integer-exact resolve). Safe on any mesh build_adjacency accepted.
 Image render_image(const QuadMesh& mesh, const PatchView& view, const RenderOptions& options);
