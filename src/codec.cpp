@@ -689,6 +689,14 @@ FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits) {
   return {std::move(p.codes), p.counts.unreferenced};
 }
 
+OrderMap file_order(std::string_view bytes, const DecodeLimits& limits) {
+  const Parsed p = parse_container(bytes, limits);
+  if (!p.order) return {};
+  return decode_order(p.order->payload, p.order->payload_offset,
+                      static_cast<std::uint32_t>(p.counts.vertices),
+                      static_cast<std::uint32_t>(p.counts.faces), stream_ends(p));
+}
+
 FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
   Parsed p = parse_container(bytes, limits);
   decode_components(p);

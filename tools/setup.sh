@@ -2,7 +2,7 @@
 # Installs what qsp needs to build and test, from Debian's packages. Idempotent; quick when all is there.
 # Usage: tools/setup.sh [--bench]   (--bench adds the tools the comparison benchmarks run)
 set -euo pipefail
-pkgs=(cmake ninja-build g++ pkg-config libopenmesh-dev libcli11-dev libzstd-dev libxxhash-dev
+pkgs=(cmake ninja-build g++ pkg-config libopenmesh-dev libcli11-dev libzstd-dev libxxhash-dev zlib1g-dev
       libgtest-dev libgmock-dev libbenchmark-dev python3)
 if [[ "${1:-}" == "--bench" ]]; then
   pkgs+=(draco libmeshoptimizer-dev bliss zstd xz-utils hyperfine time)

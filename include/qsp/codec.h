@@ -144,6 +144,11 @@ struct FileTopology {
 };
 FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits = {});
 
+// The keep-order permutations a .qsp stores, as encode() wrote them (empty vectors when the file has
+// no order section): with them, decode()'s numbering can be related to the canonical layout's. Checks
+// as inspect() does; same errors as decode(). Safe on untrusted input.
+OrderMap file_order(std::string_view bytes, const DecodeLimits& limits = {});
+
 // ---- Building blocks (exposed for tests and tools) ----
 
 // Entropy-codes the connectivity of `codes` (canonical order) into the topology section's payload

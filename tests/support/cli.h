@@ -15,6 +15,14 @@ struct CliResult {
   std::string out, err;
 };
 
+// A whole file's bytes (empty if it cannot be read).
+inline std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
 // Runs `qsp ARGS` through the shell (ARGS must be shell-quoted by the caller).
 inline CliResult run_qsp(const std::string& args) {
   static int counter = 0;
@@ -25,12 +33,6 @@ inline CliResult run_qsp(const std::string& args) {
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  auto slurp = [](const std::string& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-  };
   r.out = slurp(base + ".out");
   r.err = slurp(base + ".err");
   std::remove((base + ".out").c_str());

@@ -14,5 +14,7 @@ void register_decompress(CLI::App& app, int& exit_code);
 void register_match(CLI::App& app, int& exit_code);
 void register_fingerprint(CLI::App& app, int& exit_code);
 void register_reorder(CLI::App& app, int& exit_code);
+void register_show(CLI::App& app, int& exit_code);
+void register_layout(CLI::App& app, int& exit_code);
 
 }  // namespace qsp::cli

@@ -70,6 +70,8 @@ int main(int argc, char** argv) {
   qsp::cli::register_match(app, exit_code);
   qsp::cli::register_fingerprint(app, exit_code);
   qsp::cli::register_reorder(app, exit_code);
+  qsp::cli::register_show(app, exit_code);
+  qsp::cli::register_layout(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,366 @@
+// `qsp show` and `qsp layout` end to end: the PNG decodes at the asked size and is not blank, the
+// same call gives the same bytes, another partition another picture, a .qsp its stored partition;
+// the SVG is XML; the layout has a face per patch over its schematic vertices in order; --patches
+// tags every face and its `l` lines are exactly the schematic edges.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "qsp/canonical.h"
+#include "qsp/codec.h"
+#include "qsp/io.h"
+#include "qsp/smaller.h"
+#include "support/cli.h"
+#include "support/mesh_gen.h"
+#include "support/png.h"
+
+namespace qsp {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::quote;
+using testing::run_qsp;
+using testing::slurp;
+
+class CliShow : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(::testing::TempDir()) / ("qsp_show_" + std::to_string(::getpid()) + "_" +
+                                             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string tmp(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+const std::string kSpot = std::string(QSP_TESTDATA_DIR) + "/keenan_spot_quadrangulated.obj";
+const std::string kMulti = std::string(QSP_TESTDATA_DIR) + "/multi_component.obj";
+
+std::string show(const std::string& in, const std::string& out, const std::string& extra = "") {
+  const auto r = run_qsp("show -f " + quote(in) + " -o " + quote(out) + " " + extra);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return slurp(out);
+}
+
+// Fraction of pixels that differ between two decoded pictures of one size.
+double differing(const testing::DecodedPng& a, const testing::DecodedPng& b) {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < a.rgb.size(); i += 3)
+    n += a.rgb[i] != b.rgb[i] || a.rgb[i + 1] != b.rgb[i + 1] || a.rgb[i + 2] != b.rgb[i + 2];
+  return double(n) / double(a.rgb.size() / 3);
+}
+
+TEST_F(CliShow, PngDecodesAtTheAskedSizeAndIsNotBlank) {
+  for (const std::string& in : {kSpot, kMulti, std::string(QSP_TESTDATA_DIR) + "/torus_twist_9x6_t2.obj"}) {
+    SCOPED_TRACE(in);
+    const auto d = testing::decode_png(show(in, tmp("a.png"), "--size 300x200 --view 20,15"));
+    ASSERT_EQ(d.error, "");
+    EXPECT_EQ(d.width, 300u);
+    EXPECT_EQ(d.height, 200u);
+    std::size_t drawn = 0, dark = 0;
+    for (std::size_t i = 0; i < d.rgb.size(); i += 3) {
+      drawn += d.rgb[i] != 255 || d.rgb[i + 1] != 255 || d.rgb[i + 2] != 255;
+      dark += d.rgb[i] < 60 && d.rgb[i + 1] < 60 && d.rgb[i + 2] < 60;
+    }
+    EXPECT_GT(drawn, 300u * 200 / 30);
+    if (in != kMulti && in.find("torus") == std::string::npos) {
+      EXPECT_GT(dark, 100u) << "lines and dots";
+    }
+  }
+  // The default size.
+  const auto d = testing::decode_png(show(kSpot, tmp("b.png")));
+  EXPECT_EQ(d.width, 1024u);
+  EXPECT_EQ(d.height, 1024u);
+}
+
+TEST_F(CliShow, SameCallSameBytesAndAnotherPartitionAnotherPicture) {
+  const std::string a = show(kSpot, tmp("a.png"), "--size 256x256");
+  EXPECT_EQ(show(kSpot, tmp("b.png"), "--size 256x256"), a);
+  const std::string g = show(kSpot, tmp("g.png"), "--size 256x256 --partition greedy");
+  EXPECT_NE(g, a);
+  EXPECT_GT(differing(testing::decode_png(a), testing::decode_png(g)), 0.01);
+  EXPECT_NE(show(kSpot, tmp("grid.png"), "--size 256x256 --grid"), a);
+  EXPECT_NE(show(kSpot, tmp("v.png"), "--size 256x256 --view 90,0"), a);
+}
+
+TEST_F(CliShow, QspInputShowsItsStoredPartition) {
+  // The decoded mesh is numbered canonically, so a few pixels where faces tie in depth may differ; the
+  // stored (greedy) partition's picture is that of greedy on the mesh, not motorcycle's.
+  for (const char* flags : {"", "--keep-order"}) {
+    SCOPED_TRACE(flags);
+    const std::string q = tmp("spot.qsp");
+    ASSERT_EQ(run_qsp("compress -f --positions-only --partition greedy " + std::string(flags) + " " +
+                      quote(kSpot) + " " + quote(q))
+                  .exit_code,
+              0);
+    const auto stored = testing::decode_png(show(q, tmp("q.png"), "--size 256x256"));
+    const auto greedy = testing::decode_png(show(kSpot, tmp("g.png"), "--size 256x256 --partition greedy"));
+    const auto moto = testing::decode_png(show(kSpot, tmp("m.png"), "--size 256x256"));
+    ASSERT_EQ(stored.error, "");
+    EXPECT_LT(differing(stored, greedy), 0.002);
+    EXPECT_GT(differing(stored, moto), 0.01);
+    // The exported layout is canonical: byte for byte the same but for its first (header) line.
+    ASSERT_EQ(run_qsp("layout -f " + quote(q) + " -o " + quote(tmp("q.obj"))).exit_code, 0);
+    ASSERT_EQ(
+        run_qsp("layout -f --partition greedy " + quote(kSpot) + " -o " + quote(tmp("g.obj"))).exit_code, 0);
+    const std::string lq = slurp(tmp("q.obj")), lg = slurp(tmp("g.obj"));
+    EXPECT_EQ(lq.substr(lq.find('\n')), lg.substr(lg.find('\n')));
+  }
+  // auto is what compress stores by default.
+  ASSERT_EQ(run_qsp("compress -f --positions-only " + quote(kSpot) + " " + quote(tmp("auto.qsp"))).exit_code,
+            0);
+  ASSERT_EQ(run_qsp("layout -f " + quote(tmp("auto.qsp")) + " -o " + quote(tmp("a1.obj"))).exit_code, 0);
+  ASSERT_EQ(run_qsp("layout -f --partition auto " + quote(kSpot) + " -o " + quote(tmp("a2.obj"))).exit_code,
+            0);
+  const std::string a1 = slurp(tmp("a1.obj")), a2 = slurp(tmp("a2.obj"));
+  EXPECT_EQ(a1.substr(a1.find('\n')), a2.substr(a2.find('\n')));
+}
+
+TEST_F(CliShow, SvgIsXml) {
+  for (const std::string& in : {kSpot, kMulti}) {
+    SCOPED_TRACE(in);
+    const std::string svg = show(in, tmp("a.svg"), "--size 400x300 --grid");
+    EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
+    const std::string check =
+        "python3 -c 'import sys, xml.etree.ElementTree as E; r = E.parse(sys.argv[1]).getroot(); "
+        "sys.exit(0 if r.tag.endswith(\"svg\") and len(r.findall(\".//{*}path\")) > 10 else 1)' " +
+        quote(tmp("a.svg"));
+    EXPECT_EQ(std::system(check.c_str()), 0);
+    EXPECT_EQ(show(in, tmp("b.svg"), "--size 400x300 --grid"), svg);
+  }
+}
+
+TEST_F(CliShow, BadArgumentsFailCleanly) {
+  const std::string out = tmp("x.png");
+  EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --size 0x10").exit_code, 2);
+  EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --size 10").exit_code, 2);
+  EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --view 10").exit_code, 2);
+  EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(tmp("x.jpg"))).exit_code, 2);
+  EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --partition stored").exit_code, 2);
+  EXPECT_EQ(run_qsp("show " + quote(tmp("missing.obj")) + " -o " + quote(out)).exit_code, 3);
+  const auto bad = run_qsp("show " + std::string(QSP_TESTDATA_DIR) + "/invalid/topology/" +
+                           fs::directory_iterator(fs::path(QSP_TESTDATA_DIR) / "invalid" / "topology")
+                               ->path()
+                               .filename()
+                               .string() +
+                           " -o " + quote(out));
+  EXPECT_EQ(bad.exit_code, 1) << bad.err;
+  EXPECT_FALSE(fs::exists(out)) << "no output on failure";
+  EXPECT_EQ(run_qsp("layout " + quote(kSpot)).exit_code, 2) << "needs an output";
+  EXPECT_EQ(run_qsp("layout " + quote(kSpot) + " -o " + quote(tmp("x.ply"))).exit_code, 2);
+}
+
+TEST_F(CliShow, SvgRefusesBeyondItsFaceLimit) {
+  const std::string in = tmp("grid.obj"), out = tmp("grid.svg");
+  write_file_atomic(in, write_obj(testing::grid(320, 320)), true);  // 102400 faces
+  const auto r = run_qsp("show " + quote(in) + " -o " + quote(out));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("at most 100000 faces"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(".png"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(run_qsp("show " + quote(in) + " -o " + quote(tmp("grid.png")) + " --size 64x64").exit_code, 0);
+}
+
+// Mesh faces as sorted vertex lists, for comparing face sets across files.
+std::multiset<std::vector<std::uint32_t>> face_set(const QuadMesh& m) {
+  std::multiset<std::vector<std::uint32_t>> out;
+  for (std::size_t f = 0; f < m.face_count(); ++f) {
+    std::vector<std::uint32_t> q(m.quads.begin() + 4 * f, m.quads.begin() + 4 * f + 4);
+    std::sort(q.begin(), q.end());
+    out.insert(q);
+  }
+  return out;
+}
+
+// Per group: whether it is a whole annulus or torus component, with no extraordinary vertex and no
+// boundary corner (those components have no schematic edges).
+std::vector<std::uint8_t> closed_groups(const Adjacency& adj, const std::vector<std::uint32_t>& face_group,
+                                        std::size_t groups) {
+  std::vector<std::uint8_t> closed(groups, 1);
+  for (std::uint32_t k = 0; k < face_group.size(); ++k)
+    for (std::uint32_t c = 0; c < 4; ++c) {
+      const std::uint32_t v = adj.origin[4 * k + c];
+      if (adj.extraordinary(v) || (adj.boundary[v] && adj.valence[v] == 2)) closed[face_group[k]] = 0;
+    }
+  return closed;
+}
+
+std::vector<std::uint32_t> indices(std::istringstream& ls) {
+  std::vector<std::uint32_t> out;
+  for (long v; ls >> v;) out.push_back(static_cast<std::uint32_t>(v - 1));
+  return out;
+}
+
+TEST_F(CliShow, LayoutHasAFacePerPatchOverItsSchematicVertices) {
+  for (const std::string& in : {kSpot, kMulti, std::string(QSP_TESTDATA_DIR) + "/l_shape.obj",
+                                std::string(QSP_TESTDATA_DIR) + "/mh_fedora.obj"}) {
+    for (PartitionMode mode : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
+      SCOPED_TRACE(in + " " + partition_mode_name(mode));
+      const auto r = run_qsp("layout -f " + quote(in) + " -o " + quote(tmp("l.obj")) + " --partition " +
+                             partition_mode_name(mode));
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      const QuadMesh m = read_mesh_file(in);
+      const Adjacency adj = build_adjacency(m);
+      const CanonicalMesh cm = canonicalize(m, adj, partition(adj, mode, m.positions));
+      // Expected: per patch the positions of the schematic vertices around it.
+      std::vector<std::vector<std::array<float, 3>>> want;
+      for (const auto& c : cm.components) {
+        if (c.part.kind == ComponentKind::kAnnulus || c.part.kind == ComponentKind::kTorus) continue;
+        const Schematic& s = c.part.schematic;
+        for (std::uint32_t f = 0; f < s.face_count(); ++f) {
+          if (s.face_hole[f]) continue;
+          std::vector<std::array<float, 3>> ring;
+          std::uint32_t d = s.face_dart[f];
+          do {
+            const std::uint32_t v = c.map.vertex[s.dart_vertex[d]];
+            ring.push_back({m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]});
+            d = s.dart_next[d];
+          } while (d != s.face_dart[f]);
+          want.push_back(ring);
+        }
+      }
+      std::vector<std::array<float, 3>> v;
+      std::vector<std::vector<std::array<float, 3>>> got;
+      std::istringstream text(slurp(tmp("l.obj")));
+      for (std::string line; std::getline(text, line);) {
+        std::istringstream ls(line);
+        std::string kw;
+        ls >> kw;
+        if (kw == "v") {
+          std::array<float, 3> p{};
+          ls >> p[0] >> p[1] >> p[2];
+          v.push_back(p);
+        } else if (kw == "f") {
+          std::vector<std::array<float, 3>> ring;
+          for (std::uint32_t i : indices(ls)) ring.push_back(v.at(i));
+          got.push_back(ring);
+        }
+      }
+      EXPECT_EQ(got.size(), partition_size(partition(adj, mode, m.positions)).patches -
+                                std::count_if(cm.components.begin(), cm.components.end(), [](const auto& c) {
+                                  return c.part.kind == ComponentKind::kAnnulus ||
+                                         c.part.kind == ComponentKind::kTorus;
+                                }));
+      EXPECT_EQ(got, want);
+    }
+  }
+}
+
+TEST_F(CliShow, PatchesTagEveryFaceAndLinesAreTheSchematicEdges) {
+  for (const std::string& in : {kSpot, kMulti, std::string(QSP_TESTDATA_DIR) + "/mh_fedora.obj"}) {
+    for (const char* mode : {"motorcycle", "greedy", "merge", "auto"}) {
+      SCOPED_TRACE(in + " " + mode);
+      const auto r =
+          run_qsp("layout -f " + quote(in) + " --patches " + quote(tmp("p.obj")) + " --partition " + mode);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      ASSERT_EQ(
+          run_qsp("layout -f " + quote(in) + " --patches " + quote(tmp("p.ply")) + " --partition " + mode)
+              .exit_code,
+          0);
+      const QuadMesh m = read_mesh_file(in);
+      const Adjacency adj0 = build_adjacency(m);
+      std::uint64_t patches = 0, edges = 0;
+      if (mode == std::string("auto")) {
+        for (const TopologyCode& code : file_topology(encode(m)).codes) {
+          const ComponentPartition part = partition_from_code(code);
+          const bool closed = part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus;
+          patches += closed ? 1 : part.schematic.patch_count();
+          edges += closed ? 0 : part.schematic.edge_count();
+        }
+      } else {
+        PartitionMode pm = PartitionMode::kMotorcycle;
+        ASSERT_TRUE(parse_partition_mode(mode, pm));
+        const PartitionSize size = partition_size(partition(adj0, pm, m.positions));
+        patches = size.patches, edges = size.edges;
+      }
+      // Parse groups, faces and lines.
+      QuadMesh back;
+      std::vector<std::uint32_t> face_group;
+      std::vector<std::string> groups;
+      std::set<std::pair<std::uint32_t, std::uint32_t>> line_edges;
+      std::size_t line_edge_count = 0;
+      std::istringstream text(slurp(tmp("p.obj")));
+      for (std::string line; std::getline(text, line);) {
+        std::istringstream ls(line);
+        std::string kw;
+        ls >> kw;
+        if (kw == "v") {
+          float x, y, z;
+          ls >> x >> y >> z;
+          back.positions.insert(back.positions.end(), {x, y, z});
+        } else if (kw == "g") {
+          std::string name;
+          ls >> name;
+          groups.push_back(name);
+        } else if (kw == "f") {
+          ASSERT_FALSE(groups.empty()) << "a face before any group";
+          for (std::uint32_t i : indices(ls)) back.quads.push_back(i);
+          face_group.push_back(static_cast<std::uint32_t>(groups.size() - 1));
+        } else if (kw == "l") {
+          const auto path = indices(ls);
+          ASSERT_GE(path.size(), 2u);
+          for (std::size_t k = 0; k + 1 < path.size(); ++k, ++line_edge_count)
+            line_edges.insert(std::minmax(path[k], path[k + 1]));
+        }
+      }
+      EXPECT_EQ(back.positions, m.positions);
+      EXPECT_EQ(face_set(back), face_set(m)) << "every face exactly once";
+      ASSERT_EQ(groups.size(), patches);
+      for (std::size_t g = 0; g < groups.size(); ++g) EXPECT_EQ(groups[g], "patch_" + std::to_string(g));
+      // Schematic edges: every mesh edge where two patches meet and the mesh boundary (annulus and
+      // torus components aside), each mesh edge in one line; cut along them, the mesh falls into
+      // exactly these patches again.
+      const Adjacency adj = build_adjacency(back);
+      const std::vector<std::uint8_t> group_closed = closed_groups(adj, face_group, groups.size());
+      std::vector<std::uint32_t> cuts;
+      for (std::uint32_t h = 0; h < adj.halfedge_count(); ++h) {
+        const std::uint32_t t = adj.twin[h];
+        const bool on_line = line_edges.count(std::minmax(adj.origin[h], adj.origin[t])) != 0;
+        const std::uint32_t f = adj.face(adj.is_exterior(h) ? t : h);
+        const bool closed = group_closed[face_group[f]] != 0;
+        if (!closed && (adj.is_exterior(h) || adj.is_exterior(t) ||
+                        face_group[adj.face(h)] != face_group[adj.face(t)])) {
+          EXPECT_TRUE(on_line) << "edge " << adj.origin[h] << "-" << adj.origin[t];
+        }
+        if (on_line && h < t) cuts.push_back(h);
+      }
+      EXPECT_EQ(line_edge_count, line_edges.size()) << "a mesh edge in two lines";
+      EXPECT_EQ(cuts.size(), line_edges.size()) << "every line runs along mesh edges";
+      const PartitionSize size = partition_size(partition_from_cuts(adj, cuts));
+      EXPECT_EQ(size.patches, patches);
+      EXPECT_EQ(size.edges, edges);
+      // PLY: the same faces, each with its group's patch number.
+      const std::string ply = slurp(tmp("p.ply"));
+      ASSERT_NE(ply.find("property int patch"), std::string::npos);
+      std::istringstream pt(ply.substr(ply.find("end_header\n") + 11));
+      for (std::size_t v = 0; v < m.vertex_count(); ++v) {
+        float x, y, z;
+        pt >> x >> y >> z;
+      }
+      std::map<std::vector<std::uint32_t>, std::uint32_t> ply_patch;
+      for (std::size_t f = 0; f < m.face_count(); ++f) {
+        int n = 0;
+        std::vector<std::uint32_t> q(4);
+        unsigned patch = 0, red = 0, green = 0, blue = 0;
+        pt >> n >> q[0] >> q[1] >> q[2] >> q[3] >> patch >> red >> green >> blue;
+        ASSERT_EQ(n, 4);
+        std::sort(q.begin(), q.end());
+        ply_patch[q] = patch;
+      }
+      for (std::size_t f = 0; f < back.face_count(); ++f) {
+        std::vector<std::uint32_t> q(back.quads.begin() + 4 * f, back.quads.begin() + 4 * f + 4);
+        std::sort(q.begin(), q.end());
+        EXPECT_EQ(ply_patch[q], face_group[f]);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace qsp

@@ -1,0 +1,82 @@
+// `qsp show IN -o OUT.png|OUT.svg`: a picture of the partition on its mesh (qsp/render.h).
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "commands.h"
+#include "partitioned.h"
+#include "qsp/error.h"
+#include "qsp/io.h"
+#include "qsp/render.h"
+
+namespace qsp::cli {
+namespace {
+
+struct ShowOptions {
+  std::string input, output;
+  std::string size = "1024x1024";
+  std::string view = "0,0";
+  std::string partition;  // "" = the input's default (see load_partitioned)
+  bool grid = false;
+  bool force = false;
+};
+
+bool ends_with(const std::string& s, const char* tail) {
+  const std::string t(tail);
+  if (s.size() < t.size()) return false;
+  for (std::size_t i = 0; i < t.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(s[s.size() - t.size() + i])) != t[i]) return false;
+  return true;
+}
+
+RenderOptions parse_render_options(const ShowOptions& o) {
+  RenderOptions r;
+  unsigned w = 0, h = 0;
+  char tail = 0;
+  if (std::sscanf(o.size.c_str(), "%ux%u%c", &w, &h, &tail) != 2 || w == 0 || h == 0 || w > kMaxRenderSide ||
+      h > kMaxRenderSide)
+    throw CLI::ValidationError("--size must be WxH with 1 to " + std::to_string(kMaxRenderSide) +
+                               " pixels a side, not '" + o.size + "'");
+  r.width = w, r.height = h;
+  double az = 0, el = 0;
+  if (std::sscanf(o.view.c_str(), "%lf,%lf%c", &az, &el, &tail) != 2 || !std::isfinite(az) ||
+      !std::isfinite(el))
+    throw CLI::ValidationError("--view must be AZIMUTH,ELEVATION in degrees, not '" + o.view + "'");
+  r.azimuth = az, r.elevation = el;
+  r.grid = o.grid;
+  return r;
+}
+
+void run(const ShowOptions& o) {
+  const bool svg = ends_with(o.output, ".svg");
+  if (!svg && !ends_with(o.output, ".png"))
+    throw CLI::ValidationError("-o must name a .png or .svg file, not '" + o.output + "'");
+  const RenderOptions ro = parse_render_options(o);
+  const PartitionedMesh pm = load_partitioned(o.input, o.partition);
+  const std::string bytes =
+      svg ? render_svg(pm.mesh, pm.adjacency, pm.view, ro) : encode_png(render_image(pm.mesh, pm.view, ro));
+  write_file_atomic(o.output, bytes, o.force);
+}
+
+}  // namespace
+
+void register_show(CLI::App& app, int& exit_code) {
+  auto opt = std::make_shared<ShowOptions>();
+  CLI::App* sub = app.add_subcommand("show", "Draw the partition on its mesh as a PNG or SVG picture");
+  sub->add_option("IN", opt->input, "Mesh (.obj .off .ply) or .qsp file")->required();
+  sub->add_option("-o,--output", opt->output, "Picture to write: .png, or .svg (up to 100000 faces)")
+      ->required();
+  sub->add_option("--size", opt->size, "Picture size WxH in pixels (default 1024x1024)");
+  sub->add_option("--view", opt->view,
+                  "AZIMUTH,ELEVATION in degrees (default 0,0: looking along -z, +y up, fitted to the mesh)");
+  sub->add_option("--partition", opt->partition, kPartitionHelp)
+      ->check(CLI::IsMember({"motorcycle", "greedy", "merge", "auto", "stored"}));
+  sub->add_flag("--grid", opt->grid, "Also draw the mesh edges");
+  sub->add_flag("-f,--force", opt->force, "Replace the output if it exists");
+  sub->callback([opt, &exit_code] {
+    run(*opt);
+    exit_code = 0;
+  });
+}
+
+}  // namespace qsp::cli

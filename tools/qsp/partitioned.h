@@ -1,0 +1,33 @@
+// tools/qsp/partitioned.h: a mesh or .qsp read with the partition `show` and `layout` draw or export.
+#pragma once
+
+#include <string>
+
+#include "qsp/canonical.h"
+#include "qsp/layout_export.h"
+#include "qsp/mesh.h"
+
+namespace qsp::cli {
+
+struct PartitionedMesh {
+  QuadMesh mesh;
+  Adjacency adjacency;
+  CanonicalMesh canonical;
+  PatchView view;
+  std::string label;  // which partition: a PartitionMode name, "auto (NAME)" or "stored"
+};
+
+// The --partition values show and layout accept, for CLI11's check and the help text.
+inline constexpr const char* kPartitionHelp =
+    "Partition: motorcycle (default for a mesh), greedy, merge, auto (the one compress would store), or "
+    "stored (default for a .qsp: the partition the file holds)";
+
+// Reads `path` (a mesh, or a .qsp decoded in full) and partitions it: `partition` is "" (a .qsp's
+// stored partition, a mesh's motorcycle graph), "stored" (.qsp only), "auto" or a PartitionMode name.
+// Throws qsp::Error located at the file (kUsage-like errors as CLI::ValidationError).
+PartitionedMesh load_partitioned(const std::string& path, const std::string& partition);
+
+// One comment line naming the input and partition, for exported files.
+std::string describe(const std::string& path, const PartitionedMesh& pm);
+
+}  // namespace qsp::cli
