@@ -40,14 +40,6 @@ inline CliResult run_qsp(const std::string& args) {
   return r;
 }
 
-// The whole file, "" if it cannot be read.
-inline std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 inline std::string quote(const std::string& s) {
   std::string out = "'";
   for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
