@@ -48,7 +48,7 @@ fi
 # Only these run: the rest of the suite is single-threaded and already ran twice. The corpus-wide split
 # sweep is left out (a minute under TSAN; the crafted texts and mutants take the same two-thread path).
 tsan_tests='ReadObjParallel.*:WriteTextParallel.*:Geometry.CoderThreadGivesTheSameBytes'
-tsan_tests+=':Codec.DefaultKeepsTheSmallestPartition:Codec.ThreadedPathsGiveTheMeshBack'
+tsan_tests+=':Codec.BestKeepsTheSmallestPartition:Codec.ThreadedPathsGiveTheMeshBack'
 tsan_tests+='-ReadObjParallel.EveryCorpusObjReadsTheSameAtManySplits'
 if ((run_tsan)); then
   log "threaded-seam tests under ThreadSanitizer (build-tsan)"
