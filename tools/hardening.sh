@@ -54,8 +54,8 @@ if ((run_tsan)); then
   log "threaded-seam tests under ThreadSanitizer (build-tsan)"
   start=$SECONDS
   cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DQSP_TSAN=ON -DQSP_WERROR=OFF >/dev/null
-  cmake --build build-tsan --target qsp_tests -j"$jobs"
-  TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 build-tsan/qsp_tests --gtest_filter="$tsan_tests"
+  cmake --build build-tsan --target qsp_seam_tests -j"$jobs"
+  TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 build-tsan/qsp_seam_tests --gtest_filter="$tsan_tests"
   echo "hardening: threaded seams passed under ThreadSanitizer in $((SECONDS - start)) s"
 fi
 
