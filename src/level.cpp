@@ -17,9 +17,10 @@ struct Level {
   const char* description;
 };
 
-// Levels 1-4 code each mesh once in one partition (the motorcycle graph), in revision 4 or 5: the
-// decoder then runs the cheaper model. 5-6 try every header in full, 7 adds revision 6 (shape
-// transfers, logistic mixing: a few percent smaller, twice the decode time), 8-9 every partition.
+// Levels 1-3 code each mesh once in one partition (the motorcycle graph), in revision 4 or 5: the
+// decoder then runs the cheaper model. 4 adds the second coding order, 5-6 try every header in full, 7 adds
+// revision 6 (shape transfers, logistic mixing: a few percent smaller, twice the decode time), 8-9 every
+// partition.
 constexpr std::array<Level, kMaxLevel> kLevels = {{
     {{false, false, kSmallSample, false, false, true},
      "motorcycle graph, patch order, header chosen on 1024 vertices (value repeats where they save 3%), "
@@ -55,11 +56,11 @@ Effort level_effort(int level, std::uint64_t vertex_count) {
 }
 
 std::string level_description(int level) {
-  return std::string(level_entry(level).description) + (level == kDefaultLevel ? " (the default)" : "") +
-         (level_entry(level).effort.header_sample == 0 || level_entry(level).effort.all_partitions ||
-                  level_entry(level).effort.both_orders
-              ? "; above " + std::to_string(kSearchVertexLimit) + " vertices as 3"
-              : "");
+  const Level& l = level_entry(level);
+  // What the search limit takes away (level_effort): only levels that search more than level 3 change.
+  const bool limited = l.effort.header_sample == 0 || l.effort.all_partitions || l.effort.both_orders;
+  return std::string(l.description) + (level == kDefaultLevel ? " (the default)" : "") +
+         (limited ? "; above " + std::to_string(kSearchVertexLimit) + " vertices as 3" : "");
 }
 
 }  // namespace qsp
