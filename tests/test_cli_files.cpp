@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 using testing::quote;
 using testing::run_qsp;
 
-std::string slurp(const fs::path& p) { return testing::slurp(p.string()); }
+using testing::slurp;
 
 void spit(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
 

@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 using testing::quote;
 using testing::run_qsp;
 
-std::string slurp(const fs::path& p) { return testing::slurp(p.string()); }
+using testing::slurp;
 
 TEST(CliPartitionModes, EveryModeRoundTripsToTheSameMesh) {
   const fs::path dir = fs::path(::testing::TempDir()) / ("qsp_modes_" + std::to_string(::getpid()));

@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 using testing::quote;
 using testing::run_qsp;
 
-std::string slurp(const fs::path& p) { return read_file_bytes(p.string()); }
+using testing::slurp;
 
 TEST(Levels, EffortGrowsWithTheLevelAndStopsAtTheSearchLimit) {
   for (int bad : {kMinLevel - 1, kMaxLevel + 1, -3, 100}) {

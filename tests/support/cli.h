@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -16,7 +17,7 @@ struct CliResult {
 };
 
 // A whole file's bytes (empty if it cannot be read).
-inline std::string slurp(const std::string& path) {
+inline std::string slurp(const std::filesystem::path& path) {
   std::ifstream f(path, std::ios::binary);
   std::stringstream ss;
   ss << f.rdbuf();
