@@ -1635,7 +1635,8 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count,
               const int t = model->decode_zeros(*dec, digits);
               const std::int64_t unit = kPow10i[t];
               const std::int64_t m = floor_div(2 * pred + unit, 2 * unit) + unzigzag64(u);
-              if (m <= -kDecimalLimit / unit || m >= kDecimalLimit / unit)
+              // |m * 10^t| < 2^40; 10^t does not divide 2^40 for t > 0, so compare against (2^40 - 1) / 10^t.
+              if (m < -((kDecimalLimit - 1) / unit) || m > (kDecimalLimit - 1) / unit)
                 fail("decimal integer out of range");
               v[i] = m * unit;
             } else {

@@ -859,7 +859,7 @@ def decode_geometry(sec, V, st, verbose=False):
                             raise ValueError('t > 12')
                         pt = 10 ** t
                         mm = r + (2 * p + pt) // (2 * pt)
-                        if abs(mm) >= (1 << 40) // pt:
+                        if abs(mm) > ((1 << 40) - 1) // pt:
                             raise ValueError('|m| too large')
                         value = mm * pt
                     else:
