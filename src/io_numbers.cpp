@@ -1,0 +1,405 @@
+// Exact numbers from text: one scan splits a token into digits and exponent, Clinger's fast path
+// rounds most of them without std::from_chars, and the precision class (qsp/polymesh.h) is decided
+// from the digit count, falling back to comparing with float32's shortest text only where the count
+// cannot decide (7 to 9 digits).
+#include "io_numbers.h"
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <system_error>
+
+namespace qsp::detail {
+namespace {
+
+constexpr std::uint64_t kPow10[20] = {1ull,
+                                      10ull,
+                                      100ull,
+                                      1000ull,
+                                      10000ull,
+                                      100000ull,
+                                      1000000ull,
+                                      10000000ull,
+                                      100000000ull,
+                                      1000000000ull,
+                                      10000000000ull,
+                                      100000000000ull,
+                                      1000000000000ull,
+                                      10000000000000ull,
+                                      100000000000000ull,
+                                      1000000000000000ull,
+                                      10000000000000000ull,
+                                      100000000000000000ull,
+                                      1000000000000000000ull,
+                                      10000000000000000000ull};
+constexpr double kPow10d[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
+// The exponent after a mantissa ("e-5"), moving p past it; 0 (p unmoved) when there is none. Saturates
+// far beyond any float64.
+std::int64_t scan_exponent(const char*& p, const char* end) {
+  if (p == end || (*p != 'e' && *p != 'E')) return 0;
+  const char* q = p + 1;
+  bool negative = false;
+  if (q < end && (*q == '+' || *q == '-')) negative = *q++ == '-';
+  if (q == end || static_cast<unsigned>(static_cast<unsigned char>(*q) - '0') > 9) return 0;
+  std::int64_t e = 0;
+  for (; q < end && static_cast<unsigned>(static_cast<unsigned char>(*q) - '0') <= 9; ++q) {
+    if (e < 100000000) e = e * 10 + (*q - '0');
+  }
+  p = q;
+  return negative ? -e : e;
+}
+
+// Whether the shortest text of `value` denotes the decimal `p` (normalized).
+template <class T>
+bool shortest_is(T value, const DecimalParts& p) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, value);
+  DecimalParts q;
+  const char* e = scan_decimal(buf, r.ptr, q);
+  normalize(q);
+  return e == r.ptr && q.digits == p.digits && q.mantissa == p.mantissa &&
+         (p.digits == 0 || (q.exponent == p.exponent && q.negative == p.negative));
+}
+
+// The significant digits of a token scan_decimal accepted, for a DecimalNumber.
+std::string significant_digits(const char* s, const char* end) {
+  std::string d;
+  for (const char* p = s; p < end; ++p) {
+    if (*p == 'e' || *p == 'E') break;
+    if (*p >= '0' && *p <= '9' && (*p != '0' || !d.empty())) d += *p;
+  }
+  while (!d.empty() && d.back() == '0') d.pop_back();
+  return d;
+}
+
+}  // namespace
+
+double shortest_double(float f) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, f);
+  double d = 0;
+  std::from_chars(buf, r.ptr, d);
+  return d;
+}
+
+namespace {
+
+void promote_to_float64(Numbers& n) {
+  if (n.precision != Precision::kFloat32) return;
+  n.f64.resize(n.f32.size());
+  for (std::size_t i = 0; i < n.f32.size(); ++i) n.f64[i] = shortest_double(n.f32[i]);
+  n.precision = Precision::kFloat64;
+}
+
+}  // namespace
+
+namespace {
+
+inline bool is_digit(char c) { return static_cast<unsigned>(static_cast<unsigned char>(c) - '0') <= 9; }
+
+// Decimal digits of m > 0.
+inline std::uint32_t digit_count(std::uint64_t m) {
+  const int bits = 64 - std::countl_zero(m);
+  std::uint32_t d = static_cast<std::uint32_t>((bits * 1233) >> 12);
+  return d + (m >= kPow10[d]);
+}
+
+// scan_decimal for tokens with more than 19 digits: each digit's position tracked.
+[[gnu::noinline]] const char* scan_long(const char* s, const char* end, DecimalParts& out) {
+  const char* p = s;
+  out = DecimalParts{};
+  if (p < end && *p == '-') {
+    out.negative = true;
+    ++p;
+  }
+  std::uint64_t m = 0;
+  std::int64_t index = 0, first = -1, last = -1;  // digit positions
+  int taken = 0;                                  // digits in m, from the first nonzero one
+  const auto digits = [&] {
+    for (; p < end && is_digit(*p); ++p) {
+      const unsigned c = static_cast<unsigned>(*p - '0');
+      if (c != 0) {
+        if (first < 0) first = index;
+        last = index;
+      }
+      if (first >= 0 && taken < 19) {
+        m = m * 10 + c;
+        ++taken;
+      }
+      ++index;
+    }
+  };
+  digits();
+  const std::int64_t integer_digits = index;
+  if (p < end && *p == '.') {
+    ++p;
+    digits();
+  }
+  if (index == 0) return nullptr;
+  const std::int64_t e = scan_exponent(p, end);
+  if (first < 0) return p;  // zero
+  const std::int64_t significant = last - first + 1;
+  if (significant <= 19) m /= kPow10[taken - significant];  // drop the trailing zeros taken
+  out.mantissa = m;
+  out.digits = static_cast<std::uint32_t>(std::min<std::int64_t>(significant, 0xFFFFFFFF));
+  const std::int64_t exponent = (index - 1 - last) - (index - integer_digits) + e;
+  out.exponent = static_cast<std::int32_t>(std::clamp<std::int64_t>(exponent, INT32_MIN / 2, INT32_MAX / 2));
+  return p;
+}
+
+}  // namespace
+
+namespace {
+
+// Four ASCII digits at p (first in the lowest byte): whether they are, and their value.
+inline bool four_digits(const char* p, std::uint32_t& value) {
+  std::uint32_t v;
+  std::memcpy(&v, p, 4);
+  if ((v & 0xF0F0F0F0u) != 0x30303030u || ((v + 0x06060606u) & 0xF0F0F0F0u) != 0x30303030u) return false;
+  v -= 0x30303030u;
+  v = v * 10 + (v >> 8);  // bytes 0 and 2: the two-digit pairs
+  value = (v & 0xFFu) * 100 + ((v >> 16) & 0xFFu);
+  return true;
+}
+
+// Digits from p into m (four at a time where the text allows); returns the end.
+inline const char* read_digits(const char* p, const char* end, std::uint64_t& m) {
+  std::uint32_t four = 0;
+  while (end - p >= 4 && four_digits(p, four)) {
+    m = m * 10000 + four;
+    p += 4;
+  }
+  for (;;) {
+    if (p == end) return p;
+    const std::uint64_t d = static_cast<unsigned char>(*p) - std::uint64_t{'0'};
+    if (d > 9) return p;
+    m = m * 10 + d;
+    ++p;
+  }
+}
+
+}  // namespace
+
+// The common token (at most 19 digits) in one tight loop: the digits accumulate into one integer;
+// trailing zeros stay in it until normalize() (exact reading only) takes them out.
+const char* scan_decimal(const char* s, const char* end, DecimalParts& out) {
+  const char* p = s;
+  out.negative = p < end && *p == '-';
+  p += out.negative;
+  const char* digits = p;
+  std::uint64_t m = 0;
+  p = read_digits(p, end, m);
+  std::ptrdiff_t n = p - digits, fraction = 0;
+  if (p < end && *p == '.') {
+    const char* f = ++p;
+    p = read_digits(p, end, m);
+    fraction = p - f;
+    n += fraction;
+  }
+  if (n == 0) return nullptr;
+  if (n > 19) return scan_long(s, end, out);  // m may have wrapped
+  std::int64_t e = -fraction;
+  if (p < end && (*p == 'e' || *p == 'E')) e += scan_exponent(p, end);
+  out.mantissa = m;
+  out.digits = m == 0 ? 0 : digit_count(m);
+  out.exponent = static_cast<std::int32_t>(std::clamp<std::int64_t>(e, INT32_MIN / 2, INT32_MAX / 2));
+  return p;
+}
+
+void normalize(DecimalParts& p) {
+  if (p.mantissa == 0 || p.digits > 19) return;
+  while (p.mantissa % 10 == 0) {
+    p.mantissa /= 10;
+    ++p.exponent;
+  }
+  p.digits = digit_count(p.mantissa);
+}
+
+bool fast_double(const DecimalParts& p, double& out) {
+  if (p.digits > 19 || p.mantissa > (std::uint64_t{1} << 53) || p.exponent < -22 || p.exponent > 22)
+    return false;
+  double d = static_cast<double>(p.mantissa);
+  d = p.exponent < 0 ? d / kPow10d[-p.exponent] : d * kPow10d[p.exponent];
+  out = p.negative ? -d : d;
+  return true;
+}
+
+NumberStatus read_number_slow(const char* s, const char* end, TextNumber& out) {
+  float f = 0.0f;
+  const auto [ptr, ec] = std::from_chars(s, end, f);
+  out.end = ptr;
+  if (ec == std::errc::invalid_argument) return NumberStatus::kMalformed;
+  if (ec == std::errc::result_out_of_range) return NumberStatus::kFloatRange;
+  if (!std::isfinite(f)) return NumberStatus::kNotFinite;
+  out.f = f;
+  return NumberStatus::kOk;
+}
+
+bool text_double(const TextNumber& t, double& out) {
+  if (fast_double(t.parts, out)) return true;
+  const auto [ptr, ec] = std::from_chars(t.begin, t.end, out);
+  return ec == std::errc() && std::isfinite(out);
+}
+
+void push_text_slow(Numbers& n, const TextNumber& t) {
+  DecimalParts p = t.parts;
+  normalize(p);
+  const bool float32 = p.digits == 0 || (p.digits <= 6 && std::isnormal(t.f)) ||
+                       (p.digits <= 9 && std::isfinite(t.f) && t.f != 0.0f && shortest_is(t.f, p));
+  if (float32 && n.precision == Precision::kFloat32) {
+    n.f32.push_back(t.f);
+    return;
+  }
+  double d = 0;
+  if (!text_double(t, d))
+    d = p.negative ? -std::numeric_limits<double>::max() : std::numeric_limits<double>::max();
+  promote_to_float64(n);
+  // Up to 17 significant digits is a float64 printed exactly (printf's %.17g): the float64 is the value.
+  const bool float64 = float32 || p.digits <= 17;
+  if (!float64) {
+    n.precision = Precision::kDecimal;
+    DecimalNumber x;
+    x.index = static_cast<std::uint32_t>(n.f32.size());
+    x.negative = p.negative;
+    x.exponent = p.exponent;
+    x.digits = significant_digits(t.begin, t.end);
+    n.decimals.push_back(std::move(x));
+  }
+  // A value float32 cannot hold (beyond its range) keeps the overflowed or flushed mirror.
+  n.f32.push_back(std::isfinite(t.f) && t.f != 0.0f ? t.f : static_cast<float>(d));
+  n.f64.push_back(d);
+}
+
+void push_float32(Numbers& n, float f) {
+  n.f32.push_back(f);
+  if (n.precision != Precision::kFloat32) n.f64.push_back(shortest_double(f));
+}
+
+void push_float64(Numbers& n, double d) {
+  promote_to_float64(n);
+  n.f32.push_back(static_cast<float>(d));
+  n.f64.push_back(d);
+}
+
+void push_integer(Numbers& n, std::int64_t v) {
+  constexpr std::int64_t kExact = std::int64_t{1} << 24;  // float32 holds every integer up to here
+  if (v >= -kExact && v <= kExact) return push_float32(n, static_cast<float>(v));
+  push_float64(n, static_cast<double>(v));
+}
+
+void push_small(Numbers& n, float f, std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i) push_float32(n, f);
+}
+
+void append_float(std::string& out, float f) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, f);
+  out.append(buf, r.ptr);
+}
+
+void append_double(std::string& out, double d) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, d);
+  out.append(buf, r.ptr);
+}
+
+namespace {
+
+// A DecimalNumber as text scan_decimal reads back to the same parts: positional when short.
+void append_decimal(std::string& out, const DecimalNumber& x) {
+  if (x.negative) out += '-';
+  const std::int64_t len = static_cast<std::int64_t>(x.digits.size());
+  const std::int64_t e = x.exponent;
+  if (e >= 0 && e <= 6) {
+    out += x.digits;
+    out.append(static_cast<std::size_t>(e), '0');
+  } else if (e < 0 && -e < len) {
+    out.append(x.digits, 0, static_cast<std::size_t>(len + e));
+    out += '.';
+    out.append(x.digits, static_cast<std::size_t>(len + e));
+  } else if (e < 0 && -e - len <= 6) {
+    out += "0.";
+    out.append(static_cast<std::size_t>(-e - len), '0');
+    out += x.digits;
+  } else {
+    out += x.digits[0];
+    if (len > 1) {
+      out += '.';
+      out.append(x.digits, 1);
+    }
+    out += 'e';
+    out += std::to_string(e + len - 1);
+  }
+}
+
+}  // namespace
+
+// The decimal of value i, or null when a float holds it.
+const DecimalNumber* find_decimal(const Numbers& n, std::size_t i) {
+  if (n.precision != Precision::kDecimal) return nullptr;
+  const auto it = std::lower_bound(n.decimals.begin(), n.decimals.end(), i,
+                                   [](const DecimalNumber& d, std::size_t at) { return d.index < at; });
+  return it != n.decimals.end() && it->index == i ? &*it : nullptr;
+}
+
+void append_number(std::string& out, const Numbers& n, std::size_t i) {
+  if (n.precision == Precision::kFloat32) return append_float(out, n.f32[i]);
+  if (const DecimalNumber* d = find_decimal(n, i)) return append_decimal(out, *d);
+  append_double(out, n.f64[i]);
+}
+
+double exact_double(const Numbers& n, std::size_t i) {
+  return n.precision == Precision::kFloat32 ? shortest_double(n.f32[i]) : n.f64[i];
+}
+
+void widen_groups(Numbers& n, std::size_t from, std::size_t to, float fill) {
+  Numbers w;
+  w.precision = n.precision;
+  const std::size_t groups = from == 0 ? 0 : n.size() / from;
+  w.f32.reserve(groups * to);
+  if (!n.f64.empty()) w.f64.reserve(groups * to);
+  std::size_t d = 0;
+  for (std::size_t g = 0; g < groups; ++g) {
+    for (std::size_t c = 0; c < to; ++c) {
+      if (c < from) {
+        const std::size_t i = g * from + c;
+        if (d < n.decimals.size() && n.decimals[d].index == i) {
+          w.decimals.push_back(n.decimals[d++]);
+          w.decimals.back().index = static_cast<std::uint32_t>(w.f32.size());
+        }
+        w.f32.push_back(n.f32[i]);
+        if (!n.f64.empty()) w.f64.push_back(n.f64[i]);
+      } else {
+        push_float32(w, fill);
+      }
+    }
+  }
+  n = std::move(w);
+}
+
+void append_numbers(Numbers& to, const Numbers& from) {
+  if (from.precision != Precision::kFloat32) promote_to_float64(to);
+  const std::size_t base = to.f32.size();
+  to.f32.insert(to.f32.end(), from.f32.begin(), from.f32.end());
+  if (to.precision != Precision::kFloat32) {
+    if (from.precision == Precision::kFloat32) {
+      for (const float f : from.f32) to.f64.push_back(shortest_double(f));
+    } else {
+      to.f64.insert(to.f64.end(), from.f64.begin(), from.f64.end());
+    }
+  }
+  for (DecimalNumber x : from.decimals) {
+    x.index += static_cast<std::uint32_t>(base);
+    to.decimals.push_back(std::move(x));
+  }
+  if (from.precision == Precision::kDecimal) to.precision = Precision::kDecimal;
+}
+
+}  // namespace qsp::detail
