@@ -37,8 +37,6 @@ constexpr std::uint64_t kPow10[20] = {1ull,
                                       100000000000000000ull,
                                       1000000000000000000ull,
                                       10000000000000000000ull};
-constexpr double kPow10d[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
-                                1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
 // The exponent after a mantissa ("e-5"), moving p past it; 0 (p unmoved) when there is none. Saturates
 // far beyond any float64.
@@ -91,12 +89,14 @@ double shortest_double(float f) {
 
 namespace {
 
-void promote_to_float64(Numbers& n) {
+// Gives `n`, whose first `count` float32 values are its values so far, float64 values too.
+void promote_to_float64(Numbers& n, std::size_t count) {
   if (n.precision != Precision::kFloat32) return;
-  n.f64.resize(n.f32.size());
-  for (std::size_t i = 0; i < n.f32.size(); ++i) n.f64[i] = shortest_double(n.f32[i]);
+  n.f64.resize(count);
+  for (std::size_t i = 0; i < count; ++i) n.f64[i] = shortest_double(n.f32[i]);
   n.precision = Precision::kFloat64;
 }
+void promote_to_float64(Numbers& n) { promote_to_float64(n, n.f32.size()); }
 
 }  // namespace
 
@@ -222,15 +222,6 @@ void normalize(DecimalParts& p) {
   p.digits = digit_count(p.mantissa);
 }
 
-bool fast_double(const DecimalParts& p, double& out) {
-  if (p.digits > 19 || p.mantissa > (std::uint64_t{1} << 53) || p.exponent < -22 || p.exponent > 22)
-    return false;
-  double d = static_cast<double>(p.mantissa);
-  d = p.exponent < 0 ? d / kPow10d[-p.exponent] : d * kPow10d[p.exponent];
-  out = p.negative ? -d : d;
-  return true;
-}
-
 NumberStatus read_number_slow(const char* s, const char* end, TextNumber& out) {
   float f = 0.0f;
   const auto [ptr, ec] = std::from_chars(s, end, f);
@@ -248,33 +239,85 @@ bool text_double(const TextNumber& t, double& out) {
   return ec == std::errc() && std::isfinite(out);
 }
 
-void push_text_slow(Numbers& n, const TextNumber& t) {
+namespace {
+
+// Whether the shortest text of f, the float32 nearest the normalized decimal p (7 to 9 digits), is p,
+// decided with float64 arithmetic (1 or 0), or -1 where that cannot decide (a tie, a value exactly on
+// an interval's end, exponents beyond the fast path, 2^24 and above). Ryu's rule, which std::to_chars
+// follows below 2^24: no shorter decimal rounds to f, and no decimal of p's length that rounds to f is
+// closer to it.
+int shortest_is_fast(float f, const DecimalParts& p) {
+  const float af = std::fabs(f);
+  // From 2^24 on std::to_chars may print the exact integer instead (see float32_by_digits).
+  if (!std::isnormal(af) || af >= 16777216.0f) return -1;
+  const double x = af;
+  const std::uint32_t bits = std::bit_cast<std::uint32_t>(af);  // normal: its neighbours are bits -+ 1
+  const double lo = (x + std::bit_cast<float>(bits - 1)) / 2, hi = (x + std::bit_cast<float>(bits + 1)) / 2;
+  const auto value = [](std::uint64_t m, std::int32_t e, double& out) {
+    DecimalParts q;
+    q.mantissa = m;
+    q.exponent = e;
+    return fast_double(q, out);
+  };
+  const auto inside = [&](std::uint64_t m, std::int32_t e) {  // 1 rounds to f, 0 not, -1 unknown
+    double v = 0;
+    if (!value(m, e, v) || v == lo || v == hi) return -1;
+    return lo < v && v < hi ? 1 : 0;
+  };
+  const std::uint64_t shorter = p.mantissa / 10;
+  for (const std::uint64_t c : {shorter, shorter + 1}) {
+    const int r = inside(c, p.exponent + 1);
+    if (r != 0) return r < 0 ? -1 : 0;
+  }
+  for (const int step : {-1, 1}) {
+    const int r = inside(p.mantissa + step, p.exponent);
+    if (r < 0) return -1;
+    if (r == 0) continue;
+    double half = 0;  // halfway between p and its neighbour
+    if (!value((2 * p.mantissa + step) * 5, p.exponent - 1, half) || half == x) return -1;
+    if (step > 0 ? x > half : x < half) return 0;
+  }
+  return 1;
+}
+
+}  // namespace
+
+float push_text_at(Numbers& n, std::size_t index, const TextNumber& t) {
   DecimalParts p = t.parts;
   normalize(p);
-  const bool float32 = p.digits == 0 || (p.digits <= 6 && std::isnormal(t.f)) ||
-                       (p.digits <= 9 && std::isfinite(t.f) && t.f != 0.0f && shortest_is(t.f, p));
-  if (float32 && n.precision == Precision::kFloat32) {
-    n.f32.push_back(t.f);
-    return;
-  }
+  const auto shortest = [&] {
+    const int fast = shortest_is_fast(t.f, p);
+    return fast > 0 || (fast < 0 && shortest_is(t.f, p));
+  };
+  // Float32's shortest text has up to 9 significant digits, or from 2^24 on its exact integer when
+  // that is shorter than the exponent form (up to 14 characters: "194315862016").
+  const bool candidate =
+      p.digits <= 9 || (p.digits <= 15 && p.exponent >= 0 && std::fabs(t.f) >= 16777216.0f);
+  const bool float32 = float32_by_digits(t) || (candidate && std::isfinite(t.f) && t.f != 0.0f && shortest());
+  if (float32 && n.precision == Precision::kFloat32) return t.f;
   double d = 0;
   if (!text_double(t, d))
     d = p.negative ? -std::numeric_limits<double>::max() : std::numeric_limits<double>::max();
-  promote_to_float64(n);
+  promote_to_float64(n, index);
   // Up to 17 significant digits is a float64 printed exactly (printf's %.17g): the float64 is the value.
   const bool float64 = float32 || p.digits <= 17;
   if (!float64) {
     n.precision = Precision::kDecimal;
     DecimalNumber x;
-    x.index = static_cast<std::uint32_t>(n.f32.size());
+    x.index = static_cast<std::uint32_t>(index);
     x.negative = p.negative;
     x.exponent = p.exponent;
     x.digits = significant_digits(t.begin, t.end);
     n.decimals.push_back(std::move(x));
   }
-  // A value float32 cannot hold (beyond its range) keeps the overflowed or flushed mirror.
-  n.f32.push_back(std::isfinite(t.f) && t.f != 0.0f ? t.f : static_cast<float>(d));
   n.f64.push_back(d);
+  // A value float32 cannot hold (beyond its range) keeps the overflowed or flushed mirror.
+  return std::isfinite(t.f) && t.f != 0.0f ? t.f : static_cast<float>(d);
+}
+
+void push_text_slow(Numbers& n, const TextNumber& t) {
+  const float f = push_text_at(n, n.f32.size(), t);
+  n.f32.push_back(f);
 }
 
 void push_float32(Numbers& n, float f) {

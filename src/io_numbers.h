@@ -2,6 +2,7 @@
 // shortest text that denotes the same value. Shared by the OBJ, OFF and PLY readers and writers.
 #pragma once
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -27,18 +28,40 @@ const char* scan_decimal(const char* s, const char* end, DecimalParts& out);
 // Takes the trailing zeros out of the mantissa: digits becomes the significant digit count.
 void normalize(DecimalParts& p);
 
-// The correctly rounded float32 of `p` when one exact operation gives it (Clinger's fast path: an
-// integer below 2^24 and a power of ten float32 holds); false otherwise.
-inline bool fast_float(const DecimalParts& p, float& out) {
-  static constexpr float kPow10f[11] = {1e0f, 1e1f, 1e2f, 1e3f, 1e4f, 1e5f, 1e6f, 1e7f, 1e8f, 1e9f, 1e10f};
-  if (p.digits > 19 || p.mantissa > (1u << 24) || p.exponent < -10 || p.exponent > 10) return false;
-  float f = static_cast<float>(p.mantissa);                                 // exact below 2^24
-  f = p.exponent < 0 ? f / kPow10f[-p.exponent] : f * kPow10f[p.exponent];  // one correctly rounded step
-  out = p.negative ? -f : f;
+// The correctly rounded float64 of `p` when one exact operation gives it (Clinger's fast path: an
+// integer below 2^53 and a power of ten up to 10^22); false otherwise.
+inline bool fast_double(const DecimalParts& p, double& out) {
+  static constexpr double kPow10d[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                         1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                         1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  if (p.digits > 19 || p.mantissa > (std::uint64_t{1} << 53) || p.exponent < -22 || p.exponent > 22)
+    return false;
+  double d = static_cast<double>(p.mantissa);
+  d = p.exponent < 0 ? d / kPow10d[-p.exponent] : d * kPow10d[p.exponent];
+  out = p.negative ? -d : d;
   return true;
 }
-// The same for float64 (below 2^53, powers up to 10^22).
-bool fast_double(const DecimalParts& p, double& out);
+
+// The correctly rounded float32 of `p` when the fast paths give it; false otherwise. An integer below
+// 2^24 and a power of ten float32 holds take one float32 step; else the float64 of the value rounds to
+// the right float32 unless it lies exactly halfway between two (double rounding: then false).
+inline bool fast_float(const DecimalParts& p, float& out) {
+  static constexpr float kPow10f[11] = {1e0f, 1e1f, 1e2f, 1e3f, 1e4f, 1e5f, 1e6f, 1e7f, 1e8f, 1e9f, 1e10f};
+  if (p.digits <= 19 && p.mantissa <= (1u << 24) && p.exponent >= -10 && p.exponent <= 10) {
+    float f = static_cast<float>(p.mantissa);                                 // exact below 2^24
+    f = p.exponent < 0 ? f / kPow10f[-p.exponent] : f * kPow10f[p.exponent];  // one correctly rounded step
+    out = p.negative ? -f : f;
+    return true;
+  }
+  double d = 0;
+  if (!fast_double(p, d)) return false;
+  const double a = d < 0 ? -d : d;
+  // float32's normal range, and not halfway: the low 29 of the 52 fraction bits are not 1000...0.
+  if (!(a >= 1.1754943508222875e-38 && a < 3.4028234663852886e38)) return false;
+  if ((std::bit_cast<std::uint64_t>(d) & 0x1FFFFFFFu) == 0x10000000u) return false;
+  out = static_cast<float>(d);
+  return true;
+}
 
 // A number token read from text: its float32 (as std::from_chars rounds it) and its parts.
 struct TextNumber {
@@ -84,10 +107,18 @@ bool text_double(const TextNumber& t, double& out);
 // Appends `t` exactly to `n`, raising n's precision when the value needs it. t must have been read
 // kOk, or kFloatRange with a finite text_double. Throws nothing.
 void push_text_slow(Numbers& n, const TextNumber& t);
+// push_text_slow for a caller that appends n.f32 itself (io_text's Tail): `index` values are in
+// n.f32 so far; returns the float32 to append as value `index`.
+float push_text_at(Numbers& n, std::size_t index, const TextNumber& t);
+// Whether float32 holds `t` by its digit count alone: zero, or up to 6 significant digits (FLT_DIG)
+// in float32's normal range below 2^24. From 2^24 on, float32's shortest text may be its exact
+// integer ("987654016" for 987654000: std::to_chars prefers it to the longer "9.87654e+08").
+[[gnu::always_inline]] inline bool float32_by_digits(const TextNumber& t) {
+  return t.parts.digits == 0 || (t.parts.digits <= 6 && std::isnormal(t.f) && std::fabs(t.f) < 16777216.0f);
+}
+
 [[gnu::always_inline]] inline void push_text(Numbers& n, const TextNumber& t) {
-  // Up to 6 significant digits in float32's normal range: float32 holds the value (FLT_DIG).
-  if (n.precision == Precision::kFloat32 && t.parts.digits <= 6 &&
-      (t.parts.digits == 0 || std::isnormal(t.f))) {
+  if (n.precision == Precision::kFloat32 && float32_by_digits(t)) {
     n.f32.push_back(t.f);
     return;
   }

@@ -322,7 +322,6 @@ class Tail {
   std::size_t size() const { return n_; }
   std::span<const T> view(std::size_t from) const { return {v_->data() + from, n_ - from}; }
   void finish() { v_->resize(n_); }
-  void resume() { n_ = v_->size(); }
 
  private:
   [[gnu::noinline]] void grow() { v_->resize(std::max<std::size_t>(1024, 2 * n_)); }
@@ -712,14 +711,10 @@ class ObjReader {
       }
       const TextNumber& t = in_.template number<kExact>("`v` statement");
       if constexpr (kExact) {
-        // Up to 6 significant digits in float32's normal range: float32 holds the value (FLT_DIG).
-        if (mesh_.positions.precision == Precision::kFloat32 && t.parts.digits <= 6 &&
-            (t.parts.digits == 0 || std::isnormal(t.f))) [[likely]] {
+        if (mesh_.positions.precision == Precision::kFloat32 && detail::float32_by_digits(t)) [[likely]] {
           positions_.push(t.f);
         } else {
-          positions_.finish();
-          detail::push_text_slow(mesh_.positions, t);
-          positions_.resume();
+          positions_.push(detail::push_text_at(mesh_.positions, positions_.size(), t));
         }
       } else {
         positions_.push(t.f);

@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <bit>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -231,6 +233,8 @@ TEST(MeshNumbers, PrecisionIsTheNarrowestThatHoldsTheText) {
       {"3.4028235e38", qsp::Precision::kFloat32},
       {"1e-45", qsp::Precision::kFloat32},
       {"16777217", qsp::Precision::kFloat64},
+      {"987654000", qsp::Precision::kFloat64},  // float32's shortest text is "987654016"
+      {"123456000", qsp::Precision::kFloat32},  // an integer float32 holds
       {"0.6432291269", qsp::Precision::kFloat64},
       {"0.123456789", qsp::Precision::kFloat64},  // 9 digits float32 does not hold
       {"1e39", qsp::Precision::kFloat64},
@@ -264,6 +268,45 @@ TEST(MeshNumbers, PrecisionIsTheNarrowestThatHoldsTheText) {
   expect_error([] { qsp::read_obj("v 1e39 0 0\n", "t.obj"); }, qsp::ErrorCode::kBadNumber);
 }
 
+// 7 to 9 digits: float32 holds the text exactly when the float's shortest text is the same decimal.
+// The reader decides most of these without printing the float; its answer must be the printed one.
+TEST(MeshNumbers, SevenToNineDigitsAgreeWithTheShortestText) {
+  std::mt19937 rng(97);
+  int float32 = 0, float64 = 0;
+  for (int i = 0; i < 20000; ++i) {
+    float f = 0;
+    do {
+      f = std::bit_cast<float>(static_cast<std::uint32_t>(rng()));
+    } while (!std::isnormal(f) || std::fabs(f) > 1e30f || std::fabs(f) < 1e-30f);
+    char text[64];
+    switch (i % 3) {
+      case 0:  // the shortest text itself
+        *std::to_chars(text, text + 63, f).ptr = '\0';
+        break;
+      case 1:  // printf's 8 or 9 significant digits
+        std::snprintf(text, sizeof text, "%.*e", 7 + i % 2, static_cast<double>(f));
+        break;
+      default:  // a neighbour of the shortest text in its last digit
+        std::snprintf(text, sizeof text, "%.*e", 6 + i % 3, static_cast<double>(f) * (1 + 1e-7 * (i % 5)));
+    }
+    float nearest = 0;
+    std::from_chars(text, text + std::strlen(text), nearest);
+    char shortest[64];
+    *std::to_chars(shortest, shortest + 63, nearest).ptr = '\0';
+    const bool holds = canonical_decimal(shortest) == canonical_decimal(text);
+    const qsp::Mesh m = qsp::read_obj_mesh(std::string("v ") + text + " 0 0\n", "t.obj");
+    ASSERT_EQ(m.positions.precision == qsp::Precision::kFloat32, holds)
+        << text << " (shortest " << shortest << ")";
+    // The fast paths round as std::from_chars does, in both readers.
+    ASSERT_EQ(bits(m.positions.f32[0]), bits(nearest)) << text;
+    ASSERT_EQ(bits(qsp::read_obj(std::string("v ") + text + " 0 0\n", "t.obj").positions[0]), bits(nearest))
+        << text;
+    (holds ? float32 : float64)++;
+  }
+  EXPECT_GT(float32, 5000);
+  EXPECT_GT(float64, 5000);
+}
+
 // Coordinates with 10 and 17 significant digits come back with the same doubles, through every
 // format that holds them, and the independent parser reads the same decimals.
 TEST(MeshNumbers, TenAndSeventeenDigitCoordinatesKeepTheirDoubles) {
@@ -272,6 +315,7 @@ TEST(MeshNumbers, TenAndSeventeenDigitCoordinatesKeepTheirDoubles) {
     SCOPED_TRACE(digits);
     std::string text;
     std::vector<double> want;
+    std::vector<float> want32;
     for (int v = 0; v < 300; ++v) {
       text += "v";
       for (int k = 0; k < 3; ++k) {
@@ -281,6 +325,9 @@ TEST(MeshNumbers, TenAndSeventeenDigitCoordinatesKeepTheirDoubles) {
         double d = 0;
         std::from_chars(buf, buf + std::strlen(buf), d);
         want.push_back(d);
+        float f = 0;
+        std::from_chars(buf, buf + std::strlen(buf), f);
+        want32.push_back(f);
         text += std::string(" ") + buf;
       }
       text += "\n";
@@ -291,6 +338,9 @@ TEST(MeshNumbers, TenAndSeventeenDigitCoordinatesKeepTheirDoubles) {
     const qsp::Mesh m = qsp::read_obj_mesh(text, "t.obj");
     ASSERT_NE(m.positions.precision, qsp::Precision::kFloat32);
     EXPECT_TRUE(qsp::testing::same_bits(m.positions.f64, want));
+    // The float32 mirror is std::from_chars's float of each text, and the QuadMesh reader's.
+    EXPECT_TRUE(qsp::testing::same_bits(m.positions.f32, want32));
+    EXPECT_TRUE(qsp::testing::same_bits(qsp::read_obj(text, "t.obj").positions, want32));
     for (const qsp::MeshFormat format :
          {qsp::MeshFormat::kObj, qsp::MeshFormat::kOff, qsp::MeshFormat::kPly}) {
       const std::string out = qsp::write_mesh(m, format);
