@@ -501,6 +501,19 @@ TEST(MeshObj, StrayProseIsKeptWithAWarning) {
       << msg;
 }
 
+// A kept line starting with a byte order mark, first in the file, keeps it (fuzz_read_mesh found it
+// lost: a leading mark is not content).
+TEST(MeshObj, KeptLineStartingWithAByteOrderMark) {
+  const std::string text =
+      " \xEF\xBB\xBF"
+      "f1 \n";
+  const qsp::Mesh m = qsp::read_obj_mesh(text, "t.obj");
+  ASSERT_EQ(m.verbatim, (std::vector<std::string>{"\xEF\xBB\xBF"
+                                                  "f1"}));
+  expect_same_mesh(m, qsp::read_obj_mesh(qsp::write_obj_mesh(m), "back.obj"));
+  expect_same_mesh(m, qsp::read_obj_mesh(qsp::write_obj_mesh(m, {.keep_order = false}), "back.obj"));
+}
+
 TEST(MeshObj, FreeFormAttributesAreKeptAndGeometryRefused) {
   qsp::ReadNotes notes;
   const std::string attrs = "v 0 0 0\nv 1 0 0\nv 1 1 0\ncstype bspline\ndeg 3\nf 1 2 3\nend\n";

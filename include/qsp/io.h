@@ -106,11 +106,11 @@ struct ReadNotes {
 };
 
 // Parse OBJ text into a Mesh, keeping everything: faces of any degree >= 3 in the file's corner
-// order; numbers exactly (qsp::Precision: float32 where it holds the text's value, else float64,
-// else the decimal digits); `v x y z [w | r g b [a]]`; `vt` (1 to 3 components; a shorter one is
-// padded with the OBJ default 0), `vn`, their per-corner indices (v/vt/vn, negative indices
-// resolved); o, g, usemtl, s per face; mtllib; OpenSubdiv `t` tags; comment lines; and the order of
-// all of them (Mesh::statements). Lines qsp does not understand but that carry no geometry (vp,
+// order; numbers exactly (qsp::Precision: float32 where its shortest text is the text's value, else
+// float64 up to 17 significant digits, else the decimal digits); `v x y z [w | r g b [a]]`; `vt` (1 to 3
+// components; a shorter one is padded with the OBJ default 0), `vn`, their per-corner indices (v/vt/vn,
+// negative indices resolved); o, g, usemtl, s per face; mtllib; OpenSubdiv `t` tags; comment lines; and the
+// order of all of them (Mesh::statements). Lines qsp does not understand but that carry no geometry (vp,
 // cstype and other free-form attributes, usemap, malformed tags, a stray line of prose) are kept as
 // text, in place, with a warning in `notes`. Refuses (Error with source:line): index 0 or out of
 // range (vertices, texture coordinates, normals, tag indices), a face with fewer than 3 corners or
@@ -150,8 +150,9 @@ struct WriteOptions {
 // order (and keep_order), else comments, mtllib, kept lines, v, vt, vn, then faces with o, g, usemtl
 // and s where they change, then tags. Numbers as the shortest text denoting their exact value.
 // Throws Error(kUnsupported) naming what OBJ cannot hold (face colours, PLY properties, a face
-// without a label after faces with one) and the --drop category that removes it; kUsage when
-// check_mesh fails or the statement order does not match the per-face labels.
+// without a label after faces with one) and the --drop category that removes it; kUsage when the
+// mesh breaks an invariant of check_mesh (a face repeating a vertex is written as it is) or the
+// statement order does not match the per-face labels. Safe on any mesh.
 std::string write_obj_mesh(const Mesh& mesh, const WriteOptions& options = {});
 
 // Write a Mesh as OFF text ([ST][C][N]OFF as the data needs). Throws Error(kUnsupported) naming what
