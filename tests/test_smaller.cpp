@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string>
 
-#include "../tools/highway/highway.h"
+#include "support/highway.h"
 #include "qsp/canonical.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
