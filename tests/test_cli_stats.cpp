@@ -1,6 +1,5 @@
 // `qsp stats` end to end: Table-1 rows, JSON, and every invalid mesh refused with file:line.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -66,12 +65,11 @@ TEST(CliStats, QspRowNamesItsFormatAndCoding) {
 
 // `stats --partition auto` reports what `compress` writes: the same total bytes as the file.
 TEST(CliStats, AutoRowMatchesTheCompressedFile) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("qsp_stats_auto_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const testing::TempDir dir;
   for (const char* name : {"keenan_spot_quadrangulated.obj", "l_shape.obj", "multi_component.obj"}) {
     SCOPED_TRACE(name);
     const std::string in = std::string(QSP_TESTDATA_DIR) + "/" + name;
-    const fs::path out = dir / "x.qsp";
+    const fs::path out = dir.path() / "x.qsp";
     ASSERT_EQ(run_qsp("compress -f --positions-only " + quote(in) + " " + quote(out.string())).exit_code, 0);
     const auto r = run_qsp("stats --json --partition auto " + quote(in));
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -79,7 +77,6 @@ TEST(CliStats, AutoRowMatchesTheCompressedFile) {
     EXPECT_NE(r.out.find("\"total\": " + std::to_string(fs::file_size(out)) + ","), std::string::npos)
         << r.out;
   }
-  fs::remove_all(dir);
 }
 
 // Reader and topology defects alike: exit 1, message with the expected code's text and location.

@@ -5,14 +5,13 @@
 #include <vector>
 
 #include "commands.h"
-#include "files.h"
-#include "load.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
 #include "qsp/partition.h"
 #include "qsp/smaller.h"
+#include "shared.h"
 
 namespace qsp::cli {
 namespace {
@@ -40,6 +39,7 @@ struct Row {
   bool keep_order = false;
   int quantize_bits = -1;  // 0 lossless, 1..30 quantized; -1 unknown
   int version_major = 0, version_minor = 0, geometry_revision = 0;
+  int level = 0;                    // the compression level that wrote the file; 0: the file does not say
   const char* geometry_order = "";  // "patch" or "layout"
   struct Comp {
     const char* kind;
@@ -48,6 +48,11 @@ struct Row {
   };
   std::vector<Comp> comps;
 };
+
+// The compression level that wrote a .qsp, 0 when the file does not record it. Format 2.x files do
+// not; format 3.0 adds the level to its header (FileInfo): read it here, and the table and the JSON
+// show it.
+int written_level(const FileInfo&) { return 0; }
 
 void add_sizes(Row& r, const FileInfo& info, const std::string& bytes) {
   r.has_bytes = true;
@@ -62,6 +67,7 @@ void add_sizes(Row& r, const FileInfo& info, const std::string& bytes) {
   r.version_major = info.version_major;
   r.version_minor = info.version_minor;
   r.geometry_revision = info.geometry_revision;
+  r.level = written_level(info);
   r.geometry_order = info.geometry_order == CodingOrder::kPatch ? "patch" : "layout";
 }
 
@@ -184,12 +190,13 @@ void print_json(const std::vector<Row>& rows, bool verbose, bool lines) {
           "\"order\": %llu, \"other\": %llu}, "
           "\"bits_per_vertex\": {\"total\": %.4f, \"connectivity\": %.4f, \"geometry\": %.4f}, "
           "\"format\": \"%d.%d\", \"geometry_coding\": {\"revision\": %d, \"order\": \"%s\"}, "
-          "\"quantize_bits\": %d, \"keep_order\": %s",
+          "\"quantize_bits\": %d, \"keep_order\": %s, \"level\": %s",
           (unsigned long long)r.total_bytes, (unsigned long long)r.header_bytes,
           (unsigned long long)r.connectivity_bytes, (unsigned long long)r.geometry_bytes,
           (unsigned long long)r.order_bytes, (unsigned long long)r.other_bytes, 8.0 * r.total_bytes / v,
           8.0 * r.connectivity_bytes / v, 8.0 * r.geometry_bytes / v, r.version_major, r.version_minor,
-          r.geometry_revision, r.geometry_order, r.quantize_bits, r.keep_order ? "true" : "false");
+          r.geometry_revision, r.geometry_order, r.quantize_bits, r.keep_order ? "true" : "false",
+          r.level ? std::to_string(r.level).c_str() : "null");
     }
     if (verbose) {
       std::printf(", \"components\": [");
@@ -244,10 +251,11 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
       // Format 2.2 headers with geometry revision 5 or lower are what --compat 2.1 writes: 2.1 readers
       // decode them.
       const bool old_readers = r.version_major == 2 && r.version_minor == 2 && r.geometry_revision <= 5;
-      std::printf("\n  format %d.%d, geometry coding revision %d, %s order%s; %s, %s\n", r.version_major,
+      const std::string level = r.level ? ", written at level " + std::to_string(r.level) : "";
+      std::printf("\n  format %d.%d, geometry coding revision %d, %s order%s; %s, %s%s\n", r.version_major,
                   r.version_minor, r.geometry_revision, r.geometry_order,
                   old_readers ? " (2.1 readers decode it)" : "", positions.c_str(),
-                  r.keep_order ? "original order kept" : "canonical order");
+                  r.keep_order ? "original order kept" : "canonical order", level.c_str());
     }
     if (!verbose) continue;
     for (std::size_t c = 0; c < r.comps.size(); ++c) {
@@ -262,7 +270,7 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
 
 }  // namespace
 
-void register_stats(CLI::App& app, int& exit_code) {
+void register_stats(CLI::App& app, int& rc) {
   auto opt = std::make_shared<StatsOptions>();
   CLI::App* cmd =
       app.add_subcommand("stats", "Print the paper's Table-1 row (mesh vs schematic partition) per file");
@@ -278,7 +286,7 @@ void register_stats(CLI::App& app, int& exit_code) {
                   "Partition: motorcycle (default), greedy, merge, auto (the one compress stores, with its "
                   "sizes), or all (a row each)")
       ->check(CLI::IsMember({"motorcycle", "greedy", "merge", "auto", "all"}));
-  cmd->callback([opt, cmd, &exit_code] {
+  cmd->callback([opt, cmd, &rc] {
     const MeshFormat format = parse_format_option(opt->format);
     std::vector<Row> rows;
     std::vector<PartitionMode> modes;
@@ -295,25 +303,12 @@ void register_stats(CLI::App& app, int& exit_code) {
     const auto one = [&](std::size_t i) {
       file_start = rows.size();
       const std::string& f = opt->files[i];
-      std::string bytes;
-      const bool from_stdin = read_stdin_if_unknown(f, format, bytes);
-      if (from_stdin ? detect_format(bytes) == MeshFormat::kQsp : format_from_path(f) == MeshFormat::kQsp) {
-        refuse_folder(f);
-        if (!from_stdin) bytes = read_file_bytes(f);
-        rows.push_back(info_row(f, bytes, "stored"));
-        if (!partition_given) return;
-        // --partition asks for partitions the file does not store: decode it and compute them.
-        LoadedMesh loaded;
-        try {
-          loaded.mesh = decode(bytes);
-        } catch (const Error& e) {
-          throw Error(e.code(), f + ": " + e.what());
-        }
-        loaded.adjacency = build_adjacency(loaded.mesh);
-        add_mesh_rows(f, loaded);
-        return;
-      }
-      add_mesh_rows(f, from_stdin ? load_mesh_bytes(bytes, f) : load_mesh(f, format));
+      Input in = read_input(f, format);
+      if (!in.qsp) return add_mesh_rows(f, with_adjacency(std::move(in.mesh), std::move(in.report), f));
+      rows.push_back(info_row(f, in.bytes, "stored"));
+      if (!partition_given) return;
+      // --partition asks for partitions the file does not store: decode it and compute them.
+      add_mesh_rows(f, with_adjacency(decode_named(in.bytes, f), {}, f));
     };
     const auto failed = [&](std::size_t i, const std::string& message) {
       rows.resize(file_start);
@@ -322,7 +317,7 @@ void register_stats(CLI::App& app, int& exit_code) {
       r.error = message;
       rows.push_back(r);
     };
-    exit_code = for_each_file(opt->files, one, failed);
+    rc = for_each_file(opt->files, one, failed);
     if (opt->json || opt->json_lines)
       print_json(rows, opt->verbose, opt->json_lines);
     else

@@ -1,27 +1,15 @@
-#include "files.h"
+#include "shared.h"
 
 #include <sys/stat.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <system_error>
 
 namespace qsp::cli {
 namespace fs = std::filesystem;
-
-int exit_code_for(ErrorCode code) {
-  switch (code) {
-    case ErrorCode::kUsage:
-      return 2;
-    case ErrorCode::kIo:
-      return 3;
-    case ErrorCode::kInternal:
-      return 4;
-    default:
-      return 1;
-  }
-}
 
 namespace {
 
@@ -98,14 +86,31 @@ void check_outputs(const std::vector<std::string>& inputs, const std::vector<Out
   }
 }
 
-void write_output(const std::string& path, std::string_view bytes, const WriteOptions& o) {
-  if (path == "-") return write_file_atomic(path, bytes, true);
-  struct stat st {};
+namespace {
+
+// What write_output refuses before writing: a folder, and an existing file without -f. Returns whether
+// `path` exists (lstat: a link counts, dangling or not).
+bool check_writable(const std::string& path, const WriteOptions& o, struct stat& st) {
   const bool exists = ::lstat(path.c_str(), &st) == 0;
   if (exists && S_ISDIR(st.st_mode))
     throw Error(ErrorCode::kIo, path + ": is a folder; name a file to write (" + o.other_ways + ")");
   if (exists && !o.force)
     throw Error(ErrorCode::kIo, path + ": already exists; pass -f to replace it, or " + o.other_ways);
+  return exists;
+}
+
+}  // namespace
+
+void refuse_existing(const std::vector<Output>& outputs, const WriteOptions& o) {
+  struct stat st {};
+  for (const Output& out : outputs)
+    if (out.path != "-") check_writable(out.path, o, st);
+}
+
+void write_output(const std::string& path, std::string_view bytes, const WriteOptions& o) {
+  if (path == "-") return write_file_atomic(path, bytes, true);
+  struct stat st {};
+  const bool exists = check_writable(path, o, st);
   if (exists && S_ISLNK(st.st_mode)) {
     // Replacing the link by a regular file would cut whatever it points to out of the user's setup.
     const std::string target = resolved(path).string();
@@ -117,6 +122,24 @@ void write_output(const std::string& path, std::string_view bytes, const WriteOp
   write_file_atomic(path, bytes, o.force);
 }
 
+MeshFormat parse_format_option(const std::string& value) {
+  if (value.empty()) return MeshFormat::kUnknown;
+  const MeshFormat f = format_from_path("x." + value);
+  if (f == MeshFormat::kUnknown || f == MeshFormat::kQsp)
+    throw CLI::ValidationError("--format " + value + ": must be obj, off or ply");
+  return f;
+}
+
+void add_format_option(CLI::App* cmd, std::string& value) {
+  cmd->add_option("--format", value,
+                  "Mesh format of standard input or of files whose name does not say: obj, off or ply "
+                  "(default: detected, OFF and ply by their first line, else OBJ)")
+      ->check(CLI::IsMember({"obj", "off", "ply"}));
+}
+
+namespace {
+
+// Refuses (kIo) a path that is a folder, saying so and how to name the files in it.
 void refuse_folder(const std::string& path) {
   std::error_code ec;
   if (path != "-" && fs::is_directory(path, ec)) {
@@ -127,25 +150,13 @@ void refuse_folder(const std::string& path) {
   }
 }
 
-MeshFormat parse_format_option(const std::string& value) {
-  if (value.empty()) return MeshFormat::kUnknown;
-  const MeshFormat f = format_from_path("x." + value);
-  if (f == MeshFormat::kUnknown || f == MeshFormat::kQsp)
-    throw CLI::ValidationError("--format " + value + ": must be obj, off or ply");
-  return f;
-}
-
+// `format` where it applies: to standard input and to a name whose extension says no format.
 MeshFormat format_for(const std::string& path, MeshFormat format) {
   return path == "-" || format_from_path(path) == MeshFormat::kUnknown ? format : MeshFormat::kUnknown;
 }
 
-void add_format_option(CLI::App* cmd, std::string& value) {
-  cmd->add_option("--format", value,
-                  "Mesh format of standard input or of files whose name does not say: obj, off or ply "
-                  "(default: detected, OFF and ply by their first line, else OBJ)")
-      ->check(CLI::IsMember({"obj", "off", "ply"}));
-}
-
+// The format of mesh bytes from their first line: "OFF" (also COFF, NOFF, ...) or "ply" magic, else
+// OBJ; kQsp for the .qsp magic.
 MeshFormat detect_format(std::string_view bytes) {
   if (bytes.substr(0, 4) == "\x89QSP") return MeshFormat::kQsp;
   if (bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n") return MeshFormat::kPly;
@@ -159,16 +170,7 @@ MeshFormat detect_format(std::string_view bytes) {
   return MeshFormat::kObj;
 }
 
-QuadMesh read_input_mesh(const std::string& path, MeshFormat format, ReadReport* report) {
-  refuse_folder(path);
-  format = format_for(path, format);
-  if (format == MeshFormat::kUnknown && path != "-") format = format_from_path(path);
-  if (format != MeshFormat::kUnknown) return read_mesh_file(path, report, format);
-  // Standard input, or a name that says nothing: the bytes say it (OBJ has no magic: the default on
-  // standard input; a file of unknown name must be OFF or PLY by its magic, or be named).
-  return read_mesh_bytes(read_file_bytes(path), path, report);
-}
-
+// The detecting half of read_input_mesh, on bytes already read from `path`.
 QuadMesh read_mesh_bytes(std::string_view bytes, const std::string& path, ReadReport* report) {
   const MeshFormat detected = detect_format(bytes);
   if (detected == MeshFormat::kQsp)
@@ -180,6 +182,118 @@ QuadMesh read_mesh_bytes(std::string_view bytes, const std::string& path, ReadRe
     throw Error(ErrorCode::kUnsupported,
                 path + ": unknown mesh format (expected .obj, .off or .ply; give --format obj if it is OBJ)");
   return read_obj(bytes, path, report);
+}
+
+}  // namespace
+
+QuadMesh read_input_mesh(const std::string& path, MeshFormat format, ReadReport* report) {
+  refuse_folder(path);
+  format = format_for(path, format);
+  if (format == MeshFormat::kUnknown && path != "-") format = format_from_path(path);
+  if (format != MeshFormat::kUnknown) return read_mesh_file(path, report, format);
+  // Standard input, or a name that says nothing: the bytes say it (OBJ has no magic: the default on
+  // standard input; a file of unknown name must be OFF or PLY by its magic, or be named).
+  return read_mesh_bytes(read_file_bytes(path), path, report);
+}
+
+void rethrow_located(const Error& e, const std::string& path, const ReadReport& report) {
+  const std::int64_t f = e.face();
+  if (f >= 0 && static_cast<std::size_t>(f) < report.face_line.size() && report.face_line[f] != 0)
+    throw Error(e.code(), path + ":" + std::to_string(report.face_line[f]) + ": " + e.what(), f);
+  if (f >= 0) throw Error(e.code(), path + ": " + e.what(), f);
+  throw e;
+}
+
+Input read_input(const std::string& path, MeshFormat format) {
+  refuse_folder(path);
+  format = format_for(path, format);
+  Input in;
+  if (format == MeshFormat::kUnknown && format_from_path(path) == MeshFormat::kQsp) {
+    in.qsp = true;
+    in.bytes = read_file_bytes(path);
+  } else if (format == MeshFormat::kUnknown && format_from_path(path) == MeshFormat::kUnknown) {
+    // Standard input or a name that says nothing: read once, then look at the magic.
+    std::string bytes = read_file_bytes(path);
+    if (detect_format(bytes) == MeshFormat::kQsp) {
+      in.qsp = true;
+      in.bytes = std::move(bytes);
+    } else {
+      in.mesh = read_mesh_bytes(bytes, path, &in.report);
+    }
+  } else {
+    in.mesh = read_input_mesh(path, format, &in.report);
+  }
+  return in;
+}
+
+QuadMesh read_mesh_or_qsp(const std::string& path, ReadReport& report, MeshFormat format) {
+  Input in = read_input(path, format);
+  report = std::move(in.report);
+  return in.qsp ? decode_named(in.bytes, path) : std::move(in.mesh);
+}
+
+QuadMesh decode_named(std::string_view bytes, const std::string& path, const DecodeLimits& limits) {
+  try {
+    return decode(bytes, limits);
+  } catch (const Error& e) {
+    throw Error(e.code(), path + ": " + e.what());
+  }
+}
+
+LoadedMesh with_adjacency(QuadMesh mesh, ReadReport report, const std::string& path) {
+  LoadedMesh out{std::move(mesh), {}, std::move(report)};
+  try {
+    out.adjacency = build_adjacency(out.mesh);
+  } catch (const Error& e) {
+    rethrow_located(e, path, out.report);
+  }
+  return out;
+}
+
+// The geometry section's `bits` field (format-spec "Geometry", Layout): after the tag, the section
+// length, the revision byte and, up to revision 3, the vertex count. -1 if not found; `bytes` has been
+// checked by inspect(), this only reads what it already accepted.
+int geometry_bits(const std::string& bytes, const FileInfo& info) {
+  const auto varint_end = [&](std::size_t at) {
+    while (at < bytes.size() && (static_cast<unsigned char>(bytes[at]) & 0x80)) ++at;
+    return at + 1;
+  };
+  for (const SectionInfo& s : info.sections) {
+    if (s.tag != 0x03) continue;  // geometry
+    std::size_t at = varint_end(s.offset + 1);
+    const int revision = at < bytes.size() ? static_cast<unsigned char>(bytes[at]) : 0;
+    at = revision <= 3 ? varint_end(at + 1) : at + 1;
+    return at < bytes.size() ? static_cast<unsigned char>(bytes[at]) : -1;
+  }
+  return -1;
+}
+
+MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadReport& report) {
+  try {
+    return prepare_match(std::move(mesh));
+  } catch (const Error& e) {
+    rethrow_located(e, path, report);
+  }
+}
+
+void refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
+                       bool positions_only, bool quiet) {
+  if (!report.has_extra_data()) return;
+  if (!positions_only)
+    throw Error(ErrorCode::kUnsupported, path + ": has " + report.describe_extra_data() + ", which " + what +
+                                             " does not keep; pass --positions-only to drop them");
+  if (!quiet)
+    std::fprintf(stderr, "qsp: %s: dropped %s (--positions-only)\n", path.c_str(),
+                 report.describe_extra_data().c_str());
+}
+
+void add_centering_option(CLI::App* cmd, Centering& value) {
+  const std::map<std::string, Centering> names{
+      {"component", Centering::kComponent}, {"mesh", Centering::kMesh}, {"none", Centering::kNone}};
+  cmd->add_option(
+         "--centering", value,
+         "Positions compared to choose among symmetric isomorphisms: component (default), mesh, none")
+      ->transform(CLI::CheckedTransformer(names));
 }
 
 int for_each_file(const std::vector<std::string>& files, const std::function<void(std::size_t)>& one,
@@ -195,10 +309,10 @@ int for_each_file(const std::vector<std::string>& files, const std::function<voi
       code = exit_code_for(e.code());
       message = e.what();
     } catch (const CLI::ParseError& e) {
-      code = 2;
+      code = exit_code(Outcome::kUsage);
       message = e.what();
     } catch (const std::bad_alloc&) {
-      code = 4;
+      code = exit_code(Outcome::kInternal);
       message = files[i] + ": out of memory";
     }
     std::fflush(stdout);  // the error after the rows before it
@@ -217,6 +331,12 @@ std::string name_meshes(std::string reason, const std::string& a, const std::str
       reason.replace(at, from.size(), to);
   }
   return reason;
+}
+
+std::string mirror_hint(const std::string& a, const std::string& b) {
+  return "; but " + b + " is " + a +
+         " with every face reversed (mirrored, or turned inside out): pass --allow-mirror to accept "
+         "orientation-reversing matches";
 }
 
 std::string nearest(const std::string& word, const std::vector<std::string>& candidates) {
@@ -270,8 +390,8 @@ std::vector<Job> plan_jobs(const FileArgs& a, const OutputNaming& naming) {
   } else if (inputs.size() == 2 && !fs::exists(inputs[1]) && !fs::is_symlink(inputs[1]) &&
              fs::exists(inputs[0])) {
     // `compress in.obj out.obj`: surely meant as IN OUT, but an output name must say what it holds.
-    throw CLI::ValidationError(inputs[1] + ": no such file to " + naming.verb + ", and an output name " +
-                               naming.rule + " (give it so, or use -o NAME)");
+    throw CLI::ValidationError(inputs[1] + ": no such file to " + naming.verb +
+                               "; if it is meant as the output, its name " + naming.rule);
   }
   const int ways = !given.path.empty() + !a.output_dir.empty() + a.to_stdout;
   if (ways > 1) throw CLI::ValidationError("give one of OUT, -o, --output-dir and -c");
