@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <string>
 
-#include "support/highway.h"
 #include "qsp/canonical.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
@@ -15,6 +14,7 @@
 #include "qsp/smaller.h"
 #include "support/cli.h"
 #include "support/corpus.h"
+#include "support/highway.h"
 #include "support/mesh_gen.h"
 
 namespace qsp {

@@ -44,9 +44,7 @@ struct Arrangement {
 inline std::int64_t cross(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by) {
   return ax * by - ay * bx;
 }
-inline int sign(std::int64_t v) {
-  return (v > 0) - (v < 0);
-}
+inline int sign(std::int64_t v) { return (v > 0) - (v < 0); }
 inline int orient(const Point& p, const Point& q, const Point& r) {
   return sign(cross(q.x - p.x, q.y - p.y, r.x - p.x, r.y - p.y));
 }
