@@ -483,6 +483,43 @@ TEST(Submesh, FinOnAClosedSurfaceComesOff) {
   EXPECT_EQ(s.adjacency.component_count, 2u);
 }
 
+// Shapes that would make a quadratic rule hang (ctest's timeout catches that; nothing is timed here):
+// an edge with 50,000 quads, a vertex with 25,000 quads between 25,000 triangles, a 50,000-gon.
+TEST(Submesh, HostileShapesCostTheirSize) {
+  const std::uint32_t n = 50000;
+  Poly book;
+  book.nv = 2 + 2 * n;
+  for (std::uint32_t i = 0; i < n; ++i) book.face({0, 1, 2 + 2 * i, 3 + 2 * i});
+  const QuadSubmesh b = submesh(book);
+  EXPECT_EQ(b.counts.cut_edges, 1u);
+  EXPECT_EQ(b.counts.cut_vertices, 2u);
+  EXPECT_EQ(b.counts.extra_copies, 2 * (n - 1));
+  EXPECT_EQ(b.adjacency.component_count, n);
+  Poly fan;  // around vertex 0: quad (0, r_i, x_i, r_i+1) for even i, triangle (0, r_i, r_i+1) for odd i
+  fan.nv = 1 + 2 * n;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t a = 1 + i, z = 1 + (i + 1) % n;
+    if (i % 2)
+      fan.face({0, a, z});
+    else
+      fan.face({0, a, 1 + n + i, z});
+  }
+  const QuadSubmesh f = checked(fan);
+  EXPECT_EQ(f.regions.size(), n / 2);
+  EXPECT_EQ(f.counts.cut_vertices, 1u);
+  EXPECT_EQ(f.counts.extra_copies, n / 2 - 1);
+  Poly ngon;
+  ngon.nv = n + 2;
+  ngon.corners.resize(n);
+  std::iota(ngon.corners.begin(), ngon.corners.end(), 0u);
+  ngon.offsets.push_back(n);
+  ngon.face({1, 0, n, n + 1});
+  const QuadSubmesh g = checked(ngon);
+  ASSERT_EQ(g.regions.size(), 1u);
+  EXPECT_EQ(g.regions[0].interior.size(), n - 2);
+  EXPECT_EQ(g.regions[0].loops.size(), 1u);
+}
+
 // ---- Errors: only what is not a mesh, in build_adjacency's words.
 
 TEST(Submesh, RefusesWhatIsNotAMesh) {

@@ -64,7 +64,7 @@ struct PolygonCounts {
   std::uint32_t extra_copies = 0;  // submesh vertices beyond one per original vertex used by a face
 };
 
-// A connected region of non-quad faces: it fills holes of the quad submesh.
+// A connected region of non-quad faces (rule 4): it lies in holes of the quad submesh, or on its own.
 struct NonQuadRegion {
   std::vector<std::uint32_t> faces;     // original face indices, increasing
   std::vector<std::uint32_t> interior;  // its submesh vertices that no quad uses (>= mesh.vertex_count())
@@ -74,8 +74,9 @@ struct NonQuadRegion {
 struct QuadSubmesh {
   // The quads in input order, each with its corners in input order, over the submesh vertices
   // [0, mesh.vertex_count()): first one per original vertex that a quad or no face uses (in original
-  // order; its quad fan holding its first quad corner), then the further quad-fan copies. So an all-quad
-  // manifold oriented mesh comes out as itself. Positions are copied from the original vertex.
+  // order; its quad fan holding its first quad corner), then the further quad-fan copies by first
+  // corner. So an all-quad manifold oriented mesh comes out as itself. Positions are copied from the
+  // original vertex.
   QuadMesh mesh;
   Adjacency adjacency;  // build_adjacency(mesh)
   // Per submesh vertex: its original vertex. Submesh vertices [mesh.vertex_count(), size()) are the
@@ -84,8 +85,8 @@ struct QuadSubmesh {
   std::vector<std::uint32_t> corner_vertex;  // per input corner: its submesh vertex (rule 4 for non-quads)
   std::vector<std::uint32_t> quad_face;      // per quad: its original face
   std::vector<NonQuadRegion> regions;        // numbered by their smallest face
-  // Boundary loops of the quad submesh (one per schematic hole face): per loop its smallest exterior
-  // half-edge of `adjacency`; per exterior half-edge (h - 4 * face_count) its loop.
+  // Boundary loops of the quad submesh (a schematic's hole faces, an annulus's two rows): per loop its
+  // smallest exterior half-edge of `adjacency`; per exterior half-edge (h - 4 * face_count) its loop.
   std::vector<std::uint32_t> loop_halfedge;
   std::vector<std::uint32_t> exterior_loop;
   PolygonCounts counts;
