@@ -729,6 +729,32 @@ std::pair<std::uint32_t, std::uint32_t> nonmanifold_and_flipped(const Poly& p) {
   return {many, same};
 }
 
+// Independent counts of a polygon mesh: connected components (faces joined across edges that exactly
+// two faces share) and boundary edges (edges of one face).
+std::pair<std::uint32_t, std::uint32_t> components_and_boundary(const Poly& p,
+                                                                const std::vector<std::uint32_t>& corners) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> faces_of;
+  for (std::uint32_t f = 0; f < p.face_count(); ++f)
+    for (std::uint32_t c = p.offsets[f]; c < p.offsets[f + 1]; ++c) {
+      const std::uint32_t a = corners[c], b = corners[c + 1 == p.offsets[f + 1] ? p.offsets[f] : c + 1];
+      faces_of[{std::min(a, b), std::max(a, b)}].push_back(f);
+    }
+  std::vector<std::uint32_t> parent(p.face_count());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t f) {
+    while (parent[f] != f) f = parent[f] = parent[parent[f]];
+    return f;
+  };
+  std::uint32_t boundary = 0, components = p.face_count();
+  for (const auto& [e, fs] : faces_of) {
+    if (fs.size() == 1) ++boundary;
+    if (fs.size() != 2 || find(fs[0]) == find(fs[1])) continue;
+    parent[find(fs[0])] = find(fs[1]);
+    --components;
+  }
+  return {components, boundary};
+}
+
 long num(const testing::ManifestRow& row, const char* key) { return row.num(key); }
 template <class T>
 long num(T x) {
@@ -772,6 +798,9 @@ TEST(Submesh, EverySharedMeshGivesAValidQuadSubmesh) {
         EXPECT_EQ(s.counts.cut_edges, 0u);
         const ManifoldCut cut = cut_manifold(p.offsets, p.corners, p.nv);
         EXPECT_EQ(cut.cut_vertices, 0u);
+        const auto [components, boundary] = components_and_boundary(p, cut.corners);
+        EXPECT_EQ(num(components), num(row->second, "components"));
+        EXPECT_EQ(num(boundary), num(row->second, "boundary_edges"));
       }
       if (manifold && row->second.col.at("all_quad") == "True") {
         EXPECT_EQ(s.mesh.quads, p.corners);  // a valid quad mesh is its own quad submesh
