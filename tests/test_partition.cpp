@@ -13,37 +13,15 @@
 #include "qsp/partition.h"
 #include "support/corpus.h"
 #include "support/mesh_gen.h"
+#include "support/schematic_counts.h"
 
 namespace qsp {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Counts {
-  std::uint32_t x = 0, e = 0, patches = 0;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> sizes;  // sorted (min, max)
-};
-
-Counts counts(const Partition& p) {
-  Counts c;
-  for (const auto& part : p.components) {
-    if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus) {
-      ++c.patches;
-      continue;
-    }
-    const Schematic& s = part.schematic;
-    c.x += s.vertex_count;
-    c.e += s.edge_count();
-    c.patches += s.patch_count();
-    for (std::uint32_t f = 0; f < s.face_count(); ++f)
-      if (!s.face_hole[f]) {
-        const PatchSize z = patch_size(s, f);
-        c.sizes.emplace_back(std::min(z.a, z.b), std::max(z.a, z.b));
-      }
-  }
-  std::sort(c.sizes.begin(), c.sizes.end());
-  return c;
-}
+using Counts = testing::SchematicCounts;
+constexpr auto counts = testing::schematic_counts;
 
 Partition checked_partition(const QuadMesh& m, const Adjacency& adj) {
   Partition p = partition_motorcycle(adj);
