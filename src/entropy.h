@@ -1,5 +1,5 @@
-// qsp/entropy.h: the adaptive binary range coder every entropy-coded .qsp stream uses.
-// Exactly specified in format-spec/qsp_format.md ("Entropy coding"): a change here is a format change.
+// The adaptive binary range coder every entropy-coded .qsp stream uses (internal). Exactly specified in
+// format-spec/qsp_format.md ("Entropy coding"): a change here is a format change.
 #pragma once
 
 #include <array>
@@ -22,7 +22,7 @@ struct BitModel {
   std::uint32_t p0() const { return (std::uint32_t{fast} + slow) >> 1; }
 };
 
-// What coding `bit` teaches model m (the rates above). Inline: geometry revision 6's logistic
+// What coding `bit` teaches model m (the rates above). Inline: the geometry section's logistic
 // decisions update four models a bit.
 inline void learn(BitModel& m, unsigned bit) {
   const auto warm = static_cast<unsigned>(std::bit_width(static_cast<unsigned>(m.seen) + 1u));
@@ -37,15 +37,10 @@ inline void learn(BitModel& m, unsigned bit) {
   if (m.seen < 255) ++m.seen;
 }
 
-// How a stream begins and ends. kLzma: as in LZMA, a first byte that is always 0 and a flush of the
-// whole 32-bit `low` (the topology and order sections of format 1.x, geometry revisions 1-3). kCompact
-// (the topology and order sections of format 2, geometry revisions 4 to 6): no zero byte, and a flush that
-// ends on the value of the final interval with the most trailing zero bytes (3 or 4), those bytes left
-// out; the decoder reads them back as zeros. 4 or 5 bytes less a stream.
-enum class StreamEnds : std::uint8_t { kLzma, kCompact };
-
-// kCompact's end for a final interval [low, low + range) (range >= 2^24): the number of trailing zero
-// bytes k (3 or 4) of the value it ends on, and that value's low 32 bits plus 2^32 if it carries.
+// How a stream ends ("Compact ends"): LZMA's range coder without its first byte (always 0), and a flush
+// that ends on the value of the final interval [low, low + range) (range >= 2^24) with the most
+// trailing zero bytes, those bytes left out; the decoder reads them back as zeros. The number of
+// those bytes k (3 or 4), and that value's low 32 bits plus 2^32 if it carries.
 struct CompactEnd {
   std::uint64_t value;
   int zeros;
@@ -55,12 +50,8 @@ CompactEnd compact_end(std::uint64_t low, std::uint32_t range);
 // LZMA-style range encoder (32-bit range, carry propagation through a cached byte), appending to `out`.
 class RangeEncoder {
  public:
-  explicit RangeEncoder(std::string& out, StreamEnds ends = StreamEnds::kLzma)
-      : out_(out), compact_(ends == StreamEnds::kCompact) {}
+  explicit RangeEncoder(std::string& out) : out_(out) {}
   void encode_bit(BitModel& m, unsigned bit);
-  // One bit with the count-weighted mean of two models' probabilities; both learn it (geometry
-  // revision 3: a (kind, magnitude) model mixed with its kind's).
-  void encode_bit(BitModel& a, BitModel& b, unsigned bit);
   // `count` (<= 32) bits of `value`, most significant first, each with probability 1/2.
   void encode_raw(std::uint32_t value, unsigned count);
   // One bit with probability p0 / 2^16 of a 0 (1 <= p0 <= 65535), from a model outside this class.
@@ -71,24 +62,21 @@ class RangeEncoder {
  private:
   void shift_low();
   std::string& out_;
-  bool compact_;
-  bool skip_first_ = compact_;  // kCompact: the first byte (always 0) is not written
+  bool skip_first_ = true;  // LZMA's first byte (always 0) is not written
   std::uint64_t low_ = 0;
   std::uint32_t range_ = 0xFFFFFFFFu;
   std::uint8_t cache_ = 0;
   std::uint64_t cache_size_ = 1;
 };
 
-// Inverse of RangeEncoder over exactly `bytes`. Reading past the end (kCompact: more than the 4 zero
-// bytes its flush may leave out) throws Error(kFormat) naming `what` and the absolute offset
-// (`base_offset` + position), so a hostile stream fails as soon as it runs out; finish() checks that
-// every byte was used and (kLzma) the stream ended where the encoder ended it.
+// Inverse of RangeEncoder over exactly `bytes`. Reading past the end (more than the 4 zero bytes the
+// flush may leave out) throws Error(kFormat) naming `what` and the absolute offset (`base_offset` +
+// position), so a hostile stream fails as soon as it runs out; finish() checks that every byte was
+// used and the stream ended as the encoder ends it. Safe on untrusted input.
 class RangeDecoder {
  public:
-  RangeDecoder(std::string_view bytes, std::uint64_t base_offset, const char* what,
-               StreamEnds ends = StreamEnds::kLzma);
+  RangeDecoder(std::string_view bytes, std::uint64_t base_offset, const char* what);
   unsigned decode_bit(BitModel& m);
-  unsigned decode_bit(BitModel& a, BitModel& b);
   std::uint32_t decode_raw(unsigned count);
   unsigned decode_p0(std::uint32_t p0);
   void finish() const;
@@ -101,11 +89,10 @@ class RangeDecoder {
   std::string_view bytes_;
   std::uint64_t base_offset_;
   const char* what_;
-  bool compact_;
-  std::size_t pos_ = 0;  // kCompact: may pass bytes_.size() by up to 4 (zeros the flush left out)
+  std::size_t pos_ = 0;  // may pass bytes_.size() by up to 4 (zeros the flush left out)
   std::uint32_t range_ = 0xFFFFFFFFu;
   std::uint32_t code_ = 0;
-  std::uint32_t window_ = 0;  // the last 4 bytes read (kCompact's end check)
+  std::uint32_t window_ = 0;  // the last 4 bytes read (the end check)
 };
 
 // Adaptive Exp-Golomb model for unsigned integers 0 .. 2^32 - 2. Codes n = bit length of (v + 1)
