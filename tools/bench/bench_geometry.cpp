@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bytes.h"
 #include "geometry_coder.h"
 #include "layout_grid.h"
 #include "qsp/error.h"
@@ -118,9 +119,7 @@ double zstd_baseline_bits(const Coded& c, std::uint32_t bits) {
       }
       const std::int64_t r = q[3 * i + a] - pred;
       std::uint64_t u = (static_cast<std::uint64_t>(r) << 1) ^ static_cast<std::uint64_t>(r >> 63);
-      std::string& out = streams[a * 4 + kind];
-      while (u >= 0x80) out.push_back(static_cast<char>((u & 0x7F) | 0x80)), u >>= 7;
-      out.push_back(static_cast<char>(u));
+      qsp::put_varint(streams[a * 4 + kind], u);
     }
   }
   std::size_t total = 0;
