@@ -87,9 +87,8 @@ std::uint8_t geometry_tools(std::string_view bytes, std::uint64_t base_offset) {
 }
 
 std::uint8_t geometry_quantize_bits(std::string_view bytes, std::uint64_t base_offset) {
-  ByteReader in(bytes, base_offset, "geometry section");
   (void)geometry_tools(bytes, base_offset);
-  in.u8("tools");
+  ByteReader in(bytes.substr(1), base_offset + 1, "geometry section");
   const std::uint8_t bits = in.u8("bits");
   if (bits > 30)
     in.fail_at("quantization bits " + std::to_string(bits) + " out of range (0 to 30)", base_offset + 1);
