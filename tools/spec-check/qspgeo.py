@@ -7,9 +7,12 @@ decoder it replaces was written the same way): the section's tools byte names th
 combination of them decodes. check.sh runs it over the golden files and fresh encodes, so the text
 cannot drift from the reference decoder unnoticed.
 
-usage: qspgeo.py FILE.qsp PREFIX  decodes FILE's geometry with the stencils in PREFIX.stencil and
-       compares with PREFIX.pos (the reference decoder's float bits, canonical order); both files come
-       from dump_stencils. Exit 0 if every coordinate matches bit for bit, else 1.
+usage: qspgeo.py [--dumped-stencils] FILE.qsp PREFIX
+       builds FILE's coding order and stencils from its topology section (qsplayout.py, from the text
+       too) and compares them with the reference's in PREFIX.stencil; decodes the geometry with its
+       own stencils (with the reference's if --dumped-stencils) and compares with PREFIX.pos (the
+       reference decoder's float bits, canonical order). Both files come from dump_stencils. Exit 0
+       if the stencils agree and every coordinate matches bit for bit, else 1.
 The stencil file gives, per coding position k: coding[k], 19 vertex fields (FIELDS, -1 = absent),
 far_dist, e_dist, n_dist, xnum, xden.
 
@@ -912,15 +915,40 @@ def decode_geometry(sec, V, st):
     return fbits, dict(tools='+'.join(names) or 'none', bits=bits, axes=axes, stats=stats)
 
 
+def compare_stencils(mine, dumped):
+    """Differences between the coding order and stencils built from the text and dump_stencils'."""
+    (c1, s1), (c2, s2) = mine, dumped
+    if len(c1) != len(c2):
+        return [('vertex count', len(c1), len(c2))]
+    out = []
+    for k in range(len(c1)):
+        if c1[k] != c2[k]:
+            out.append((k, 'coding', c1[k], c2[k]))
+        out += [(k, f, s1[k][f], s2[k][f]) for f in s2[k] if s1[k][f] != s2[k][f]]
+    return out
+
+
 def main():
-    if len(sys.argv) != 3:
+    args = [x for x in sys.argv[1:] if x != '--dumped-stencils']
+    if len(args) != 2:
         print(__doc__, file=sys.stderr)
         return 2
-    path, prefix = sys.argv[1], sys.argv[2]
+    path, prefix = args
     secs = sections(open(path, 'rb').read())
-    V = counts(secs[1])[0]
-    coding, st = load_stencils(prefix + '.stencil')
-    assert len(st) == V, (len(st), V)
+    V, F, C, U = counts(secs[1])
+    dumped = load_stencils(prefix + '.stencil')
+    assert len(dumped[1]) == V, (len(dumped[1]), V)
+    import qsplayout
+    try:
+        mine = qsplayout.stencils(secs[2], C, U, bool(secs[3][:1] and secs[3][0] & LAYOUT_ORDER))
+    except FormatError as e:
+        print('%s: topology refused: %s' % (path, e))
+        return 1
+    diff = compare_stencils(mine, dumped)
+    if diff:
+        print('%s: %d stencil fields differ from the reference (k, field, text, reference): %s'
+              % (path, len(diff), diff[:8]))
+    coding, st = dumped if '--dumped-stencils' in sys.argv else mine
     try:
         fb, info = decode_geometry(secs[3], V, st)
     except FormatError as e:
@@ -933,7 +961,7 @@ def main():
             if fb[a][k] != ref[3 * coding[k] + a]:
                 bad.append((k, coding[k], 'xyz'[a], hex(fb[a][k]), hex(ref[3 * coding[k] + a])))
     print(path, 'V=%d' % V, info, 'mismatches=%d' % len(bad), 'first=%s' % (bad[:1],))
-    return 1 if bad else 0
+    return 1 if bad or diff else 0
 
 
 if __name__ == '__main__':
