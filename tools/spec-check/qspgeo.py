@@ -13,6 +13,11 @@ usage: qspgeo.py [--dumped-stencils] FILE.qsp PREFIX
        own stencils (with the reference's if --dumped-stencils) and compares with PREFIX.pos (the
        reference decoder's float bits, canonical order). Both files come from dump_stencils. Exit 0
        if the stencils agree and every coordinate matches bit for bit, else 1.
+       qspgeo.py --recode FILE.qsp OUTDIR [TOOLS...]
+       writes FILE with its geometry coded again under each tools byte (all 32 by default), same
+       header and values, by an encoder written from the same text (qsp_format.md "Entropy coding"):
+       the reference decoder must read each to FILE's positions, which checks every tool
+       combination whether or not the reference encoder ever writes it.
 The stencil file gives, per coding position k: coding[k], 19 vertex fields (FIELDS, -1 = absent),
 far_dist, e_dist, n_dist, xnum, xden.
 
@@ -165,7 +170,58 @@ def _length_prior():
 LENGTH_PRIOR = _length_prior()
 
 
-class RangeDecoder:
+class Coder:
+    """The symbols a stream codes, over decide(p0, bit) and raw(bit) of a range decoder or encoder.
+    Every method takes `want`, the bit or value to encode; a decoder ignores it and returns what it
+    decodes, an encoder codes it and returns it."""
+
+    def bit(self, m, want=None):
+        b = self.decide(m.p0(), want)
+        m.update(b)
+        return b
+
+    def mixed(self, A, B, want=None):
+        """geometry "Mixed decisions"."""
+        if A.seen >= 64:
+            return self.bit(A, want)
+        wA = min(A.seen, 30) + 1
+        wB = min(B.seen, 30) + 1
+        b = self.decide((A.p0() * wA + B.p0() * wB) // (wA + wB), want)
+        A.update(b)
+        B.update(b)
+        return b
+
+    def logistic(self, models, W, want=None):
+        """geometry "Logistic decisions": four models and a weight set W (updated in place)."""
+        st = [STRETCH[clamp(4096 - (m.p0() >> 4), 1, 4095)] for m in models] + [MIX_BIAS]
+        dot = sum(W[k] * st[k] for k in range(5))
+        p1 = SQUASH[clamp(dot >> 16, -2047, 2047)]
+        b = self.decide(clamp(16 * (4096 - p1), 71, 65465), want)
+        err = MIX_RATE * (4096 * b - p1)
+        for k in range(5):
+            W[k] = clamp(W[k] + ((st[k] * err) >> 14), -(1 << 22), 1 << 22)
+        for m in models:
+            m.update(b)
+        return b
+
+    def integer(self, t, want=None):
+        """An integer model ("Models"), its bit models in table t."""
+        nw = None if want is None else bit_width(want + 1) - 1
+        n = 0
+        while n < 31 and self.bit(t['prefix', n], None if want is None else int(n < nw)) == 1:
+            n += 1
+        x = 1
+        for i in range(n - 1, -1, -1):
+            wb = None if want is None else ((want + 1) >> i) & 1
+            if n <= 8:
+                b = self.bit(t['tree', (1 << n) + x - 1], wb)  # node = x: 1 then 2*node + bit
+            else:
+                b = self.bit(t['tail', 32 * n + i], wb)
+            x = 2 * x + b
+        return x - 1
+
+
+class RangeDecoder(Coder):
     """LZMA's range decoder with 16-bit probabilities and compact ends."""
 
     def __init__(self, data):
@@ -195,7 +251,7 @@ class RangeDecoder:
             self.range = (self.range << 8) & 0xFFFFFFFF
             self.code = ((self.code << 8) | self.byte()) & 0xFFFFFFFF
 
-    def decide(self, p0):
+    def decide(self, p0, want=None):
         assert 1 <= p0 <= 65535
         bound = (self.range >> 16) * p0
         if self.code < bound:
@@ -208,12 +264,7 @@ class RangeDecoder:
         self.normalize()
         return b
 
-    def bit(self, m):
-        b = self.decide(m.p0())
-        m.update(b)
-        return b
-
-    def raw(self):
+    def raw(self, want=None):
         self.range >>= 1
         b = 1 if self.code >= self.range else 0
         if b:
@@ -222,60 +273,76 @@ class RangeDecoder:
         need(self.code < self.range, 'value outside the coder\'s interval (raw bit)')
         return b
 
-    def mixed(self, A, B):
-        """geometry "Mixed decisions"."""
-        if A.seen >= 64:
-            return self.bit(A)
-        wA = min(A.seen, 30) + 1
-        wB = min(B.seen, 30) + 1
-        b = self.decide((A.p0() * wA + B.p0() * wB) // (wA + wB))
-        A.update(b)
-        B.update(b)
-        return b
-
-    def logistic(self, models, W):
-        """geometry "Logistic decisions": four models and a weight set W (updated in place)."""
-        st = [STRETCH[clamp(4096 - (m.p0() >> 4), 1, 4095)] for m in models] + [MIX_BIAS]
-        dot = sum(W[k] * st[k] for k in range(5))
-        p1 = SQUASH[clamp(dot >> 16, -2047, 2047)]
-        b = self.decide(clamp(16 * (4096 - p1), 71, 65465))
-        err = MIX_RATE * (4096 * b - p1)
-        for k in range(5):
-            W[k] = clamp(W[k] + ((st[k] * err) >> 14), -(1 << 22), 1 << 22)
-        for m in models:
-            m.update(b)
-        return b
-
-    def integer(self, t):
-        """An integer model ("Models"), its bit models in table t."""
-        n = 0
-        while n < 31 and self.bit(t['prefix', n]) == 1:
-            n += 1
-        x = 1
-        for i in range(n - 1, -1, -1):
-            if n <= 8:
-                b = self.bit(t['tree', (1 << n) + x - 1])  # node = x: 1 then 2*node + bit
-            else:
-                b = self.bit(t['tail', 32 * n + i])
-            x = 2 * x + b
-        return x - 1
-
     def finish(self):
         """"Compact ends": the stream must end exactly where and as the encoder ends it."""
         win = 0
         for x in self.last4:
             win = (win << 8) | x
         lw = (win - self.code) % (1 << 32)
-        k = V = None
-        for kk in (4, 3, 2, 1):
-            unit = 1 << (8 * kk)
-            VV = -(-lw // unit) * unit
-            if VV < lw + self.range:
-                k, V = kk, VV
-                break
+        k, V = compact_end(lw, self.range)
         need(self.pos == len(self.data),
              'does not end where its symbols end (%d bytes unread)' % (len(self.data) - self.pos))
-        need(k is not None and self.past == k and win == V % (1 << 32), 'does not end as the encoder ends it')
+        need(self.past == k and win == V % (1 << 32), 'does not end as the encoder ends it')
+
+
+def compact_end(low, rng):
+    """"Compact ends": the largest k in 4..1 whose multiple V of 2^(8k) at or above low is < low + range."""
+    for k in (4, 3, 2, 1):
+        unit = 1 << (8 * k)
+        V = -(-low // unit) * unit
+        if V < low + rng:
+            return k, V
+    raise AssertionError('range < 2^24')
+
+
+class RangeEncoder(Coder):
+    """The encoder of qsp_format.md "Entropy coding", for recoding a section with other tools."""
+
+    def __init__(self):
+        self.low = 0
+        self.range = 0xFFFFFFFF
+        self.cache = 0
+        self.cache_size = 1
+        self.out = bytearray()
+
+    def shift_low(self):
+        if self.low < 0xFF000000 or self.low >= 1 << 32:
+            carry = self.low >> 32
+            self.out.append((self.cache + carry) & 0xFF)
+            self.out += bytes([(0xFF + carry) & 0xFF]) * (self.cache_size - 1)
+            self.cache = (self.low >> 24) & 0xFF
+            self.cache_size = 0
+        self.cache_size += 1
+        self.low = (self.low & 0x00FFFFFF) << 8
+
+    def normalize(self):
+        while self.range < 1 << 24:
+            self.range <<= 8
+            self.shift_low()
+
+    def decide(self, p0, want):
+        bound = (self.range >> 16) * p0
+        if want == 0:
+            self.range = bound
+        else:
+            self.low += bound
+            self.range -= bound
+        self.normalize()
+        return want
+
+    def raw(self, want):
+        self.range >>= 1
+        if want:
+            self.low += self.range
+        self.normalize()
+        return want
+
+    def finish(self):
+        k, self.low = compact_end(self.low, self.range)
+        for _ in range(5):
+            self.shift_low()
+        assert self.out[0] == 0 and not any(self.out[len(self.out) - k:])
+        return bytes(self.out[1:len(self.out) - k])
 
 
 # ---------------- "Values per axis" ----------------
@@ -540,8 +607,11 @@ def shape_candidate(val, nb, corner, row_end, col_end, fourth):
 
 
 # ---------------- the decoder ----------------
-def decode_geometry(sec, V, st):
-    """Decodes a geometry section: float bits per axis per coding position, and a summary."""
+def decode_geometry(sec, V, st, target=None):
+    """Decodes a geometry section: float bits per axis per coding position, and a summary.
+    With target (v[k] per axis, as "Values per axis"), encodes them instead after sec's header (sec
+    holds only the header) and returns the section; decimal exceptions are coded as their
+    prediction, and every value in S at rank <= 63 as a repeat ("Encoder choices")."""
     tools, bits, origin, step, axes, payload = parse_header(sec, V)
     repeats = bool(tools & REPEATS)
     layout_order = bool(tools & LAYOUT_ORDER)
@@ -555,7 +625,7 @@ def decode_geometry(sec, V, st):
     QMOD = 1 << bits
     DLIM = (1 << 40) - 1
 
-    rd = RangeDecoder(payload)
+    rd = RangeDecoder(payload) if target is None else RangeEncoder()
     # "Model tables": every table fresh at the section's start
     length = Table(lambda key: Model(LENGTH_PRIOR[key[1]][key[2]], 3)) if mixing else Table()
     general, mantissa, zeros, repeat = Table(), Table(), Table(), Table()
@@ -800,11 +870,16 @@ def decode_geometry(sec, V, st):
                 p = P
 
             exception = ax.kind == 'dec' and i in ax.exceptions
+            want = want_rank = None
+            if target is not None:  # encoding: the value, and its rank in S if it repeats one
+                want = p if exception else target[a][i]
+                ordered = sorted(S[a], key=lambda x: (abs(x - p), x))
+                want_rank = ordered.index(want) if want in S[a] and ordered.index(want) <= 63 else None
             is_repeat = 0
             if repeats and S[a] and not exception:
-                is_repeat = rd.bit(repeat[h.ctx, prev])
+                is_repeat = rd.bit(repeat[h.ctx, prev], None if want is None else int(want_rank is not None))
             if is_repeat:
-                k = rd.integer(rank)
+                k = rd.integer(rank, want_rank)
                 need(k <= 63, 'rank %d > 63' % k)
                 ordered = sorted(S[a], key=lambda x: (abs(x - p), x))
                 need(k < len(ordered), 'rank %d beyond the %d values seen' % (k, len(ordered)))
@@ -817,18 +892,33 @@ def decode_geometry(sec, V, st):
                 prev = 2
                 stat('repeat')
             else:
+                want_u = want_t = wb = None
+                if want is not None:  # "Residuals", the encoder's side
+                    if ax.kind == 'q':
+                        r = (want - p) % QMOD
+                        r = r - QMOD if r >= QMOD >> 1 else r
+                    elif ax.kind == 'dec' and ax.tz:
+                        want_t = 0
+                        while want_t < 12 and want != 0 and want % 10 ** (want_t + 1) == 0:
+                            want_t += 1
+                        r = want // 10 ** want_t - rdiv(p, 10 ** want_t)
+                    else:
+                        r = want - p
+                    want_u = zigzag(r)
                 # "Residual coding": the length
                 node = 1
                 hsum = 0
                 for b in range(5, -1, -1):
+                    if want_u is not None:
+                        wb = (bit_width(want_u) >> b) & 1
                     if hsum + (1 << b) > M_len[a]:
                         bit = 0
                     elif mixing:
                         bit = rd.logistic((length[h.ctx, c, node], general[h.ctx, node],
                                            by_class[h.ctx, a, nc, node], by_previous[h.ctx, a, pl, node]),
-                                          weight_set(('length', hw, node)))
+                                          weight_set(('length', hw, node)), wb)
                     else:
-                        bit = rd.mixed(length[h.ctx, c, node], general[h.ctx, node])
+                        bit = rd.mixed(length[h.ctx, c, node], general[h.ctx, node], wb)
                     node = 2 * node + bit
                     hsum += bit << b
                 Lr = hsum
@@ -839,16 +929,18 @@ def decode_geometry(sec, V, st):
                     u = 1
                     node = 1
                     for j in range(Lr - 1):
+                        if want_u is not None:
+                            wb = (want_u >> (Lr - 2 - j)) & 1
                         if j < 2:
                             if mixing:
                                 bit = rd.logistic((mantissa[Lr, node], mantissa_bucket[Lr, c, node],
                                                    mantissa_kind[Lr, h.ctx, node], mantissa_class[Lr, a, nc, node]),
-                                                  weight_set(('mantissa', hw, node)))
+                                                  weight_set(('mantissa', hw, node)), wb)
                             else:
-                                bit = rd.bit(mantissa[Lr, node])
+                                bit = rd.bit(mantissa[Lr, node], wb)
                             node = 2 * node + bit
                         else:
-                            bit = rd.raw()
+                            bit = rd.raw(wb)
                         u = 2 * u + bit
                 r = unzigzag(u)
                 if ax.kind == 'q':
@@ -856,8 +948,8 @@ def decode_geometry(sec, V, st):
                 elif ax.kind == 'dec' and ax.tz:
                     D = min(15, len(str(abs(p)))) if p != 0 else 0
                     node = 1
-                    for _ in range(4):
-                        node = 2 * node + rd.bit(zeros[D, node])
+                    for b in range(3, -1, -1):
+                        node = 2 * node + rd.bit(zeros[D, node], None if want_t is None else (want_t >> b) & 1)
                     t = node - 16
                     need(t <= 12, 't %d > 12' % t)
                     ten = 10 ** t
@@ -873,6 +965,7 @@ def decode_geometry(sec, V, st):
                     need(0 <= value <= U32_MAX, 'float image outside [0, 2^32)')
                 prev = 1
             # the value, its coordinate and the records
+            assert want is None or value == want
             val[a][i] = value
             L[a][i] = bit_width(u)
             U[a][i] = min(u, U32_MAX)
@@ -909,10 +1002,117 @@ def decode_geometry(sec, V, st):
         if any_int:
             err[i] = {k: min(U32_MAX - 1, sum(min(abs(val[a][i] - cand[a][k]), U32_MAX)
                                               for a in range(3) if is_int[a])) for k in mask}
+    if target is not None:
+        return sec + rd.finish()
     rd.finish()
     names = [n for bit, n in ((REPEATS, 'repeats'), (LAYOUT_ORDER, 'layout'), (CHAINING, 'chaining'),
                               (CELL_SHAPES, 'shapes'), (MIXING, 'mixing')) if tools & bit]
-    return fbits, dict(tools='+'.join(names) or 'none', bits=bits, axes=axes, stats=stats)
+    return fbits, dict(tools='+'.join(names) or 'none', bits=bits, axes=axes, stats=stats, values=val)
+
+
+# ---------------- --recode: the same values under every tools byte ----------------
+M64 = (1 << 64) - 1
+XXP1, XXP2, XXP3, XXP4, XXP5 = (0x9E3779B185EBCA87, 0xC2B2AE3D27D4EB4F, 0x165667B19E3779F9,
+                                0x85EBCA77C2B2AE63, 0x27D4EB2F165667C5)
+
+
+def _rotl(x, r):
+    return ((x << r) | (x >> (64 - r))) & M64
+
+
+def _xxround(acc, x):
+    return (_rotl((acc + x * XXP2) & M64, 31) * XXP1) & M64
+
+
+def xxh64(b, seed=0):
+    """XXH64 (qsp_format.md "Checksum")."""
+    n = len(b)
+    p = 0
+    u64 = lambda i: int.from_bytes(b[i:i + 8], 'little')
+    if n >= 32:
+        v = [(seed + XXP1 + XXP2) & M64, (seed + XXP2) & M64, seed, (seed - XXP1) & M64]
+        while p + 32 <= n:
+            v = [_xxround(v[k], u64(p + 8 * k)) for k in range(4)]
+            p += 32
+        h = (_rotl(v[0], 1) + _rotl(v[1], 7) + _rotl(v[2], 12) + _rotl(v[3], 18)) & M64
+        for x in v:
+            h = ((h ^ _xxround(0, x)) * XXP1 + XXP4) & M64
+    else:
+        h = (seed + XXP5) & M64
+    h = (h + n) & M64
+    while p + 8 <= n:
+        h = (_rotl(h ^ _xxround(0, u64(p)), 27) * XXP1 + XXP4) & M64
+        p += 8
+    if p + 4 <= n:
+        h = (_rotl(h ^ ((int.from_bytes(b[p:p + 4], 'little') * XXP1) & M64), 23) * XXP2 + XXP3) & M64
+        p += 4
+    while p < n:
+        h = (_rotl(h ^ ((b[p] * XXP5) & M64), 11) * XXP1) & M64
+        p += 1
+    h = ((h ^ (h >> 33)) * XXP2) & M64
+    h = ((h ^ (h >> 29)) * XXP3) & M64
+    return h ^ (h >> 32)
+
+
+def varint(v):
+    out = bytearray()
+    while True:
+        x = v & 0x7F
+        v >>= 7
+        out.append(x | (0x80 if v else 0))
+        if not v:
+            return bytes(out)
+
+
+def container(b, secs):
+    """File b with its sections replaced by secs: the shortest consistent size field, a new checksum."""
+    body = b''.join(bytes([t]) + varint(len(p)) + p for t, p in sorted(secs.items()))
+    n = 1
+    while len(varint(11 + n + len(body) + 8)) != n:
+        n += 1
+    out = b[:11] + varint(11 + n + len(body) + 8) + body
+    return out + xxh64(out).to_bytes(8, 'little')
+
+
+def recode(path, outdir, tool_bytes):
+    """Writes FILE's mesh again with each tools byte: the same header and values, coded by this
+    file's encoder, the coding order from qsplayout.py. Returns the files written."""
+    import os
+    import qsplayout
+    b = open(path, 'rb').read()
+    secs = sections(b)
+    V, F, C, U = counts(secs[1])
+    geo = secs[3]
+    order = {lo: qsplayout.stencils(secs[2], C, U, lo) for lo in (False, True)}
+    coding, st = order[bool(geo[0] & LAYOUT_ORDER)]
+    fb, info = decode_geometry(geo, V, st)
+    tools, bits, origin, step, axes, payload = parse_header(geo, V)
+    by_vertex = [[0] * V for _ in range(3)]     # v per layout vertex
+    for k in range(V):
+        for a in range(3):
+            by_vertex[a][coding[k]] = info['values'][a][k]
+    exc = [{coding[k]: x for k, x in ax.exceptions.items()} for ax in axes]
+    out = []
+    for t in tool_bytes:
+        c2, s2 = order[bool(t & LAYOUT_ORDER)]
+        position = {v: k for k, v in enumerate(c2)}
+        hdr = bytes([t, bits])
+        if bits:
+            hdr += geo[2:22]
+        for a, ax in enumerate(axes if not bits else []):
+            hdr += bytes([0 if ax.kind == 'float' else (1 + ax.decimals) | (0x80 if ax.tz else 0)])
+            if ax.kind == 'dec':
+                e = sorted((position[v], x) for v, x in exc[a].items())
+                hdr += varint(len(e))
+                for j, (k, x) in enumerate(e):
+                    hdr += varint(k - (e[j - 1][0] if j else -1) - 1) + struct.pack('<I', x)
+        sec = decode_geometry(hdr, V, s2, target=[[by_vertex[a][v] for v in c2] for a in range(3)])
+        again, _ = decode_geometry(sec, V, s2)
+        assert all(again[a][position[coding[k]]] == fb[a][k] for k in range(V) for a in range(3))
+        name = os.path.join(outdir, '%s_tools%02d.qsp' % (os.path.basename(path)[:-4], t))
+        open(name, 'wb').write(container(b, {**secs, 3: sec}))
+        out.append(name)
+    return out
 
 
 def compare_stencils(mine, dumped):
@@ -929,6 +1129,11 @@ def compare_stencils(mine, dumped):
 
 
 def main():
+    if sys.argv[1:2] == ['--recode']:
+        tool_bytes = [int(x) for x in sys.argv[4:]] or range(32)
+        for name in recode(sys.argv[2], sys.argv[3], tool_bytes):
+            print(name)
+        return 0
     args = [x for x in sys.argv[1:] if x != '--dumped-stencils']
     if len(args) != 2:
         print(__doc__, file=sys.stderr)
@@ -960,6 +1165,7 @@ def main():
         for a in range(3):
             if fb[a][k] != ref[3 * coding[k] + a]:
                 bad.append((k, coding[k], 'xyz'[a], hex(fb[a][k]), hex(ref[3 * coding[k] + a])))
+    info.pop('values')
     print(path, 'V=%d' % V, info, 'mismatches=%d' % len(bad), 'first=%s' % (bad[:1],))
     return 1 if bad or diff else 0
 
