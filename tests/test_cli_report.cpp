@@ -54,7 +54,7 @@ TEST_F(CliReport, StatsOnAQspSaysWhatItHoldsAndItsBytesAddUp) {
   for (const Case& c :
        {Case{"", "lossless, canonical order"}, Case{"--quantize 12", "quantized to 12 bits, canonical order"},
         Case{"--quantize 14 --keep-order", "quantized to 14 bits, original order kept"},
-        Case{"--keep-order --compat 2.1", "(2.1 readers decode it); lossless, original order kept"}}) {
+        Case{"--keep-order --best", "format 3.0, level 9, geometry"}}) {
     SCOPED_TRACE(c.options);
     const std::string q = p("x.qsp");
     ASSERT_EQ(run_qsp("compress -f -q --positions-only " + c.options + " " + quote(mesh) + " " + quote(q))

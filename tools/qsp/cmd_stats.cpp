@@ -39,7 +39,8 @@ struct Row {
                 other_bytes = 0;  // the parts add up to the total
   bool keep_order = false;
   int quantize_bits = -1;  // 0 lossless, 1..30 quantized; -1 unknown
-  int version_major = 0, version_minor = 0, geometry_revision = 0;
+  int version_major = 0, version_minor = 0, level = 0;
+  std::string geometry_tools;       // geometry_tool_names()
   const char* geometry_order = "";  // "patch" or "layout"
   struct Comp {
     const char* kind;
@@ -61,7 +62,8 @@ void add_sizes(Row& r, const FileInfo& info, const std::string& bytes) {
   r.quantize_bits = geometry_bits(bytes, info);
   r.version_major = info.version_major;
   r.version_minor = info.version_minor;
-  r.geometry_revision = info.geometry_revision;
+  r.level = info.level;
+  r.geometry_tools = geometry_tool_names(info.geometry_tools);
   r.geometry_order = info.geometry_order == CodingOrder::kPatch ? "patch" : "layout";
 }
 
@@ -183,13 +185,14 @@ void print_json(const std::vector<Row>& rows, bool verbose, bool lines) {
           ", \"bytes\": {\"total\": %llu, \"header\": %llu, \"connectivity\": %llu, \"geometry\": %llu, "
           "\"order\": %llu, \"other\": %llu}, "
           "\"bits_per_vertex\": {\"total\": %.4f, \"connectivity\": %.4f, \"geometry\": %.4f}, "
-          "\"format\": \"%d.%d\", \"geometry_coding\": {\"revision\": %d, \"order\": \"%s\"}, "
+          "\"format\": \"%d.%d\", \"level\": %d, \"geometry_coding\": {\"tools\": %s, \"order\": \"%s\"}, "
           "\"quantize_bits\": %d, \"keep_order\": %s",
           (unsigned long long)r.total_bytes, (unsigned long long)r.header_bytes,
           (unsigned long long)r.connectivity_bytes, (unsigned long long)r.geometry_bytes,
           (unsigned long long)r.order_bytes, (unsigned long long)r.other_bytes, 8.0 * r.total_bytes / v,
           8.0 * r.connectivity_bytes / v, 8.0 * r.geometry_bytes / v, r.version_major, r.version_minor,
-          r.geometry_revision, r.geometry_order, r.quantize_bits, r.keep_order ? "true" : "false");
+          r.level, json_string(r.geometry_tools).c_str(), r.geometry_order, r.quantize_bits,
+          r.keep_order ? "true" : "false");
     }
     if (verbose) {
       std::printf(", \"components\": [");
@@ -241,13 +244,10 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
                                         ? "quantized to " + std::to_string(r.quantize_bits) + " bits"
                                     : r.quantize_bits == 0 ? "lossless"
                                                            : "positions unknown";
-      // Format 2.2 headers with geometry revision 5 or lower are what --compat 2.1 writes: 2.1 readers
-      // decode them.
-      const bool old_readers = r.version_major == 2 && r.version_minor == 2 && r.geometry_revision <= 5;
-      std::printf("\n  format %d.%d, geometry coding revision %d, %s order%s; %s, %s\n", r.version_major,
-                  r.version_minor, r.geometry_revision, r.geometry_order,
-                  old_readers ? " (2.1 readers decode it)" : "", positions.c_str(),
-                  r.keep_order ? "original order kept" : "canonical order");
+      const std::string level = r.level ? "level " + std::to_string(r.level) : "level not said";
+      std::printf("\n  format %d.%d, %s, geometry %s order, tools: %s; %s, %s\n", r.version_major,
+                  r.version_minor, level.c_str(), r.geometry_order, r.geometry_tools.c_str(),
+                  positions.c_str(), r.keep_order ? "original order kept" : "canonical order");
     }
     if (!verbose) continue;
     for (std::size_t c = 0; c < r.comps.size(); ++c) {

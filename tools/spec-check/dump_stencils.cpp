@@ -11,10 +11,12 @@
 #include <string_view>
 #include <vector>
 
+#include "codec_sections.h"
+#include "layout_grid.h"
 #include "qsp/canonical.h"
 #include "qsp/codec.h"
-#include "qsp/geometry.h"
 #include "qsp/partition.h"
+#include "stencil.h"
 
 namespace {
 
@@ -42,7 +44,7 @@ int main(int argc, char** argv) {
     const qsp::FileInfo info = qsp::inspect(bytes);  // the coding order, version and sections
 
     std::ofstream st(std::string(argv[2]) + ".stencil");
-    auto write = [&st](std::uint32_t vertex, qsp::GridLayout::Stencil s, std::uint32_t base) {
+    auto write = [&st](std::uint32_t vertex, qsp::Stencil s, std::uint32_t base) {
       st << vertex;
       for (std::uint32_t* v : s.vertex_fields())
         st << ' ' << (*v == qsp::kInvalid ? -1 : std::int64_t{*v + base});
@@ -51,13 +53,16 @@ int main(int argc, char** argv) {
     const qsp::FileTopology top = qsp::file_topology(bytes);
     std::uint32_t base = 0;
     for (const qsp::TopologyCode& code : top.codes) {
-      const qsp::GridLayout g = qsp::grid_layout(qsp::partition_from_code(code), info.geometry_order);
+      const qsp::ComponentPartition part = qsp::partition_from_code(code);
+      qsp::Numbering n;
+      const qsp::GridLayout g = qsp::grid_layout(part, n);
+      const qsp::ComponentStencils c = qsp::component_stencils(part, g, n, info.geometry_order);
       for (std::uint32_t k = 0; k < g.vertex_count; ++k)
-        write(base + (g.coding.empty() ? k : g.coding[k]), g.stencil[k], base);
+        write(base + (c.coding.empty() ? k : c.coding[k]), c.stencil[k], base);
       base += g.vertex_count;
     }
     for (std::uint64_t u = 0; u < top.unreferenced; ++u, ++base) {  // w = the previous vertex
-      qsp::GridLayout::Stencil s;
+      qsp::Stencil s;
       if (base > 0) s.w = base - 1;
       write(base, s, 0);
     }
@@ -69,8 +74,8 @@ int main(int argc, char** argv) {
       std::uint64_t offset = 0;
       const std::string_view order = payload(bytes, section, offset);
       const qsp::OrderMap om =
-          qsp::decode_order(order, offset, mesh.vertex_count(), mesh.face_count(),
-                            info.version_major >= 2 ? qsp::StreamEnds::kCompact : qsp::StreamEnds::kLzma);
+          qsp::decode_order(order, offset, static_cast<std::uint32_t>(mesh.vertex_count()),
+                            static_cast<std::uint32_t>(mesh.face_count()));
       for (std::size_t j = 0; j < om.vertex.size(); ++j)
         for (int a = 0; a < 3; ++a) pos[3 * std::size_t{om.vertex[j]} + a] = mesh.positions[3 * j + a];
     }
