@@ -14,45 +14,13 @@
 #include <tuple>
 #include <unordered_set>
 
+#include "order_set.h"
 #include "qsp/error.h"
 
 namespace qsp {
 namespace {
 
 [[noreturn]] void bad_code(const std::string& what) { throw Error(ErrorCode::kFormat, "topology: " + what); }
-
-// Order-statistics over labels 0..n-1 ("which open darts are there, and what is the k-th").
-class Fenwick {
- public:
-  explicit Fenwick(std::size_t n) : tree_(n + 1, 0), log_(1) {
-    while ((std::size_t{1} << log_) <= n) ++log_;
-  }
-  void add(std::size_t i, int delta) {
-    for (++i; i < tree_.size(); i += i & (~i + 1)) tree_[i] += delta;
-  }
-  // Number of set labels < i.
-  std::uint32_t prefix(std::size_t i) const {
-    std::uint32_t s = 0;
-    for (; i > 0; i -= i & (~i + 1)) s += tree_[i];
-    return s;
-  }
-  // Label of the k-th set element (1-based); n if none.
-  std::size_t find(std::uint32_t k) const {
-    std::size_t pos = 0;
-    for (int b = log_; b >= 0; --b) {
-      const std::size_t nxt = pos + (std::size_t{1} << b);
-      if (nxt < tree_.size() && static_cast<std::uint32_t>(tree_[nxt]) < k) {
-        pos = nxt;
-        k -= tree_[nxt];
-      }
-    }
-    return pos;  // 0-based label
-  }
-
- private:
-  std::vector<std::int32_t> tree_;
-  int log_;
-};
 
 // Darts in canonical label order from `root`, and the code of that traversal.
 void traverse(const Schematic& s, std::uint32_t root, std::vector<std::uint32_t>& order, TopologyCode& code) {
@@ -63,12 +31,12 @@ void traverse(const Schematic& s, std::uint32_t root, std::vector<std::uint32_t>
   code.next_ref.clear();
   code.edge_length.clear();
   code.corner.clear();
-  Fenwick open(nd);
+  OrderSet open(nd);  // labels of the darts without a predecessor yet
   auto assign = [&](std::uint32_t d) {
     for (std::uint32_t x : {d, d ^ 1}) {
       label[x] = static_cast<std::uint32_t>(order.size());
       order.push_back(x);
-      open.add(label[x], 1);
+      open.insert(label[x]);
     }
     code.edge_length.push_back(s.edge_length[d >> 1]);
   };
@@ -79,9 +47,9 @@ void traverse(const Schematic& s, std::uint32_t root, std::vector<std::uint32_t>
       assign(n);
       code.next_ref.push_back(0);
     } else {
-      code.next_ref.push_back(1 + open.prefix(label[n]));
+      code.next_ref.push_back(1 + open.rank(label[n]));
     }
-    open.add(label[n], -1);
+    open.erase(label[n]);
     code.corner.push_back(s.dart_corner[d]);
   }
 }
@@ -524,10 +492,10 @@ ComponentPartition partition_from_code(const TopologyCode& code) {
   if (nd < 2 || nd % 2 || code.corner.size() != nd || code.edge_length.size() * 2 != nd)
     bad_code("stream sizes disagree");
   std::vector<std::uint32_t> next(nd, kInvalid);
-  Fenwick open(nd);
+  OrderSet open(nd);
   std::size_t labelled = 2, open_count = 2;
-  open.add(0, 1);
-  open.add(1, 1);
+  open.insert(0);
+  open.insert(1);
   for (std::size_t i = 0; i < nd; ++i) {
     if (i >= labelled) bad_code("traversal ends before its streams do");
     const std::uint32_t ref = code.next_ref[i];
@@ -535,15 +503,15 @@ ComponentPartition partition_from_code(const TopologyCode& code) {
     if (ref == 0) {
       if (labelled + 2 > nd) bad_code("more edges than declared");
       target = labelled;
-      open.add(labelled, 1);
-      open.add(labelled + 1, 1);
+      open.insert(labelled);
+      open.insert(labelled + 1);
       labelled += 2;
       open_count += 2;
     } else {
       if (ref > open_count) bad_code("reference to a dart that is not open");
-      target = open.find(ref);
+      target = open.select(ref - 1);
     }
-    open.add(target, -1);
+    open.erase(target);
     --open_count;
     next[i] = static_cast<std::uint32_t>(target);
   }

@@ -5,16 +5,19 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <limits>
 #include <numeric>
 #include <string>
 #include <thread>
 #include <tuple>
+#include <unordered_map>
 
 #include "qsp/canonical.h"
 #include "qsp/error.h"
 #include "qsp/partition.h"
+#include "qsp/permute.h"
 
 namespace qsp {
 namespace {
@@ -31,17 +34,33 @@ double dist2(const Vec3& x, const Vec3& y) {
   return dx * dx + dy * dy + dz * dz;
 }
 
-std::uint64_t mul_sat(std::uint64_t x, std::uint64_t y) {
-  if (x == 0 || y == 0) return 0;
-  return x > std::numeric_limits<std::uint64_t>::max() / y ? std::numeric_limits<std::uint64_t>::max()
-                                                           : x * y;
-}
+// The isomorphism count as it is multiplied up: exact while it fits in 64 bits, its base-2 logarithm
+// always (a character's hundreds of identical helper parts give k! for k in the hundreds).
+struct Count {
+  std::uint64_t exact = 1;
+  bool fits = true;
+  double log2 = 0;
 
-std::uint64_t factorial_sat(std::uint64_t k) {
-  std::uint64_t f = 1;
-  for (std::uint64_t i = 2; i <= k && f != std::numeric_limits<std::uint64_t>::max(); ++i) f = mul_sat(f, i);
-  return f;
-}
+  void times(std::uint64_t x) {
+    log2 += x ? std::log2(double(x)) : -HUGE_VAL;
+    if (fits && x && exact > std::numeric_limits<std::uint64_t>::max() / x) fits = false;
+    if (fits) exact *= x;
+  }
+  // times k!: the exact product stops at the first overflow (k! passes 2^64 at k = 21), the logarithm
+  // comes from lgamma so a million unreferenced vertices cost no million steps.
+  void times_factorial(std::uint64_t k) {
+    log2 += std::lgamma(double(k) + 1.0) / std::log(2.0);
+    for (std::uint64_t i = 2; i <= k && fits; ++i) {
+      if (exact > std::numeric_limits<std::uint64_t>::max() / i) fits = false;
+      if (fits) exact *= i;
+    }
+  }
+  void store(MatchResult& r) const {
+    r.isomorphisms_exact = fits;
+    r.isomorphisms = fits ? exact : std::numeric_limits<std::uint64_t>::max();
+    r.isomorphisms_log2 = fits ? (exact ? std::log2(double(exact)) : -HUGE_VAL) : log2;
+  }
+};
 
 // ---- Memory locality ----
 // Adjacency, partition and layout walk the mesh face by face; in a file whose vertices and faces were
@@ -88,9 +107,15 @@ void localize(QuadMesh& m, std::vector<std::uint32_t>& vertex_old, std::vector<s
   // 30-bit Morton keys, two 15-bit radix passes.
   std::vector<std::uint32_t> key(nf), idx(nf), tmp_key(nf), tmp_idx(nf);
   for (std::uint32_t f = 0; f < nf; ++f) {
-    const float* p = &m.positions[3 * std::size_t(m.quads[4 * std::size_t(f)])];
+    // A bad index or a NaN only costs locality here: build_adjacency reports the index, and the float
+    // to integer conversion must stay defined.
+    const std::uint32_t v0 = m.quads[4 * std::size_t(f)];
+    const float* p = v0 < nv ? &m.positions[3 * std::size_t(v0)] : lo;
     std::uint32_t c = 0;
-    for (int k = 0; k < 3; ++k) c |= spread10(static_cast<std::uint32_t>((p[k] - lo[k]) * scale[k])) << k;
+    for (int k = 0; k < 3; ++k) {
+      const float t = (p[k] - lo[k]) * scale[k];
+      c |= spread10(t >= 0.0f && t <= 1023.0f ? static_cast<std::uint32_t>(t) : 0u) << k;
+    }
     key[f] = c;
     idx[f] = f;
   }
@@ -108,26 +133,20 @@ void localize(QuadMesh& m, std::vector<std::uint32_t>& vertex_old, std::vector<s
     idx.swap(tmp_idx);
   }
   face_old = std::move(idx);
-  std::vector<std::uint32_t> fresh(nv, kInvalid), quads(m.quads.size());
+  std::vector<std::uint8_t> seen(nv, 0);
   vertex_old.clear();
   vertex_old.reserve(nv);
-  for (std::uint32_t i = 0; i < nf; ++i)
+  for (std::uint32_t f : face_old)
     for (int c = 0; c < 4; ++c) {
-      const std::uint32_t v = m.quads[4 * std::size_t(face_old[i]) + c];
-      if (fresh[v] == kInvalid) {
-        fresh[v] = static_cast<std::uint32_t>(vertex_old.size());
+      const std::uint32_t v = m.quads[4 * std::size_t(f) + c];
+      if (v < nv && !seen[v]) {  // an index out of range is build_adjacency's to report
+        seen[v] = 1;
         vertex_old.push_back(v);
       }
-      quads[4 * std::size_t(i) + c] = fresh[v];
     }
   for (std::uint32_t v = 0; v < nv; ++v)
-    if (fresh[v] == kInvalid) vertex_old.push_back(v);  // unreferenced, in their order
-  std::vector<float> positions(m.positions.size());
-  for (std::uint32_t i = 0; i < nv; ++i)
-    for (int k = 0; k < 3; ++k)
-      positions[3 * std::size_t(i) + k] = m.positions[3 * std::size_t(vertex_old[i]) + k];
-  m.quads = std::move(quads);
-  m.positions = std::move(positions);
+    if (!seen[v]) vertex_old.push_back(v);  // unreferenced, in their order
+  m = permute(m, {vertex_old, face_old, {}});
 }
 
 void finish(MatchInput& in) {
@@ -340,6 +359,35 @@ Assignment assign(const std::vector<Vec3>& xs, const std::vector<Vec3>& ys, doub
   return out;
 }
 
+// prefer_order's pairing: xs[i] with the ys[j] whose key (an index in the callers' numbering) is the
+// same, when every key of `kx` is one of `ky` (the keys of each side are distinct, and the sides equal
+// in size, so that is a bijection). Empty when some key has no partner: pair by positions then.
+std::vector<std::uint32_t> pair_by_key(const std::vector<std::uint32_t>& kx,
+                                       const std::vector<std::uint32_t>& ky) {
+  std::unordered_map<std::uint32_t, std::uint32_t> at;
+  at.reserve(ky.size());
+  for (std::size_t j = 0; j < ky.size(); ++j) at.emplace(ky[j], static_cast<std::uint32_t>(j));
+  std::vector<std::uint32_t> to(kx.size());
+  for (std::size_t i = 0; i < kx.size(); ++i) {
+    const auto it = at.find(kx[i]);
+    if (it == at.end()) return {};
+    to[i] = it->second;
+  }
+  return to;
+}
+
+// Pairs points as assign() does, or, with prefer_order, by their keys where pair_by_key can.
+Assignment assign_preferring(const std::vector<Vec3>& xs, const std::vector<Vec3>& ys,
+                             const std::vector<std::uint32_t>& kx, const std::vector<std::uint32_t>& ky,
+                             const MatchOptions& options) {
+  if (options.prefer_order) {
+    Assignment out;
+    out.to = pair_by_key(kx, ky);
+    if (!out.to.empty() || xs.empty()) return out;
+  }
+  return assign(xs, ys, options.tie_tolerance);
+}
+
 // ---- Choosing a component's isomorphism ----
 
 struct PairChoice {
@@ -367,6 +415,14 @@ Vec3 component_centroid(const QuadMesh& m, const CanonicalComponent& c) {
     for (int k = 0; k < 3; ++k) s[k] += m.positions[3 * std::size_t(v) + k];
   const double n = double(std::max<std::size_t>(c.map.vertex.size(), 1));
   return {s[0] / n, s[1] / n, s[2] / n};
+}
+
+// The smallest index, in the caller's numbering, of a vertex of `c`: equal for two components made of
+// the same vertex indices.
+std::uint32_t smallest_index(const Prepared& p, const CanonicalComponent& c) {
+  std::uint32_t least = kInvalid;
+  for (std::uint32_t v : c.map.vertex) least = std::min(least, p.vertex_old.empty() ? v : p.vertex_old[v]);
+  return least;
 }
 
 // t such that A's positions are compared with B's plus t.
@@ -423,7 +479,26 @@ PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepar
   } else {
     probe_a = ca.part.schematic.vertex_mesh;
   }
-  std::vector<std::pair<double, std::uint32_t>> cand;
+  // An index in the callers' numbering.
+  const auto caller_a = [&](std::uint32_t v) { return pa.vertex_old.empty() ? v : pa.vertex_old[v]; };
+  const auto caller_b = [&](std::uint32_t v) { return pb.vertex_old.empty() ? v : pb.vertex_old[v]; };
+  // Vertices of `av` an isomorphism taking them to `bv` moves away from their own index.
+  const auto moved = [&](const std::uint32_t* av, const std::uint32_t* bv, std::size_t count) {
+    std::size_t m = 0;
+    for (std::size_t k = 0; k < count; ++k) m += caller_a(av[k]) != caller_b(bv[k]);
+    return m;
+  };
+  // Each candidate's lower bounds, from the probe vertices: of the vertices it moves (prefer_order;
+  // else 0) and of its cost. Scored in full in that order.
+  struct Candidate {
+    std::size_t moved_bound;
+    double cost_bound;
+    std::uint32_t start;
+    bool operator<(const Candidate& o) const {
+      return std::tie(moved_bound, cost_bound, start) < std::tie(o.moved_bound, o.cost_bound, o.start);
+    }
+  };
+  std::vector<Candidate> cand;
   cand.reserve(starts.size());
   for (std::uint32_t s : starts) {
     probe_b.clear();
@@ -439,66 +514,41 @@ PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepar
     } else {
       probe_b = canonical_from_start(adj, cb, s).schematic.vertex_mesh;
     }
-    cand.emplace_back(cost_of(a, probe_a.data(), b, probe_b.data(), probe_a.size(), t), s);
+    cand.push_back({opt.prefer_order ? moved(probe_a.data(), probe_b.data(), probe_a.size()) : 0,
+                    cost_of(a, probe_a.data(), b, probe_b.data(), probe_a.size(), t), s});
   }
   std::sort(cand.begin(), cand.end());
 
-  // Vertices an isomorphism moves away from their own index, in the callers' numberings.
-  const auto moved = [&](const LayoutMap& m) {
-    std::size_t count = 0;
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::uint32_t va = ca.map.vertex[k], vb = m.vertex[k];
-      count += (pa.vertex_old.empty() ? va : pa.vertex_old[va]) !=
-               (pb.vertex_old.empty() ? vb : pb.vertex_old[vb]);
-    }
-    return count;
-  };
-  // Full costs in order of lower bound, until no remaining candidate can tie or beat the best.
+  // Full scores (vertices moved, cost) in order of lower bounds, until no remaining candidate can tie
+  // or beat the best. `rival`: the nearest other candidate moving as few vertices.
+  std::size_t best_moved = SIZE_MAX;
   double best = HUGE_VAL, rival = HUGE_VAL;
-  std::vector<std::pair<double, std::size_t>> scored;  // prefer_order: (cost, moved) of each
-  std::vector<LayoutMap> maps;
-  for (const auto& [bound, s] : cand) {
-    if (bound > best + tol(best)) break;
+  for (const Candidate& c : cand) {
+    if (c.moved_bound > best_moved || (c.moved_bound == best_moved && c.cost_bound > best + tol(best))) break;
     if (out.info.scored == opt.max_full_evaluations) {
       out.info.exhaustive = false;
       break;
     }
-    LayoutMap m = layout_to_mesh(canonical_from_start(adj, cb, s), adj);
-    const double c = cost_of(a, ca.map.vertex.data(), b, m.vertex.data(), n, t);
+    LayoutMap m = layout_to_mesh(canonical_from_start(adj, cb, c.start), adj);
+    const double cost = cost_of(a, ca.map.vertex.data(), b, m.vertex.data(), n, t);
+    const std::size_t mv = opt.prefer_order ? moved(ca.map.vertex.data(), m.vertex.data(), n) : 0;
     ++out.info.scored;
-    if (opt.prefer_order) {
-      scored.emplace_back(c, moved(m));
-      maps.push_back(m);
-    }
-    if (c < best) {
-      rival = best;
-      best = c;
-      out.map = std::move(m);
+    if (mv < best_moved) {
+      rival = HUGE_VAL;  // the previous best moves more: no rival
+    } else if (mv > best_moved) {
+      continue;
+    } else if (cost >= best) {
+      rival = std::min(rival, cost);
+      continue;
     } else {
-      rival = std::min(rival, c);
+      rival = best;
     }
+    best_moved = mv;
+    best = cost;
+    out.map = std::move(m);
   }
   out.info.cost = best;
   out.info.ambiguous = !out.info.exhaustive || rival <= best + tol(best);
-  if (opt.prefer_order && out.info.exhaustive) {
-    // Among the nearest (within the tie tolerance), the one moving fewest vertices; ambiguous only if
-    // another of them moves as few.
-    std::size_t pick = scored.size(), ties = 0;
-    for (std::size_t i = 0; i < scored.size(); ++i) {
-      if (scored[i].first > best + tol(best)) continue;
-      if (pick == scored.size() || scored[i].second < scored[pick].second) {
-        pick = i;
-        ties = 1;
-      } else if (scored[i].second == scored[pick].second) {
-        ++ties;
-      }
-    }
-    if (pick < scored.size()) {
-      out.map = std::move(maps[pick]);
-      out.info.cost = scored[pick].first;
-      out.info.ambiguous = ties > 1;
-    }
-  }
   return out;
 }
 
@@ -531,8 +581,8 @@ MatchInput prepare_match(QuadMesh mesh) {
     in.adjacency = build_adjacency(in.mesh);
   } else {
     in.mesh = mesh;
-    localize(in.mesh, in.vertex_old, in.face_old);
     try {
+      localize(in.mesh, in.vertex_old, in.face_old);
       in.adjacency = build_adjacency(in.mesh);
     } catch (const Error&) {
       // Say what is wrong in the caller's numbering: the same check on the original mesh.
@@ -574,7 +624,53 @@ MatchResult match(const QuadMesh& a, const QuadMesh& b, const MatchOptions& opti
   return match(pa, pb, options);
 }
 
+namespace {
+
+MatchResult match_oriented(const MatchInput& pa, const MatchInput& pb, const MatchOptions& options);
+
+// The mesh with every face's corners reversed (v0 v3 v2 v1): orientation-reversing isomorphisms of the
+// original are the orientation-preserving ones of this, with the same vertex and face numbers.
+QuadMesh reversed(const QuadMesh& m) {
+  QuadMesh out = m;
+  for (std::size_t f = 0; f < out.face_count(); ++f) std::swap(out.quads[4 * f + 1], out.quads[4 * f + 3]);
+  return out;
+}
+
+// A match of A against B with every face reversed, in B's numbering as its caller gave it, with
+// rotations for B's own corners: A's corner c is B's corner (rotation - c) % 4.
+MatchResult mirrored_match(const MatchInput& a, const MatchInput& b, const MatchOptions& options) {
+  MatchResult r = match_oriented(a, prepare_match(reversed(b.mesh)), options);
+  if (!r.isomorphic) return r;
+  r.mirrored = true;
+  // reversed(b.mesh) keeps b.mesh's (possibly renumbered) order: map back as match() does.
+  for (std::uint32_t& v : r.vertex)
+    if (!b.vertex_old.empty()) v = b.vertex_old[v];
+  for (std::size_t f = 0; f < r.face.size(); ++f) {
+    if (!b.face_old.empty()) r.face[f] = b.face_old[r.face[f]];
+    // Reversed corner k is B's corner (4 - k) % 4, k = (c + r) % 4.
+    r.rotation[f] = static_cast<std::uint8_t>((4 - r.rotation[f]) & 3u);
+  }
+  return r;
+}
+
+}  // namespace
+
 MatchResult match(const MatchInput& pa, const MatchInput& pb, const MatchOptions& options) {
+  MatchResult r = match_oriented(pa, pb, options);
+  // Reversing every face keeps the component sizes and extraordinary vertices: only a difference in the
+  // schematic (the right-hand rule depends on orientation) or the code can be a mirror.
+  if (r.isomorphic || options.mirror == Mirror::kNo ||
+      (r.level != MatchLevel::kSchematic && r.level != MatchLevel::kCode))
+    return r;
+  MatchResult m = mirrored_match(pa, pb, options);
+  if (m.isomorphic && options.mirror == Mirror::kAccept) return m;
+  r.mirror_would_match = m.isomorphic;
+  return r;
+}
+
+namespace {
+
+MatchResult match_oriented(const MatchInput& pa, const MatchInput& pb, const MatchOptions& options) {
   MatchResult r;
   auto differ = [&](MatchLevel level, std::string why) {
     r.level = level;
@@ -627,7 +723,7 @@ MatchResult match(const MatchInput& pa, const MatchInput& pb, const MatchOptions
   r.vertex.assign(a.vertex_count(), kInvalid);
   r.face.assign(a.face_count(), kInvalid);
   r.rotation.assign(a.face_count(), 0);
-  r.isomorphisms = 1;
+  Count count;
   r.components.resize(ca.size());
   const bool centered = options.centering != Centering::kNone;
   auto rel = [&](const Prepared& p, Vec3 x) {
@@ -641,20 +737,25 @@ MatchResult match(const MatchInput& pa, const MatchInput& pb, const MatchOptions
     std::size_t j = i + 1;
     while (j < ca.size() && ca[j].code == ca[i].code) ++j;
     std::vector<Vec3> xs, ys;
+    std::vector<std::uint32_t> kx, ky;  // prefer_order: each component's smallest vertex index
     for (std::size_t k = i; k < j; ++k) {
       xs.push_back(rel(pa, component_centroid(a, ca[k])));
       ys.push_back(rel(pb, component_centroid(b, cb[k])));
+      if (options.prefer_order) {
+        kx.push_back(smallest_index(pa, ca[k]));
+        ky.push_back(smallest_index(pb, cb[k]));
+      }
     }
-    const Assignment pairing = assign(xs, ys, options.tie_tolerance);
+    const Assignment pairing = assign_preferring(xs, ys, kx, ky, options);
     r.ambiguous |= pairing.ambiguous;
     r.exhaustive &= pairing.exhaustive;
-    r.isomorphisms = mul_sat(r.isomorphisms, factorial_sat(j - i));
+    count.times_factorial(j - i);
     for (std::size_t k = i; k < j; ++k) {
       const CanonicalComponent& x = ca[k];
       const CanonicalComponent& y = cb[i + pairing.to[k - i]];
       PairChoice choice = choose(pa, x, pb, y, options);
       r.components[k] = choice.info;
-      r.isomorphisms = mul_sat(r.isomorphisms, choice.info.isomorphisms);
+      count.times(choice.info.isomorphisms);
       r.ambiguous |= choice.info.ambiguous;
       r.exhaustive &= choice.info.exhaustive;
       r.cost += choice.info.cost;
@@ -673,17 +774,23 @@ MatchResult match(const MatchInput& pa, const MatchInput& pb, const MatchOptions
   // Unreferenced vertices: any pairing is an isomorphism; take the nearest.
   {
     std::vector<Vec3> xs, ys;
+    std::vector<std::uint32_t> kx, ky;
     for (std::uint32_t v : ua) xs.push_back(rel(pa, position(a, v)));
     for (std::uint32_t v : ub) ys.push_back(rel(pb, position(b, v)));
-    const Assignment pairing = assign(xs, ys, options.tie_tolerance);
+    if (options.prefer_order) {
+      for (std::uint32_t v : ua) kx.push_back(pa.vertex_old.empty() ? v : pa.vertex_old[v]);
+      for (std::uint32_t v : ub) ky.push_back(pb.vertex_old.empty() ? v : pb.vertex_old[v]);
+    }
+    const Assignment pairing = assign_preferring(xs, ys, kx, ky, options);
     r.ambiguous |= pairing.ambiguous;
     r.exhaustive &= pairing.exhaustive;
-    r.isomorphisms = mul_sat(r.isomorphisms, factorial_sat(ua.size()));
+    count.times_factorial(ua.size());
     for (std::size_t k = 0; k < ua.size(); ++k) {
       r.vertex[ua[k]] = ub[pairing.to[k]];
       r.cost += dist2(xs[k], ys[pairing.to[k]]);
     }
   }
+  count.store(r);
   for (std::uint32_t v : r.vertex)
     if (v == kInvalid) throw Error(ErrorCode::kInternal, "match: a vertex of A was left unmapped");
   for (std::uint32_t f : r.face)
@@ -708,6 +815,25 @@ MatchResult match(const MatchInput& pa, const MatchInput& pb, const MatchOptions
   return r;
 }
 
+}  // namespace
+
+std::string isomorphism_count_text(const MatchResult& r) {
+  if (!r.isomorphic) return "0";
+  if (r.isomorphisms_exact) return std::to_string(r.isomorphisms);
+  const double decimal = r.isomorphisms_log2 * std::log10(2.0);
+  const double exponent = std::floor(decimal);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "about 2^%.1f (%.1fe%.0f)", r.isomorphisms_log2,
+                std::pow(10.0, decimal - exponent), exponent);
+  return buf;
+}
+
+QuadMesh reorder_like(const QuadMesh& in, const MatchResult& m) {
+  if (!m.isomorphic)
+    throw Error(ErrorCode::kUsage, "reorder_like: the meshes are not isomorphic: " + m.reason);
+  return permute(in, {m.vertex, m.face, m.rotation, m.mirrored});
+}
+
 bool verify_match(const QuadMesh& a, const QuadMesh& b, const MatchResult& m, std::string* why) {
   auto fail = [&](std::string s) {
     if (why) *why = std::move(s);
@@ -730,7 +856,8 @@ bool verify_match(const QuadMesh& a, const QuadMesh& b, const MatchResult& m, st
     if (g >= b.face_count() || fseen[g]) return fail("face map not a bijection at " + std::to_string(f));
     fseen[g] = 1;
     for (std::uint32_t c = 0; c < 4; ++c)
-      if (m.vertex[a.quads[4 * f + c]] != b.quads[4 * std::size_t(g) + ((c + m.rotation[f]) & 3u)])
+      if (m.vertex[a.quads[4 * f + c]] !=
+          b.quads[4 * std::size_t(g) + ((m.mirrored ? m.rotation[f] - c : c + m.rotation[f]) & 3u)])
         return fail("face " + std::to_string(f) + " corner " + std::to_string(c) + " does not map");
   }
   return true;

@@ -19,16 +19,16 @@ std::string face_str(std::uint32_t f) { return "face " + std::to_string(f); }
 }  // namespace
 
 Adjacency build_adjacency(const QuadMesh& mesh) {
-  if (mesh.positions.size() % 3 != 0) fail(ErrorCode::kInternal, "mesh arrays are not whole vertices/faces");
-  if (mesh.vertex_count() >= kAdjacencyVertexLimit)
-    fail(ErrorCode::kLimit, "mesh too large: at most 2^29 faces and 2^31 vertices");
+  if (mesh.positions.size() % 3 != 0) fail(ErrorCode::kUsage, "mesh arrays are not whole vertices/faces");
+  if (mesh.vertex_count() > kMaxVertices)
+    fail(ErrorCode::kLimit, "mesh too large: at most 2^29 - 1 faces and 2^31 - 1 vertices");
   return build_adjacency(mesh.quads, static_cast<std::uint32_t>(mesh.vertex_count()));
 }
 
 Adjacency build_adjacency(std::span<const std::uint32_t> q, std::uint32_t vertex_count) {
-  if (q.size() % 4 != 0) fail(ErrorCode::kInternal, "mesh arrays are not whole vertices/faces");
-  if (q.size() / 4 >= kAdjacencyFaceLimit || vertex_count >= kAdjacencyVertexLimit)
-    fail(ErrorCode::kLimit, "mesh too large: at most 2^29 faces and 2^31 vertices");
+  if (q.size() % 4 != 0) fail(ErrorCode::kUsage, "mesh arrays are not whole vertices/faces");
+  if (q.size() / 4 > kMaxFaces || vertex_count > kMaxVertices)
+    fail(ErrorCode::kLimit, "mesh too large: at most 2^29 - 1 faces and 2^31 - 1 vertices");
   Adjacency adj;
   const std::uint32_t nv = vertex_count;
   const auto nf = static_cast<std::uint32_t>(q.size() / 4);

@@ -3,7 +3,6 @@
 // in any format, and messages that name the way out. Each case checks the exit code, the files left
 // afterwards (inputs byte-identical) and the message.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -23,23 +22,13 @@ using testing::quote;
 using testing::run_qsp;
 
 using testing::slurp;
-
-void spit(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
+using testing::spit;
 
 const std::string kData = QSP_TESTDATA_DIR;
 
 // A fresh folder per test; `snapshot` records files whose bytes must not change.
-class CliFiles : public ::testing::Test {
+class CliFiles : public testing::TempDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(::testing::TempDir()) / ("qsp_files_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string p(const std::string& name) const { return (dir_ / name).string(); }
   // Copies a bundled mesh into the folder as `name` and remembers its bytes.
   std::string add(const std::string& bundled, const std::string& name) {
     fs::create_directories(fs::path(p(name)).parent_path());
@@ -72,7 +61,6 @@ class CliFiles : public ::testing::Test {
   // `in` compressed by the library with the CLI's defaults: what `compress` must have written.
   static std::string encoded(const std::string& in) { return encode(read_mesh_file(in)); }
 
-  fs::path dir_;
   std::map<std::string, std::string> inputs_;
 };
 
@@ -100,8 +88,10 @@ TEST_F(CliFiles, AnOutputNameMustSayWhatItHolds) {
   // IN OUT with a mesh name for the .qsp: refused before anything is written, naming the rule.
   auto r = run_qsp("compress " + quote(a) + " " + quote(p("out.obj")));
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("out.obj: no such file to compress, and an output name must end in .qsp"),
-            std::string::npos)
+  EXPECT_NE(
+      r.err.find("out.obj: no such file to compress; if it is meant as the output, its name must end in "
+                 ".qsp"),
+      std::string::npos)
       << r.err;
   r = run_qsp("compress " + quote(a) + " -o " + quote(p("out.obj")));
   EXPECT_EQ(r.exit_code, 1);
@@ -203,6 +193,49 @@ TEST_F(CliFiles, NoOutputIsAnInputOrAnotherOutput) {
               quote(p("f.txt")));
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(p("m.txt")) && fs::exists(p("f.txt")));
+}
+
+// show and layout read a mesh and write pictures and meshes: the same one check, and an existing output
+// refused before any work with the way out named; layout's two outputs both checked before either is
+// written.
+TEST_F(CliFiles, ShowAndLayoutNeverWriteOverAnInput) {
+  const std::string a = add("cube_4.obj", "a.obj");
+  for (const std::string& cmd :
+       {"layout -f " + quote(a) + " -o " + quote(a), "layout -f " + quote(a) + " --patches " + quote(a),
+        "show -f " + quote(a) + " -o " + quote(p("sub/../a.obj"))}) {
+    SCOPED_TRACE(cmd);
+    const auto r = run_qsp(cmd);
+    EXPECT_NE(r.exit_code, 0);
+    if (cmd.rfind("show", 0) == 0) continue;  // show refuses a non-picture name first
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_NE(r.err.find("is an input file"), std::string::npos) << r.err;
+  }
+  auto r = run_qsp("layout " + quote(a) + " -o " + quote(p("l.obj")) + " --patches " + quote(p("l.obj")));
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("would be written twice, for -o and for --patches"), std::string::npos) << r.err;
+  spit(p("p.ply"), "precious\n");
+  r = run_qsp("layout " + quote(a) + " -o " + quote(p("l.obj")) + " --patches " + quote(p("p.ply")));
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("p.ply: already exists; pass -f to replace it"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p("l.obj")));  // neither written
+  spit(p("x.png"), "precious\n");
+  r = run_qsp("show " + quote(a) + " -o " + quote(p("x.png")));
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("x.png: already exists; pass -f to replace it, or name another output"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(slurp(p("x.png")), "precious\n");
+  // Standard input, with --format or by its magic, as everywhere.
+  ASSERT_EQ(run_qsp("compress " + quote(a) + " " + quote(p("a.qsp"))).exit_code, 0);
+  r = run_qsp("layout - --format obj -o " + quote(p("in.obj")) + " < " + quote(a));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  r = run_qsp("layout - -o " + quote(p("in_qsp.obj")) + " < " + quote(p("a.qsp")));  // .qsp by its magic
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(slurp(p("in_qsp.obj")).find("stored partition"), std::string::npos);
+  r = run_qsp("show - -o " + quote(p("in.png")) + " --size 64x64 < " + quote(a));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(slurp(p("in.png")).substr(1, 3), "PNG");
+  expect_inputs_unchanged();
 }
 
 TEST_F(CliFiles, ForceOntoALinkWritesThroughIt) {
@@ -362,7 +395,7 @@ TEST_F(CliFiles, StandardInputInAnyFormat) {
   // A .qsp on standard input: stats, fingerprint and match read it; compress says what it is.
   auto r = run_qsp("stats - < " + quote(p("a.qsp")));
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("format 2.2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("format 3.0"), std::string::npos) << r.out;
   r = run_qsp("compress -c - < " + quote(p("a.qsp")));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("-: is .qsp compressed data, not a mesh (qsp decompress reads it)"), std::string::npos)

@@ -20,8 +20,8 @@ using testing::run_qsp;
 using testing::slurp;
 
 TEST(CliPartitionModes, EveryModeRoundTripsToTheSameMesh) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("qsp_modes_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const testing::TempDir temp;
+  const fs::path& dir = temp.path();
   for (const char* name :
        {"keenan_spot_quadrangulated.obj", "multi_component.obj", "l_shape.obj", "cube_4.obj"}) {
     SCOPED_TRACE(name);
@@ -46,7 +46,6 @@ TEST(CliPartitionModes, EveryModeRoundTripsToTheSameMesh) {
     }
     EXPECT_EQ(smallest, fs::file_size(ref));
   }
-  fs::remove_all(dir);
 }
 
 }  // namespace

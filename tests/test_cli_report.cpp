@@ -2,15 +2,18 @@
 // order kept, bytes that add up, the same patch counts in every mode; mirror matches on request and a
 // hint otherwise; isomorphism counts beyond 64 bits printed readably.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <set>
 #include <sstream>
 
+#include "qsp/codec.h"
 #include "qsp/io.h"
 #include "support/cli.h"
+#include "support/mesh_gen.h"
 
 namespace qsp {
 namespace {
@@ -22,18 +25,7 @@ using testing::slurp;
 
 const std::string kData = QSP_TESTDATA_DIR;
 
-class CliReport : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::path(::testing::TempDir()) / ("qsp_report_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string p(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
-};
+using CliReport = testing::TempDirTest;
 
 // The numbers of "bytes: T total = H header + C connectivity (...) + G geometry (...)[ + O order]".
 std::vector<std::uint64_t> byte_parts(const std::string& out) {
@@ -54,7 +46,7 @@ TEST_F(CliReport, StatsOnAQspSaysWhatItHoldsAndItsBytesAddUp) {
   for (const Case& c :
        {Case{"", "lossless, canonical order"}, Case{"--quantize 12", "quantized to 12 bits, canonical order"},
         Case{"--quantize 14 --keep-order", "quantized to 14 bits, original order kept"},
-        Case{"--keep-order --compat 2.1", "(2.1 readers decode it); lossless, original order kept"}}) {
+        Case{"--keep-order --best", "format 3.0, level 9, geometry"}}) {
     SCOPED_TRACE(c.options);
     const std::string q = p("x.qsp");
     ASSERT_EQ(run_qsp("compress -f -q --positions-only " + c.options + " " + quote(mesh) + " " + quote(q))
@@ -146,8 +138,8 @@ std::string chiral_obj(bool reversed) {
 }
 
 TEST_F(CliReport, MatchAcceptsMirrorsOnlyWhenAskedAndSaysWhichKind) {
-  std::ofstream(p("l.obj")) << chiral_obj(false);
-  std::ofstream(p("l_flipped.obj")) << chiral_obj(true);
+  testing::spit(p("l.obj"), chiral_obj(false));
+  testing::spit(p("l_flipped.obj"), chiral_obj(true));
   auto r =
       run_qsp("match " + quote(p("l.obj")) + " " + quote(p("l_flipped.obj")) + " -o " + quote(p("map.txt")));
   EXPECT_EQ(r.exit_code, 1);
@@ -179,6 +171,64 @@ TEST_F(CliReport, MatchAcceptsMirrorsOnlyWhenAskedAndSaysWhichKind) {
   EXPECT_EQ(r.out.find("orientation-reversing"), std::string::npos) << r.out;
 }
 
+// reorder takes --allow-mirror as match does: without it the refusal says why and how; with it OUT has
+// REF's faces (and so REF's orientation) and IN's positions.
+TEST_F(CliReport, ReorderHintsAndAcceptsMirrors) {
+  testing::spit(p("l.obj"), chiral_obj(false));
+  testing::spit(p("l_flipped.obj"), chiral_obj(true));
+  auto r = run_qsp("reorder --like " + quote(p("l.obj")) + " " + quote(p("l_flipped.obj")) + " -o " +
+                   quote(p("out.obj")));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find(p("l_flipped.obj") + " is " + p("l.obj") + " with every face reversed"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("pass --allow-mirror"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p("out.obj")));
+  r = run_qsp("reorder --allow-mirror --like " + quote(p("l.obj")) + " " + quote(p("l_flipped.obj")) +
+              " -o " + quote(p("out.obj")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("with every face reversed (--allow-mirror)"), std::string::npos) << r.err;
+  const QuadMesh ref = read_mesh_file(p("l.obj")), in = read_mesh_file(p("l_flipped.obj")),
+                 out = read_mesh_file(p("out.obj"));
+  EXPECT_EQ(out.quads, ref.quads);
+  std::multiset<std::array<float, 3>> want, got;  // IN's positions, all of them
+  for (std::size_t v = 0; v < in.vertex_count(); ++v)
+    want.insert({in.positions[3 * v], in.positions[3 * v + 1], in.positions[3 * v + 2]});
+  for (std::size_t v = 0; v < out.vertex_count(); ++v)
+    got.insert({out.positions[3 * v], out.positions[3 * v + 1], out.positions[3 * v + 2]});
+  EXPECT_EQ(got, want);
+}
+
+// --prefer-order on a cube whose copy was turned in place, indices kept: the map is the identity (the
+// report says none moved); without it the nearest isomorphism, which undoes the turn.
+TEST_F(CliReport, PreferOrderKeepsTheIdentityOverANearerIsomorphism) {
+  const QuadMesh cube = read_mesh_file(kData + "/cube_4.obj");
+  QuadMesh turned = cube;
+  for (std::size_t v = 0; v < cube.vertex_count(); ++v) {  // (x, y, z) -> (4 - y, x, z)
+    turned.positions[3 * v] = 4.0f - cube.positions[3 * v + 1];
+    turned.positions[3 * v + 1] = cube.positions[3 * v];
+  }
+  testing::spit(p("turned.obj"), write_obj(turned));
+  const std::string args =
+      quote(kData + "/cube_4.obj") + " " + quote(p("turned.obj")) + " -f -o " + quote(p("map.txt"));
+  auto r = run_qsp("match --prefer-order " + args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("chose the one keeping most vertices at their index (0 moved), then the nearest"),
+            std::string::npos)
+      << r.out;
+  std::istringstream map(slurp(p("map.txt")));
+  std::uint32_t v = 0, i = 0, moved = 0;
+  for (; map >> v; ++i) moved += v != i;
+  EXPECT_EQ(i, cube.vertex_count());
+  EXPECT_EQ(moved, 0u);
+  r = run_qsp("match " + args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("chose the nearest, rms distance 0"), std::string::npos) << r.out;
+  std::istringstream nearest(slurp(p("map.txt")));
+  for (i = 0, moved = 0; nearest >> v; ++i) moved += v != i;
+  EXPECT_GT(moved, 0u);
+}
+
 // A cube with every vertex at one point: all 24 isomorphisms are equally near. --prefer-order takes the
 // identity, and the choice is then not ambiguous.
 TEST_F(CliReport, PreferOrderKeepsTheIdentityAmongEquallyNearIsomorphisms) {
@@ -188,7 +238,7 @@ TEST_F(CliReport, PreferOrderKeepsTheIdentityAmongEquallyNearIsomorphisms) {
   for (std::size_t f = 0; f < cube.face_count(); ++f)
     obj << "f " << 1 + cube.quads[4 * f] << " " << 1 + cube.quads[4 * f + 1] << " "
         << 1 + cube.quads[4 * f + 2] << " " << 1 + cube.quads[4 * f + 3] << "\n";
-  std::ofstream(p("point.obj")) << obj.str();
+  testing::spit(p("point.obj"), obj.str());
   auto r = run_qsp("match " + quote(p("point.obj")) + " " + quote(p("point.obj")));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("ambiguous"), std::string::npos) << r.out;
@@ -209,25 +259,28 @@ TEST_F(CliReport, PreferOrderKeepsTheIdentityAmongEquallyNearIsomorphisms) {
 
 // 30 copies of a cube: 24^30 * 30! isomorphisms, about 2^245.3 -- not UINT64_MAX.
 TEST_F(CliReport, HugeIsomorphismCountsArePrintedReadably) {
-  const QuadMesh cube = read_mesh_file(kData + "/cube_4.obj");
-  std::ostringstream obj;
-  for (int k = 0; k < 30; ++k)
-    for (std::size_t v = 0; v < cube.vertex_count(); ++v)
-      obj << "v " << cube.positions[3 * v] + 10.0f * k << " " << cube.positions[3 * v + 1] << " "
-          << cube.positions[3 * v + 2] << "\n";
-  for (int k = 0; k < 30; ++k)
-    for (std::size_t f = 0; f < cube.face_count(); ++f) {
-      obj << "f";
-      for (int c = 0; c < 4; ++c) obj << " " << 1 + k * cube.vertex_count() + cube.quads[4 * f + c];
-      obj << "\n";
-    }
-  std::ofstream(p("cubes.obj")) << obj.str();
+  testing::spit(p("cubes.obj"), write_obj(testing::copies(read_mesh_file(kData + "/cube_4.obj"), 30, 10.0f)));
   auto r = run_qsp("match " + quote(p("cubes.obj")) + " " + quote(p("cubes.obj")));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("about 2^245.3 (6.8e73) isomorphisms"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("18446744073709551615"), std::string::npos) << r.out;
   r = run_qsp("match " + quote(kData + "/cube_4.obj") + " " + quote(kData + "/cube_4.obj"));
   EXPECT_NE(r.out.find("isomorphic: 24 isomorphisms"), std::string::npos) << r.out;  // exact when it fits
+}
+
+// The file records the level that wrote it (header byte 10): stats shows it in the table and the JSON.
+TEST_F(CliReport, StatsShowsTheLevelThatWroteAFile) {
+  const std::string q = p("x.qsp");
+  ASSERT_EQ(run_qsp("compress -q -7 " + quote(kData + "/cube_4.obj") + " " + quote(q)).exit_code, 0);
+  auto r = run_qsp("stats --json " + quote(q));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"level\": 7,"), std::string::npos) << r.out;
+  r = run_qsp("stats " + quote(q));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("level 7"), std::string::npos) << r.out;
+  ASSERT_EQ(run_qsp("compress -q -f " + quote(kData + "/cube_4.obj") + " " + quote(q)).exit_code, 0);
+  r = run_qsp("stats --json " + quote(q));
+  EXPECT_NE(r.out.find("\"level\": " + std::to_string(kDefaultLevel) + ","), std::string::npos) << r.out;
 }
 
 }  // namespace

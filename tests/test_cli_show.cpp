@@ -27,17 +27,7 @@ using testing::quote;
 using testing::run_qsp;
 using testing::slurp;
 
-class CliShow : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::path(::testing::TempDir()) / ("qsp_show_" + std::to_string(::getpid()) + "_" +
-                                             ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string tmp(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
-};
+using CliShow = testing::TempDirTest;
 
 const std::string kSpot = std::string(QSP_TESTDATA_DIR) + "/keenan_spot_quadrangulated.obj";
 const std::string kMulti = std::string(QSP_TESTDATA_DIR) + "/multi_component.obj";
@@ -59,7 +49,7 @@ double differing(const testing::DecodedPng& a, const testing::DecodedPng& b) {
 TEST_F(CliShow, PngDecodesAtTheAskedSizeAndIsNotBlank) {
   for (const std::string& in : {kSpot, kMulti, std::string(QSP_TESTDATA_DIR) + "/torus_twist_9x6_t2.obj"}) {
     SCOPED_TRACE(in);
-    const auto d = testing::decode_png(show(in, tmp("a.png"), "--size 300x200 --view 20,15"));
+    const auto d = testing::decode_png(show(in, p("a.png"), "--size 300x200 --view 20,15"));
     ASSERT_EQ(d.error, "");
     EXPECT_EQ(d.width, 300u);
     EXPECT_EQ(d.height, 200u);
@@ -74,19 +64,19 @@ TEST_F(CliShow, PngDecodesAtTheAskedSizeAndIsNotBlank) {
     }
   }
   // The default size.
-  const auto d = testing::decode_png(show(kSpot, tmp("b.png")));
+  const auto d = testing::decode_png(show(kSpot, p("b.png")));
   EXPECT_EQ(d.width, 1024u);
   EXPECT_EQ(d.height, 1024u);
 }
 
 TEST_F(CliShow, SameCallSameBytesAndAnotherPartitionAnotherPicture) {
-  const std::string a = show(kSpot, tmp("a.png"), "--size 256x256");
-  EXPECT_EQ(show(kSpot, tmp("b.png"), "--size 256x256"), a);
-  const std::string g = show(kSpot, tmp("g.png"), "--size 256x256 --partition greedy");
+  const std::string a = show(kSpot, p("a.png"), "--size 256x256");
+  EXPECT_EQ(show(kSpot, p("b.png"), "--size 256x256"), a);
+  const std::string g = show(kSpot, p("g.png"), "--size 256x256 --partition greedy");
   EXPECT_NE(g, a);
   EXPECT_GT(differing(testing::decode_png(a), testing::decode_png(g)), 0.01);
-  EXPECT_NE(show(kSpot, tmp("grid.png"), "--size 256x256 --grid"), a);
-  EXPECT_NE(show(kSpot, tmp("v.png"), "--size 256x256 --view 90,0"), a);
+  EXPECT_NE(show(kSpot, p("grid.png"), "--size 256x256 --grid"), a);
+  EXPECT_NE(show(kSpot, p("v.png"), "--size 256x256 --view 90,0"), a);
 }
 
 TEST_F(CliShow, QspInputShowsItsStoredPartition) {
@@ -94,56 +84,55 @@ TEST_F(CliShow, QspInputShowsItsStoredPartition) {
   // stored (greedy) partition's picture is that of greedy on the mesh, not motorcycle's.
   for (const char* flags : {"", "--keep-order"}) {
     SCOPED_TRACE(flags);
-    const std::string q = tmp("spot.qsp");
+    const std::string q = p("spot.qsp");
     ASSERT_EQ(run_qsp("compress -f --positions-only --partition greedy " + std::string(flags) + " " +
                       quote(kSpot) + " " + quote(q))
                   .exit_code,
               0);
-    const auto stored = testing::decode_png(show(q, tmp("q.png"), "--size 256x256"));
-    const auto greedy = testing::decode_png(show(kSpot, tmp("g.png"), "--size 256x256 --partition greedy"));
-    const auto moto = testing::decode_png(show(kSpot, tmp("m.png"), "--size 256x256"));
+    const auto stored = testing::decode_png(show(q, p("q.png"), "--size 256x256"));
+    const auto greedy = testing::decode_png(show(kSpot, p("g.png"), "--size 256x256 --partition greedy"));
+    const auto moto = testing::decode_png(show(kSpot, p("m.png"), "--size 256x256"));
     ASSERT_EQ(stored.error, "");
     EXPECT_LT(differing(stored, greedy), 0.002);
     EXPECT_GT(differing(stored, moto), 0.01);
     // The exported layout is canonical: byte for byte the same but for its first (header) line.
-    ASSERT_EQ(run_qsp("layout -f " + quote(q) + " -o " + quote(tmp("q.obj"))).exit_code, 0);
-    ASSERT_EQ(
-        run_qsp("layout -f --partition greedy " + quote(kSpot) + " -o " + quote(tmp("g.obj"))).exit_code, 0);
-    const std::string lq = slurp(tmp("q.obj")), lg = slurp(tmp("g.obj"));
+    ASSERT_EQ(run_qsp("layout -f " + quote(q) + " -o " + quote(p("q.obj"))).exit_code, 0);
+    ASSERT_EQ(run_qsp("layout -f --partition greedy " + quote(kSpot) + " -o " + quote(p("g.obj"))).exit_code,
+              0);
+    const std::string lq = slurp(p("q.obj")), lg = slurp(p("g.obj"));
     EXPECT_EQ(lq.substr(lq.find('\n')), lg.substr(lg.find('\n')));
   }
   // auto is what compress stores by default.
-  ASSERT_EQ(run_qsp("compress -f --positions-only " + quote(kSpot) + " " + quote(tmp("auto.qsp"))).exit_code,
+  ASSERT_EQ(run_qsp("compress -f --positions-only " + quote(kSpot) + " " + quote(p("auto.qsp"))).exit_code,
             0);
-  ASSERT_EQ(run_qsp("layout -f " + quote(tmp("auto.qsp")) + " -o " + quote(tmp("a1.obj"))).exit_code, 0);
-  ASSERT_EQ(run_qsp("layout -f --partition auto " + quote(kSpot) + " -o " + quote(tmp("a2.obj"))).exit_code,
-            0);
-  const std::string a1 = slurp(tmp("a1.obj")), a2 = slurp(tmp("a2.obj"));
+  ASSERT_EQ(run_qsp("layout -f " + quote(p("auto.qsp")) + " -o " + quote(p("a1.obj"))).exit_code, 0);
+  ASSERT_EQ(run_qsp("layout -f --partition auto " + quote(kSpot) + " -o " + quote(p("a2.obj"))).exit_code, 0);
+  const std::string a1 = slurp(p("a1.obj")), a2 = slurp(p("a2.obj"));
   EXPECT_EQ(a1.substr(a1.find('\n')), a2.substr(a2.find('\n')));
 }
 
 TEST_F(CliShow, SvgIsXml) {
   for (const std::string& in : {kSpot, kMulti}) {
     SCOPED_TRACE(in);
-    const std::string svg = show(in, tmp("a.svg"), "--size 400x300 --grid");
+    const std::string svg = show(in, p("a.svg"), "--size 400x300 --grid");
     EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
     const std::string check =
         "python3 -c 'import sys, xml.etree.ElementTree as E; r = E.parse(sys.argv[1]).getroot(); "
         "sys.exit(0 if r.tag.endswith(\"svg\") and len(r.findall(\".//{*}path\")) > 10 else 1)' " +
-        quote(tmp("a.svg"));
+        quote(p("a.svg"));
     EXPECT_EQ(std::system(check.c_str()), 0);
-    EXPECT_EQ(show(in, tmp("b.svg"), "--size 400x300 --grid"), svg);
+    EXPECT_EQ(show(in, p("b.svg"), "--size 400x300 --grid"), svg);
   }
 }
 
 TEST_F(CliShow, BadArgumentsFailCleanly) {
-  const std::string out = tmp("x.png");
+  const std::string out = p("x.png");
   EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --size 0x10").exit_code, 2);
   EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --size 10").exit_code, 2);
   EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --view 10").exit_code, 2);
-  EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(tmp("x.jpg"))).exit_code, 2);
+  EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(p("x.jpg"))).exit_code, 2);
   EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --partition stored").exit_code, 2);
-  EXPECT_EQ(run_qsp("show " + quote(tmp("missing.obj")) + " -o " + quote(out)).exit_code, 3);
+  EXPECT_EQ(run_qsp("show " + quote(p("missing.obj")) + " -o " + quote(out)).exit_code, 3);
   const auto bad = run_qsp("show " + std::string(QSP_TESTDATA_DIR) + "/invalid/topology/" +
                            fs::directory_iterator(fs::path(QSP_TESTDATA_DIR) / "invalid" / "topology")
                                ->path()
@@ -153,18 +142,18 @@ TEST_F(CliShow, BadArgumentsFailCleanly) {
   EXPECT_EQ(bad.exit_code, 1) << bad.err;
   EXPECT_FALSE(fs::exists(out)) << "no output on failure";
   EXPECT_EQ(run_qsp("layout " + quote(kSpot)).exit_code, 2) << "needs an output";
-  EXPECT_EQ(run_qsp("layout " + quote(kSpot) + " -o " + quote(tmp("x.ply"))).exit_code, 2);
+  EXPECT_EQ(run_qsp("layout " + quote(kSpot) + " -o " + quote(p("x.ply"))).exit_code, 2);
 }
 
 TEST_F(CliShow, SvgRefusesBeyondItsFaceLimit) {
-  const std::string in = tmp("grid.obj"), out = tmp("grid.svg");
+  const std::string in = p("grid.obj"), out = p("grid.svg");
   write_file_atomic(in, write_obj(testing::grid(320, 320)), true);  // 102400 faces
   const auto r = run_qsp("show " + quote(in) + " -o " + quote(out));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("at most 100000 faces"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(".png"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
-  EXPECT_EQ(run_qsp("show " + quote(in) + " -o " + quote(tmp("grid.png")) + " --size 64x64").exit_code, 0);
+  EXPECT_EQ(run_qsp("show " + quote(in) + " -o " + quote(p("grid.png")) + " --size 64x64").exit_code, 0);
 }
 
 // Mesh faces as sorted vertex lists, for comparing face sets across files.
@@ -202,7 +191,7 @@ TEST_F(CliShow, LayoutHasAFacePerPatchOverItsSchematicVertices) {
                                 std::string(QSP_TESTDATA_DIR) + "/mh_fedora.obj"}) {
     for (PartitionMode mode : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
       SCOPED_TRACE(in + " " + partition_mode_name(mode));
-      const auto r = run_qsp("layout -f " + quote(in) + " -o " + quote(tmp("l.obj")) + " --partition " +
+      const auto r = run_qsp("layout -f " + quote(in) + " -o " + quote(p("l.obj")) + " --partition " +
                              partition_mode_name(mode));
       ASSERT_EQ(r.exit_code, 0) << r.err;
       const QuadMesh m = read_mesh_file(in);
@@ -227,7 +216,7 @@ TEST_F(CliShow, LayoutHasAFacePerPatchOverItsSchematicVertices) {
       }
       std::vector<std::array<float, 3>> v;
       std::vector<std::vector<std::array<float, 3>>> got;
-      std::istringstream text(slurp(tmp("l.obj")));
+      std::istringstream text(slurp(p("l.obj")));
       for (std::string line; std::getline(text, line);) {
         std::istringstream ls(line);
         std::string kw;
@@ -257,12 +246,11 @@ TEST_F(CliShow, PatchesTagEveryFaceAndLinesAreTheSchematicEdges) {
     for (const char* mode : {"motorcycle", "greedy", "merge", "auto"}) {
       SCOPED_TRACE(in + " " + mode);
       const auto r =
-          run_qsp("layout -f " + quote(in) + " --patches " + quote(tmp("p.obj")) + " --partition " + mode);
+          run_qsp("layout -f " + quote(in) + " --patches " + quote(p("p.obj")) + " --partition " + mode);
       ASSERT_EQ(r.exit_code, 0) << r.err;
-      ASSERT_EQ(
-          run_qsp("layout -f " + quote(in) + " --patches " + quote(tmp("p.ply")) + " --partition " + mode)
-              .exit_code,
-          0);
+      ASSERT_EQ(run_qsp("layout -f " + quote(in) + " --patches " + quote(p("p.ply")) + " --partition " + mode)
+                    .exit_code,
+                0);
       const QuadMesh m = read_mesh_file(in);
       const Adjacency adj0 = build_adjacency(m);
       std::uint64_t patches = 0, edges = 0;
@@ -285,7 +273,7 @@ TEST_F(CliShow, PatchesTagEveryFaceAndLinesAreTheSchematicEdges) {
       std::vector<std::string> groups;
       std::set<std::pair<std::uint32_t, std::uint32_t>> line_edges;
       std::size_t line_edge_count = 0;
-      std::istringstream text(slurp(tmp("p.obj")));
+      std::istringstream text(slurp(p("p.obj")));
       for (std::string line; std::getline(text, line);) {
         std::istringstream ls(line);
         std::string kw;
@@ -336,7 +324,7 @@ TEST_F(CliShow, PatchesTagEveryFaceAndLinesAreTheSchematicEdges) {
       EXPECT_EQ(size.patches, patches);
       EXPECT_EQ(size.edges, edges);
       // PLY: the same faces, each with its group's patch number.
-      const std::string ply = slurp(tmp("p.ply"));
+      const std::string ply = slurp(p("p.ply"));
       ASSERT_NE(ply.find("property int patch"), std::string::npos);
       std::istringstream pt(ply.substr(ply.find("end_header\n") + 11));
       for (std::size_t v = 0; v < m.vertex_count(); ++v) {

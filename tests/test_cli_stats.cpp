@@ -1,6 +1,5 @@
 // `qsp stats` end to end: Table-1 rows, JSON, and every invalid mesh refused with file:line.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -40,38 +39,35 @@ TEST(CliStats, JsonHasTheDocumentedFields) {
     EXPECT_NE(r.out.find(key), std::string::npos) << key << "\n" << r.out;
 }
 
-// A .qsp row says which format version and geometry coding wrote it (the goldens pin both orders and
-// revisions 4 to 6, the 2.1 goldens format 2.1, the 2.0 goldens format 2.0, the 1.3 goldens format 1.3
-// and the 1.2 goldens revision 3).
+// A .qsp row says which format version and level wrote it, and how its geometry is coded: the order
+// and the tools (testdata/golden/tools/ pins every combination).
 TEST(CliStats, QspRowNamesItsFormatAndCoding) {
   const std::string golden = std::string(QSP_TESTDATA_DIR) + "/golden/";
-  auto r = run_qsp("stats " + quote(golden + "l_shape_layout_order.qsp"));
+  auto r = run_qsp("stats " + quote(golden + "tools/tilted_noise_q14_lcsm.qsp"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("format 2.2, geometry coding revision 6, layout order"), std::string::npos) << r.out;
-  r = run_qsp("stats " + quote(golden + "tilted_noise_no_shapes.qsp"));
-  EXPECT_NE(r.out.find("format 2.2, geometry coding revision 5, patch order"), std::string::npos) << r.out;
-  r = run_qsp("stats " + quote(golden + "v2.1/l_shape_layout_order.qsp"));
-  EXPECT_NE(r.out.find("format 2.1, geometry coding revision 4, layout order"), std::string::npos) << r.out;
-  r = run_qsp("stats " + quote(golden + "v2.0/l_shape.qsp"));
-  EXPECT_NE(r.out.find("format 2.0, geometry coding revision 4, patch order"), std::string::npos) << r.out;
-  r = run_qsp("stats " + quote(golden + "v1.3/l_shape.qsp"));
-  EXPECT_NE(r.out.find("format 1.3, geometry coding revision 4, patch order"), std::string::npos) << r.out;
-  r = run_qsp("stats " + quote(golden + "v1.2/l_shape.qsp"));
-  EXPECT_NE(r.out.find("format 1.2, geometry coding revision 3, patch order"), std::string::npos) << r.out;
-  r = run_qsp("stats --json " + quote(golden + "l_shape.qsp"));
-  EXPECT_NE(r.out.find("\"format\": \"2.2\", \"geometry_coding\": {\"revision\": 6, \"order\": \"patch\"}"),
+  EXPECT_NE(
+      r.out.find("format 3.0, level 9, geometry layout order, tools: normal chaining, cell shapes, logistic "
+                 "mixing; quantized to 14 bits"),
+      std::string::npos)
+      << r.out;
+  r = run_qsp("stats " + quote(golden + "tools/tilted_noise_r.qsp"));
+  EXPECT_NE(r.out.find("geometry patch order, tools: value repeats; lossless"), std::string::npos) << r.out;
+  r = run_qsp("stats " + quote(golden + "tools/tilted_noise_q14_plain.qsp"));
+  EXPECT_NE(r.out.find("geometry patch order, tools: none;"), std::string::npos) << r.out;
+  r = run_qsp("stats --json " + quote(golden + "tools/tilted_noise_q14_rc.qsp"));
+  EXPECT_NE(r.out.find("\"format\": \"3.0\", \"level\": 9, \"geometry_coding\": {\"tools\": \"value repeats, "
+                       "normal chaining\", \"order\": \"patch\"}"),
             std::string::npos)
       << r.out;
 }
 
 // `stats --partition auto` reports what `compress` writes: the same total bytes as the file.
 TEST(CliStats, AutoRowMatchesTheCompressedFile) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("qsp_stats_auto_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const testing::TempDir dir;
   for (const char* name : {"keenan_spot_quadrangulated.obj", "l_shape.obj", "multi_component.obj"}) {
     SCOPED_TRACE(name);
     const std::string in = std::string(QSP_TESTDATA_DIR) + "/" + name;
-    const fs::path out = dir / "x.qsp";
+    const fs::path out = dir.path() / "x.qsp";
     ASSERT_EQ(run_qsp("compress -f --positions-only " + quote(in) + " " + quote(out.string())).exit_code, 0);
     const auto r = run_qsp("stats --json --partition auto " + quote(in));
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -79,7 +75,6 @@ TEST(CliStats, AutoRowMatchesTheCompressedFile) {
     EXPECT_NE(r.out.find("\"total\": " + std::to_string(fs::file_size(out)) + ","), std::string::npos)
         << r.out;
   }
-  fs::remove_all(dir);
 }
 
 // Reader and topology defects alike: exit 1, message with the expected code's text and location.
@@ -117,7 +112,7 @@ TEST(CliStats, MissingFileAndUsage) {
   const auto v = run_qsp("--version");
   EXPECT_EQ(v.exit_code, 0);
   EXPECT_NE(v.out.find("qsp"), std::string::npos);
-  EXPECT_NE(v.out.find("writes .qsp format 2.2, reads 1.0 to 2.2"), std::string::npos) << v.out;
+  EXPECT_NE(v.out.find("writes .qsp format 3.0, reads 3.0 to 3.0"), std::string::npos) << v.out;
 }
 
 }  // namespace

@@ -25,6 +25,15 @@ enum class Centering : std::uint8_t {
   kNone,
 };
 
+// Whether orientation-reversing isomorphisms (every face of B reversed: a mirrored export, flipped
+// normals) count.
+enum class Mirror : std::uint8_t {
+  kNo,      // orientation-preserving only
+  kHint,    // only those, but when none exists and B with every face reversed would match, say so
+            // (MatchResult::mirror_would_match); costs a second preparation of B in that case
+  kAccept,  // an orientation-reversing isomorphism when no orientation-preserving one exists
+};
+
 struct MatchOptions {
   Centering centering = Centering::kComponent;
   // Per component, at most this many isomorphisms are scored on all their vertices (the rest are
@@ -34,11 +43,14 @@ struct MatchOptions {
   // Two isomorphisms tie when their costs differ by at most this fraction of the best cost (plus
   // 1e-12 * vertices * bounding-box diagonal², so exact zeros tie too).
   double tie_tolerance = 1e-6;
-  // Among a component's isomorphisms that tie for nearest, take the one that moves the fewest vertices
-  // away from their own index (A's vertex i to B's vertex i): meshes exported in one order (morphs of
-  // a base) keep it on symmetric parts. Off: the first found in canonical order. Costs a copy of each
-  // fully scored map.
+  // For meshes exported in one vertex order (morphs of a base, re-exports): keep it. Each component's
+  // isomorphism is the one moving the fewest vertices away from their own index (A's vertex i to B's
+  // vertex i), the distance deciding only among those moving equally few; interchangeable components
+  // and unreferenced vertices are paired by index when their indices correspond one to one (else by
+  // position). So where the identity of indices is an isomorphism it is the answer, however far a
+  // morph moved a symmetric part. Off: the nearest isomorphism, indices play no part.
   bool prefer_order = false;
+  Mirror mirror = Mirror::kNo;
 };
 
 // The first level at which two meshes differ, coarse to fine. kNone when they are isomorphic.
@@ -68,23 +80,35 @@ struct MatchResult {
   MatchLevel level = MatchLevel::kNone;  // first level that differs
   std::string reason;                    // one line saying what differs ("" when isomorphic)
 
+  // Mirror::kAccept found an orientation-reversing isomorphism: then corner c of A's face is corner
+  // (r - c) % 4 of B's face, r the face's rotation below.
+  bool mirrored = false;
+  // Mirror::kHint: not isomorphic, but A is isomorphic to B with every face reversed.
+  bool mirror_would_match = false;
+
   // A -> B, filled when isomorphic: B's vertex for each A vertex, B's face for each A face, and the
-  // rotation r such that corner c of A's face is corner (c + r) % 4 of B's face. Unreferenced vertices
-  // are paired by nearest position (minimum total squared distance).
+  // rotation r such that corner c of A's face is corner (c + r) % 4 of B's face (mirrored: (r - c) % 4).
+  // Unreferenced vertices are paired by nearest position (minimum total squared distance).
   std::vector<std::uint32_t> vertex;
   std::vector<std::uint32_t> face;
   std::vector<std::uint8_t> rotation;
 
   // Number of isomorphisms A -> B: product of the components' symmetry counts, times k! for every k
-  // interchangeable components and for the k unreferenced vertices. Saturates at UINT64_MAX.
+  // interchangeable components and for the k unreferenced vertices. A character with many identical
+  // helper parts easily has more than 2^64: `isomorphisms` is exact while the count fits in 64 bits
+  // (isomorphisms_exact), else UINT64_MAX; `isomorphisms_log2` is its base-2 logarithm either way
+  // (to double precision), so counts of any size compare. isomorphism_count_text() prints it.
   std::uint64_t isomorphisms = 0;
+  bool isomorphisms_exact = true;
+  double isomorphisms_log2 = 0;
   bool ambiguous = false;  // some choice (a component's isomorphism, a pairing) had an equally near rival
   bool exhaustive = true;  // false when a cap stopped a search early, or a large pairing was greedy
   double cost = 0;         // sum over all vertices of squared distances (as compared, see Centering)
   std::vector<ComponentMatch> components;  // in canonical component order
 };
 
-// Finds an orientation-preserving isomorphism from `a` to `b` (faces to faces, corners to corners, in
+// Finds an orientation-preserving isomorphism (or, as options.mirror says, an orientation-reversing one)
+// from `a` to `b` (faces to faces, corners to corners, in
 // any numbering, components in any order) without seeds, or says at which level they differ.
 //
 // How: both meshes are partitioned (motorcycle graph) and canonicalized; equal canonical codes in
@@ -126,8 +150,22 @@ MatchInput prepare_match(const QuadMesh& mesh, const Adjacency& adjacency);
 // match() on prepared meshes. The maps refer to the meshes as given to prepare_match.
 MatchResult match(const MatchInput& a, const MatchInput& b, const MatchOptions& options = {});
 
+// The number of isomorphisms of `r` as a person reads it: exact in decimal while it fits in 64 bits
+// ("24"), else "about 2^245.3 (6.8e73)". "0" when not isomorphic.
+std::string isomorphism_count_text(const MatchResult& r);
+
+// `in` renumbered like `ref`, given m = match(ref, in): vertex i of the result is in's vertex
+// m.vertex[i], face f is in's face m.face[f] starting at the corner ref's face f starts at (reversed
+// when m.mirrored). So the result's faces are ref's exactly (the same quads array, ref's orientation)
+// and its positions are in's: anything stored per vertex, face or face corner of ref applies to it
+// unchanged. Throws Error(kUsage)
+// when `m` is not isomorphic or its maps are not permutations of in's vertices and faces
+// (permute(), permute.h). O(V + F).
+QuadMesh reorder_like(const QuadMesh& in, const MatchResult& m);
+
 // True when `m` (from match(a, b)) is a valid isomorphism: vertex map a bijection, and every face f of
-// `a` has corner c equal to corner (c + rotation) of face face[f] of `b` under the vertex map. O(V + F).
+// `a` has corner c equal to corner (c + rotation) of face face[f] of `b` under the vertex map
+// ((rotation - c) when m.mirrored). O(V + F).
 // If not, `why` (when given) says where it fails.
 bool verify_match(const QuadMesh& a, const QuadMesh& b, const MatchResult& m, std::string* why = nullptr);
 

@@ -1,13 +1,12 @@
-// Running the qsp binary from tests: exit code, stdout and stderr.
+// Running the qsp binary from tests: exit code, stdout and stderr (files.h comes with it).
 #pragma once
 
 #include <sys/wait.h>
 
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
+
+#include "files.h"
 
 namespace qsp::testing {
 
@@ -15,14 +14,6 @@ struct CliResult {
   int exit_code = -1;
   std::string out, err;
 };
-
-// A whole file's bytes (empty if it cannot be read).
-inline std::string slurp(const std::filesystem::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
 
 // Runs `qsp ARGS` through the shell (ARGS must be shell-quoted by the caller).
 inline CliResult run_qsp(const std::string& args) {

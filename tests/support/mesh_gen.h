@@ -1,4 +1,4 @@
-// Test and benchmark meshes made in code: refined cubes, grids, annuli, tori, polyominoes.
+// Test and benchmark meshes made in code: refined cubes, grids, annuli, tori, polyominoes, copies.
 #pragma once
 
 #include <algorithm>
@@ -108,6 +108,14 @@ inline void append(QuadMesh& a, const QuadMesh& b, float dx = 0) {
   for (std::size_t i = 0; i < b.positions.size(); ++i)
     a.positions.push_back(b.positions[i] + (i % 3 == 0 ? dx : 0));
   for (auto v : b.quads) a.quads.push_back(v + base);
+}
+
+// `n` copies of `m` in a row, `dx` apart along x: n interchangeable components (equal canonical codes),
+// whose isomorphisms number n! times the product of the copies' symmetries.
+inline QuadMesh copies(const QuadMesh& m, int n, float dx) {
+  QuadMesh out;
+  for (int k = 0; k < n; ++k) append(out, m, dx * float(k));
+  return out;
 }
 
 // A random renumbering of vertices, reordering of faces and rotation of each face's corners.

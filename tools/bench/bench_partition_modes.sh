@@ -6,14 +6,14 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$root/build-small}
-if [[ ! -f $build/libqsp_core.a ]]; then
+if [[ ! -f $build/libqsp.a ]]; then
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 fi
 cmake --build "$build" --target qsp_core >/dev/null
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 flags=(-std=c++20 -O2 -Wall -Wextra -Wshadow -I"$root/include")
-libs=("$build/libqsp_core.a" -lOpenMeshCore -lzstd -lxxhash)
+libs=("$build/libqsp.a" -lpthread -lz)
 g++ "${flags[@]}" "$root/tools/bench/bench_partition_modes.cpp" "${libs[@]}" -o "$out/modes"
 g++ "${flags[@]}" "$root/tools/highway/highway.cpp" "${libs[@]}" -o "$out/highway"
 

@@ -2,10 +2,11 @@
 // its highway mesh, k by brute force, the optimal schematic size (checked by cutting the mesh along the
 // optimal casing), and each partition mode's size relative to it.
 // Build and run with tools/bench/bench_partition_modes.sh, or by hand:
-//   g++ -std=c++20 -O2 -Iinclude tools/highway/highway.cpp build/libqsp_core.a -lOpenMeshCore -lzstd -lxxhash
+//   g++ -std=c++20 -O2 -Iinclude tools/highway/highway.cpp build/libqsp.a -lpthread -lz
+// The generator itself is tests/support/highway.h, which the tests (test_smaller.cpp) use too.
 // Usage: highway [--seeds N] [--first S] [--segments N] [--size S] [--obj DIR]
 //   --obj DIR writes DIR/highway_<seed>.obj for every mesh.
-#include "highway.h"
+#include "../../tests/support/highway.h"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,4 +1,4 @@
-// `qsp compress IN... [OUT]`: mesh files -> .qsp (format-spec/qsp_format.md), gzip's way (files.h).
+// `qsp compress IN... [OUT]`: mesh files -> .qsp (format-spec/qsp_format.md), gzip's way (shared.h).
 #include <unistd.h>
 
 #include <chrono>
@@ -7,11 +7,10 @@
 #include <string>
 
 #include "commands.h"
-#include "files.h"
-#include "load.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
+#include "shared.h"
 
 namespace qsp::cli {
 namespace {
@@ -25,7 +24,6 @@ struct CompressOptions {
   bool keep_order = false;
   bool positions_only = false;
   std::string partition = "auto";  // or a PartitionMode name
-  std::string compat;              // "2.1": only what format 2.1 readers decode
   int level = kDefaultLevel;       // -1 .. -9, --fast, --best
   unsigned threads = 0;            // 0: as the encoder sees fit
 };
@@ -61,7 +59,6 @@ EncodeOptions encode_options(const CompressOptions& o) {
     parse_partition_mode(o.partition, mode);  // CLI11 checked the name
     eo.partition = mode;
   }
-  if (o.compat == "2.1") eo.geometry_shapes = false;  // geometry revisions 4 and 5 only
   return eo;
 }
 
@@ -80,16 +77,7 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   ReadReport report;
   const QuadMesh mesh = read_input_mesh(in, format, &report);
   const bool quiet = o.verbosity.quiet;
-  if (report.has_extra_data()) {
-    if (!o.positions_only) {
-      throw Error(ErrorCode::kUnsupported,
-                  in + ": has " + report.describe_extra_data() +
-                      ", which .qsp does not store; pass --positions-only to drop them");
-    }
-    if (!quiet)
-      std::fprintf(stderr, "qsp: %s: dropped %s (--positions-only)\n", in.c_str(),
-                   report.describe_extra_data().c_str());
-  }
+  refuse_extra_data(in, report, ".qsp", o.positions_only, quiet);
   if (mesh.face_count() == 0 && !quiet)
     std::fprintf(stderr, "qsp: warning: %s: has no faces (%zu vertices); writing an empty mesh\n", in.c_str(),
                  mesh.vertex_count());
@@ -129,7 +117,7 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   }
 }
 
-void run(const CompressOptions& o, int& exit_code) {
+void run(const CompressOptions& o, int& rc) {
   const MeshFormat format = parse_format_option(o.input_format);
   OutputNaming naming;
   naming.is_output_name = [](const std::string& p) { return format_from_path(p) == MeshFormat::kQsp; };
@@ -137,12 +125,12 @@ void run(const CompressOptions& o, int& exit_code) {
   naming.rule = "must end in .qsp";
   naming.verb = "compress";
   naming.stdin_name = "stdin.qsp";
-  exit_code = run_jobs(o.files, naming, [&](const Job& job) { compress_one(job, format, o); });
+  rc = run_jobs(o.files, naming, [&](const Job& job) { compress_one(job, format, o); });
 }
 
 }  // namespace
 
-void register_compress(CLI::App& app, int& exit_code) {
+void register_compress(CLI::App& app, int& rc) {
   auto opt = std::make_shared<CompressOptions>();
   CLI::App* sub = app.add_subcommand("compress", "Compress quad meshes (.obj, .off, .ply) into .qsp files");
   add_file_args(sub, opt->files, "Input meshes (IN.qsp is written beside each)", "ending in .qsp");
@@ -159,10 +147,6 @@ void register_compress(CLI::App& app, int& exit_code) {
   sub->add_flag("--keep-order", opt->keep_order, "Also store the vertex order, face order and first corners");
   sub->add_flag("--positions-only", opt->positions_only,
                 "Drop texture coordinates, normals, groups, materials and tags instead of refusing");
-  sub->add_option("--compat", opt->compat,
-                  "2.1: write only what qsp format 2.1 readers decode (no geometry coding revision 6; "
-                  "files of small meshes 1-2% larger)")
-      ->check(CLI::IsMember({"2.1"}));
   // gzip's and zstd's spelling: -1 fastest .. -9 smallest, --fast = -1, --best = -9.
   for (int l = kMinLevel; l <= kMaxLevel; ++l) {
     const std::string name = "-" + std::to_string(l);
@@ -174,7 +158,7 @@ void register_compress(CLI::App& app, int& exit_code) {
   sub->add_flag_callback(
       "--best", [opt] { opt->level = kMaxLevel; }, "Same as -9");
   sub->add_option("--threads", opt->threads, "Threads to use (default 0: up to two; 1: one)");
-  sub->callback([opt, &exit_code]() { run(*opt, exit_code); });
+  sub->callback([opt, &rc]() { run(*opt, rc); });
 }
 
 }  // namespace qsp::cli

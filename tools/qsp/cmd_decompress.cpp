@@ -1,5 +1,5 @@
 // `qsp decompress IN... [OUT]`: .qsp files -> OBJ or OFF (by the output's extension), gzip's way
-// (files.h).
+// (shared.h).
 #include <sys/stat.h>
 
 #include <chrono>
@@ -7,11 +7,10 @@
 #include <string>
 
 #include "commands.h"
-#include "files.h"
-#include "load.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
+#include "shared.h"
 
 namespace qsp::cli {
 namespace {
@@ -55,18 +54,13 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
   DecodeLimits limits;
   limits.max_vertices = o.max_vertices;
   limits.max_faces = o.max_faces;
-  QuadMesh mesh;
-  try {
-    mesh = decode(bytes, limits);
-  } catch (const Error& e) {
-    throw Error(e.code(), job.input + ": " + e.what());
-  }
+  const QuadMesh mesh = decode_named(bytes, job.input, limits);
   const std::string text = format == MeshFormat::kOff ? write_off(mesh) : write_obj(mesh);
   write_output(job.output, text, {o.force, o.verbosity.quiet, other_ways(job)});
   if (o.verbosity.verbose && !o.verbosity.quiet) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const FileInfo info = inspect(bytes, limits);
-    const int bits = geometry_bits(bytes, info);
+    const int bits = info.quantize_bits;
     const std::string kind = bits > 0 ? "quantized " + std::to_string(bits) + " bits" : "lossless";
     std::fprintf(stderr, "qsp: %s -> %s: %zu -> %zu bytes, %zu vertices, %zu faces, %s, %s order, %.3f s\n",
                  job.input.c_str(), job.output.c_str(), bytes.size(), text.size(), mesh.vertex_count(),
@@ -74,7 +68,7 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
   }
 }
 
-void run(const DecompressOptions& o, int& exit_code) {
+void run(const DecompressOptions& o, int& rc) {
   OutputNaming naming;
   naming.is_output_name = [](const std::string& p) {
     const MeshFormat f = format_from_path(p);
@@ -84,12 +78,12 @@ void run(const DecompressOptions& o, int& exit_code) {
   naming.rule = "must end in .obj or .off";
   naming.verb = "decompress";
   naming.stdin_name = "stdin.obj";
-  exit_code = run_jobs(o.files, naming, [&](const Job& job) { decompress_one(job, o); });
+  rc = run_jobs(o.files, naming, [&](const Job& job) { decompress_one(job, o); });
 }
 
 }  // namespace
 
-void register_decompress(CLI::App& app, int& exit_code) {
+void register_decompress(CLI::App& app, int& rc) {
   auto opt = std::make_shared<DecompressOptions>();
   CLI::App* sub = app.add_subcommand("decompress", "Decompress .qsp files into meshes (.obj or .off)");
   add_file_args(sub, opt->files,
@@ -99,7 +93,7 @@ void register_decompress(CLI::App& app, int& exit_code) {
   add_verbosity_flags(sub, opt->verbosity);
   sub->add_option("--max-vertices", opt->max_vertices, "Refuse files declaring more vertices (default 2^26)");
   sub->add_option("--max-faces", opt->max_faces, "Refuse files declaring more faces (default 2^26)");
-  sub->callback([opt, &exit_code]() { run(*opt, exit_code); });
+  sub->callback([opt, &rc]() { run(*opt, rc); });
 }
 
 }  // namespace qsp::cli

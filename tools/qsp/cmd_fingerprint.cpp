@@ -10,13 +10,10 @@
 #include <vector>
 
 #include "commands.h"
-#include "files.h"
-#include "load.h"
-#include "qsp/canonical.h"
-#include "qsp/codec.h"
 #include "qsp/error.h"
-#include "qsp/match.h"
-#include "qsp/partition.h"
+#include "qsp/fingerprint.h"
+#include "qsp/io.h"
+#include "shared.h"
 
 namespace qsp::cli {
 namespace {
@@ -27,49 +24,22 @@ struct FingerprintOptions {
   std::string format;  // --format for standard input
 };
 
-// prepare_match: the canonical form, computed on a locality-friendly numbering if the file's is scrambled.
-std::uint64_t mesh_fingerprint(QuadMesh mesh) {
-  return topology_fingerprint(prepare_match(std::move(mesh)).canonical);
-}
-
-// A .qsp without its geometry: file_topology() checks the whole file (checksum, counts, topology) and
-// returns its codes, rebuilt here into the mesh's connectivity (canonical numbering, positions left at
-// zero). The codes cannot be hashed as stored: a file may hold a greedy or merged partition (compress
-// chooses the smallest), and the fingerprint is defined on the motorcycle partition.
+// A .qsp without its positions (qsp/fingerprint.h); a damaged file names itself.
 std::uint64_t qsp_fingerprint(const std::string& path, const std::string& bytes) {
   try {
-    const FileTopology topology = file_topology(bytes);
-    QuadMesh mesh;
-    std::uint32_t base = 0;
-    for (const TopologyCode& code : topology.codes) {
-      const GridLayout g = grid_layout(partition_from_code(code));
-      for (std::uint32_t v : g.quads) mesh.quads.push_back(base + v);
-      base += g.vertex_count;
-    }
-    mesh.positions.assign(3 * (std::size_t(base) + topology.unreferenced), 0.0f);
-    return mesh_fingerprint(std::move(mesh));
+    return file_fingerprint(bytes);
   } catch (const Error& e) {
     throw Error(e.code(), path + ": " + e.what());
   }
 }
 
-std::uint64_t file_fingerprint(const std::string& path, MeshFormat format) {
-  std::string bytes;
-  ReadReport report;
-  QuadMesh mesh;
-  if (read_stdin_if_unknown(path, format, bytes)) {
-    if (detect_format(bytes) == MeshFormat::kQsp) return qsp_fingerprint(path, bytes);
-    mesh = read_mesh_bytes(bytes, path, &report);
-  } else if (format_from_path(path) == MeshFormat::kQsp) {
-    refuse_folder(path);
-    return qsp_fingerprint(path, read_file_bytes(path));
-  } else {
-    mesh = read_input_mesh(path, format, &report);
-  }
+std::uint64_t fingerprint_of(const std::string& path, MeshFormat format) {
+  Input in = read_input(path, format);
+  if (in.qsp) return qsp_fingerprint(path, in.bytes);
   try {
-    return mesh_fingerprint(std::move(mesh));
+    return mesh_fingerprint(std::move(in.mesh));
   } catch (const Error& e) {
-    rethrow_located(e, path, report);
+    rethrow_located(e, path, in.report);
   }
 }
 
@@ -79,7 +49,7 @@ int run(const FingerprintOptions& o) {
   std::vector<std::uint64_t> fp(o.files.size());
   std::vector<bool> ok(o.files.size(), false);
   const int rc = for_each_file(o.files, [&](std::size_t i) {
-    fp[i] = file_fingerprint(o.files[i], format);
+    fp[i] = fingerprint_of(o.files[i], format);
     ok[i] = true;
     // Without --group, print as we go: one slow file does not hold back the others' lines.
     if (!o.group) std::printf("%016" PRIx64 "  %s\n", fp[i], o.files[i].c_str());
@@ -103,7 +73,7 @@ int run(const FingerprintOptions& o) {
 
 }  // namespace
 
-void register_fingerprint(CLI::App& app, int& exit_code) {
+void register_fingerprint(CLI::App& app, int& rc) {
   auto opt = std::make_shared<FingerprintOptions>();
   CLI::App* cmd =
       app.add_subcommand("fingerprint", "Print a topology fingerprint per file (equal = isomorphic meshes)");
@@ -113,7 +83,7 @@ void register_fingerprint(CLI::App& app, int& exit_code) {
   cmd->add_flag("--group", opt->group,
                 "List files with equal fingerprints together, groups separated by a blank line");
   add_format_option(cmd, opt->format);
-  cmd->callback([opt, &exit_code] { exit_code = run(*opt); });
+  cmd->callback([opt, &rc] { rc = run(*opt); });
 }
 
 }  // namespace qsp::cli

@@ -1,6 +1,5 @@
 // `qsp layout IN -o LAYOUT.obj [--patches OUT.obj|OUT.ply]`: the partition exported for other tools
 // (qsp/layout_export.h).
-#include <filesystem>
 #include <string>
 
 #include "commands.h"
@@ -8,6 +7,7 @@
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/layout_export.h"
+#include "shared.h"
 
 namespace qsp::cli {
 namespace {
@@ -15,6 +15,7 @@ namespace {
 struct LayoutOptions {
   std::string input, output, patches;
   std::string partition;  // "" = the input's default (see load_partitioned)
+  std::string format;     // --format for standard input
   bool force = false;
 };
 
@@ -26,29 +27,32 @@ void run(const LayoutOptions& o) {
   const MeshFormat pf = o.patches.empty() ? MeshFormat::kUnknown : format_from_path(o.patches);
   if (!o.patches.empty() && pf != MeshFormat::kObj && pf != MeshFormat::kPly)
     throw CLI::ValidationError("--patches must name a .obj or .ply file, not '" + o.patches + "'");
+  std::vector<Output> outputs;
+  if (!o.output.empty()) outputs.push_back({o.output, "-o"});
+  if (!o.patches.empty()) outputs.push_back({o.patches, "--patches"});
+  check_outputs({o.input}, outputs);
   // Both outputs are checked before either is written, so a refusal leaves neither behind.
-  for (const std::string& out : {o.output, o.patches})
-    if (!o.force && !out.empty() && out != "-" && std::filesystem::exists(out))
-      throw Error(ErrorCode::kIo, out + ": exists; pass -f to replace it");
-  const PartitionedMesh pm = load_partitioned(o.input, o.partition);
+  const WriteOptions wo{o.force, false, "name another output"};
+  refuse_existing(outputs, wo);
+  const PartitionedMesh pm = load_partitioned(o.input, o.partition, parse_format_option(o.format));
   const std::string header = describe(o.input, pm);
-  if (!o.output.empty()) write_file_atomic(o.output, layout_obj(pm.mesh, pm.canonical, header), o.force);
+  if (!o.output.empty()) write_output(o.output, layout_obj(pm.mesh, pm.canonical, header), wo);
   if (!o.patches.empty()) {
-    write_file_atomic(o.patches,
-                      pf == MeshFormat::kPly ? patches_ply(pm.mesh, pm.view, header)
-                                             : patches_obj(pm.mesh, pm.view, header),
-                      o.force);
+    write_output(o.patches,
+                 pf == MeshFormat::kPly ? patches_ply(pm.mesh, pm.view, header)
+                                        : patches_obj(pm.mesh, pm.view, header),
+                 wo);
   }
 }
 
 }  // namespace
 
-void register_layout(CLI::App& app, int& exit_code) {
+void register_layout(CLI::App& app, int& rc) {
   auto opt = std::make_shared<LayoutOptions>();
   CLI::App* sub = app.add_subcommand(
       "layout",
       "Export the schematic partition as a polygon mesh, and the mesh with its faces tagged by patch");
-  sub->add_option("IN", opt->input, "Mesh (.obj .off .ply) or .qsp file")->required();
+  sub->add_option("IN", opt->input, "Mesh (.obj .off .ply) or .qsp file; - for standard input")->required();
   sub->add_option("-o,--output", opt->output,
                   "Layout OBJ: a face per patch over the schematic vertices, edge lengths in comments");
   sub->add_option("--patches", opt->patches,
@@ -56,10 +60,11 @@ void register_layout(CLI::App& app, int& exit_code) {
                   "edges as l lines) or .ply (face properties patch, red, green, blue)");
   sub->add_option("--partition", opt->partition, kPartitionHelp)
       ->check(CLI::IsMember({"motorcycle", "greedy", "merge", "auto", "stored"}));
-  sub->add_flag("-f,--force", opt->force, "Replace outputs that exist");
-  sub->callback([opt, &exit_code] {
+  add_format_option(sub, opt->format);
+  sub->add_flag("-f,--force", opt->force, "Replace outputs that exist (never the input)");
+  sub->callback([opt, &rc] {
     run(*opt);
-    exit_code = 0;
+    rc = 0;
   });
 }
 

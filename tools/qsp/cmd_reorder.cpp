@@ -1,18 +1,18 @@
 // `qsp reorder --like REF IN -o OUT`: IN's positions in REF's vertex order, with REF's face order and
 // first corners, so data made per vertex / face / corner of REF applies to OUT unchanged.
-// Exit codes as the other subcommands: 1 when IN is not isomorphic to REF (or is invalid).
+// Exit codes as the other subcommands: 1 when IN is not isomorphic to REF (or is invalid). The work is
+// the library's: match() and reorder_like() (qsp/match.h).
 #include <sys/stat.h>
 
 #include <cstdio>
 #include <string>
 
 #include "commands.h"
-#include "files.h"
-#include "load.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/match.h"
+#include "shared.h"
 
 namespace qsp::cli {
 namespace {
@@ -20,30 +20,12 @@ namespace {
 struct ReorderOptions {
   std::string ref, input, output;
   std::string format;  // --format for standard input
-  std::string centering = "component";
+  Centering centering = Centering::kComponent;
   bool force = false;
   bool positions_only = false;
   bool prefer_order = false;  // MatchOptions::prefer_order
+  bool allow_mirror = false;  // MatchOptions::mirror: kAccept, else kHint
 };
-
-struct Read {
-  QuadMesh mesh;
-  ReadReport report;
-};
-
-Read read_any(const std::string& path, MeshFormat format) {
-  Read out;
-  out.mesh = read_mesh_or_qsp(path, out.report, format);
-  return out;
-}
-
-MatchInput prepare_located(const Read& r, const std::string& path) {
-  try {
-    return prepare_match(r.mesh);
-  } catch (const Error& e) {
-    rethrow_located(e, path, r.report);
-  }
-}
 
 int run(const ReorderOptions& o) {
   const MeshFormat format = o.output == "-" ? MeshFormat::kObj : format_from_path(o.output);
@@ -54,46 +36,31 @@ int run(const ReorderOptions& o) {
   check_outputs({o.ref, o.input}, {{o.output, "-o"}});
 
   const MeshFormat in_format = parse_format_option(o.format);
-  const Read ref = read_any(o.ref, in_format);
-  const Read in = read_any(o.input, in_format);
+  Input ref, in;
+  ref.mesh = read_mesh_or_qsp(o.ref, ref.report, in_format);
+  in.mesh = read_mesh_or_qsp(o.input, in.report, in_format);
   // Only IN's data reaches OUT; REF contributes its order alone.
-  if (in.report.has_extra_data()) {
-    if (!o.positions_only)
-      throw Error(ErrorCode::kUnsupported,
-                  o.input + ": has " + in.report.describe_extra_data() +
-                      ", which reorder does not carry over; pass --positions-only to drop them");
-    std::fprintf(stderr, "qsp: %s: dropped %s (--positions-only)\n", o.input.c_str(),
-                 in.report.describe_extra_data().c_str());
-  }
+  refuse_extra_data(o.input, in.report, "reorder", o.positions_only, false);
   MatchOptions mo;
-  mo.centering = o.centering == "mesh"   ? Centering::kMesh
-                 : o.centering == "none" ? Centering::kNone
-                                         : Centering::kComponent;
+  mo.centering = o.centering;
   mo.prefer_order = o.prefer_order;
-  const MatchResult r = match(prepare_located(ref, o.ref), prepare_located(in, o.input), mo);
+  mo.mirror = o.allow_mirror ? Mirror::kAccept : Mirror::kHint;
+  const MatchResult r =
+      match(prepare_located(ref.mesh, o.ref, ref.report), prepare_located(in.mesh, o.input, in.report), mo);
   if (!r.isomorphic) {
-    std::fprintf(stderr, "qsp: %s is not isomorphic to %s: %s\n", o.input.c_str(), o.ref.c_str(),
-                 name_meshes(r.reason, o.ref, o.input).c_str());
-    return 1;
+    const std::string hint = r.mirror_would_match ? mirror_hint(o.ref, o.input) : "";
+    std::fprintf(stderr, "qsp: %s is not isomorphic to %s: %s%s\n", o.input.c_str(), o.ref.c_str(),
+                 name_meshes(r.reason, o.ref, o.input).c_str(), hint.c_str());
+    return exit_code(Outcome::kDiffer);
   }
+  if (r.mirrored)
+    std::fprintf(stderr, "qsp: %s is %s with every face reversed (--allow-mirror): OUT takes %s's faces\n",
+                 o.input.c_str(), o.ref.c_str(), o.ref.c_str());
   if (r.ambiguous)
     std::fprintf(stderr, "qsp: warning: %s: the correspondence is ambiguous (symmetric mesh, %s)\n",
                  o.input.c_str(), r.exhaustive ? "equally near isomorphisms" : "search capped");
 
-  // OUT vertex i = IN vertex r.vertex[i]; OUT face f = IN face r.face[f] turned so that its corner c
-  // is IN's corner (c + rotation) -- which is REF's face f, renumbered to OUT's vertices.
-  const QuadMesh& src = in.mesh;
-  const std::size_t nv = src.vertex_count(), nf = src.face_count();
-  std::vector<std::uint32_t> out_of(nv);
-  for (std::uint32_t i = 0; i < nv; ++i) out_of[r.vertex[i]] = i;
-  QuadMesh out;
-  out.positions.resize(3 * nv);
-  for (std::size_t i = 0; i < nv; ++i)
-    for (int k = 0; k < 3; ++k) out.positions[3 * i + k] = src.positions[3 * std::size_t(r.vertex[i]) + k];
-  out.quads.resize(4 * nf);
-  for (std::size_t f = 0; f < nf; ++f)
-    for (std::uint32_t c = 0; c < 4; ++c)
-      out.quads[4 * f + c] = out_of[src.quads[4 * std::size_t(r.face[f]) + ((c + r.rotation[f]) & 3u)]];
+  const QuadMesh out = reorder_like(in.mesh, r);
   if (out.quads != ref.mesh.quads)
     throw Error(ErrorCode::kInternal, "reorder: faces do not come out in REF's order");
   std::string bytes;
@@ -106,12 +73,12 @@ int run(const ReorderOptions& o) {
     bytes = format == MeshFormat::kOff ? write_off(out) : write_obj(out);
   }
   write_output(o.output, bytes, {o.force, false, "name another output (-o NAME)"});
-  return 0;
+  return exit_code(Outcome::kSuccess);
 }
 
 }  // namespace
 
-void register_reorder(CLI::App& app, int& exit_code) {
+void register_reorder(CLI::App& app, int& rc) {
   auto opt = std::make_shared<ReorderOptions>();
   CLI::App* cmd =
       app.add_subcommand("reorder", "Write IN with REF's vertex and face order (IN isomorphic to REF)");
@@ -122,15 +89,16 @@ void register_reorder(CLI::App& app, int& exit_code) {
       ->required();
   cmd->add_flag("-f,--force", opt->force, "Replace OUT if it exists (never an input)");
   add_format_option(cmd, opt->format);
-  cmd->add_option(
-         "--centering", opt->centering,
-         "Positions compared to choose among symmetric isomorphisms: component (default), mesh, none")
-      ->check(CLI::IsMember({"component", "mesh", "none"}));
+  add_centering_option(cmd, opt->centering);
+  cmd->add_flag("--allow-mirror", opt->allow_mirror,
+                "Also accept IN mirrored or with flipped normals (every face reversed); OUT takes REF's "
+                "faces, so its normals are REF's");
   cmd->add_flag("--prefer-order", opt->prefer_order,
-                "Among equally near isomorphisms, the one keeping most vertices at their own index");
+                "For meshes exported in one vertex order: the isomorphism keeping most vertices at their own "
+                "index (the identity where it is one), the nearest among those keeping as many");
   cmd->add_flag("--positions-only", opt->positions_only,
                 "Drop IN's texture coordinates, normals, groups, ... instead of refusing");
-  cmd->callback([opt, &exit_code] { exit_code = run(*opt); });
+  cmd->callback([opt, &rc] { rc = run(*opt); });
 }
 
 }  // namespace qsp::cli

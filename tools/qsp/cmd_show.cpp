@@ -8,6 +8,7 @@
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/render.h"
+#include "shared.h"
 
 namespace qsp::cli {
 namespace {
@@ -17,6 +18,7 @@ struct ShowOptions {
   std::string size = "1024x1024";
   std::string view = "0,0";
   std::string partition;  // "" = the input's default (see load_partitioned)
+  std::string format;     // --format for standard input
   bool grid = false;
   bool force = false;
 };
@@ -52,18 +54,21 @@ void run(const ShowOptions& o) {
   if (!svg && !ends_with(o.output, ".png"))
     throw CLI::ValidationError("-o must name a .png or .svg file, not '" + o.output + "'");
   const RenderOptions ro = parse_render_options(o);
-  const PartitionedMesh pm = load_partitioned(o.input, o.partition);
+  check_outputs({o.input}, {{o.output, "-o"}});
+  const WriteOptions wo{o.force, false, "name another output (-o NAME)"};
+  refuse_existing({{o.output, "-o"}}, wo);  // before the work, not after
+  const PartitionedMesh pm = load_partitioned(o.input, o.partition, parse_format_option(o.format));
   const std::string bytes =
       svg ? render_svg(pm.mesh, pm.adjacency, pm.view, ro) : encode_png(render_image(pm.mesh, pm.view, ro));
-  write_file_atomic(o.output, bytes, o.force);
+  write_output(o.output, bytes, wo);
 }
 
 }  // namespace
 
-void register_show(CLI::App& app, int& exit_code) {
+void register_show(CLI::App& app, int& rc) {
   auto opt = std::make_shared<ShowOptions>();
   CLI::App* sub = app.add_subcommand("show", "Draw the partition on its mesh as a PNG or SVG picture");
-  sub->add_option("IN", opt->input, "Mesh (.obj .off .ply) or .qsp file")->required();
+  sub->add_option("IN", opt->input, "Mesh (.obj .off .ply) or .qsp file; - for standard input")->required();
   sub->add_option("-o,--output", opt->output, "Picture to write: .png, or .svg (up to 100000 faces)")
       ->required();
   sub->add_option("--size", opt->size, "Picture size WxH in pixels (default 1024x1024)");
@@ -71,11 +76,12 @@ void register_show(CLI::App& app, int& exit_code) {
                   "AZIMUTH,ELEVATION in degrees (default 0,0: looking along -z, +y up, fitted to the mesh)");
   sub->add_option("--partition", opt->partition, kPartitionHelp)
       ->check(CLI::IsMember({"motorcycle", "greedy", "merge", "auto", "stored"}));
+  add_format_option(sub, opt->format);
   sub->add_flag("--grid", opt->grid, "Also draw the mesh edges");
-  sub->add_flag("-f,--force", opt->force, "Replace the output if it exists");
-  sub->callback([opt, &exit_code] {
+  sub->add_flag("-f,--force", opt->force, "Replace the output if it exists (never the input)");
+  sub->callback([opt, &rc] {
     run(*opt);
-    exit_code = 0;
+    rc = 0;
   });
 }
 

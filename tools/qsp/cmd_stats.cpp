@@ -5,14 +5,13 @@
 #include <vector>
 
 #include "commands.h"
-#include "files.h"
-#include "load.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
 #include "qsp/partition.h"
 #include "qsp/smaller.h"
+#include "shared.h"
 
 namespace qsp::cli {
 namespace {
@@ -39,7 +38,8 @@ struct Row {
                 other_bytes = 0;  // the parts add up to the total
   bool keep_order = false;
   int quantize_bits = -1;  // 0 lossless, 1..30 quantized; -1 unknown
-  int version_major = 0, version_minor = 0, geometry_revision = 0;
+  int version_major = 0, version_minor = 0, level = 0;
+  std::string geometry_tools;       // geometry_tool_names()
   const char* geometry_order = "";  // "patch" or "layout"
   struct Comp {
     const char* kind;
@@ -49,7 +49,7 @@ struct Row {
   std::vector<Comp> comps;
 };
 
-void add_sizes(Row& r, const FileInfo& info, const std::string& bytes) {
+void add_sizes(Row& r, const FileInfo& info) {
   r.has_bytes = true;
   r.total_bytes = info.total_bytes;
   r.header_bytes = info.header_bytes;
@@ -58,10 +58,11 @@ void add_sizes(Row& r, const FileInfo& info, const std::string& bytes) {
   r.order_bytes = info.order_bytes;
   r.other_bytes = info.other_bytes;
   r.keep_order = info.keep_order;
-  r.quantize_bits = geometry_bits(bytes, info);
+  r.quantize_bits = info.quantize_bits;
   r.version_major = info.version_major;
   r.version_minor = info.version_minor;
-  r.geometry_revision = info.geometry_revision;
+  r.level = info.level;
+  r.geometry_tools = geometry_tool_names(info.geometry_tools);
   r.geometry_order = info.geometry_order == CodingOrder::kPatch ? "patch" : "layout";
 }
 
@@ -92,7 +93,7 @@ Row info_row(const std::string& file, const std::string& bytes, const char* part
     r.se += r.comps.back().se;
     r.patches += r.comps.back().patches;
   }
-  add_sizes(r, info, bytes);
+  add_sizes(r, info);
   return r;
 }
 
@@ -131,7 +132,7 @@ Row mesh_row(const std::string& file, const LoadedMesh& loaded, PartitionMode mo
     EncodeOptions eo;
     eo.partition = mode;
     const std::string bytes = encode(mesh, eo);
-    add_sizes(r, inspect(bytes), bytes);
+    add_sizes(r, inspect(bytes));
   }
   return r;
 }
@@ -183,13 +184,14 @@ void print_json(const std::vector<Row>& rows, bool verbose, bool lines) {
           ", \"bytes\": {\"total\": %llu, \"header\": %llu, \"connectivity\": %llu, \"geometry\": %llu, "
           "\"order\": %llu, \"other\": %llu}, "
           "\"bits_per_vertex\": {\"total\": %.4f, \"connectivity\": %.4f, \"geometry\": %.4f}, "
-          "\"format\": \"%d.%d\", \"geometry_coding\": {\"revision\": %d, \"order\": \"%s\"}, "
+          "\"format\": \"%d.%d\", \"level\": %d, \"geometry_coding\": {\"tools\": %s, \"order\": \"%s\"}, "
           "\"quantize_bits\": %d, \"keep_order\": %s",
           (unsigned long long)r.total_bytes, (unsigned long long)r.header_bytes,
           (unsigned long long)r.connectivity_bytes, (unsigned long long)r.geometry_bytes,
           (unsigned long long)r.order_bytes, (unsigned long long)r.other_bytes, 8.0 * r.total_bytes / v,
           8.0 * r.connectivity_bytes / v, 8.0 * r.geometry_bytes / v, r.version_major, r.version_minor,
-          r.geometry_revision, r.geometry_order, r.quantize_bits, r.keep_order ? "true" : "false");
+          r.level, json_string(r.geometry_tools).c_str(), r.geometry_order, r.quantize_bits,
+          r.keep_order ? "true" : "false");
     }
     if (verbose) {
       std::printf(", \"components\": [");
@@ -241,13 +243,10 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
                                         ? "quantized to " + std::to_string(r.quantize_bits) + " bits"
                                     : r.quantize_bits == 0 ? "lossless"
                                                            : "positions unknown";
-      // Format 2.2 headers with geometry revision 5 or lower are what --compat 2.1 writes: 2.1 readers
-      // decode them.
-      const bool old_readers = r.version_major == 2 && r.version_minor == 2 && r.geometry_revision <= 5;
-      std::printf("\n  format %d.%d, geometry coding revision %d, %s order%s; %s, %s\n", r.version_major,
-                  r.version_minor, r.geometry_revision, r.geometry_order,
-                  old_readers ? " (2.1 readers decode it)" : "", positions.c_str(),
-                  r.keep_order ? "original order kept" : "canonical order");
+      const std::string level = r.level ? "level " + std::to_string(r.level) : "level not said";
+      std::printf("\n  format %d.%d, %s, geometry %s order, tools: %s; %s, %s\n", r.version_major,
+                  r.version_minor, level.c_str(), r.geometry_order, r.geometry_tools.c_str(),
+                  positions.c_str(), r.keep_order ? "original order kept" : "canonical order");
     }
     if (!verbose) continue;
     for (std::size_t c = 0; c < r.comps.size(); ++c) {
@@ -262,7 +261,7 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
 
 }  // namespace
 
-void register_stats(CLI::App& app, int& exit_code) {
+void register_stats(CLI::App& app, int& rc) {
   auto opt = std::make_shared<StatsOptions>();
   CLI::App* cmd =
       app.add_subcommand("stats", "Print the paper's Table-1 row (mesh vs schematic partition) per file");
@@ -278,7 +277,7 @@ void register_stats(CLI::App& app, int& exit_code) {
                   "Partition: motorcycle (default), greedy, merge, auto (the one compress stores, with its "
                   "sizes), or all (a row each)")
       ->check(CLI::IsMember({"motorcycle", "greedy", "merge", "auto", "all"}));
-  cmd->callback([opt, cmd, &exit_code] {
+  cmd->callback([opt, cmd, &rc] {
     const MeshFormat format = parse_format_option(opt->format);
     std::vector<Row> rows;
     std::vector<PartitionMode> modes;
@@ -295,25 +294,12 @@ void register_stats(CLI::App& app, int& exit_code) {
     const auto one = [&](std::size_t i) {
       file_start = rows.size();
       const std::string& f = opt->files[i];
-      std::string bytes;
-      const bool from_stdin = read_stdin_if_unknown(f, format, bytes);
-      if (from_stdin ? detect_format(bytes) == MeshFormat::kQsp : format_from_path(f) == MeshFormat::kQsp) {
-        refuse_folder(f);
-        if (!from_stdin) bytes = read_file_bytes(f);
-        rows.push_back(info_row(f, bytes, "stored"));
-        if (!partition_given) return;
-        // --partition asks for partitions the file does not store: decode it and compute them.
-        LoadedMesh loaded;
-        try {
-          loaded.mesh = decode(bytes);
-        } catch (const Error& e) {
-          throw Error(e.code(), f + ": " + e.what());
-        }
-        loaded.adjacency = build_adjacency(loaded.mesh);
-        add_mesh_rows(f, loaded);
-        return;
-      }
-      add_mesh_rows(f, from_stdin ? load_mesh_bytes(bytes, f) : load_mesh(f, format));
+      Input in = read_input(f, format);
+      if (!in.qsp) return add_mesh_rows(f, with_adjacency(std::move(in.mesh), std::move(in.report), f));
+      rows.push_back(info_row(f, in.bytes, "stored"));
+      if (!partition_given) return;
+      // --partition asks for partitions the file does not store: decode it and compute them.
+      add_mesh_rows(f, with_adjacency(decode_named(in.bytes, f), {}, f));
     };
     const auto failed = [&](std::size_t i, const std::string& message) {
       rows.resize(file_start);
@@ -322,7 +308,7 @@ void register_stats(CLI::App& app, int& exit_code) {
       r.error = message;
       rows.push_back(r);
     };
-    exit_code = for_each_file(opt->files, one, failed);
+    rc = for_each_file(opt->files, one, failed);
     if (opt->json || opt->json_lines)
       print_json(rows, opt->verbose, opt->json_lines);
     else

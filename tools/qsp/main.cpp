@@ -1,4 +1,4 @@
-// qsp command-line entry: parses, runs one subcommand, maps qsp::Error to an exit code in one place.
+// qsp command-line entry: parses, runs one subcommand, and holds the one table of exit codes.
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
@@ -8,11 +8,46 @@
 #include <vector>
 
 #include "commands.h"
-#include "files.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/version.h"
+#include "shared.h"
+
+namespace qsp::cli {
+
+// Every exit code qsp returns (README "Exit codes"; docs/matching.md for match). match answers like cmp,
+// so that 1 never means broken input there: "not isomorphic" is its 1, and a refused input its 2.
+struct ExitRow {
+  Outcome outcome;
+  int tool;     // compress, decompress, stats, fingerprint, reorder, show, layout
+  int compare;  // match
+};
+constexpr ExitRow kExitCodes[] = {
+    {Outcome::kSuccess, 0, 0}, {Outcome::kDiffer, 1, 1}, {Outcome::kRefused, 1, 2},
+    {Outcome::kUsage, 2, 2},   {Outcome::kIo, 3, 3},     {Outcome::kInternal, 4, 4},
+};
+
+int exit_code(Outcome outcome, Answers answers) {
+  for (const ExitRow& row : kExitCodes)
+    if (row.outcome == outcome) return answers == Answers::kCompare ? row.compare : row.tool;
+  return 4;
+}
+
+Outcome outcome_of(ErrorCode code) {
+  switch (code) {
+    case ErrorCode::kUsage:
+      return Outcome::kUsage;
+    case ErrorCode::kIo:
+      return Outcome::kIo;
+    case ErrorCode::kInternal:
+      return Outcome::kInternal;
+    default:
+      return Outcome::kRefused;  // the input: a mesh qsp cannot store, a damaged or newer .qsp, a limit
+  }
+}
+
+}  // namespace qsp::cli
 
 namespace {
 
@@ -56,22 +91,27 @@ int main(int argc, char** argv) {
   // The file format too: users keeping .qsp archives need to know what this build writes and reads.
   const std::string writes = std::to_string(qsp::kFormatMajor) + "." + std::to_string(qsp::kFormatMinor);
   app.set_version_flag("--version", std::string("qsp ") + qsp::version() + " (writes .qsp format " + writes +
-                                        ", reads " + std::to_string(qsp::kOldestMajor) + ".0 to " + writes +
+                                        ", reads " + std::to_string(qsp::kFormatMajor) + ".0 to " + writes +
                                         ")");
   app.require_subcommand(1);
   // Test seam (tests/test_hostile.cpp, AtomicOutput): stop just before an output file gets its name, so
   // a test knows its kill lands while only the temporary file exists.
   if (const char* stop = std::getenv("QSP_TEST_STOP_BEFORE_RENAME"); stop && std::string(stop) == "1")
     qsp::set_before_rename_hook([] { std::raise(SIGSTOP); });
-  int exit_code = 0;
-  qsp::cli::register_compress(app, exit_code);
-  qsp::cli::register_decompress(app, exit_code);
-  qsp::cli::register_stats(app, exit_code);
-  qsp::cli::register_match(app, exit_code);
-  qsp::cli::register_fingerprint(app, exit_code);
-  qsp::cli::register_reorder(app, exit_code);
-  qsp::cli::register_show(app, exit_code);
-  qsp::cli::register_layout(app, exit_code);
+  int rc = 0;  // set by the subcommand's callback (exit_code())
+  qsp::cli::register_compress(app, rc);
+  qsp::cli::register_decompress(app, rc);
+  qsp::cli::register_stats(app, rc);
+  qsp::cli::register_match(app, rc);
+  qsp::cli::register_fingerprint(app, rc);
+  qsp::cli::register_reorder(app, rc);
+  qsp::cli::register_show(app, rc);
+  qsp::cli::register_layout(app, rc);
+  using qsp::cli::Outcome;
+  // match answers like cmp (kExitCodes); every other subcommand as a tool.
+  const auto answers = [&] {
+    return app.got_subcommand("match") ? qsp::cli::Answers::kCompare : qsp::cli::Answers::kTool;
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -79,21 +119,20 @@ int main(int argc, char** argv) {
     if (hint.find("is not a subcommand") != std::string::npos) {
       // CLI11 would say "A subcommand is required", which is not what went wrong.
       std::fprintf(stderr, "qsp: error: %s\n", hint.c_str());
-      return 2;
+      return qsp::cli::exit_code(Outcome::kUsage);
     }
-    int rc = app.exit(e);
-    if (rc == 0) return 0;
+    if (app.exit(e) == 0) return qsp::cli::exit_code(Outcome::kSuccess);  // --help, --version
     if (!hint.empty()) std::fprintf(stderr, "qsp: %s\n", hint.c_str());
-    return 2;
+    return qsp::cli::exit_code(Outcome::kUsage);
   } catch (const qsp::Error& e) {
     std::fprintf(stderr, "qsp: error: %s\n", e.what());
-    return qsp::cli::exit_code_for(e.code());
+    return qsp::cli::exit_code_for(e.code(), answers());
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "qsp: error: out of memory\n");
-    return 4;
+    return qsp::cli::exit_code(Outcome::kInternal, answers());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "qsp: internal error: %s\n", e.what());
-    return 4;
+    return qsp::cli::exit_code(Outcome::kInternal, answers());
   }
-  return exit_code;
+  return rc;
 }

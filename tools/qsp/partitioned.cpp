@@ -2,11 +2,11 @@
 
 #include <CLI/CLI.hpp>
 
-#include "load.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/smaller.h"
+#include "shared.h"
 
 namespace qsp::cli {
 namespace {
@@ -21,27 +21,26 @@ std::vector<std::uint32_t> canonical_to_mesh(const OrderMap& order) {
 
 }  // namespace
 
-PartitionedMesh load_partitioned(const std::string& path, const std::string& partition) {
+PartitionedMesh load_partitioned(const std::string& path, const std::string& partition, MeshFormat format) {
   PartitionedMesh pm;
   Partition part;
-  const bool qsp_file = format_from_path(path) == MeshFormat::kQsp;
-  if (partition == "stored" && !qsp_file)
+  Input in = read_input(path, format);
+  if (partition == "stored" && !in.qsp)
     throw CLI::ValidationError("--partition stored needs a .qsp input; " + path + " is a mesh");
-  if (qsp_file) {
-    const std::string bytes = read_file_bytes(path);
+  if (in.qsp) {
     try {
-      pm.mesh = decode(bytes);
+      pm.mesh = decode(in.bytes);
       pm.adjacency = build_adjacency(pm.mesh);
       if (partition.empty() || partition == "stored") {
-        part =
-            stored_partition(pm.adjacency, file_topology(bytes).codes, canonical_to_mesh(file_order(bytes)));
+        part = stored_partition(pm.adjacency, file_topology(in.bytes).codes,
+                                canonical_to_mesh(file_order(in.bytes)));
         pm.label = "stored";
       }
     } catch (const Error& e) {
       throw Error(e.code(), path + ": " + e.what());
     }
   } else {
-    LoadedMesh loaded = load_mesh(path);
+    LoadedMesh loaded = with_adjacency(std::move(in.mesh), std::move(in.report), path);
     pm.mesh = std::move(loaded.mesh);
     pm.adjacency = std::move(loaded.adjacency);
   }

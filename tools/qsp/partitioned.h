@@ -4,6 +4,7 @@
 #include <string>
 
 #include "qsp/canonical.h"
+#include "qsp/io.h"
 #include "qsp/layout_export.h"
 #include "qsp/mesh.h"
 
@@ -22,10 +23,11 @@ inline constexpr const char* kPartitionHelp =
     "Partition: motorcycle (default for a mesh), greedy, merge, auto (the one compress would store), or "
     "stored (default for a .qsp: the partition the file holds)";
 
-// Reads `path` (a mesh, or a .qsp decoded in full) and partitions it: `partition` is "" (a .qsp's
-// stored partition, a mesh's motorcycle graph), "stored" (.qsp only), "auto" or a PartitionMode name.
-// Throws qsp::Error located at the file (kUsage-like errors as CLI::ValidationError).
-PartitionedMesh load_partitioned(const std::string& path, const std::string& partition);
+// Reads `path` (a mesh, or a .qsp decoded in full; read_input, shared.h, with `format` from --format)
+// and partitions it: `partition` is "" (a .qsp's stored partition, a mesh's motorcycle graph), "stored"
+// (.qsp only), "auto" or a PartitionMode name. Throws qsp::Error located at the file (kUsage-like errors
+// as CLI::ValidationError).
+PartitionedMesh load_partitioned(const std::string& path, const std::string& partition, MeshFormat format);
 
 // One comment line naming the input and partition, for exported files.
 std::string describe(const std::string& path, const PartitionedMesh& pm);

@@ -1,0 +1,433 @@
+#include "shared.h"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <system_error>
+
+namespace qsp::cli {
+namespace fs = std::filesystem;
+
+namespace {
+
+// `path` with every symbolic link on the way resolved, the last component too even when its target
+// does not exist yet (a dangling link still names the file a write through it would create).
+fs::path resolved(const std::string& path) {
+  std::error_code ec;
+  fs::path p = fs::absolute(path, ec);
+  if (ec) return fs::path(path);
+  for (int hops = 0; hops < 40 && fs::is_symlink(p, ec); ++hops) {
+    const fs::path target = fs::read_symlink(p, ec);
+    if (ec) break;
+    p = target.is_absolute() ? target : p.parent_path() / target;
+  }
+  const fs::path c = fs::weakly_canonical(p, ec);
+  return ec ? p.lexically_normal() : c;
+}
+
+// What makes two names one file: the same device and inode if it exists (hard links), else the same
+// resolved path.
+struct FileId {
+  bool exists = false;
+  dev_t dev = 0;
+  ino_t ino = 0;
+  fs::path path;
+};
+
+FileId file_id(const std::string& name) {
+  FileId id;
+  struct stat st {};
+  if (::stat(name.c_str(), &st) == 0) {
+    id.exists = true;
+    id.dev = st.st_dev;
+    id.ino = st.st_ino;
+  }
+  id.path = resolved(name);
+  return id;
+}
+
+bool same(const FileId& a, const FileId& b) {
+  if (a.exists && b.exists) return a.dev == b.dev && a.ino == b.ino;
+  return a.path == b.path;
+}
+
+}  // namespace
+
+void check_outputs(const std::vector<std::string>& inputs, const std::vector<Output>& outputs) {
+  std::vector<FileId> in_ids;
+  for (const std::string& in : inputs) in_ids.push_back(in == "-" ? FileId{} : file_id(in));
+  std::vector<FileId> out_ids;
+  const Output* stdout_by = nullptr;
+  for (const Output& out : outputs) {
+    if (out.path == "-") {
+      if (stdout_by)
+        throw Error(ErrorCode::kIo, "standard output (-) is named twice, by " + stdout_by->named_by +
+                                        " and by " + out.named_by + "; send one of them to a file");
+      stdout_by = &out;
+      out_ids.emplace_back();
+      continue;
+    }
+    const FileId id = file_id(out.path);
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+      if (inputs[i] == "-" || !same(id, in_ids[i])) continue;
+      const std::string how = out.path == inputs[i] ? "" : " (" + inputs[i] + ", the same file)";
+      throw Error(ErrorCode::kIo, out.path + ": is an input file" + how +
+                                      "; refusing to write over it (name another output)");
+    }
+    for (std::size_t j = 0; j < out_ids.size(); ++j) {
+      if (outputs[j].path == "-" || !same(id, out_ids[j])) continue;
+      throw Error(ErrorCode::kIo, out.path + ": would be written twice, for " + outputs[j].named_by +
+                                      " and for " + out.named_by + "; give each output its own name");
+    }
+    out_ids.push_back(id);
+  }
+}
+
+namespace {
+
+// What write_output refuses before writing: a folder, and an existing file without -f. Returns whether
+// `path` exists (lstat: a link counts, dangling or not).
+bool check_writable(const std::string& path, const WriteOptions& o, struct stat& st) {
+  const bool exists = ::lstat(path.c_str(), &st) == 0;
+  if (exists && S_ISDIR(st.st_mode))
+    throw Error(ErrorCode::kIo, path + ": is a folder; name a file to write (" + o.other_ways + ")");
+  if (exists && !o.force)
+    throw Error(ErrorCode::kIo, path + ": already exists; pass -f to replace it, or " + o.other_ways);
+  return exists;
+}
+
+}  // namespace
+
+void refuse_existing(const std::vector<Output>& outputs, const WriteOptions& o) {
+  struct stat st {};
+  for (const Output& out : outputs)
+    if (out.path != "-") check_writable(out.path, o, st);
+}
+
+void write_output(const std::string& path, std::string_view bytes, const WriteOptions& o) {
+  if (path == "-") return write_file_atomic(path, bytes, true);
+  struct stat st {};
+  const bool exists = check_writable(path, o, st);
+  if (exists && S_ISLNK(st.st_mode)) {
+    // Replacing the link by a regular file would cut whatever it points to out of the user's setup.
+    const std::string target = resolved(path).string();
+    if (!o.quiet)
+      std::fprintf(stderr, "qsp: %s is a symbolic link: writing through it to %s (the link stays)\n",
+                   path.c_str(), target.c_str());
+    return write_file_atomic(target, bytes, true);
+  }
+  write_file_atomic(path, bytes, o.force);
+}
+
+MeshFormat parse_format_option(const std::string& value) {
+  if (value.empty()) return MeshFormat::kUnknown;
+  const MeshFormat f = format_from_path("x." + value);
+  if (f == MeshFormat::kUnknown || f == MeshFormat::kQsp)
+    throw CLI::ValidationError("--format " + value + ": must be obj, off or ply");
+  return f;
+}
+
+void add_format_option(CLI::App* cmd, std::string& value) {
+  cmd->add_option("--format", value,
+                  "Mesh format of standard input or of files whose name does not say: obj, off or ply "
+                  "(default: detected, OFF and ply by their first line, else OBJ)")
+      ->check(CLI::IsMember({"obj", "off", "ply"}));
+}
+
+namespace {
+
+// Refuses (kIo) a path that is a folder, saying so and how to name the files in it.
+void refuse_folder(const std::string& path) {
+  std::error_code ec;
+  if (path != "-" && fs::is_directory(path, ec)) {
+    std::string dir = path;
+    while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+    throw Error(ErrorCode::kIo,
+                path + ": is a folder, not a mesh file (give the files in it, e.g. " + dir + "/*.obj)");
+  }
+}
+
+// `format` where it applies: to standard input and to a name whose extension says no format.
+MeshFormat format_for(const std::string& path, MeshFormat format) {
+  return path == "-" || format_from_path(path) == MeshFormat::kUnknown ? format : MeshFormat::kUnknown;
+}
+
+// The format of mesh bytes from their first line: "OFF" (also COFF, NOFF, ...) or "ply" magic, else
+// OBJ; kQsp for the .qsp magic.
+MeshFormat detect_format(std::string_view bytes) {
+  if (bytes.substr(0, 4) == "\x89QSP") return MeshFormat::kQsp;
+  if (bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n") return MeshFormat::kPly;
+  // OFF's header keyword: OFF with optional ST, C, N, 4 and n prefixes (COFF, NOFF, STOFF, ...).
+  std::size_t n = 0;
+  while (n < bytes.size() && n < 16 && std::string_view("STCN4n").find(bytes[n]) != std::string_view::npos)
+    ++n;
+  if (bytes.substr(n, 3) == "OFF" &&
+      (bytes.size() == n + 3 || std::string_view(" \t\r\n").find(bytes[n + 3]) != std::string_view::npos))
+    return MeshFormat::kOff;
+  return MeshFormat::kObj;
+}
+
+// The detecting half of read_input_mesh, on bytes already read from `path`.
+QuadMesh read_mesh_bytes(std::string_view bytes, const std::string& path, ReadReport* report) {
+  const MeshFormat detected = detect_format(bytes);
+  if (detected == MeshFormat::kQsp)
+    throw Error(ErrorCode::kUnsupported,
+                path + ": is .qsp compressed data, not a mesh (qsp decompress reads it)");
+  if (detected == MeshFormat::kOff) return read_off(bytes, path, report);
+  if (detected == MeshFormat::kPly) return read_ply(bytes, path, report);
+  if (path != "-")
+    throw Error(ErrorCode::kUnsupported,
+                path + ": unknown mesh format (expected .obj, .off or .ply; give --format obj if it is OBJ)");
+  return read_obj(bytes, path, report);
+}
+
+}  // namespace
+
+QuadMesh read_input_mesh(const std::string& path, MeshFormat format, ReadReport* report) {
+  refuse_folder(path);
+  format = format_for(path, format);
+  if (format == MeshFormat::kUnknown && path != "-") format = format_from_path(path);
+  if (format != MeshFormat::kUnknown) return read_mesh_file(path, report, format);
+  // Standard input, or a name that says nothing: the bytes say it (OBJ has no magic: the default on
+  // standard input; a file of unknown name must be OFF or PLY by its magic, or be named).
+  return read_mesh_bytes(read_file_bytes(path), path, report);
+}
+
+void rethrow_located(const Error& e, const std::string& path, const ReadReport& report) {
+  const std::int64_t f = e.face();
+  if (f >= 0 && static_cast<std::size_t>(f) < report.face_line.size() && report.face_line[f] != 0)
+    throw Error(e.code(), path + ":" + std::to_string(report.face_line[f]) + ": " + e.what(), f);
+  if (f >= 0) throw Error(e.code(), path + ": " + e.what(), f);
+  throw e;
+}
+
+Input read_input(const std::string& path, MeshFormat format) {
+  refuse_folder(path);
+  format = format_for(path, format);
+  Input in;
+  if (format == MeshFormat::kUnknown && format_from_path(path) == MeshFormat::kQsp) {
+    in.qsp = true;
+    in.bytes = read_file_bytes(path);
+  } else if (format == MeshFormat::kUnknown && format_from_path(path) == MeshFormat::kUnknown) {
+    // Standard input or a name that says nothing: read once, then look at the magic.
+    std::string bytes = read_file_bytes(path);
+    if (detect_format(bytes) == MeshFormat::kQsp) {
+      in.qsp = true;
+      in.bytes = std::move(bytes);
+    } else {
+      in.mesh = read_mesh_bytes(bytes, path, &in.report);
+    }
+  } else {
+    in.mesh = read_input_mesh(path, format, &in.report);
+  }
+  return in;
+}
+
+QuadMesh read_mesh_or_qsp(const std::string& path, ReadReport& report, MeshFormat format) {
+  Input in = read_input(path, format);
+  report = std::move(in.report);
+  return in.qsp ? decode_named(in.bytes, path) : std::move(in.mesh);
+}
+
+QuadMesh decode_named(std::string_view bytes, const std::string& path, const DecodeLimits& limits) {
+  try {
+    return decode(bytes, limits);
+  } catch (const Error& e) {
+    throw Error(e.code(), path + ": " + e.what());
+  }
+}
+
+LoadedMesh with_adjacency(QuadMesh mesh, ReadReport report, const std::string& path) {
+  LoadedMesh out{std::move(mesh), {}, std::move(report)};
+  try {
+    out.adjacency = build_adjacency(out.mesh);
+  } catch (const Error& e) {
+    rethrow_located(e, path, out.report);
+  }
+  return out;
+}
+
+MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadReport& report) {
+  try {
+    return prepare_match(std::move(mesh));
+  } catch (const Error& e) {
+    rethrow_located(e, path, report);
+  }
+}
+
+void refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
+                       bool positions_only, bool quiet) {
+  if (!report.has_extra_data()) return;
+  if (!positions_only)
+    throw Error(ErrorCode::kUnsupported, path + ": has " + report.describe_extra_data() + ", which " + what +
+                                             " does not keep; pass --positions-only to drop them");
+  if (!quiet)
+    std::fprintf(stderr, "qsp: %s: dropped %s (--positions-only)\n", path.c_str(),
+                 report.describe_extra_data().c_str());
+}
+
+void add_centering_option(CLI::App* cmd, Centering& value) {
+  const std::map<std::string, Centering> names{
+      {"component", Centering::kComponent}, {"mesh", Centering::kMesh}, {"none", Centering::kNone}};
+  cmd->add_option(
+         "--centering", value,
+         "Positions compared to choose among symmetric isomorphisms: component (default), mesh, none")
+      ->transform(CLI::CheckedTransformer(names));
+}
+
+int for_each_file(const std::vector<std::string>& files, const std::function<void(std::size_t)>& one,
+                  const std::function<void(std::size_t, const std::string&)>& on_error) {
+  int rc = 0;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    int code = 0;
+    std::string message;
+    try {
+      one(i);
+      continue;
+    } catch (const Error& e) {
+      code = exit_code_for(e.code());
+      message = e.what();
+    } catch (const CLI::ParseError& e) {
+      code = exit_code(Outcome::kUsage);
+      message = e.what();
+    } catch (const std::bad_alloc&) {
+      code = exit_code(Outcome::kInternal);
+      message = files[i] + ": out of memory";
+    }
+    std::fflush(stdout);  // the error after the rows before it
+    std::fprintf(stderr, "qsp: error: %s\n", message.c_str());
+    if (on_error) on_error(i, message);
+    if (rc == 0) rc = code;
+  }
+  return rc;
+}
+
+std::string name_meshes(std::string reason, const std::string& a, const std::string& b) {
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"A has ", a + " has "},
+                                 {", B has ", ", " + b + " has "},
+                                 {" of A:", " of " + a + ":"}}) {
+    for (std::size_t at = reason.find(from); at != std::string::npos; at = reason.find(from, at + to.size()))
+      reason.replace(at, from.size(), to);
+  }
+  return reason;
+}
+
+std::string mirror_hint(const std::string& a, const std::string& b) {
+  return "; but " + b + " is " + a +
+         " with every face reversed (mirrored, or turned inside out): pass --allow-mirror to accept "
+         "orientation-reversing matches";
+}
+
+std::string nearest(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  std::size_t best_d = word.size() / 4 + 2;  // more than this many edits is no longer a typo
+  for (const std::string& c : candidates) {
+    // Levenshtein distance, one row.
+    std::vector<std::size_t> row(c.size() + 1);
+    for (std::size_t j = 0; j <= c.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= word.size(); ++i) {
+      std::size_t diag = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= c.size(); ++j) {
+        const std::size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (word[i - 1] == c[j - 1] ? 0 : 1)});
+        diag = up;
+      }
+    }
+    if (row[c.size()] < best_d) {
+      best_d = row[c.size()];
+      best = c;
+    }
+  }
+  return best;
+}
+
+void add_file_args(CLI::App* cmd, FileArgs& args, const std::string& what_in, const std::string& what_out) {
+  cmd->add_option("FILES", args.positional,
+                  what_in + "; - for standard input. A last name " + what_out +
+                      " is the output of a single input (else each input is written beside itself)")
+      ->required();
+  cmd->add_option("-o,--output", args.output, "Output file for a single input (- for standard output)");
+  cmd->add_option("--output-dir", args.output_dir, "Write each output into this folder (made if missing)");
+  cmd->add_flag("-c,--stdout", args.to_stdout, "Write to standard output (a single input)");
+}
+
+std::vector<Job> plan_jobs(const FileArgs& a, const OutputNaming& naming) {
+  std::vector<std::string> inputs = a.positional;
+  Output given;
+  if (!a.output.empty()) {
+    given = {a.output, "-o"};
+  } else if (inputs.size() >= 2 && (naming.is_output_name(inputs.back()) || inputs.back() == "-")) {
+    // A last "-" is standard output, as it always was (`compress - -`: a filter).
+    given = {inputs.back(), "OUT"};
+    inputs.pop_back();
+    if (inputs.size() > 1)
+      throw CLI::ValidationError(given.path + ": an output name may follow a single input only; to " +
+                                 naming.verb +
+                                 " several files leave it out (each is written beside its input) or use "
+                                 "--output-dir DIR");
+  } else if (inputs.size() == 2 && !fs::exists(inputs[1]) && !fs::is_symlink(inputs[1]) &&
+             fs::exists(inputs[0])) {
+    // `compress in.obj out.obj`: surely meant as IN OUT, but an output name must say what it holds.
+    throw CLI::ValidationError(inputs[1] + ": no such file to " + naming.verb +
+                               "; if it is meant as the output, its name " + naming.rule);
+  }
+  const int ways = !given.path.empty() + !a.output_dir.empty() + a.to_stdout;
+  if (ways > 1) throw CLI::ValidationError("give one of OUT, -o, --output-dir and -c");
+  if (inputs.size() > 1 && (!given.path.empty() || a.to_stdout))
+    throw CLI::ValidationError(
+        std::string(a.to_stdout ? "-c" : "-o") + " names one output, but there are " +
+        std::to_string(inputs.size()) +
+        " inputs: use --output-dir DIR, or neither (each is written beside its input)");
+  if (!a.output_dir.empty()) {
+    std::error_code ec;
+    fs::create_directories(a.output_dir, ec);
+    if (!fs::is_directory(a.output_dir))
+      throw Error(ErrorCode::kIo, a.output_dir + ": cannot use as --output-dir: " +
+                                      (ec ? ec.message() : std::string("not a folder")));
+  }
+  std::vector<Job> jobs;
+  std::vector<Output> outputs;
+  for (const std::string& in : inputs) {
+    Job job{in, "", false};
+    if (a.to_stdout || (in == "-" && given.path.empty() && a.output_dir.empty())) {
+      job.output = "-";
+    } else if (!given.path.empty()) {
+      job.output = given.path;
+    } else if (in != "-") {
+      job.output = naming.beside(in);
+      job.derived = true;
+      if (!job.output.empty() && !a.output_dir.empty())
+        job.output = (fs::path(a.output_dir) / fs::path(job.output).filename()).string();
+    } else {
+      job.output = (fs::path(a.output_dir) / naming.stdin_name).string();
+      job.derived = true;
+    }
+    if (!job.output.empty()) outputs.push_back({job.output, job.derived ? "input " + in : given.named_by});
+    jobs.push_back(job);
+  }
+  check_outputs(inputs, outputs);
+  return jobs;
+}
+
+int run_jobs(const FileArgs& args, const OutputNaming& naming, const std::function<void(const Job&)>& one) {
+  const std::vector<Job> jobs = plan_jobs(args, naming);
+  std::vector<std::string> inputs;
+  for (const Job& j : jobs) inputs.push_back(j.input);
+  return for_each_file(inputs, [&](std::size_t i) { one(jobs[i]); });
+}
+
+std::string other_ways(const Job& job) {
+  return job.derived ? "name another output (-o NAME, --output-dir DIR, or -c for standard output)"
+                     : "name another output";
+}
+
+void add_verbosity_flags(CLI::App* cmd, Verbosity& v) {
+  cmd->add_flag("-v,--verbose", v.verbose, "A line per file on stderr: sizes, ratio, bits per vertex, time");
+  cmd->add_flag("-q,--quiet", v.quiet, "No notes or warnings, only errors");
+}
+
+}  // namespace qsp::cli

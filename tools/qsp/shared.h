@@ -1,0 +1,216 @@
+// tools/qsp/shared.h: what the subcommands share, in one place: exit codes (the table is in main.cpp),
+// which inputs and outputs a call names and the one check that no output is an input or another
+// output, writing an output (links, -f), reading a mesh or .qsp from a file or standard input (format
+// option or detected, errors located as file:line), refusing data .qsp does not keep, --centering, and
+// going on after a bad file.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "qsp/codec.h"
+#include "qsp/error.h"
+#include "qsp/io.h"
+#include "qsp/match.h"
+#include "qsp/mesh.h"
+
+namespace qsp::cli {
+
+// ---- Exit codes (README "Exit codes", docs/matching.md): the table is kExitCodes in main.cpp ----
+
+// How a call ended.
+enum class Outcome {
+  kSuccess,
+  kDiffer,    // match: the meshes are not isomorphic (cmp's 1)
+  kRefused,   // bad or refused input: a mesh qsp cannot store, a damaged .qsp, an output that exists
+  kUsage,     // unknown option, missing argument, a value outside its range
+  kIo,        // a file cannot be read or written
+  kInternal,  // a bug in qsp (never a wrong result instead), or out of memory
+};
+// Who answers: every subcommand but match, or match, which answers like cmp (0 same, 1 differ, 2 trouble).
+enum class Answers { kTool, kCompare };
+
+// The exit code of `outcome` for subcommands that answer as `answers` do; one table, in main.cpp.
+int exit_code(Outcome outcome, Answers answers = Answers::kTool);
+// The outcome a qsp::Error stands for.
+Outcome outcome_of(ErrorCode code);
+// exit_code(outcome_of(code), answers): what main and the batch loop return for an error.
+inline int exit_code_for(ErrorCode code, Answers answers = Answers::kTool) {
+  return exit_code(outcome_of(code), answers);
+}
+
+// ---- Outputs ----
+
+// An output a call will write, and what named it in the command line ("-o", "--faces", "OUT", or the
+// input it is derived from), for the messages.
+struct Output {
+  std::string path;
+  std::string named_by;
+};
+
+// The one check of every subcommand: refuses (Error kIo, nothing written) when an output is one of
+// the inputs or another output, by name, by path (`sub/../x`, absolute or relative) or by link (a
+// symbolic link to it, a hard link: same device and inode). "-" (standard output) may be named once.
+// Call it before writing anything.
+void check_outputs(const std::vector<std::string>& inputs, const std::vector<Output>& outputs);
+
+// How an output is written. `other_ways`: what else the user can do instead of -f, named in the
+// refusal ("-o NAME, --output-dir DIR or -c").
+struct WriteOptions {
+  bool force = false;
+  bool quiet = false;
+  std::string other_ways = "-o NAME";
+};
+
+// Writes `bytes` to `path` atomically (qsp::write_file_atomic). An existing file is refused (kIo)
+// unless `force`, the message naming -f and `other_ways`. A symbolic link is written through (its
+// target is replaced, the link stays) and a note on stderr says so unless quiet. "-" is standard
+// output.
+void write_output(const std::string& path, std::string_view bytes, const WriteOptions& o);
+
+// For a call that writes several outputs (match's maps, layout's files): refuses (kIo, as write_output
+// would) when one of them exists and `o.force` is not set, before any is written, so a refusal leaves
+// none half done. "-" is never refused.
+void refuse_existing(const std::vector<Output>& outputs, const WriteOptions& o);
+
+// ---- Reading meshes ----
+
+// The --format option's value as a mesh format; kUnknown for "" (detect). Throws CLI::ValidationError
+// for anything but obj, off or ply.
+MeshFormat parse_format_option(const std::string& value);
+
+// Adds `--format obj|off|ply` (for standard input, or a file whose name says nothing) to `cmd`.
+void add_format_option(CLI::App* cmd, std::string& value);
+
+// Reads a mesh from `path` ("-" = standard input): in `format` (--format) where the name says no format
+// (standard input, an unknown extension; a file named x.obj is read by its name whatever --format says,
+// so one option serves A and B of match), else by extension, else by the bytes' first line ("OFF",
+// COFF, NOFF, ..., or "ply"; OBJ on standard input). A folder or a .qsp is refused with a message saying
+// what it is (a folder: how to name the files in it). Throws qsp::Error as the readers do. Safe on
+// untrusted input.
+QuadMesh read_input_mesh(const std::string& path, MeshFormat format, ReadReport* report);
+
+// A file named on the command line, read as what it is: a .qsp (by its name, or by its magic on standard
+// input or under a name that says nothing) kept as bytes, or a mesh with the reader's report (face
+// lines, data dropped).
+struct Input {
+  bool qsp = false;
+  std::string bytes;  // the .qsp's bytes, unchecked
+  QuadMesh mesh;      // a mesh file's mesh
+  ReadReport report;
+};
+
+// Reads `path` ("-" = standard input) as read_input_mesh does, except that .qsp bytes are returned as
+// they are. `format` (--format) as there. Throws qsp::Error as the readers do. Safe on untrusted input.
+Input read_input(const std::string& path, MeshFormat format = MeshFormat::kUnknown);
+
+// decode(bytes, limits) (codec.h) with an error's message starting "path: ".
+QuadMesh decode_named(std::string_view bytes, const std::string& path, const DecodeLimits& limits = {});
+
+// read_input, with a .qsp decoded in full (vertices numbered as `qsp decompress` writes them; a decode
+// error names the file). `report` gets a mesh file's face lines (none for a .qsp).
+QuadMesh read_mesh_or_qsp(const std::string& path, ReadReport& report,
+                          MeshFormat format = MeshFormat::kUnknown);
+
+// A mesh with its adjacency, and the reader's report.
+struct LoadedMesh {
+  QuadMesh mesh;
+  Adjacency adjacency;
+  ReadReport report;
+};
+
+// `mesh` with its adjacency built; an Error found at a face (non-manifold edge, orientation, ...) is
+// rethrown as "path:LINE: ..." using the line `report` has for the face. Throws qsp::Error.
+LoadedMesh with_adjacency(QuadMesh mesh, ReadReport report, const std::string& path);
+
+// Rethrows `e` with "path:LINE: " in front when it names a face the report has a line for.
+[[noreturn]] void rethrow_located(const Error& e, const std::string& path, const ReadReport& report);
+
+// prepare_match(mesh) (match.h) with topology errors located as "path:LINE: ..." (rethrow_located).
+MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadReport& report);
+
+// Data a mesh file had beside positions and faces (texture coordinates, normals, groups, ...), which
+// `what` ("compress", "reorder") cannot keep: refused (kUnsupported, naming what was found and
+// --positions-only) unless `positions_only`, then a note on stderr unless `quiet`.
+void refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
+                       bool positions_only, bool quiet);
+
+// ---- Options shared by subcommands ----
+
+// Adds --centering component|mesh|none (MatchOptions::centering) to `cmd`, bound to `value`.
+void add_centering_option(CLI::App* cmd, Centering& value);
+
+// ---- Batches and messages ----
+
+// Runs `one` for each file in order; an Error (or CLI::ValidationError) for one file is printed as
+// "qsp: error: ..." and the loop goes on. `on_error(i, message)` lets --json record it. Returns 0 if all
+// succeeded, else the exit code of the first failure (exit_code_for; 2 for a usage error).
+int for_each_file(const std::vector<std::string>& files, const std::function<void(std::size_t)>& one,
+                  const std::function<void(std::size_t, const std::string&)>& on_error = {});
+
+// A match reason ("... A has 1, B has 0") with the files' names for A and B.
+std::string name_meshes(std::string reason, const std::string& a, const std::string& b);
+
+// "; but B is A with every face reversed ...: pass --allow-mirror ...", for a MatchResult whose
+// mirror_would_match is set, with the files' names for A and B.
+std::string mirror_hint(const std::string& a, const std::string& b);
+
+// The candidate nearest `word` by edit distance, or "" when none is close enough to suggest.
+std::string nearest(const std::string& word, const std::vector<std::string>& candidates);
+
+// ---- One output per input (compress, decompress) ----
+
+// The files of a subcommand that writes one output per input (compress, decompress), gzip's way:
+// `IN... `, each written beside its input or into --output-dir; `IN OUT` or `IN -o OUT` for a single
+// input (OUT "-" or -c: standard output).
+struct FileArgs {
+  std::vector<std::string> positional;  // IN... [OUT]
+  std::string output;                   // -o
+  std::string output_dir;               // --output-dir
+  bool to_stdout = false;               // -c
+};
+
+// Adds IN... [OUT], -o, --output-dir and -c to `cmd`. `what_in`/`what_out` describe them in --help.
+void add_file_args(CLI::App* cmd, FileArgs& args, const std::string& what_in, const std::string& what_out);
+
+// One input and the output it goes to.
+struct Job {
+  std::string input, output;
+  bool derived = false;  // the output name was made from the input's (not given)
+};
+
+// How a subcommand names outputs: whether a name is one of its outputs (a positional OUT is taken as
+// one only when it is), the output beside an input ("" when none can be made: that input fails with
+// `no_default`), and the rule for the messages ("must end in .qsp").
+struct OutputNaming {
+  std::function<bool(const std::string&)> is_output_name;
+  std::function<std::string(const std::string&)> beside;
+  std::string rule;
+  std::string verb;        // "compress"
+  std::string stdin_name;  // standard input's output in --output-dir ("stdin.qsp")
+  std::string no_default;  // why an input has no output beside it ("does not end in .qsp")
+};
+
+// The jobs of a call, checked: usage errors (an OUT after several inputs, -o or -c with several, an
+// OUT that does not exist and is no output name) throw CLI::ValidationError; outputs that collide
+// with inputs or each other throw as check_outputs does. --output-dir is created if missing.
+std::vector<Job> plan_jobs(const FileArgs& args, const OutputNaming& naming);
+
+// plan_jobs, then `one` for each job as for_each_file runs it (going on after a failure); returns
+// for_each_file's exit code.
+int run_jobs(const FileArgs& args, const OutputNaming& naming, const std::function<void(const Job&)>& one);
+
+// What the user can do instead of -f for a job's output, for write_output's refusal.
+std::string other_ways(const Job& job);
+
+// Output verbosity shared by subcommands: -v/--verbose (a line per file on stderr) and -q/--quiet.
+struct Verbosity {
+  bool verbose = false;
+  bool quiet = false;
+};
+void add_verbosity_flags(CLI::App* cmd, Verbosity& v);
+
+}  // namespace qsp::cli
