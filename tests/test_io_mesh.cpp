@@ -12,36 +12,29 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <random>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "../src/io_text.h"
+#include "io_text.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
 #include "qsp/polymesh.h"
 #include "support/corpus.h"
+#include "support/files.h"
 #include "support/mesh_compare.h"
 #include "support/mesh_text.h"
 
 namespace fs = std::filesystem;
 using qsp::testing::canonical_decimal;
 using qsp::testing::expect_same_mesh;
+using qsp::testing::slurp;
 using qsp::testing::TextMesh;
 
 namespace {
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 template <class Fn>
 std::string expect_error(Fn fn, qsp::ErrorCode code) {

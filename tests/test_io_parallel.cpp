@@ -7,21 +7,22 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <random>
 #include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "../src/io_text.h"
+#include "io_text.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
 #include "support/corpus.h"
+#include "support/files.h"
 #include "support/mesh_compare.h"
 
 namespace fs = std::filesystem;
+using qsp::testing::slurp;
 
 namespace {
 
@@ -144,13 +145,6 @@ Checked check_splits(std::string_view text, std::size_t max_halves = std::string
                      int subsets = 8) {
   return check_splits_with(text, max_halves, subsets,
                            [](std::string_view t, const Splits& s, bool* p) { return read(t, s, p); });
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 const std::string kSquare = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
