@@ -81,16 +81,20 @@ if ((run_fuzz)); then
   mkdir -p "$run/logs" "$run/artifacts"
   build-fuzz/fuzz/qsp_fuzz_seeds "$run/seeds" testdata "$shared"
 
-  targets=(decode_qsp roundtrip read_obj read_off read_ply submesh)
+  targets=(decode_qsp roundtrip read_obj read_off read_ply read_mesh submesh)
   declare -A max_len=([decode_qsp]=32768 [roundtrip]=16384 [read_obj]=16384 [read_off]=16384 [read_ply]=16384
-    [submesh]=4096)
-  declare -A dict=([decode_qsp]=qsp [roundtrip]=mesh [read_obj]=mesh [read_off]=mesh [read_ply]=ply)
+    [read_mesh]=16384 [submesh]=4096)
+  declare -A dict=([decode_qsp]=qsp [roundtrip]=mesh [read_obj]=mesh [read_off]=mesh [read_ply]=ply
+    [read_mesh]=mesh)
+  # fuzz_read_mesh sniffs the format, so the three readers' seed folders serve it.
+  declare -A seeds=([read_mesh]="read_obj read_off read_ply")
   fuzz_one() {
-    local t=$1
+    local t=$1 s dirs=()
+    for s in ${seeds[$t]:-$t}; do dirs+=("$run/seeds/$s"); done
     # The corpus grows across runs (build output, never committed); seeds and the regression files
     # in testdata/invalid/fuzz are read every time.
     mkdir -p "$run/corpus/$t"
-    "build-fuzz/fuzz/fuzz_$t" "$run/corpus/$t" "$run/seeds/$t" testdata/invalid/fuzz \
+    "build-fuzz/fuzz/fuzz_$t" "$run/corpus/$t" "${dirs[@]}" testdata/invalid/fuzz \
       -max_total_time="$fuzz_time" -max_len="${max_len[$t]}" -timeout=10 -rss_limit_mb=2048 \
       -malloc_limit_mb=1024 -print_final_stats=1 -artifact_prefix="$run/artifacts/$t-" \
       ${dict[$t]:+-dict="fuzz/${dict[$t]}.dict"} \
