@@ -166,6 +166,11 @@ const FaceLabels& labels(const Mesh& m, int k) {
   return k == 0 ? m.objects : k == 1 ? m.groups : k == 2 ? m.materials : m.smoothing;
 }
 
+// Ends a line of text kept from the file. Text ending in a backslash came from a continuation that
+// joined an empty line (or the end of the file): an empty line follows, for it to join again rather
+// than the next statement (fuzz_read_mesh).
+void end_text_line(std::string& out) { out += out.ends_with('\\') ? "\n\n" : "\n"; }
+
 // "keyword text", or the keyword alone for an empty text.
 void keyword_line(std::string& out, const char* keyword, const std::string& text) {
   out += keyword;
@@ -173,7 +178,7 @@ void keyword_line(std::string& out, const char* keyword, const std::string& text
     out += ' ';
     out += text;
   }
-  out += '\n';
+  end_text_line(out);
 }
 
 void label_line(std::string& out, int kind, const std::string& name) {
@@ -282,7 +287,10 @@ void obj_in_order(std::string& out, const Mesh& m) {
         for (std::uint32_t i = 0; i < s.value; ++i) (out += '#') += m.comments[comment++] + '\n';
         break;
       case ObjStatement::kVerbatim:
-        for (std::uint32_t i = 0; i < s.value; ++i) (out += m.verbatim[text++]) += '\n';
+        for (std::uint32_t i = 0; i < s.value; ++i) {
+          out += m.verbatim[text++];
+          end_text_line(out);
+        }
         break;
     }
   }
@@ -291,7 +299,10 @@ void obj_in_order(std::string& out, const Mesh& m) {
 void obj_canonical(std::string& out, const Mesh& m) {
   for (const std::string& c : m.comments) (out += '#') += c + '\n';
   for (const std::string& l : m.material_libraries) keyword_line(out, "mtllib", l);
-  for (const std::string& t : m.verbatim) (out += t) += '\n';
+  for (const std::string& t : m.verbatim) {
+    out += t;
+    end_text_line(out);
+  }
   split_lines(out, 0, m.vertex_count(),
               [&m](std::string& o, std::size_t b, std::size_t e) { vertex_lines(o, m, b, e); });
   for (std::size_t t = 0; t < m.texcoords.size() / m.texcoord_components; ++t) texcoord_line(out, m, t);

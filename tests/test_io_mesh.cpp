@@ -507,6 +507,21 @@ TEST(MeshObj, KeptLineStartingWithAByteOrderMark) {
   expect_same_mesh(m, qsp::read_obj_mesh(qsp::write_obj_mesh(m, {.keep_order = false}), "back.obj"));
 }
 
+// Text ending in a continuation that joined an empty line keeps its backslash; written back, it must
+// not join the next statement (fuzz_read_mesh found a vertex swallowed by a kept line and an object name).
+TEST(MeshObj, TextEndingInABackslashDoesNotJoinTheNextLine) {
+  for (const std::string text : {"e \\\n\nv 0 1 0\n", "v 0 0 0\nv 1 0 0\nv 1 1 0\no a\\\n\nf 1 2 3\n",
+                                 "mtllib m\\\n\nv 0 0 0\n", "v 0 0 0\n1e39 3 \\\r\n\r\nv 1 1 1\n"}) {
+    SCOPED_TRACE(text);
+    const qsp::Mesh m = qsp::read_obj_mesh(text, "t.obj");
+    expect_same_mesh(m, qsp::read_obj_mesh(qsp::write_obj_mesh(m), "back.obj"));
+    const qsp::Mesh canonical = qsp::read_obj_mesh(qsp::write_obj_mesh(m, {.keep_order = false}), "back.obj");
+    qsp::Mesh regrouped = m;  // the canonical order regroups the statements, and keeps all else
+    regrouped.statements = canonical.statements;
+    expect_same_mesh(regrouped, canonical);
+  }
+}
+
 TEST(MeshObj, FreeFormAttributesAreKeptAndGeometryRefused) {
   qsp::ReadNotes notes;
   const std::string attrs = "v 0 0 0\nv 1 0 0\nv 1 1 0\ncstype bspline\ndeg 3\nf 1 2 3\nend\n";
