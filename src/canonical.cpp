@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstring>
 #include <numeric>
 #include <string>
@@ -54,36 +55,77 @@ class Fenwick {
   int log_;
 };
 
-// Darts in canonical label order from `root`, and the code of that traversal.
-void traverse(const Schematic& s, std::uint32_t root, std::vector<std::uint32_t>& order, TopologyCode& code) {
-  const std::uint32_t nd = s.dart_count();
-  std::vector<std::uint32_t> label(nd, kInvalid);
-  order.clear();
-  order.reserve(nd);
-  code.next_ref.clear();
-  code.edge_length.clear();
-  code.corner.clear();
-  Fenwick open(nd);
-  auto assign = [&](std::uint32_t d) {
-    for (std::uint32_t x : {d, d ^ 1}) {
-      label[x] = static_cast<std::uint32_t>(order.size());
-      order.push_back(x);
-      open.add(label[x], 1);
-    }
-    code.edge_length.push_back(s.edge_length[d >> 1]);
+// The open labels of a traversal (darts no dart's `next` reaches yet) and how many lie below a label:
+// a bit per label and a Fenwick tree over 64-label words, so a step costs a few instructions on a
+// small component and a dozen on a large one.
+class OpenLabels {
+ public:
+  explicit OpenLabels(std::size_t n) : bits_((n + 63) / 64, 0), words_(bits_.size()) {}
+  void open(std::uint32_t i) {
+    bits_[i >> 6] |= bit(i);
+    if (bits_.size() > 1) words_.add(i >> 6, 1);
+  }
+  void close(std::uint32_t i) {
+    bits_[i >> 6] &= ~bit(i);
+    if (bits_.size() > 1) words_.add(i >> 6, -1);
+  }
+  std::uint32_t below(std::uint32_t i) const {
+    return words_.prefix(i >> 6) + static_cast<std::uint32_t>(std::popcount(bits_[i >> 6] & (bit(i) - 1)));
+  }
+
+ private:
+  static std::uint64_t bit(std::uint32_t i) { return std::uint64_t{1} << (i & 63); }
+  std::vector<std::uint64_t> bits_;
+  Fenwick words_;
+};
+
+// What the traversals of one component share, so that trying each candidate root allocates nothing.
+struct Traversal {
+  explicit Traversal(std::uint32_t nd) : label(nd, kInvalid), order(nd), open(nd) {}
+  std::vector<std::uint32_t> label;  // per dart: its label; all kInvalid between traversals
+  std::vector<std::uint32_t> order;  // darts in label order, of the last traversal
+  OpenLabels open;                   // none open between traversals
+  TopologyCode code;                 // of the last traversal (its kind is the caller's)
+};
+
+// Darts in canonical label order from `root` (into t.order), and the code of that traversal (t.code).
+// The schematic is connected, so every dart gets a label and the streams are filled to their sizes.
+void traverse(const Schematic& s, std::uint32_t root, Traversal& t) {
+  const std::size_t nd = t.order.size();
+  t.code.next_ref.resize(nd);  // no-ops but after the streams changed hands with a smaller code's
+  t.code.edge_length.resize(nd / 2);
+  t.code.corner.resize(nd);
+  std::uint32_t* const label = t.label.data();
+  std::uint32_t* const order = t.order.data();
+  std::uint32_t* const next_ref = t.code.next_ref.data();
+  std::uint32_t* const edge_length = t.code.edge_length.data();
+  std::uint8_t* const corner = t.code.corner.data();
+  std::uint32_t labelled = 0;
+  auto assign = [&](std::uint32_t d) {  // labels the edge of d, d first
+    label[d] = labelled;
+    label[d ^ 1] = labelled + 1;
+    order[labelled] = d;
+    order[labelled + 1] = d ^ 1;
+    t.open.open(labelled);
+    t.open.open(labelled + 1);
+    edge_length[labelled / 2] = s.edge_length[d >> 1];
+    labelled += 2;
   };
   assign(root);
-  for (std::size_t i = 0; i < order.size(); ++i) {
+  for (std::uint32_t i = 0; i < labelled; ++i) {
     const std::uint32_t d = order[i], n = s.dart_next[d];
     if (label[n] == kInvalid) {
       assign(n);
-      code.next_ref.push_back(0);
+      next_ref[i] = 0;
     } else {
-      code.next_ref.push_back(1 + open.prefix(label[n]));
+      next_ref[i] = 1 + t.open.below(label[n]);
     }
-    open.add(label[n], -1);
-    code.corner.push_back(s.dart_corner[d]);
+    t.open.close(label[n]);
+    corner[i] = s.dart_corner[d];
   }
+  if (labelled != nd) throw Error(ErrorCode::kInternal, "canonical: schematic is not connected");
+  // Every dart was opened once and closed once (next is a permutation), so none is open again.
+  for (std::uint32_t i = 0; i < labelled; ++i) label[order[i]] = kInvalid;
 }
 
 // Everything but the mesh link, numbered from the dart order alone: vertices and faces by first
@@ -162,15 +204,57 @@ std::uint64_t mix(std::uint64_t h, std::uint64_t v) {
   return h ^ (h >> 33);
 }
 
-// Colour refinement on darts: colours depend only on the labelled map, never on numbering.
-std::vector<std::uint64_t> refine(const Schematic& s) {
+// How many darts have each colour: a flat hash table sized once per component, so that counting a
+// refinement round's classes costs O(darts), not a sort.
+class ColourCounts {
+ public:
+  explicit ColourCounts(std::size_t n) {
+    std::size_t cap = 16;
+    while (cap < 2 * n) cap <<= 1;
+    colour_.resize(cap);
+    count_.resize(cap);
+    shift_ = 64 - std::countr_zero(cap);
+  }
+  // Counts `colours`; returns how many distinct ones there are.
+  std::size_t count(const std::vector<std::uint64_t>& colours) {
+    std::fill(count_.begin(), count_.end(), 0);
+    std::size_t distinct = 0;
+    const std::size_t mask = count_.size() - 1;
+    for (const std::uint64_t c : colours) {
+      std::size_t i = static_cast<std::size_t>((c * 0x9E3779B97F4A7C15ull) >> shift_);
+      while (count_[i] != 0 && colour_[i] != c) i = (i + 1) & mask;
+      if (count_[i]++ == 0) colour_[i] = c, ++distinct;
+    }
+    return distinct;
+  }
+  // Of the last count: the colour of the fewest darts (ties: the smallest colour).
+  std::uint64_t rarest() const {
+    std::uint64_t best = 0;
+    std::uint32_t best_count = 0;
+    for (std::size_t i = 0; i < count_.size(); ++i) {
+      if (count_[i] == 0) continue;
+      if (best_count == 0 || count_[i] < best_count || (count_[i] == best_count && colour_[i] < best))
+        best = colour_[i], best_count = count_[i];
+    }
+    return best;
+  }
+
+ private:
+  std::vector<std::uint64_t> colour_;
+  std::vector<std::uint32_t> count_;  // 0: empty slot
+  int shift_ = 0;
+};
+
+// Colour refinement on darts: colours depend only on the labelled map, never on numbering. `counts`
+// is left holding the returned colours' counts.
+std::vector<std::uint64_t> refine(const Schematic& s, ColourCounts& counts) {
   const std::uint32_t nd = s.dart_count();
   std::vector<std::uint32_t> face_len(s.face_count(), 0), vertex_deg(s.vertex_count, 0);
   for (std::uint32_t d = 0; d < nd; ++d) {
     ++face_len[s.dart_face[d]];
     ++vertex_deg[s.dart_vertex[d]];
   }
-  std::vector<std::uint64_t> c(nd), tmp(nd), sorted;
+  std::vector<std::uint64_t> c(nd), tmp(nd);
   for (std::uint32_t d = 0; d < nd; ++d) {
     std::uint64_t h = mix(s.edge_length[d >> 1], s.dart_corner[d]);
     h = mix(h, s.dart_corner[d ^ 1]);
@@ -178,16 +262,11 @@ std::vector<std::uint64_t> refine(const Schematic& s) {
     h = mix(h, face_len[s.dart_face[d]]);
     c[d] = mix(h, vertex_deg[s.dart_vertex[d]]);
   }
-  auto classes = [&](const std::vector<std::uint64_t>& col) {
-    sorted = col;
-    std::sort(sorted.begin(), sorted.end());
-    return std::unique(sorted.begin(), sorted.end()) - sorted.begin();
-  };
-  auto n = classes(c);
-  for (int round = 0; round < 64 && n < static_cast<std::ptrdiff_t>(nd); ++round) {
+  std::size_t n = counts.count(c);
+  for (int round = 0; round < 64 && n < nd; ++round) {
     for (std::uint32_t d = 0; d < nd; ++d)
       tmp[d] = mix(mix(mix(c[d], c[s.dart_next[d]]), c[s.dart_prev[d]]), c[d ^ 1]);
-    const auto m = classes(tmp);
+    const std::size_t m = counts.count(tmp);
     c.swap(tmp);
     if (m == n) break;
     n = m;
@@ -195,54 +274,56 @@ std::vector<std::uint64_t> refine(const Schematic& s) {
   return c;
 }
 
-// Roots whose traversal code is the smallest: the canonical root and its images under every
-// orientation-preserving automorphism (one automorphism per root: a map is fixed by one dart's image).
-std::vector<std::uint32_t> tied_roots(const Schematic& s, TopologyCode& best) {
+// Candidate roots: the darts of the smallest colour class (ties: smallest colour value), increasing.
+std::vector<std::uint32_t> candidate_roots(const Schematic& s) {
   const std::uint32_t nd = s.dart_count();
-  const std::vector<std::uint64_t> colour = refine(s);
-  // Candidate roots: the smallest colour class (ties: smallest colour value).
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> by_colour(nd);
-  for (std::uint32_t d = 0; d < nd; ++d) by_colour[d] = {colour[d], d};
-  std::sort(by_colour.begin(), by_colour.end());
-  std::uint64_t best_colour = 0;
-  std::size_t best_size = SIZE_MAX;
-  for (std::size_t i = 0; i < nd;) {
-    std::size_t j = i;
-    while (j < nd && by_colour[j].first == by_colour[i].first) ++j;
-    if (j - i < best_size) {
-      best_size = j - i;
-      best_colour = by_colour[i].first;
-    }
-    i = j;
-  }
+  ColourCounts counts(nd);
+  const std::vector<std::uint64_t> colour = refine(s, counts);
+  const std::uint64_t rarest = counts.rarest();
   std::vector<std::uint32_t> candidates;
-  for (auto [col, d] : by_colour)
-    if (col == best_colour) candidates.push_back(d);
+  for (std::uint32_t d = 0; d < nd; ++d)
+    if (colour[d] == rarest) candidates.push_back(d);
+  return candidates;
+}
 
-  std::vector<std::uint32_t> order;
-  std::vector<std::uint32_t> tied;  // roots whose code equals the best
-  TopologyCode code;
-  code.kind = best.kind;
-  for (std::uint32_t root : candidates) {
-    traverse(s, root, order, code);
-    const int c = tied.empty() ? -1 : compare_codes(code, best);
+// Traverses from every candidate root and calls on_tie(root, t.order, fresh) for each whose code is
+// the smallest so far (then in `best`); fresh: smaller than every earlier one, which no longer tie.
+// The roots still tied at the end are the canonical root and its images under every
+// orientation-preserving automorphism (one automorphism per root: a map is fixed by one dart's image).
+template <class OnTie>
+void smallest_codes(const Schematic& s, TopologyCode& best, Traversal& t, OnTie&& on_tie) {
+  t.code.kind = best.kind;
+  bool first = true;
+  for (const std::uint32_t root : candidate_roots(s)) {
+    traverse(s, root, t);
+    const int c = first ? -1 : compare_codes(t.code, best);
+    first = false;
     if (c < 0) {
-      best = code;
-      tied.assign(1, root);
+      std::swap(best, t.code);  // same kind and sizes: only the streams change hands
+      on_tie(root, t.order, true);
     } else if (c == 0) {
-      tied.push_back(root);
+      on_tie(root, t.order, false);
     }
   }
+}
+
+// Roots whose traversal code is the smallest (see smallest_codes), in candidate order.
+std::vector<std::uint32_t> tied_roots(const Schematic& s, TopologyCode& best) {
+  Traversal t(s.dart_count());
+  std::vector<std::uint32_t> tied;
+  smallest_codes(s, best, t, [&](std::uint32_t root, const std::vector<std::uint32_t>&, bool fresh) {
+    if (fresh) tied.clear();
+    tied.push_back(root);
+  });
   return tied;
 }
 
 // `part` relabelled in the traversal order from `root`, still linked to the mesh.
-ComponentPartition relabel(const ComponentPartition& part, std::uint32_t root) {
+ComponentPartition relabel(const ComponentPartition& part, std::uint32_t root, Traversal& t) {
   const Schematic& s = part.schematic;
   const std::uint32_t nd = s.dart_count();
-  std::vector<std::uint32_t> order;
-  TopologyCode code;
-  traverse(s, root, order, code);
+  traverse(s, root, t);
+  const std::vector<std::uint32_t>& order = t.order;
   std::vector<std::uint32_t> label(nd);
   for (std::uint32_t i = 0; i < nd; ++i) label[order[i]] = i;
   std::vector<std::uint32_t> next(nd), lengths(nd / 2);
@@ -263,51 +344,52 @@ ComponentPartition relabel(const ComponentPartition& part, std::uint32_t root) {
   return p;
 }
 
-// The mesh vertices of relabel(part, root)'s schematic vertices, in their order there (first appearance
-// in traversal order, as schematic_from_next numbers them), without building the relabelled component.
-std::vector<std::uint32_t> relabelled_vertex_mesh(const Schematic& s, std::uint32_t root,
-                                                  std::vector<std::uint32_t>& order,
-                                                  std::vector<std::uint8_t>& seen) {
-  TopologyCode code;
-  traverse(s, root, order, code);
+// The mesh vertices of the schematic vertices in the order a relabelling by `order` numbers them
+// (first appearance, as schematic_from_next does): the first entries of its layout.
+void relabelled_vertex_mesh(const Schematic& s, const std::vector<std::uint32_t>& order,
+                            std::vector<std::uint8_t>& seen, std::vector<std::uint32_t>& out) {
   seen.assign(s.vertex_count, 0);
-  std::vector<std::uint32_t> out;
-  out.reserve(s.vertex_count);
+  out.clear();
   for (const std::uint32_t d : order) {
     const std::uint32_t v = s.dart_vertex[d];
     if (!seen[v]) seen[v] = 1, out.push_back(s.vertex_mesh[v]);
   }
-  return out;
 }
 
 CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
                                      const ComponentPartition& part) {
+  const Schematic& s = part.schematic;
   CanonicalComponent out;
   out.code.kind = part.kind;
-  const std::vector<std::uint32_t> tied = tied_roots(part.schematic, out.code);
-  out.automorphisms = static_cast<std::uint32_t>(tied.size());
-
-  // Build the relabelled component for a root; with several tied roots keep the one whose layout
-  // lists the smallest positions (schematic vertices come first, so this is usually decided early).
-  out.part = relabel(part, tied[0]);
-  if (tied.size() > 1) {
-    out.map = layout_to_mesh(out.part, adj);
-    std::vector<std::uint32_t> order;
-    std::vector<std::uint8_t> seen;
-    for (std::size_t t = 1; t < tied.size(); ++t) {
-      // Most symmetric roots lose on the schematic vertices alone: relabel only those that may win.
-      if (compare_positions(mesh, relabelled_vertex_mesh(part.schematic, tied[t], order, seen),
-                            out.part.schematic.vertex_mesh) > 0)
-        continue;
-      ComponentPartition p = relabel(part, tied[t]);
-      LayoutMap m = layout_to_mesh(p, adj);
-      if (compare_positions(mesh, m.vertex, out.map.vertex) < 0) {
-        out.part = std::move(p);
-        out.map = std::move(m);
-      }
+  // Roots tied on topology are chosen between by the positions their layouts list, the first of the
+  // smallest winning. The schematic vertices come first there and decide for most roots: only the
+  // roots equal to the best on them (`finalists`) are relabelled and laid out.
+  Traversal t(s.dart_count());
+  std::vector<std::uint32_t> finalists, best_prefix, prefix;
+  std::vector<std::uint8_t> seen;
+  std::uint32_t tied = 0;
+  smallest_codes(s, out.code, t,
+                 [&](std::uint32_t root, const std::vector<std::uint32_t>& order, bool fresh) {
+                   tied = fresh ? 1 : tied + 1;
+                   relabelled_vertex_mesh(s, order, seen, prefix);
+                   const int c = fresh ? -1 : compare_positions(mesh, prefix, best_prefix);
+                   if (c < 0) {
+                     best_prefix.swap(prefix);
+                     finalists.assign(1, root);
+                   } else if (c == 0) {
+                     finalists.push_back(root);
+                   }
+                 });
+  out.automorphisms = tied;
+  out.part = relabel(part, finalists[0], t);
+  out.map = layout_to_mesh(out.part, adj);
+  for (std::size_t i = 1; i < finalists.size(); ++i) {
+    ComponentPartition p = relabel(part, finalists[i], t);
+    LayoutMap m = layout_to_mesh(p, adj);
+    if (compare_positions(mesh, m.vertex, out.map.vertex) < 0) {
+      out.part = std::move(p);
+      out.map = std::move(m);
     }
-  } else {
-    out.map = layout_to_mesh(out.part, adj);
   }
   return out;
 }
@@ -501,7 +583,8 @@ ComponentPartition canonical_from_start(const Adjacency& adj, const CanonicalCom
                                         std::uint32_t start) {
   if (comp.part.kind == ComponentKind::kAnnulus || comp.part.kind == ComponentKind::kTorus)
     return at_anchor(adj, comp.part, start);
-  return relabel(comp.part, start);
+  Traversal t(comp.part.schematic.dart_count());
+  return relabel(comp.part, start, t);
 }
 
 ComponentPartition partition_from_code(const TopologyCode& code) {
