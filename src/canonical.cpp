@@ -8,10 +8,14 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cstring>
+#include <exception>
 #include <numeric>
 #include <string>
+#include <system_error>
+#include <thread>
 #include <tuple>
 #include <unordered_set>
 
@@ -49,6 +53,7 @@ class Fenwick {
     }
     return pos;  // 0-based label
   }
+  void clear() { std::fill(tree_.begin(), tree_.end(), 0); }
 
  private:
   std::vector<std::int32_t> tree_;
@@ -72,6 +77,10 @@ class OpenLabels {
   std::uint32_t below(std::uint32_t i) const {
     return words_.prefix(i >> 6) + static_cast<std::uint32_t>(std::popcount(bits_[i >> 6] & (bit(i) - 1)));
   }
+  void clear() {
+    std::fill(bits_.begin(), bits_.end(), 0);
+    words_.clear();
+  }
 
  private:
   static std::uint64_t bit(std::uint32_t i) { return std::uint64_t{1} << (i & 63); }
@@ -90,7 +99,9 @@ struct Traversal {
 
 // Darts in canonical label order from `root` (into t.order), and the code of that traversal (t.code).
 // The schematic is connected, so every dart gets a label and the streams are filled to their sizes.
-void traverse(const Schematic& s, std::uint32_t root, Traversal& t) {
+// With `expect`, stops at the first entry that differs from it and returns false (t.code is then
+// partial); true when the whole code equals it, or without `expect`.
+bool traverse(const Schematic& s, std::uint32_t root, Traversal& t, const TopologyCode* expect = nullptr) {
   const std::size_t nd = t.order.size();
   t.code.next_ref.resize(nd);  // no-ops but after the streams changed hands with a smaller code's
   t.code.edge_length.resize(nd / 2);
@@ -101,6 +112,7 @@ void traverse(const Schematic& s, std::uint32_t root, Traversal& t) {
   std::uint32_t* const edge_length = t.code.edge_length.data();
   std::uint8_t* const corner = t.code.corner.data();
   std::uint32_t labelled = 0;
+  bool same = true;
   auto assign = [&](std::uint32_t d) {  // labels the edge of d, d first
     label[d] = labelled;
     label[d ^ 1] = labelled + 1;
@@ -109,10 +121,11 @@ void traverse(const Schematic& s, std::uint32_t root, Traversal& t) {
     t.open.open(labelled);
     t.open.open(labelled + 1);
     edge_length[labelled / 2] = s.edge_length[d >> 1];
+    if (expect && expect->edge_length[labelled / 2] != edge_length[labelled / 2]) same = false;
     labelled += 2;
   };
   assign(root);
-  for (std::uint32_t i = 0; i < labelled; ++i) {
+  for (std::uint32_t i = 0; i < labelled && same; ++i) {
     const std::uint32_t d = order[i], n = s.dart_next[d];
     if (label[n] == kInvalid) {
       assign(n);
@@ -122,10 +135,16 @@ void traverse(const Schematic& s, std::uint32_t root, Traversal& t) {
     }
     t.open.close(label[n]);
     corner[i] = s.dart_corner[d];
+    if (expect && (expect->next_ref[i] != next_ref[i] || expect->corner[i] != corner[i])) same = false;
+  }
+  for (std::uint32_t i = 0; i < labelled; ++i) label[order[i]] = kInvalid;
+  if (!same) {
+    t.open.clear();  // stopped with darts open
+    return false;
   }
   if (labelled != nd) throw Error(ErrorCode::kInternal, "canonical: schematic is not connected");
   // Every dart was opened once and closed once (next is a permutation), so none is open again.
-  for (std::uint32_t i = 0; i < labelled; ++i) label[order[i]] = kInvalid;
+  return true;
 }
 
 // Everything but the mesh link, numbered from the dart order alone: vertices and faces by first
@@ -344,52 +363,147 @@ ComponentPartition relabel(const ComponentPartition& part, std::uint32_t root, T
   return p;
 }
 
-// The mesh vertices of the schematic vertices in the order a relabelling by `order` numbers them
-// (first appearance, as schematic_from_next does): the first entries of its layout.
-void relabelled_vertex_mesh(const Schematic& s, const std::vector<std::uint32_t>& order,
-                            std::vector<std::uint8_t>& seen, std::vector<std::uint32_t>& out) {
+// The label positions where a traversal in `order` first reaches each schematic vertex: a relabelling by
+// `order` numbers the vertices in this order (as schematic_from_next does), and lists them first in
+// its layout. The same for every root of one code.
+void first_reached(const Schematic& s, const std::vector<std::uint32_t>& order,
+                   std::vector<std::uint8_t>& seen, std::vector<std::uint32_t>& out) {
   seen.assign(s.vertex_count, 0);
   out.clear();
-  for (const std::uint32_t d : order) {
-    const std::uint32_t v = s.dart_vertex[d];
-    if (!seen[v]) seen[v] = 1, out.push_back(s.vertex_mesh[v]);
+  for (std::uint32_t i = 0; i < order.size(); ++i) {
+    const std::uint32_t v = s.dart_vertex[order[i]];
+    if (!seen[v]) seen[v] = 1, out.push_back(i);
   }
 }
 
-CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
-                                     const ComponentPartition& part) {
+// Chooses among the roots tied on topology (given in candidate order) by the positions their layouts
+// list, the first of the smallest winning. The schematic vertices come first there and decide for most
+// roots: only the roots equal to the best on them (`finalists`) are relabelled and laid out.
+class RootChoice {
+ public:
+  RootChoice(const QuadMesh& mesh, const Schematic& s) : mesh_(mesh), s_(s) {}
+  // The next tied root, whose traversal reaches the schematic vertices at darts first[0], first[1], ...
+  // (`fresh`: the first of a new smallest code, the roots before no longer tied).
+  template <class FirstDart>
+  void add(std::uint32_t root, bool fresh, FirstDart first) {
+    tied_ = fresh ? 1 : tied_ + 1;
+    prefix_.resize(s_.vertex_count);
+    for (std::uint32_t j = 0; j < s_.vertex_count; ++j) prefix_[j] = s_.vertex_mesh[s_.dart_vertex[first(j)]];
+    const int c = fresh ? -1 : compare_positions(mesh_, prefix_, best_prefix_);
+    if (c < 0) {
+      best_prefix_.swap(prefix_);
+      finalists_.assign(1, root);
+    } else if (c == 0) {
+      finalists_.push_back(root);
+    }
+  }
+  // The component relabelled from the chosen root, with its layout map and automorphism count.
+  void finish(const Adjacency& adj, const ComponentPartition& part, Traversal& t, CanonicalComponent& out) {
+    out.automorphisms = tied_;
+    out.part = relabel(part, finalists_[0], t);
+    out.map = layout_to_mesh(out.part, adj);
+    for (std::size_t i = 1; i < finalists_.size(); ++i) {
+      ComponentPartition p = relabel(part, finalists_[i], t);
+      LayoutMap m = layout_to_mesh(p, adj);
+      if (compare_positions(mesh_, m.vertex, out.map.vertex) < 0) {
+        out.part = std::move(p);
+        out.map = std::move(m);
+      }
+    }
+  }
+
+ private:
+  const QuadMesh& mesh_;
+  const Schematic& s_;
+  std::vector<std::uint32_t> finalists_, best_prefix_, prefix_;
+  std::uint32_t tied_ = 0;
+};
+
+// A small component's shape, up to isomorphism, as its canonicalization found it: a component met
+// again in another place (the 125 helper cubes of a MakeHuman mesh) is canonicalized from it with
+// one traversal, no colour refinement and no traversal per tied root. Its tied roots are the images
+// of these, and their order is theirs by dart number, as candidate order is.
+struct KnownShape {
+  TopologyCode code;  // the smallest
+  std::uint32_t vertices = 0;
+  // Per tied root, in candidate order, 1 + vertices labels in the traversal from the first tied
+  // root: the root's own, then those of the darts where its traversal first reaches each vertex.
+  std::vector<std::uint32_t> labels;
+};
+
+// Components this small are remembered (a shape costs tied roots x vertices labels), this many per
+// dart and vertex count (a new component tries each until one matches).
+constexpr std::uint32_t kKnownShapeDarts = 256;
+constexpr std::size_t kKnownShapesPerSize = 4;
+
+struct ShapeMemory {
+  std::vector<KnownShape> shapes;
+};
+
+// `part` canonicalized from a remembered shape it is isomorphic to; false (nothing done) if none is.
+bool canonical_from_known(const QuadMesh& mesh, const Adjacency& adj, const ComponentPartition& part,
+                          const ShapeMemory& memory, Traversal& t, CanonicalComponent& out) {
   const Schematic& s = part.schematic;
+  const std::uint32_t nd = s.dart_count(), nv = s.vertex_count;
+  for (const KnownShape& k : memory.shapes) {
+    if (k.code.kind != part.kind || k.code.next_ref.size() != nd || k.vertices != nv) continue;
+    std::uint32_t root = 0;
+    while (root < nd && !traverse(s, root, t, &k.code)) ++root;
+    if (root == nd) continue;
+    // t.order: the traversal from the first tied root's image. Each tied root's images, by dart.
+    const std::size_t stride = 1 + std::size_t{nv}, ties = k.labels.size() / stride;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> roots(ties);  // (dart, entry)
+    for (std::uint32_t e = 0; e < ties; ++e) roots[e] = {t.order[k.labels[e * stride]], e};
+    std::sort(roots.begin(), roots.end());
+    out.code = k.code;
+    RootChoice choice(mesh, s);
+    for (std::size_t r = 0; r < ties; ++r) {
+      const std::uint32_t* first = &k.labels[roots[r].second * stride + 1];
+      choice.add(roots[r].first, r == 0, [&](std::uint32_t j) { return t.order[first[j]]; });
+    }
+    choice.finish(adj, part, t, out);
+    return true;
+  }
+  return false;
+}
+
+CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
+                                     const ComponentPartition& part, ShapeMemory& memory) {
+  const Schematic& s = part.schematic;
+  const std::uint32_t nd = s.dart_count();
   CanonicalComponent out;
   out.code.kind = part.kind;
-  // Roots tied on topology are chosen between by the positions their layouts list, the first of the
-  // smallest winning. The schematic vertices come first there and decide for most roots: only the
-  // roots equal to the best on them (`finalists`) are relabelled and laid out.
-  Traversal t(s.dart_count());
-  std::vector<std::uint32_t> finalists, best_prefix, prefix;
+  Traversal t(nd);
+  if (nd <= kKnownShapeDarts && canonical_from_known(mesh, adj, part, memory, t, out)) return out;
+  std::size_t same_size = 0;
+  for (const KnownShape& k : memory.shapes)
+    same_size += k.code.next_ref.size() == nd && k.vertices == s.vertex_count;
+  const bool remember = nd <= kKnownShapeDarts && same_size < kKnownShapesPerSize;
+  KnownShape shape;
+  shape.vertices = s.vertex_count;
+  std::vector<std::uint32_t> label_of, first;  // in the traversal from the first tied root
   std::vector<std::uint8_t> seen;
-  std::uint32_t tied = 0;
+  RootChoice choice(mesh, s);
   smallest_codes(s, out.code, t,
                  [&](std::uint32_t root, const std::vector<std::uint32_t>& order, bool fresh) {
-                   tied = fresh ? 1 : tied + 1;
-                   relabelled_vertex_mesh(s, order, seen, prefix);
-                   const int c = fresh ? -1 : compare_positions(mesh, prefix, best_prefix);
-                   if (c < 0) {
-                     best_prefix.swap(prefix);
-                     finalists.assign(1, root);
-                   } else if (c == 0) {
-                     finalists.push_back(root);
+                   if (fresh) {
+                     first_reached(s, order, seen, first);
+                     if (remember) {
+                       label_of.resize(nd);
+                       for (std::uint32_t i = 0; i < nd; ++i) label_of[order[i]] = i;
+                       shape.labels.clear();
+                     }
+                   }
+                   choice.add(root, fresh, [&](std::uint32_t j) { return order[first[j]]; });
+                   if (remember) {
+                     shape.labels.push_back(label_of[root]);
+                     for (const std::uint32_t i : first) shape.labels.push_back(label_of[order[i]]);
                    }
                  });
-  out.automorphisms = tied;
-  out.part = relabel(part, finalists[0], t);
-  out.map = layout_to_mesh(out.part, adj);
-  for (std::size_t i = 1; i < finalists.size(); ++i) {
-    ComponentPartition p = relabel(part, finalists[i], t);
-    LayoutMap m = layout_to_mesh(p, adj);
-    if (compare_positions(mesh, m.vertex, out.map.vertex) < 0) {
-      out.part = std::move(p);
-      out.map = std::move(m);
-    }
+  choice.finish(adj, part, t, out);
+  if (remember) {
+    shape.code = out.code;
+    memory.shapes.push_back(std::move(shape));
   }
   return out;
 }
@@ -535,13 +649,86 @@ CanonicalComponent canonical_structured(const QuadMesh& mesh, const Adjacency& a
 bool operator==(const TopologyCode& x, const TopologyCode& y) { return compare_codes(x, y) == 0; }
 bool operator<(const TopologyCode& x, const TopologyCode& y) { return compare_codes(x, y) < 0; }
 
-CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition) {
+namespace {
+
+CanonicalComponent canonical_component(const QuadMesh& mesh, const Adjacency& adj,
+                                       const ComponentPartition& part, ShapeMemory& memory) {
+  if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus)
+    return canonical_structured(mesh, adj, part);
+  return canonical_general(mesh, adj, part, memory);
+}
+
+// A component's share of the work, roughly: its layout's faces, and its darts times the traversals of
+// the colour refinement and the candidate roots.
+std::uint64_t canonical_cost(const Adjacency& adj, const ComponentPartition& part) {
+  return std::uint64_t{adj.component_faces[part.component]} + 16 * std::uint64_t{part.schematic.dart_count()};
+}
+
+// From this much work on other components than the largest, a second thread pays for its start.
+constexpr std::uint64_t kSecondThreadFrom = 4096;
+
+// The components canonicalized on two threads, each taking the next component (largest first) as it
+// finishes one. Each component's result depends on that component alone, so it is the same whichever
+// thread computes it. An error is the one the first failing component (in partition order) gives, as
+// on one thread.
+void canonical_components_on_two_threads(const QuadMesh& mesh, const Adjacency& adj,
+                                         const Partition& partition, std::vector<CanonicalComponent>& out) {
+  const std::size_t n = partition.components.size();
+  std::vector<std::uint64_t> cost(n);
+  for (std::size_t i = 0; i < n; ++i) cost[i] = canonical_cost(adj, partition.components[i]);
+  std::vector<std::uint32_t> work(n);
+  std::iota(work.begin(), work.end(), 0);
+  std::stable_sort(work.begin(), work.end(),
+                   [&](std::uint32_t x, std::uint32_t y) { return cost[x] > cost[y]; });
+  std::vector<std::exception_ptr> failed(n);
+  std::atomic<std::size_t> next{0};
+  auto run = [&] {
+    ShapeMemory memory;  // each thread its own: a component's result never depends on it
+    for (std::size_t k; (k = next.fetch_add(1, std::memory_order_relaxed)) < n;) {
+      const std::uint32_t i = work[k];
+      try {
+        out[i] = canonical_component(mesh, adj, partition.components[i], memory);
+      } catch (...) {
+        failed[i] = std::current_exception();
+      }
+    }
+  };
+  std::thread helper;
+  try {
+    helper = std::thread(run);
+  } catch (const std::system_error&) {
+    // no thread to be had: this one does all
+  }
+  run();
+  if (helper.joinable()) helper.join();
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
+}
+
+}  // namespace
+
+CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition,
+                           unsigned threads) {
   CanonicalMesh out;
-  for (const auto& part : partition.components) {
-    if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus)
-      out.components.push_back(canonical_structured(mesh, adj, part));
-    else
-      out.components.push_back(canonical_general(mesh, adj, part));
+  const std::size_t n = partition.components.size();
+  bool two = false;
+  if (n >= 2 && threads != 1 && std::thread::hardware_concurrency() > 1) {
+    std::uint64_t total = 0, largest = 0;
+    for (const auto& part : partition.components) {
+      const std::uint64_t c = canonical_cost(adj, part);
+      total += c;
+      largest = std::max(largest, c);
+    }
+    two = threads >= 2 || total - largest >= kSecondThreadFrom;
+  }
+  if (two) {
+    out.components.resize(n);
+    canonical_components_on_two_threads(mesh, adj, partition, out.components);
+  } else {
+    out.components.reserve(n);
+    ShapeMemory memory;
+    for (const auto& part : partition.components)
+      out.components.push_back(canonical_component(mesh, adj, part, memory));
   }
   std::vector<std::uint32_t> idx(out.components.size());
   std::iota(idx.begin(), idx.end(), 0);
