@@ -1,7 +1,7 @@
 // Writes the fuzzers' seed corpora from testdata/ (and ../shared/meshes when present) at run time, so
 // no corpus is committed: OUT/read_obj, OUT/read_off, OUT/read_ply, OUT/roundtrip (meshes) and
-// OUT/decode_qsp (.qsp files the current encoder writes, in every mode). Usage: qsp_fuzz_seeds OUT TESTDATA
-// [SHARED]
+// OUT/decode_qsp (.qsp files the current encoder writes, in every mode), OUT/submesh (polygon arrays in
+// fuzz/submesh.cpp's bytes). Usage: qsp_fuzz_seeds OUT TESTDATA [SHARED]
 #include <algorithm>
 #include <bit>
 #include <cstdint>
@@ -117,6 +117,36 @@ std::string write_ply(const qsp::QuadMesh& m, int encoding) {
   return out;
 }
 
+// A polygon mesh in fuzz/submesh.cpp's bytes (vertex count - 1, then per face degree - 1 and its
+// vertices); meshes of more than 64 vertices do not fit.
+std::string submesh_bytes(std::uint32_t nv, const std::vector<std::vector<std::uint32_t>>& faces) {
+  std::string out(1, static_cast<char>(nv - 1));
+  for (const auto& f : faces) {
+    out.push_back(static_cast<char>(f.size() - 1));
+    for (std::uint32_t v : f) out.push_back(static_cast<char>(v));
+  }
+  return out;
+}
+
+// Polygon seeds the quad files lack: a tetrahedron, a 3x3 grid with a triangle pair in the middle,
+// a pentagon fan, a quad on an edge with three faces.
+std::vector<std::string> polygon_seeds() {
+  std::vector<std::vector<std::uint32_t>> grid;
+  for (std::uint32_t j = 0; j < 3; ++j)
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      const std::uint32_t a = 4 * j + i, b = a + 1, c = a + 5, d = a + 4;
+      if (i == 1 && j == 1) {
+        grid.push_back({a, b, d});
+        grid.push_back({b, c, d});
+      } else {
+        grid.push_back({a, b, c, d});
+      }
+    }
+  return {submesh_bytes(4, {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}}), submesh_bytes(16, grid),
+          submesh_bytes(7, {{0, 1, 2, 3, 4}, {0, 4, 5, 6, 1}}),
+          submesh_bytes(8, {{0, 1, 2, 3}, {1, 0, 4, 5}, {0, 1, 6, 7}})};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -126,8 +156,10 @@ int main(int argc, char** argv) {
   }
   const fs::path out = argv[1], testdata = argv[2];
   const fs::path obj = out / "read_obj", off = out / "read_off", ply = out / "read_ply",
-                 rt = out / "roundtrip", qspdir = out / "decode_qsp";
-  for (const auto& d : {obj, off, ply, rt, qspdir}) fs::create_directories(d);
+                 rt = out / "roundtrip", qspdir = out / "decode_qsp", polygons = out / "submesh";
+  for (const auto& d : {obj, off, ply, rt, qspdir, polygons}) fs::create_directories(d);
+  for (const std::string& bytes : polygon_seeds())
+    put(polygons, "p" + std::to_string(written) + ".bin", bytes);
 
   std::vector<fs::path> inputs = files(testdata, true);
   if (argc > 3) {
@@ -164,11 +196,17 @@ int main(int argc, char** argv) {
     for (int encoding = 0; encoding < 3; ++encoding)
       put(ply, id + "_" + std::to_string(encoding) + ".ply", write_ply(m, encoding));
     put(rt, id + ".obj", qsp::write_obj(m));
-    for (int mode = 0; mode < 4; ++mode) {  // lossless, keep-order, 11 bits, 11 bits in revision 4 or 5
+    if (m.vertex_count() <= 64) {
+      std::vector<std::vector<std::uint32_t>> faces;
+      for (std::size_t f = 0; f < m.quads.size(); f += 4) faces.emplace_back(&m.quads[f], &m.quads[f] + 4);
+      if (m.vertex_count() > 0)
+        put(polygons, id + ".bin", submesh_bytes(static_cast<std::uint32_t>(m.vertex_count()), faces));
+    }
+    for (int mode = 0; mode < 4; ++mode) {  // lossless, keep-order, 11 bits, 11 bits at --best (costly tools)
       qsp::EncodeOptions o;
       o.keep_order = mode == 1;
       o.quantize_bits = mode >= 2 ? 11 : 0;
-      if (mode == 3) o.geometry_shapes = false;
+      if (mode == 3) o.level = qsp::kMaxLevel;
       try {
         put(qspdir, id + "_" + std::to_string(mode) + ".qsp", qsp::encode(m, o), 2 * kMaxSeed);
       } catch (const qsp::Error& e) {

@@ -19,6 +19,7 @@
 #include <tuple>
 #include <unordered_set>
 
+#include "order_set.h"
 #include "qsp/error.h"
 
 namespace qsp {
@@ -26,56 +27,22 @@ namespace {
 
 [[noreturn]] void bad_code(const std::string& what) { throw Error(ErrorCode::kFormat, "topology: " + what); }
 
-// Order-statistics over labels 0..n-1 ("which open darts are there, and what is the k-th").
-class Fenwick {
- public:
-  explicit Fenwick(std::size_t n) : tree_(n + 1, 0), log_(1) {
-    while ((std::size_t{1} << log_) <= n) ++log_;
-  }
-  void add(std::size_t i, int delta) {
-    for (++i; i < tree_.size(); i += i & (~i + 1)) tree_[i] += delta;
-  }
-  // Number of set labels < i.
-  std::uint32_t prefix(std::size_t i) const {
-    std::uint32_t s = 0;
-    for (; i > 0; i -= i & (~i + 1)) s += tree_[i];
-    return s;
-  }
-  // Label of the k-th set element (1-based); n if none.
-  std::size_t find(std::uint32_t k) const {
-    std::size_t pos = 0;
-    for (int b = log_; b >= 0; --b) {
-      const std::size_t nxt = pos + (std::size_t{1} << b);
-      if (nxt < tree_.size() && static_cast<std::uint32_t>(tree_[nxt]) < k) {
-        pos = nxt;
-        k -= tree_[nxt];
-      }
-    }
-    return pos;  // 0-based label
-  }
-  void clear() { std::fill(tree_.begin(), tree_.end(), 0); }
-
- private:
-  std::vector<std::int32_t> tree_;
-  int log_;
-};
-
 // The open labels of a traversal (darts no dart's `next` reaches yet) and how many lie below a label:
-// a bit per label and a Fenwick tree over 64-label words, so a step costs a few instructions on a
-// small component and a dozen on a large one.
+// a bit per label and an OrderSet over 64-label words, holding each word once per open label in it, so
+// a step costs a few instructions on a small component and a dozen on a large one.
 class OpenLabels {
  public:
   explicit OpenLabels(std::size_t n) : bits_((n + 63) / 64, 0), words_(bits_.size()) {}
   void open(std::uint32_t i) {
     bits_[i >> 6] |= bit(i);
-    if (bits_.size() > 1) words_.add(i >> 6, 1);
+    if (bits_.size() > 1) words_.insert(i >> 6);
   }
   void close(std::uint32_t i) {
     bits_[i >> 6] &= ~bit(i);
-    if (bits_.size() > 1) words_.add(i >> 6, -1);
+    if (bits_.size() > 1) words_.erase(i >> 6);
   }
   std::uint32_t below(std::uint32_t i) const {
-    return words_.prefix(i >> 6) + static_cast<std::uint32_t>(std::popcount(bits_[i >> 6] & (bit(i) - 1)));
+    return words_.rank(i >> 6) + static_cast<std::uint32_t>(std::popcount(bits_[i >> 6] & (bit(i) - 1)));
   }
   void clear() {
     std::fill(bits_.begin(), bits_.end(), 0);
@@ -85,7 +52,7 @@ class OpenLabels {
  private:
   static std::uint64_t bit(std::uint32_t i) { return std::uint64_t{1} << (i & 63); }
   std::vector<std::uint64_t> bits_;
-  Fenwick words_;
+  OrderSet words_;
 };
 
 // What the traversals of one component share, so that trying each candidate root allocates nothing.
@@ -794,10 +761,10 @@ ComponentPartition partition_from_code(const TopologyCode& code) {
   if (nd < 2 || nd % 2 || code.corner.size() != nd || code.edge_length.size() * 2 != nd)
     bad_code("stream sizes disagree");
   std::vector<std::uint32_t> next(nd, kInvalid);
-  Fenwick open(nd);
+  OrderSet open(nd);
   std::size_t labelled = 2, open_count = 2;
-  open.add(0, 1);
-  open.add(1, 1);
+  open.insert(0);
+  open.insert(1);
   for (std::size_t i = 0; i < nd; ++i) {
     if (i >= labelled) bad_code("traversal ends before its streams do");
     const std::uint32_t ref = code.next_ref[i];
@@ -805,15 +772,15 @@ ComponentPartition partition_from_code(const TopologyCode& code) {
     if (ref == 0) {
       if (labelled + 2 > nd) bad_code("more edges than declared");
       target = labelled;
-      open.add(labelled, 1);
-      open.add(labelled + 1, 1);
+      open.insert(labelled);
+      open.insert(labelled + 1);
       labelled += 2;
       open_count += 2;
     } else {
       if (ref > open_count) bad_code("reference to a dart that is not open");
-      target = open.find(ref);
+      target = open.select(ref - 1);
     }
-    open.add(target, -1);
+    open.erase(target);
     --open_count;
     next[i] = static_cast<std::uint32_t>(target);
   }

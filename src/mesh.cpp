@@ -317,16 +317,16 @@ std::optional<Adjacency> build_adjacency_two_threads(std::span<const std::uint32
 }  // namespace detail
 
 Adjacency build_adjacency(const QuadMesh& mesh, unsigned threads) {
-  if (mesh.positions.size() % 3 != 0) fail(ErrorCode::kInternal, "mesh arrays are not whole vertices/faces");
-  if (mesh.vertex_count() >= kAdjacencyVertexLimit)
-    fail(ErrorCode::kLimit, "mesh too large: at most 2^29 faces and 2^31 vertices");
+  if (mesh.positions.size() % 3 != 0) fail(ErrorCode::kUsage, "mesh arrays are not whole vertices/faces");
+  if (mesh.vertex_count() > kMaxVertices)
+    fail(ErrorCode::kLimit, "mesh too large: at most 2^29 - 1 faces and 2^31 - 1 vertices");
   return build_adjacency(mesh.quads, static_cast<std::uint32_t>(mesh.vertex_count()), threads);
 }
 
 Adjacency build_adjacency(std::span<const std::uint32_t> q, std::uint32_t vertex_count, unsigned threads) {
-  if (q.size() % 4 != 0) fail(ErrorCode::kInternal, "mesh arrays are not whole vertices/faces");
-  if (q.size() / 4 >= kAdjacencyFaceLimit || vertex_count >= kAdjacencyVertexLimit)
-    fail(ErrorCode::kLimit, "mesh too large: at most 2^29 faces and 2^31 vertices");
+  if (q.size() % 4 != 0) fail(ErrorCode::kUsage, "mesh arrays are not whole vertices/faces");
+  if (q.size() / 4 > kMaxFaces || vertex_count > kMaxVertices)
+    fail(ErrorCode::kLimit, "mesh too large: at most 2^29 - 1 faces and 2^31 - 1 vertices");
   const std::size_t nf = q.size() / 4;
   if (threads != 1 && (threads >= 2 || nf >= detail::kAdjacencyTwoThreadsFrom) &&
       std::thread::hardware_concurrency() > 1) {

@@ -4,10 +4,12 @@
 #include <cstring>
 #include <filesystem>
 
+#include "layout_grid.h"
 #include "qsp/canonical.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/partition.h"
+#include "stencil.h"
 #include "support/corpus.h"
 #include "support/mesh_gen.h"
 
@@ -43,8 +45,11 @@ void check_component(const QuadMesh& m, const CanonicalComponent& comp) {
       ASSERT_EQ(comp.map.vertex[layout.quads[4 * f + k]],
                 m.quads[4 * comp.map.face[f] + (k + comp.map.rotation[f]) % 4])
           << "face " << f;
+  Numbering numbering;
+  (void)grid_layout(decoded, numbering);
+  const ComponentStencils stencils = component_stencils(decoded, layout, numbering, CodingOrder::kLayout);
   for (std::uint32_t v = 0; v < layout.vertex_count; ++v) {
-    const auto& s = layout.stencil[v];
+    const auto& s = stencils.stencil[v];
     for (std::uint32_t n : s.vertex_fields()) ASSERT_TRUE(n == kInvalid || n < v) << "stencil of " << v;
   }
 }

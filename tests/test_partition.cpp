@@ -8,42 +8,22 @@
 #include <set>
 #include <string>
 
+#include "layout_grid.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/partition.h"
+#include "stencil.h"
 #include "support/corpus.h"
 #include "support/mesh_gen.h"
+#include "support/schematic_counts.h"
 
 namespace qsp {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Counts {
-  std::uint32_t x = 0, e = 0, patches = 0;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> sizes;  // sorted (min, max)
-};
-
-Counts counts(const Partition& p) {
-  Counts c;
-  for (const auto& part : p.components) {
-    if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus) {
-      ++c.patches;
-      continue;
-    }
-    const Schematic& s = part.schematic;
-    c.x += s.vertex_count;
-    c.e += s.edge_count();
-    c.patches += s.patch_count();
-    for (std::uint32_t f = 0; f < s.face_count(); ++f)
-      if (!s.face_hole[f]) {
-        const PatchSize z = patch_size(s, f);
-        c.sizes.emplace_back(std::min(z.a, z.b), std::max(z.a, z.b));
-      }
-  }
-  std::sort(c.sizes.begin(), c.sizes.end());
-  return c;
-}
+using Counts = testing::SchematicCounts;
+constexpr auto counts = testing::schematic_counts;
 
 Partition checked_partition(const QuadMesh& m, const Adjacency& adj) {
   Partition p = partition_motorcycle(adj);
@@ -247,9 +227,9 @@ TEST(Corpus, EveryValidMeshPartitionsIntoGridsWithinBounds) {
   EXPECT_EQ(partitioned, testing::expected_valid_count(corpus()));
 }
 
-// Patch coding order (geometry revision 3) over every mesh: a permutation of the layout's vertices, each
+// Patch coding order over every mesh: a permutation of the layout's vertices, each
 // stencil naming only earlier ones, every parallelogram stencil (w, s, sw) a real cell of the mesh with
-// the point as its fourth corner, and the explicit se/ss/sww/ssw (which revision 3 takes as given,
+// the point as its fourth corner, and the explicit se/ss/sww/ssw (which patch order takes as given,
 // annulus and torus included) mesh neighbours continuing that frame.
 TEST(Corpus, PatchOrderStencilsAreCellsOfTheMesh) {
   int checked = 0;
@@ -260,18 +240,19 @@ TEST(Corpus, PatchOrderStencilsAreCellsOfTheMesh) {
     Adjacency adj;
     if (!load_valid(path, m, adj)) continue;
     for (const ComponentPartition& comp : partition_motorcycle(adj).components) {
-      const GridLayout layout = grid_layout(comp), patch = grid_layout(comp, CodingOrder::kPatch);
-      ASSERT_EQ(patch.quads, layout.quads);  // the mesh itself does not change, only the coding order
+      Numbering numbering;
+      const GridLayout layout = grid_layout(comp, numbering);
+      const ComponentStencils patch = component_stencils(comp, layout, numbering, CodingOrder::kPatch);
       const std::uint32_t n = layout.vertex_count;
       ASSERT_EQ(patch.stencil.size(), n);
       std::vector<std::uint32_t> coding = patch.coding;
       if (coding.empty()) {  // annulus / torus: already row by row
         ASSERT_TRUE(comp.kind == ComponentKind::kAnnulus || comp.kind == ComponentKind::kTorus);
         for (std::uint32_t v = 0; v < n; ++v) coding.push_back(v);
-        // Revision 3 reads se/ss/sww/ssw from every stencil: a grid point two rows up and two
+        // Patch order reads se/ss/sww/ssw from every stencil: a grid point two rows up and two
         // columns in must have all four.
         if (comp.a >= 4 && n >= 3 * comp.a) {
-          const GridLayout::Stencil& t = patch.stencil[2 * comp.a + 2];
+          const Stencil& t = patch.stencil[2 * comp.a + 2];
           EXPECT_TRUE(t.se != kInvalid && t.ss != kInvalid && t.sww != kInvalid && t.ssw != kInvalid);
         }
       }
@@ -291,7 +272,7 @@ TEST(Corpus, PatchOrderStencilsAreCellsOfTheMesh) {
         return edges.count({std::min(x, y), std::max(x, y)}) > 0;
       };
       for (std::uint32_t k = 0; k < n; ++k) {
-        const GridLayout::Stencil& t = patch.stencil[k];
+        const Stencil& t = patch.stencil[k];
         for (std::uint32_t j : t.vertex_fields())
           ASSERT_TRUE(j == kInvalid || j < k) << "stencil of " << k << " refers forward";
         if (t.w == kInvalid || t.s == kInvalid || t.sw == kInvalid) continue;

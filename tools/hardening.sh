@@ -72,8 +72,9 @@ if ((run_fuzz)); then
   mkdir -p "$run/logs" "$run/artifacts"
   build-fuzz/fuzz/qsp_fuzz_seeds "$run/seeds" testdata "$shared"
 
-  targets=(decode_qsp roundtrip read_obj read_off read_ply)
-  declare -A max_len=([decode_qsp]=32768 [roundtrip]=16384 [read_obj]=16384 [read_off]=16384 [read_ply]=16384)
+  targets=(decode_qsp roundtrip read_obj read_off read_ply submesh)
+  declare -A max_len=([decode_qsp]=32768 [roundtrip]=16384 [read_obj]=16384 [read_off]=16384 [read_ply]=16384
+    [submesh]=4096)
   declare -A dict=([decode_qsp]=qsp [roundtrip]=mesh [read_obj]=mesh [read_off]=mesh [read_ply]=ply)
   fuzz_one() {
     local t=$1
@@ -83,7 +84,7 @@ if ((run_fuzz)); then
     "build-fuzz/fuzz/fuzz_$t" "$run/corpus/$t" "$run/seeds/$t" testdata/invalid/fuzz \
       -max_total_time="$fuzz_time" -max_len="${max_len[$t]}" -timeout=10 -rss_limit_mb=2048 \
       -malloc_limit_mb=1024 -print_final_stats=1 -artifact_prefix="$run/artifacts/$t-" \
-      -dict="fuzz/${dict[$t]}.dict" \
+      ${dict[$t]:+-dict="fuzz/${dict[$t]}.dict"} \
       >"$run/logs/$t.log" 2>&1
   }
   declare -A pid

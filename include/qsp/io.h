@@ -13,10 +13,7 @@ namespace qsp {
 
 enum class MeshFormat : std::uint8_t { kObj, kOff, kPly, kQsp, kUnknown };
 
-// Reader limits (Error kLimit beyond them). Vertex ids are uint32 below kInvalid; build_adjacency
-// numbers up to 8 half-edges per face (4 interior + at most 4 exterior) in uint32.
-inline constexpr std::uint64_t kMaxVertices = 0xFFFFFFFEu;
-inline constexpr std::uint64_t kMaxFaces = (std::uint64_t{1} << 29) - 1;
+// Reader limits (Error kLimit beyond them): kMaxVertices and kMaxFaces of qsp/mesh.h.
 
 // Format from a path's extension (case-insensitive); kUnknown if none matches.
 MeshFormat format_from_path(std::string_view path);

@@ -24,7 +24,6 @@ struct CompressOptions {
   bool keep_order = false;
   bool positions_only = false;
   std::string partition = "auto";  // or a PartitionMode name
-  std::string compat;              // "2.1": only what format 2.1 readers decode
   int level = kDefaultLevel;       // -1 .. -9, --fast, --best
   unsigned threads = 0;            // 0: as the encoder sees fit
 };
@@ -60,7 +59,6 @@ EncodeOptions encode_options(const CompressOptions& o) {
     parse_partition_mode(o.partition, mode);  // CLI11 checked the name
     eo.partition = mode;
   }
-  if (o.compat == "2.1") eo.geometry_shapes = false;  // geometry revisions 4 and 5 only
   return eo;
 }
 
@@ -149,10 +147,6 @@ void register_compress(CLI::App& app, int& rc) {
   sub->add_flag("--keep-order", opt->keep_order, "Also store the vertex order, face order and first corners");
   sub->add_flag("--positions-only", opt->positions_only,
                 "Drop texture coordinates, normals, groups, materials and tags instead of refusing");
-  sub->add_option("--compat", opt->compat,
-                  "2.1: write only what qsp format 2.1 readers decode (no geometry coding revision 6; "
-                  "files of small meshes 1-2% larger)")
-      ->check(CLI::IsMember({"2.1"}));
   // gzip's and zstd's spelling: -1 fastest .. -9 smallest, --fast = -1, --best = -9.
   for (int l = kMinLevel; l <= kMaxLevel; ++l) {
     const std::string name = "-" + std::to_string(l);

@@ -250,24 +250,6 @@ LoadedMesh with_adjacency(QuadMesh mesh, ReadReport report, const std::string& p
   return out;
 }
 
-// The geometry section's `bits` field (format-spec "Geometry", Layout): after the tag, the section
-// length, the revision byte and, up to revision 3, the vertex count. -1 if not found; `bytes` has been
-// checked by inspect(), this only reads what it already accepted.
-int geometry_bits(const std::string& bytes, const FileInfo& info) {
-  const auto varint_end = [&](std::size_t at) {
-    while (at < bytes.size() && (static_cast<unsigned char>(bytes[at]) & 0x80)) ++at;
-    return at + 1;
-  };
-  for (const SectionInfo& s : info.sections) {
-    if (s.tag != 0x03) continue;  // geometry
-    std::size_t at = varint_end(s.offset + 1);
-    const int revision = at < bytes.size() ? static_cast<unsigned char>(bytes[at]) : 0;
-    at = revision <= 3 ? varint_end(at + 1) : at + 1;
-    return at < bytes.size() ? static_cast<unsigned char>(bytes[at]) : -1;
-  }
-  return -1;
-}
-
 MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadReport& report) {
   try {
     return prepare_match(std::move(mesh));

@@ -126,11 +126,6 @@ struct LoadedMesh {
 // rethrown as "path:LINE: ..." using the line `report` has for the face. Throws qsp::Error.
 LoadedMesh with_adjacency(QuadMesh mesh, ReadReport report, const std::string& path);
 
-// A .qsp's position precision: 0 lossless, 1..30 the quantization bits (the geometry section's `bits`
-// field), -1 if `info` (inspect(bytes)) lists no geometry section. Reads only what inspect() checked.
-// Format knowledge the library should give (FileInfo) once format 3.0 settles the geometry header.
-int geometry_bits(const std::string& bytes, const FileInfo& info);
-
 // Rethrows `e` with "path:LINE: " in front when it names a face the report has a line for.
 [[noreturn]] void rethrow_located(const Error& e, const std::string& path, const ReadReport& report);
 

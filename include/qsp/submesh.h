@@ -1,0 +1,103 @@
+// qsp/submesh.h: any polygon mesh, cut canonically into a manifold, consistently oriented mesh and its
+// quad submesh (the part the motorcycle graph runs on), with what is needed to glue it back.
+//
+// Input everywhere: plain arrays, so any mesh model can call it. Face f has the corners
+// face_offsets[f] .. face_offsets[f+1]-1 (counter-clockwise seen from outside); corners[c] is the
+// vertex at corner c, below vertex_count. Corner c is also the half-edge from corners[c] to the next
+// corner of its face.
+//
+// The rules (README "Polygon meshes: the quad submesh", docs/polygon_meshes.md):
+//  1. Edges: an edge (two vertices) is glued when exactly two faces have it and they traverse it in
+//     opposite directions. Every other edge with two or more faces is cut: each face keeps its own copy
+//     (an edge with 3+ faces, or two neighbours of opposite orientation). No face is ever flipped or
+//     reordered, so a Möbius band is cut exactly where its faces' corner orders disagree.
+//  2. Vertices: the faces at a vertex, joined across glued edges, form fans; each fan gets its own copy.
+//     Result: a manifold, consistently oriented polygon mesh (ManifoldCut).
+//  3. Quad submesh: faces of degree != 4 are removed; they leave holes in it, where particles stop as at
+//     any boundary and deficiency is counted in the quads alone. A vertex copy whose quads form several
+//     fans (quads joined across glued edges between quads) gets one copy per quad fan.
+//  4. Regions: the non-quad faces joined across glued edges. A region's interior vertices are the
+//     copies of step 2 with no quad. A non-quad corner at a copy that has quads is attached to the
+//     first quad fan met turning counter-clockwise around the vertex from it, or, where the fan of
+//     step 2 ends first, the first turning clockwise.
+// Every rule looks only at the faces around an edge or a vertex and their cyclic corner orders, so the
+// result depends only on the mesh up to renumbering vertices and faces and rotating corner lists.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "qsp/mesh.h"
+
+namespace qsp {
+
+// corners + vertex_count must stay below this: every copy, half-edge and corner index fits in 31 bits,
+// and the quad submesh stays inside build_adjacency's limits. Time and memory are O(corners + vertices)
+// (counting sorts and single walks, nothing sorted by comparison, no recursion); peak memory about 40
+// bytes per corner, the adjacency included. No other limit: a vertex of any valence, an edge with any
+// number of faces or a region of any size costs its size.
+inline constexpr std::uint64_t kPolygonSizeLimit = std::uint64_t{1} << 31;
+
+// Step 1-2: the manifold, consistently oriented polygon mesh over vertex copies.
+struct ManifoldCut {
+  std::vector<std::uint32_t> corners;        // per corner: the copy at it (face_offsets unchanged)
+  std::vector<std::uint32_t> copy_original;  // per copy: its original vertex
+  // Copy v < vertex_count is original vertex v itself: the fan holding v's first corner, or v with no
+  // face at all; further copies follow, in the order of their fans' first corners.
+  std::uint32_t cut_edges = 0;     // edges cut by rule 1
+  std::uint32_t cut_vertices = 0;  // original vertices given more than one copy
+};
+
+// Cuts the mesh by rules 1-2. Throws Error: kBadIndex (vertex index >= vertex_count), kDegenerateFace (a
+// face repeats a vertex, or has fewer than 3 corners), with build_adjacency's messages naming the face;
+// kLimit beyond kPolygonSizeLimit; kInternal if face_offsets is not 0, increasing, ..., corners.size().
+// Safe on untrusted input; O(corners + vertices).
+ManifoldCut cut_manifold(std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> corners,
+                         std::uint32_t vertex_count);
+
+// Faces by degree and what was cut (for `qsp stats`).
+struct PolygonCounts {
+  std::uint32_t quads = 0, triangles = 0, ngons = 0;  // faces of degree 4, 3, 5 or more
+  std::uint32_t cut_edges = 0;                        // edges cut by rule 1
+  std::uint32_t cut_vertices = 0;  // original vertices with more than one submesh vertex (rules 2-4)
+  std::uint32_t extra_copies = 0;  // submesh vertices beyond one per original vertex used by a face
+};
+
+// A connected region of non-quad faces (rule 4): it lies in holes of the quad submesh, or on its own.
+struct NonQuadRegion {
+  std::vector<std::uint32_t> faces;     // original face indices, increasing
+  std::vector<std::uint32_t> interior;  // its submesh vertices that no quad uses (>= mesh.vertex_count())
+  std::vector<std::uint32_t> loops;     // boundary loops of the quad submesh it touches, increasing
+};
+
+struct QuadSubmesh {
+  // The quads in input order, each with its corners in input order, over the submesh vertices
+  // [0, mesh.vertex_count()): first one per original vertex that a quad or no face uses (in original
+  // order; its quad fan holding its first quad corner), then the further quad-fan copies by first
+  // corner. So an all-quad manifold oriented mesh comes out as itself. Positions are copied from the
+  // original vertex.
+  QuadMesh mesh;
+  Adjacency adjacency;  // build_adjacency(mesh)
+  // Per submesh vertex: its original vertex. Submesh vertices [mesh.vertex_count(), size()) are the
+  // regions' interior vertices (copies no quad uses), in the order of their fans' first corners.
+  std::vector<std::uint32_t> vertex_original;
+  std::vector<std::uint32_t> corner_vertex;  // per input corner: its submesh vertex (rule 4 for non-quads)
+  std::vector<std::uint32_t> quad_face;      // per quad: its original face
+  std::vector<NonQuadRegion> regions;        // numbered by their smallest face
+  // Boundary loops of the quad submesh (a schematic's hole faces, an annulus's two rows): per loop its
+  // smallest exterior half-edge of `adjacency`; per exterior half-edge (h - 4 * face_count) its loop.
+  std::vector<std::uint32_t> loop_halfedge;
+  std::vector<std::uint32_t> exterior_loop;
+  PolygonCounts counts;
+};
+
+// Cuts the mesh by rules 1-4 and builds the quad submesh and its adjacency. `positions` holds 3 floats
+// per original vertex, or is empty (the submesh's positions are then zero; fill them from
+// vertex_original). Gluing back: corners[c] == vertex_original[corner_vertex[c]] for every corner.
+// Throws what cut_manifold throws, kInternal if `positions` has another size, or if the quad submesh
+// fails build_adjacency (a bug: never a wrong result). Safe on untrusted input; O(corners + vertices).
+QuadSubmesh quad_submesh(std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> corners,
+                         std::uint32_t vertex_count, std::span<const float> positions = {});
+
+}  // namespace qsp
