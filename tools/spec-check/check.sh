@@ -82,16 +82,31 @@ recode() {  # recode NAME: NAME.qsp under every tools byte
 }
 recode xord
 recode bumpy_mixed
-failed=0
-for f in "${files[@]}"; do
-  prefix="$work/$(basename "$f" .qsp)_$RANDOM"
+check() {  # check FILE: the text's decoder against the reference's dump (prints nothing on success)
+  local f=$1 prefix
+  prefix="$work/$(basename "$f" .qsp)_$BASHPID"
   if ! "$dump" "$f" "$prefix" || ! "$python" "$here/qspgeo.py" "$f" "$prefix"; then
     echo "spec decoder disagrees: $f" >&2
-    failed=1
+    return 1
   elif [[ -n ${original[$f]:-} ]] && ! cmp -s "$prefix.pos" "${original[$f]}"; then
     echo "the reference decodes a recoded file to other positions than its original: $f" >&2
-    failed=1
+    return 1
   fi
+}
+# Files are independent: as many at once as there are cores (the Python decoder is the long pole of
+# the release suite).
+failed=0 running=0
+for f in "${files[@]}"; do
+  if ((running >= $(nproc))); then
+    wait -n || failed=1
+    running=$((running - 1))
+  fi
+  check "$f" &
+  running=$((running + 1))
+done
+while ((running)); do
+  wait -n || failed=1
+  running=$((running - 1))
 done
 echo "spec decoder: ${#files[@]} files checked"
 exit $failed
