@@ -3,8 +3,11 @@
 // copy of it in the library: canonical labelling (open darts), the topology coder's pool of darts
 // without a predecessor, and the geometry encoder's ranks of repeated values use it. It keeps no
 // membership flags (canonical labelling builds one per root tried): callers know what they inserted.
+// It counts: a value inserted k times is k members (canonical labelling keeps one per open dart in
+// each 64-dart word), erase removes one of them.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <vector>
@@ -19,12 +22,12 @@ class OrderSet {
   std::uint32_t size() const { return size_; }
   bool empty() const { return size_ == 0; }
 
-  // Adds i (< capacity), which is not a member.
+  // Adds i (< capacity) once more.
   void insert(std::size_t i) {
     ++size_;
     for (std::size_t j = i + 1; j <= tree_.size(); j += j & (~j + 1)) ++tree_[j - 1];
   }
-  // Removes member i.
+  // Removes member i (once).
   void erase(std::size_t i) {
     --size_;
     for (std::size_t j = i + 1; j <= tree_.size(); j += j & (~j + 1)) --tree_[j - 1];
@@ -45,6 +48,11 @@ class OrderSet {
       }
     }
     return pos;
+  }
+  // Removes every member, keeping the capacity.
+  void clear() {
+    std::fill(tree_.begin(), tree_.end(), 0);
+    size_ = 0;
   }
   // Grows the capacity to at least `need`: to 64, then by doubling, keeping the members. The capacity
   // stays a power of two, so the tree grows in place: the new nodes cover only the new, empty range,

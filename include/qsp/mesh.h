@@ -72,9 +72,13 @@ inline constexpr std::uint64_t kMaxVertices = (std::uint64_t{1} << 31) - 1;
 // kNonManifold (edge with 3+ faces, vertex with several fans), kOrientation (two faces traverse an
 // edge the same way); messages name the face or vertex (0-based). kLimit past kMaxFaces or
 // kMaxVertices, kUsage for arrays that end inside a vertex or face. Safe on untrusted input.
-Adjacency build_adjacency(const QuadMesh& mesh);
+// `threads`: 1 = this thread only; 0 = a second thread from 4096 faces; 2 or more = two threads on
+// any mesh (tests). The result and the errors never depend on it.
+Adjacency build_adjacency(const QuadMesh& mesh, unsigned threads = 0);
 // The same for `quads` (4 vertex indices per face) over `vertex_count` vertices, without positions.
-Adjacency build_adjacency(std::span<const std::uint32_t> quads, std::uint32_t vertex_count);
+// One thread unless asked: the decoder runs it beside its geometry, where the other core is busy.
+Adjacency build_adjacency(std::span<const std::uint32_t> quads, std::uint32_t vertex_count,
+                          unsigned threads = 1);
 
 // Per connected component (of faces): vertex, edge and face counts and Euler characteristic.
 struct ComponentInfo {
