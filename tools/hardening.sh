@@ -42,7 +42,9 @@ asan_skip+='|Codec\.CostlyToolsRoundTripAndNeverGrowAFile|Codec\.QuantizedStaysW
 asan_skip+='|PartitionModes\.EveryCorpusMeshGivesValidCanonicalPartitions'
 asan_skip+='|SharedMeshesCli\.EachRoundTripsExactlyOrIsRefusedClearly|Geometry\.CoderThreadGivesTheSameBytes'
 asan_skip+='|Submesh\.EverySharedMeshGivesAValidQuadSubmesh|Submesh\.SharedMeshesRenumberedGiveAnIsomorphicResult'
-asan_skip+='|ReadObjParallel\.EveryCorpusObjReadsTheSameAtManySplits|Render\.ViewAndPngOnEveryCorpusMesh)$'
+asan_skip+='|ReadObjParallel\.EveryCorpusObjReadsTheSameAtManySplits|Render\.ViewAndPngOnEveryCorpusMesh'
+asan_skip+='|ReadObjMeshParallel\.EveryCorpusObjReadsTheSameAtManySplits'
+asan_skip+='|MeshCorpus\.EveryFileRoundTripsToTheSameModelAndContent)$'
 if ((run_asan)); then
   log "test suite under ASan + UBSan (build-asan), without the corpus sweeps (asan_skip)"
   start=$SECONDS
