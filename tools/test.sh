@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds qsp and runs every test (the README's second command; .ci/run runs exactly this), then the
-# hostile-input checks: the suite again under ASan + UBSan and each fuzzer for a minute
+# hostile-input checks: the suite again under ASan + UBSan and each fuzzer for half a minute
 # (tools/hardening.sh, docs/hardening.md).
 # Usage: tools/test.sh [--quick]   (--quick: the release build and its tests only)
 set -euo pipefail
