@@ -565,7 +565,7 @@ class PlyWriter {
                       "': it has decimals no float64 holds (more than 17 significant "
                       "digits); write ASCII PLY or OBJ");
     }
-    if (!is_float(f.type)) check_integers(f, *c.values);
+    if (!is_float(f.type)) check_integers(f, c);
     to.push_back({std::move(f), c});
   }
 
@@ -583,11 +583,14 @@ class PlyWriter {
     add(to, std::move(f), c);
   }
 
-  static void check_integers(const PlyField& f, const Numbers& n) {
+  // Only the column's own values: x of positions is every third number (a fuzzed PLY with an int x and
+  // float y, z was refused on y's fractions).
+  static void check_integers(const PlyField& f, const Column& c) {
     static constexpr double kLo[] = {-128, 0, -32768, 0, -2147483648.0, 0};
     static constexpr double kHi[] = {127, 255, 32767, 65535, 2147483647.0, 4294967295.0};
     const auto t = static_cast<std::size_t>(f.type);
-    for (std::size_t i = 0; i < n.size(); ++i) {
+    const Numbers& n = *c.values;
+    for (std::size_t i = c.offset; i < n.size(); i += c.stride) {
       const double v = n.approx(i);
       if (v != std::floor(v) || v < kLo[t] || v > kHi[t] || detail::find_decimal(n, i)) {
         throw Error(ErrorCode::kUsage, "PLY property '" + f.name + "' has a value its type " +
