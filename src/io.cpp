@@ -14,6 +14,7 @@
 #include <string>
 #include <string_view>
 
+#include "plural.h"
 #include "qsp/error.h"
 #include "qsp/mesh.h"
 
@@ -171,9 +172,7 @@ MeshFormat format_from_path(std::string_view path) {
 std::string ReadReport::describe_extra_data() const {
   std::string out;
   const auto item = [&out](std::uint64_t n, const char* one, const char* many) {
-    if (n == 0) return;
-    if (!out.empty()) out += ", ";
-    out += std::to_string(n) + " " + (n == 1 ? one : many);
+    detail::append_count(out, n, one, many);
   };
   item(texcoords, "texture coordinate", "texture coordinates");
   item(normals, "normal", "normals");

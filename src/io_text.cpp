@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "io_numbers.h"
+#include "plural.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
@@ -30,6 +31,7 @@ namespace qsp {
 namespace {
 
 using detail::NumberStatus;
+using detail::plural;
 using detail::TextNumber;
 
 // Printable, bounded rendering of untrusted text for messages.
@@ -50,10 +52,6 @@ std::string quote_token(std::string_view token) {
   if (token.size() > kMaxShown) out += "...";
   out += "'";
   return out;
-}
-
-std::string plural(std::uint64_t n, const char* one, const char* many) {
-  return std::to_string(n) + " " + (n == 1 ? one : many);
 }
 
 std::string corners_name(std::uint64_t n) {

@@ -8,12 +8,14 @@
 #include <utility>
 #include <vector>
 
+#include "plural.h"
 #include "polymesh_check.h"
 #include "qsp/error.h"
 #include "qsp/mesh.h"
 
 namespace qsp {
 namespace {
+using detail::plural;
 
 [[noreturn]] void invalid(const std::string& what) {
   throw Error(ErrorCode::kUsage, "invalid mesh: " + what);
@@ -105,10 +107,6 @@ void remove_statements(std::vector<Statement>& st, std::initializer_list<ObjStat
 
 void remove_fields(std::vector<PlyField>& fields, PlyRole role) {
   std::erase_if(fields, [role](const PlyField& f) { return f.role == role; });
-}
-
-std::string plural(std::uint64_t n, const char* one, const char* many) {
-  return std::to_string(n) + " " + (n == 1 ? one : many);
 }
 
 }  // namespace
@@ -280,9 +278,7 @@ bool Extras::any() const {
 std::string Extras::describe() const {
   std::string out;
   const auto item = [&out](std::uint64_t n, const char* one, const char* many) {
-    if (n == 0) return;
-    if (!out.empty()) out += ", ";
-    out += plural(n, one, many);
+    detail::append_count(out, n, one, many);
   };
   item(texcoords, "texture coordinate", "texture coordinates");
   item(normals, "normal", "normals");
