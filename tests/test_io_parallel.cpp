@@ -437,7 +437,8 @@ TEST(ReadObjMeshParallel, EveryCorpusObjReadsTheSameAtManySplits) {
     }
     ++files;
   }
-  EXPECT_GT(files, 100);
+  // Without ../shared the corpus is testdata's OBJ files alone (the sentinel test fails that under CI).
+  EXPECT_GT(files, qsp::testing::shared_present() ? 100 : 20);
 }
 
 TEST(ReadObjMeshParallel, CraftedTextsReadTheSameAtEverySplit) {
