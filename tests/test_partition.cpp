@@ -198,18 +198,13 @@ void check_bounds(const Adjacency& adj, const Partition& p) {
   }
 }
 
-// A corpus mesh and its adjacency; false if it is refused (as a typed input error, never internal).
-bool load_valid(const fs::path& path, QuadMesh& m, Adjacency& adj) {
-  return testing::read_valid(path, m, &adj);
-}
-
 TEST(Corpus, EveryValidMeshPartitionsIntoGridsWithinBounds) {
   int partitioned = 0, refused = 0;
   for (const auto& path : corpus()) {
     SCOPED_TRACE(path.string());
     QuadMesh m;
     Adjacency adj;
-    if (!load_valid(path, m, adj)) {
+    if (!testing::read_valid(path, m, &adj)) {
       ++refused;
       continue;
     }
@@ -238,7 +233,7 @@ TEST(Corpus, PatchOrderStencilsAreCellsOfTheMesh) {
     SCOPED_TRACE(path.string());
     QuadMesh m;
     Adjacency adj;
-    if (!load_valid(path, m, adj)) continue;
+    if (!testing::read_valid(path, m, &adj)) continue;
     for (const ComponentPartition& comp : partition_motorcycle(adj).components) {
       Numbering numbering;
       const GridLayout layout = grid_layout(comp, numbering);
