@@ -77,6 +77,18 @@ std::string significant_digits(const char* s, const char* end) {
   return d;
 }
 
+// Whether `t` (p: its parts, normalized) is the shortest text of d. For more than 17 digits only the
+// exact integer can be: std::to_chars prefers "577766900000000128" to "5.777669000000001e+17".
+bool shortest_text_of(double d, const TextNumber& t, const DecimalParts& p) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, d);
+  DecimalParts q;
+  if (scan_decimal(buf, r.ptr, q) != r.ptr) return false;
+  normalize(q);
+  return q.negative == p.negative && q.exponent == p.exponent &&
+         significant_digits(buf, r.ptr) == significant_digits(t.begin, t.end);
+}
+
 }  // namespace
 
 double shortest_double(float f) {
@@ -296,11 +308,13 @@ float push_text_at(Numbers& n, std::size_t index, const TextNumber& t) {
   const bool float32 = float32_by_digits(t) || (candidate && std::isfinite(t.f) && t.f != 0.0f && shortest());
   if (float32 && n.precision == Precision::kFloat32) return t.f;
   double d = 0;
-  if (!text_double(t, d))
-    d = p.negative ? -std::numeric_limits<double>::max() : std::numeric_limits<double>::max();
+  const bool in_range = text_double(t, d);
+  if (!in_range) d = p.negative ? -std::numeric_limits<double>::max() : std::numeric_limits<double>::max();
   promote_to_float64(n, index);
   // Up to 17 significant digits is a float64 printed exactly (printf's %.17g): the float64 is the value.
-  const bool float64 = float32 || p.digits <= 17;
+  // So is more when the text is the float64's shortest text (its exact integer, from 10^17 on).
+  const bool float64 =
+      float32 || p.digits <= 17 || (in_range && p.exponent >= 0 && shortest_text_of(d, t, p));
   if (!float64) {
     n.precision = Precision::kDecimal;
     DecimalNumber x;

@@ -233,6 +233,8 @@ TEST(MeshNumbers, PrecisionIsTheNarrowestThatHoldsTheText) {
       {"1e39", qsp::Precision::kFloat64},
       {"1e-50", qsp::Precision::kFloat64},
       {"0.30000000000000004", qsp::Precision::kFloat64},
+      {"577766900000000128", qsp::Precision::kFloat64},     // a float64's shortest text: its exact integer
+      {"123456789012345678", qsp::Precision::kDecimal},     // 18 digits: the nearest float64 is ...680
       {"0.3000000000000000444", qsp::Precision::kDecimal},  // 19 digits: no float64 print
       {"123456789012345678901234567890", qsp::Precision::kDecimal},
   };
