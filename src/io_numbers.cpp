@@ -1,7 +1,7 @@
 // Exact numbers from text: one scan splits a token into digits and exponent, Clinger's fast path
 // rounds most of them without std::from_chars, and the precision class (qsp/polymesh.h) is decided
 // from the digit count, falling back to comparing with float32's shortest text only where the count
-// cannot decide (7 to 9 digits).
+// cannot decide (7 to 9 digits; 16 and 17, whose float64's shortest text may be shorter).
 #include "io_numbers.h"
 
 #include <algorithm>
@@ -75,6 +75,18 @@ std::string significant_digits(const char* s, const char* end) {
   }
   while (!d.empty() && d.back() == '0') d.pop_back();
   return d;
+}
+
+// Whether `t` (p: its parts, normalized) is the shortest text of d. For more than 17 digits only the
+// exact integer can be: std::to_chars prefers "577766900000000128" to "5.777669000000001e+17".
+bool shortest_text_of(double d, const TextNumber& t, const DecimalParts& p) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, d);
+  DecimalParts q;
+  if (scan_decimal(buf, r.ptr, q) != r.ptr) return false;
+  normalize(q);
+  return q.negative == p.negative && q.exponent == p.exponent &&
+         significant_digits(buf, r.ptr) == significant_digits(t.begin, t.end);
 }
 
 }  // namespace
@@ -280,6 +292,33 @@ int shortest_is_fast(float f, const DecimalParts& p) {
   return 1;
 }
 
+// A 16- or 17-digit text `p` is the float64 `d` it rounds to ("0.10000000000000001" is 0.1): its
+// digits beyond d's shortest text are spelling. Sets `f` to the float32 that shortest text reads as
+// (the text's own float32 but where d lies exactly halfway between two float32s, and the text and the
+// shortest text round to different ones) and returns whether that text is f's shortest text: then
+// float32 holds the value.
+bool printed_float64(double d, const DecimalParts& p, float& f) {
+  const float g = static_cast<float>(d);
+  if (!std::isfinite(g) || g == 0.0f) return false;  // beyond float32's range: f stays the text's
+  f = g;
+  // Halfway: in float32's normal range the low 29 of d's 52 fraction bits are 1000...0.
+  const bool tie =
+      std::fabs(d) >= 1.1754943508222875e-38
+          ? (std::bit_cast<std::uint64_t>(d) & 0x1FFFFFFFu) == 0x10000000u
+          : d != g && (static_cast<double>(g) + std::nextafter(g, d > g ? 1.0f : -1.0f)) / 2 == d;
+  if (tie) {
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, d);
+    std::from_chars(buf, r.ptr, f);
+  }
+  // A float32's shortest text has at most 9 significant digits below 10^9 (above, maybe its exact
+  // integer), and lies within one float64 ulp of p: at most 23 units of p's last digit. So p's digits
+  // after the ninth are then within 23 of a multiple of 10^(digits - 9): most prints skip the test.
+  const std::uint64_t unit = kPow10[p.digits - 9], tail = p.mantissa % unit;
+  if (std::fabs(d) < 1e9 && tail > 23 && unit - tail > 23) return false;
+  return shortest_double(f) == d;
+}
+
 }  // namespace
 
 float push_text_at(Numbers& n, std::size_t index, const TextNumber& t) {
@@ -293,14 +332,23 @@ float push_text_at(Numbers& n, std::size_t index, const TextNumber& t) {
   // that is shorter than the exponent form (up to 14 characters: "194315862016").
   const bool candidate =
       p.digits <= 9 || (p.digits <= 15 && p.exponent >= 0 && std::fabs(t.f) >= 16777216.0f);
-  const bool float32 = float32_by_digits(t) || (candidate && std::isfinite(t.f) && t.f != 0.0f && shortest());
+  bool float32 = float32_by_digits(t) || (candidate && std::isfinite(t.f) && t.f != 0.0f && shortest());
   if (float32 && n.precision == Precision::kFloat32) return t.f;
   double d = 0;
-  if (!text_double(t, d))
-    d = p.negative ? -std::numeric_limits<double>::max() : std::numeric_limits<double>::max();
+  const bool in_range = text_double(t, d);
+  if (!in_range) d = p.negative ? -std::numeric_limits<double>::max() : std::numeric_limits<double>::max();
+  float f = t.f;
+  // 16 or 17 digits are the float64 they round to, whose shortest text may be shorter; up to 15 digits
+  // are that text already (no two such decimals round to one float64).
+  if (!float32 && in_range && (p.digits == 16 || p.digits == 17)) {
+    float32 = printed_float64(d, p, f);
+    if (float32 && n.precision == Precision::kFloat32) return f;
+  }
   promote_to_float64(n, index);
   // Up to 17 significant digits is a float64 printed exactly (printf's %.17g): the float64 is the value.
-  const bool float64 = float32 || p.digits <= 17;
+  // So is more when the text is the float64's shortest text (its exact integer, from 10^17 on).
+  const bool float64 =
+      float32 || p.digits <= 17 || (in_range && p.exponent >= 0 && shortest_text_of(d, t, p));
   if (!float64) {
     n.precision = Precision::kDecimal;
     DecimalNumber x;
@@ -312,7 +360,7 @@ float push_text_at(Numbers& n, std::size_t index, const TextNumber& t) {
   }
   n.f64.push_back(d);
   // A value float32 cannot hold (beyond its range) keeps the overflowed or flushed mirror.
-  return std::isfinite(t.f) && t.f != 0.0f ? t.f : static_cast<float>(d);
+  return std::isfinite(f) && f != 0.0f ? f : static_cast<float>(d);
 }
 
 void push_text_slow(Numbers& n, const TextNumber& t) {

@@ -233,6 +233,8 @@ TEST(MeshNumbers, PrecisionIsTheNarrowestThatHoldsTheText) {
       {"1e39", qsp::Precision::kFloat64},
       {"1e-50", qsp::Precision::kFloat64},
       {"0.30000000000000004", qsp::Precision::kFloat64},
+      {"577766900000000128", qsp::Precision::kFloat64},     // a float64's shortest text: its exact integer
+      {"123456789012345678", qsp::Precision::kDecimal},     // 18 digits: the nearest float64 is ...680
       {"0.3000000000000000444", qsp::Precision::kDecimal},  // 19 digits: no float64 print
       {"123456789012345678901234567890", qsp::Precision::kDecimal},
   };
@@ -390,6 +392,126 @@ TEST(MeshNumbers, DecimalsBeyondFloat64AreKeptAsDigits) {
   EXPECT_EQ(qsp::testing::numbers_difference(qsp::read_ply_mesh(qsp::write_ply_mesh(ply), "t.ply").positions,
                                              ply.positions),
             "");
+}
+
+// The precision is the narrowest class holding the values, not the spelling: a 16- or 17-digit print
+// is its float64, and when that float64's shortest text is a float32's ("0.10000000000000001" is 0.1)
+// float32 holds the value. fuzz_read_mesh: such a coordinate made a whole ASCII PLY column float64,
+// written back as "-1.43542", which read back as float32 (read(write(m)) != m).
+TEST(MeshNumbers, PrecisionComesFromTheValueNotItsSpelling) {
+  struct Case {
+    const char* text;
+    qsp::Precision want;
+    const char* value;  // the shortest text written back
+  };
+  const Case cases[] = {
+      {"0.10000000000000001", qsp::Precision::kFloat32, "0.1"},
+      {"-1.43541999999999990", qsp::Precision::kFloat32, "-1.43542"},  // the finding's coordinate
+      {"-0.47999999999999998", qsp::Precision::kFloat32, "-0.48"},
+      {"1.0000000000000000", qsp::Precision::kFloat32, "1"},
+      {"16777216.000000001", qsp::Precision::kFloat32, "16777216"},
+      {"987654016.00000001", qsp::Precision::kFloat32, "987654016"},  // float32's integer shortest text
+      {"0.30000000000000004", qsp::Precision::kFloat64, "0.30000000000000004"},
+      {"0.1000000000000001", qsp::Precision::kFloat64, "0.1000000000000001"},
+      {"9.8765432100000001", qsp::Precision::kFloat64, "9.87654321"},  // not float32's shortest text
+      {"-1.2345678901234567e+20", qsp::Precision::kFloat64, "-123456789012345667584"},  // its exact integer
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.text);
+    for (const qsp::MeshFormat format :
+         {qsp::MeshFormat::kObj, qsp::MeshFormat::kOff, qsp::MeshFormat::kPly}) {
+      SCOPED_TRACE(int(format));
+      const std::string xyz = std::string(c.text) + " 0.5 -0.48";
+      const std::string text = format == qsp::MeshFormat::kObj ? "v " + xyz + "\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+                               : format == qsp::MeshFormat::kOff
+                                   ? "OFF\n3 1 0\n" + xyz + "\n1 0 0\n0 1 0\n3 0 1 2\n"
+                                   : "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                     "property float y\nproperty float z\nelement face 1\n"
+                                     "property list uchar int vertex_indices\nend_header\n" +
+                                         xyz + "\n1 0 0\n0 1 0\n3 0 1 2\n";
+      const qsp::Mesh m = read_text(text, format);
+      EXPECT_EQ(int(m.positions.precision), int(c.want));
+      const std::string out = qsp::write_mesh(m, format);
+      EXPECT_NE(out.find(std::string(c.value) + " 0.5 -0.48"), std::string::npos) << out;
+      const qsp::Mesh back = read_text(out, format);
+      expect_same_mesh(m, back);
+      EXPECT_EQ(qsp::write_mesh(back, format), out);
+    }
+  }
+}
+
+// The same property over random values: 16- and 17-digit prints of float32 values, of float64
+// values, and of neighbours within a float64's rounding; each read in every text format is the class
+// its value needs (decided independently, from the value's shortest text), and comes back unchanged.
+TEST(MeshNumbers, SixteenAndSeventeenDigitPrintsRoundTripInEveryFormat) {
+  std::mt19937_64 rng(41);
+  int float32 = 0, float64 = 0;
+  for (int i = 0; i < 6000; ++i) {
+    double d = 0;
+    if (i % 2 == 0) {
+      float f = 0;
+      do {
+        f = std::bit_cast<float>(static_cast<std::uint32_t>(rng()));
+      } while (!std::isfinite(f) || std::fabs(f) > 1e30f || std::fabs(f) < 1e-30f);
+      char shortest[64];  // the float64 of the float's shortest text
+      const auto r = std::to_chars(shortest, shortest + sizeof shortest, f);
+      std::from_chars(shortest, r.ptr, d);
+    } else {
+      d = std::ldexp(static_cast<double>(rng() >> 11), -53) *
+          std::ldexp(1.0, static_cast<int>(rng() % 60) - 30);
+    }
+    char text[64];
+    std::snprintf(text, sizeof text, "%.*e", 15 + i % 2, d);
+    if (i % 3 == 2) {  // a neighbour in the last digit: the same float64, or the next one
+      char* e = std::strchr(text, 'e');
+      if (e[-1] < '9') ++e[-1];
+    }
+    const std::string value = qsp::testing::number_value(text);
+    float nearest = 0;
+    std::from_chars(value.data(), value.data() + value.size(), nearest);  // the float32 of the value
+    const bool holds = qsp::testing::decimal_of(nearest) == value;
+    (holds ? float32 : float64)++;
+    const std::string obj = std::string("v ") + text + " 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const qsp::Mesh m = qsp::read_obj_mesh(obj, "t.obj");
+    ASSERT_EQ(m.positions.precision == qsp::Precision::kFloat32, holds) << text << " is " << value;
+    ASSERT_EQ(bits(m.positions.f32[0]), bits(nearest)) << text;
+    for (const qsp::MeshFormat format :
+         {qsp::MeshFormat::kObj, qsp::MeshFormat::kOff, qsp::MeshFormat::kPly}) {
+      const qsp::Mesh back = read_text(qsp::write_mesh(m, format), format);
+      ASSERT_EQ(qsp::testing::numbers_difference(m.positions, back.positions), "") << text;
+    }
+  }
+  EXPECT_GT(float32, 2000);
+  EXPECT_GT(float64, 2000);
+}
+
+// A 16- or 17-digit print of a float64 lying exactly halfway between two float32s: the print may
+// round to one float32 and the float64's shortest text to the other. The float32 mirror is the
+// shortest text's, so writing it (as the shortest text) does not change it.
+TEST(MeshNumbers, AFloat64HalfwayBetweenFloat32sKeepsItsMirror) {
+  struct Case {
+    const char* text;
+    const char* shortest;  // of its float64, exactly halfway
+  };
+  const Case cases[] = {
+      {"0.50000002980232238", "0.5000000298023224"},  // 0.5 + 2^-25, between 0.5 and 0.50000006
+      {"16777217.000000001", "16777217"},             // 2^24 + 1, between 16777216 and 16777218
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.text);
+    const qsp::Mesh m =
+        qsp::read_obj_mesh(std::string("v ") + c.text + " 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "t.obj");
+    EXPECT_EQ(m.positions.precision, qsp::Precision::kFloat64);
+    float want = 0;
+    std::from_chars(c.shortest, c.shortest + std::strlen(c.shortest), want);
+    EXPECT_EQ(bits(m.positions.f32[0]), bits(want));
+    for (const qsp::MeshFormat format :
+         {qsp::MeshFormat::kObj, qsp::MeshFormat::kOff, qsp::MeshFormat::kPly}) {
+      const std::string out = qsp::write_mesh(m, format);
+      EXPECT_NE(out.find(c.shortest), std::string::npos) << out;
+      EXPECT_EQ(qsp::testing::numbers_difference(read_text(out, format).positions, m.positions), "");
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -878,4 +1000,32 @@ TEST(MeshPly, AnIntegerColumnBesideFloatColumnsWritesAndReadsBack) {
     if (!v->empty()) (*v)[0] = 0.5f;
   if (!bad.positions.f64.empty()) bad.positions.f64[0] = 0.5;
   EXPECT_THROW((void)qsp::write_mesh(bad, qsp::MeshFormat::kPly), qsp::Error);
+}
+
+// Every text finding in testdata/invalid/fuzz the exact readers accept (their `.expect` is the
+// QuadMesh readers': kept lines are refused there) comes back unchanged from their own output, as
+// fuzz_read_mesh checks: the same model, the same text.
+TEST(MeshHostile, FuzzFindingsRoundTripAsMeshes) {
+  const fs::path dir = fs::path(QSP_TESTDATA_DIR) / "invalid" / "fuzz";
+  int checked = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const fs::path f = e.path();
+    const qsp::MeshFormat format = qsp::format_from_path(f.string());
+    if (format != qsp::MeshFormat::kObj && format != qsp::MeshFormat::kOff && format != qsp::MeshFormat::kPly)
+      continue;
+    SCOPED_TRACE(f.filename().string());
+    qsp::Mesh m;
+    try {
+      m = qsp::read_mesh(f.string());
+    } catch (const qsp::Error& err) {
+      EXPECT_NE(err.code(), qsp::ErrorCode::kInternal) << err.what();
+      continue;
+    }
+    const std::string out = qsp::write_mesh(m, format);
+    const qsp::Mesh back = read_text(out, format);
+    expect_same_mesh(m, back);
+    EXPECT_EQ(qsp::write_mesh(back, format), out);
+    ++checked;
+  }
+  EXPECT_GE(checked, 6);
 }

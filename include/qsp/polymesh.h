@@ -19,7 +19,8 @@ namespace qsp {
 // A number read from text is the decimal value the text denotes ("1.50" and "1.5" are one value);
 // float32 holds it when the shortest text of the nearest float32 denotes the same value; float64
 // holds every text of up to 17 significant digits (the most a float64 print needs, printf's %.17g):
-// the float64 is its value, written back as its shortest text, which reads back to the same float64.
+// the float64 is its value, written back as its shortest text, which reads back to the same float64
+// and decides the class ("0.10000000000000001" is 0.1, which float32 holds).
 // A binary number is its own value: float32 data is kFloat32, float64 data kFloat64, bit for bit.
 enum class Precision : std::uint8_t {
   kFloat32 = 0,  // every value is the shortest text of its float32
