@@ -14,6 +14,7 @@
 #include <string>
 #include <string_view>
 
+#include "io_numbers.h"
 #include "plural.h"
 #include "qsp/error.h"
 #include "qsp/mesh.h"
@@ -186,6 +187,25 @@ std::string ReadReport::describe_extra_data() const {
   item(parameter_vertices, "parameter-space vertex", "parameter-space vertices");
   item(other_properties, "other PLY property value", "other PLY property values");
   return out;
+}
+
+std::string ReadReport::describe_rounding(std::string_view source) const {
+  if (rounded_coordinates == 0) return {};
+  std::string out(source);
+  if (first_rounded.line) out.append(":").append(std::to_string(first_rounded.line));
+  out.append(": vertex ").append(std::to_string(first_rounded.vertex)).append(" has ");
+  out.append(first_rounded.value).append(", which float32 holds only as ");
+  detail::append_float(out, first_rounded.nearest);
+  if (rounded_coordinates > 1) {
+    out.append(" (and ").append(std::to_string(rounded_coordinates - 1));
+    out.append(rounded_coordinates == 2 ? " more coordinate like it)" : " more coordinates like it)");
+  }
+  return out;
+}
+
+void ReadReport::note_rounded(std::uint64_t line, std::uint64_t vertex, std::string_view value,
+                              float nearest) {
+  if (rounded_coordinates++ == 0) first_rounded = {line, vertex, std::string(value), nearest};
 }
 
 // The QuadMesh writers are the Mesh writers (io_write.cpp) on the same positions and quads; a

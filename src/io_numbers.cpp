@@ -319,20 +319,34 @@ bool printed_float64(double d, const DecimalParts& p, float& f) {
   return shortest_double(f) == d;
 }
 
-}  // namespace
-
-float push_text_at(Numbers& n, std::size_t index, const TextNumber& t) {
-  DecimalParts p = t.parts;
-  normalize(p);
-  const auto shortest = [&] {
-    const int fast = shortest_is_fast(t.f, p);
-    return fast > 0 || (fast < 0 && shortest_is(t.f, p));
-  };
+// Whether `t` (p: its parts, normalized) is its float32's shortest text, or float32_by_digits says so.
+bool float32_text(const TextNumber& t, const DecimalParts& p) {
+  if (float32_by_digits(t)) return true;
   // Float32's shortest text has up to 9 significant digits, or from 2^24 on its exact integer when
   // that is shorter than the exponent form (up to 14 characters: "194315862016").
   const bool candidate =
       p.digits <= 9 || (p.digits <= 15 && p.exponent >= 0 && std::fabs(t.f) >= 16777216.0f);
-  bool float32 = float32_by_digits(t) || (candidate && std::isfinite(t.f) && t.f != 0.0f && shortest());
+  if (!candidate || !std::isfinite(t.f) || t.f == 0.0f) return false;
+  const int fast = shortest_is_fast(t.f, p);
+  return fast > 0 || (fast < 0 && shortest_is(t.f, p));
+}
+
+}  // namespace
+
+bool float32_holds(const TextNumber& t) {
+  if (float32_by_digits(t)) return true;
+  DecimalParts p = t.parts;
+  normalize(p);
+  if (float32_text(t, p)) return true;
+  double d = 0;
+  float f = t.f;
+  return (p.digits == 16 || p.digits == 17) && text_double(t, d) && printed_float64(d, p, f);
+}
+
+float push_text_at(Numbers& n, std::size_t index, const TextNumber& t) {
+  DecimalParts p = t.parts;
+  normalize(p);
+  bool float32 = float32_text(t, p);
   if (float32 && n.precision == Precision::kFloat32) return t.f;
   double d = 0;
   const bool in_range = text_double(t, d);

@@ -117,6 +117,10 @@ float push_text_at(Numbers& n, std::size_t index, const TextNumber& t);
   return t.parts.digits == 0 || (t.parts.digits <= 6 && std::isnormal(t.f) && std::fabs(t.f) < 16777216.0f);
 }
 
+// Whether float32 holds `t`'s value exactly: its float32's shortest text denotes the same decimal, or
+// (16 or 17 digits, a float64's print) the same float64 (see push_text_at).
+bool float32_holds(const TextNumber& t);
+
 [[gnu::always_inline]] inline void push_text(Numbers& n, const TextNumber& t) {
   if (n.precision == Precision::kFloat32 && float32_by_digits(t)) {
     n.f32.push_back(t.f);

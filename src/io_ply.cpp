@@ -383,10 +383,14 @@ class PlyData {
          "unexpected data after the last element (" + std::to_string(end_ - p_) + " bytes)");
   }
 
-  float coordinate(PlyType t, const char* what, std::uint64_t index) {
+  // Vertex `index`'s coordinate as a float32; one float32 does not hold exactly is noted in `r`.
+  float coordinate(PlyType t, const char* what, std::uint64_t index, ReadReport& r) {
     float f = 0.0f;
     if (!is_float_type(t)) {
-      f = static_cast<float>(integer(t, what, index));  // ASCII too: an integer in the type's range
+      const std::int64_t v = integer(t, what, index);  // ASCII too: an integer in the type's range
+      f = static_cast<float>(v);
+      if (static_cast<double>(f) != static_cast<double>(v)) [[unlikely]]
+        r.note_rounded(ascii() ? line_ : 0, index, std::to_string(v), f);
     } else if (ascii()) {
       const std::string_view tok = next_token(what, index);
       const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), f);
@@ -398,6 +402,12 @@ class PlyData {
         fail(ErrorCode::kBadNumber, "number '" + shown(tok) + "' in " + what + " " + std::to_string(index) +
                                         " is outside the float32 range");
       }
+      detail::TextNumber text;
+      const char* e = tok.data() + tok.size();
+      if (detail::read_number(
+              tok.data(), e, [e](const char* q) { return q == e; }, text) == detail::NumberStatus::kOk &&
+          !detail::float32_by_digits(text) && !detail::float32_holds(text)) [[unlikely]]
+        r.note_rounded(line_, index, tok, f);
     } else if (t == PlyType::kFloat32) {
       f = std::bit_cast<float>(static_cast<std::uint32_t>(raw(4, what, index)));
     } else if (t == PlyType::kFloat64) {
@@ -408,6 +418,11 @@ class PlyData {
         fail(ErrorCode::kBadNumber, std::string(what) + " " + std::to_string(index) +
                                         " has a coordinate outside the float32 range (it does not round to "
                                         "a finite nonzero float)");
+      }
+      if (static_cast<double>(f) != d && std::isfinite(d)) [[unlikely]] {
+        std::string text;
+        detail::append_double(text, d);
+        r.note_rounded(0, index, text, f);
       }
     }
     if (!std::isfinite(f)) {
@@ -781,7 +796,7 @@ Mesh read_ply_impl(std::string_view bytes, const std::string& path, ReadReport& 
         } else if (!kExact && is_vertex && (k == layout.x || k == layout.y || k == layout.z)) {
           mesh.positions.f32[3 * i + (k == layout.x   ? 0
                                       : k == layout.y ? 1
-                                                      : 2)] = in.coordinate(p.type, what, i);
+                                                      : 2)] = in.coordinate(p.type, what, i, r);
         } else if (kExact && fields && p.list()) {  // a list property of its own
           Property& prop = (is_vertex ? mesh.vertex_properties : mesh.face_properties)[(*fields)[k].index];
           const std::uint64_t n = in.length(p.count_type, what, i);

@@ -716,6 +716,8 @@ class ObjReader {
         }
       } else {
         positions_.push(t.f);
+        if (!detail::float32_by_digits(t)) [[unlikely]]
+          check_rounded(line, t);
       }
     }
     if (vertex_count_ >= kMaxVertices) {
@@ -731,6 +733,13 @@ class ObjReader {
       return;
     }
     vertex_extras(line);
+  }
+
+  // Quads mode: a coordinate whose digits float32 may not hold is counted when it does not.
+  [[gnu::noinline]] void check_rounded(std::uint64_t line, const TextNumber& t) {
+    if (!detail::float32_holds(t))
+      report_.note_rounded(line, vertex_count_,
+                           std::string_view(t.begin, static_cast<std::size_t>(t.end - t.begin)), t.f);
   }
 
   // A `v` with numbers after x y z: w, or a colour.
@@ -1167,7 +1176,10 @@ class ObjReader {
 // Adds a part's counters; face lines are merged separately.
 void add_counts(ReadReport& to, const ReadReport& from) {
   // A new ReadReport member must be merged here too.
-  static_assert(sizeof(ReadReport) == 11 * sizeof(std::uint64_t) + sizeof(std::vector<std::uint32_t>));
+  static_assert(sizeof(ReadReport) ==
+                12 * sizeof(std::uint64_t) + sizeof(std::vector<std::uint32_t>) + sizeof(RoundedCoordinate));
+  if (to.rounded_coordinates == 0) to.first_rounded = from.first_rounded;  // parts come in file order
+  to.rounded_coordinates += from.rounded_coordinates;
   to.texcoords += from.texcoords;
   to.normals += from.normals;
   to.face_attribute_refs += from.face_attribute_refs;
@@ -1295,8 +1307,10 @@ std::optional<ObjPart> read_obj_parts(std::string_view text, std::string_view so
       if (repeated_corner(face_corners(part.mesh, f), scratch, i, j)) return std::nullopt;
     }
     if (&part != &first) {
+      if (part.report.rounded_coordinates) part.report.first_rounded.vertex += vertex_count;
       if (line != 1) {
         for (std::uint32_t& l : part.report.face_line) l = clamp_line(l + line - 1);
+        if (part.report.rounded_coordinates) part.report.first_rounded.line += line - 1;
         for (ReadWarning& w : part.warnings) w.line += line - 1;
         for (std::uint64_t& l : part.tag_line) l += line - 1;
       }
@@ -1602,7 +1616,13 @@ class OffReader {
           for (int i = 0; i < 2; ++i) detail::push_text(mesh_.texcoords, x[at++]);
         }
       } else {
-        for (int i = 0; i < 3; ++i) mesh_.positions.f32.push_back(x[i].f);
+        for (int i = 0; i < 3; ++i) {
+          mesh_.positions.f32.push_back(x[i].f);
+          if (!detail::float32_by_digits(x[i]) && !detail::float32_holds(x[i])) [[unlikely]]
+            report_.note_rounded(
+                in_.line(), v, std::string_view(x[i].begin, static_cast<std::size_t>(x[i].end - x[i].begin)),
+                x[i].f);
+        }
       }
       if (has_normals_) ++report_.normals;
       if (has_colors_) ++report_.vertex_colors;

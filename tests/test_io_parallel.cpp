@@ -74,6 +74,10 @@ void expect_same(const Outcome& want, const Outcome& got) {
   EXPECT_EQ(a.parameter_vertices, b.parameter_vertices);
   EXPECT_EQ(a.other_properties, b.other_properties);
   EXPECT_EQ(a.face_line, b.face_line);
+  EXPECT_EQ(a.rounded_coordinates, b.rounded_coordinates);
+  EXPECT_EQ(a.first_rounded.line, b.first_rounded.line);
+  EXPECT_EQ(a.first_rounded.vertex, b.first_rounded.vertex);
+  EXPECT_EQ(a.first_rounded.value, b.first_rounded.value);
 }
 
 // Every split point of `text`, in order.
@@ -242,6 +246,10 @@ TEST(ReadObjParallel, CraftedTextsReadTheSameAtEverySplit) {
        kSquare + "f 1 2 3 4\n" + square2 + "f -4 -3 -2 -1\nf -9 -3 -2 -1\n", false},
       {"relative index repeating an absolute one", kSquare + square2 + "f 1 2 3 4\nf 8 -3 -2 -1\n", false},
       {"relative indices repeating each other", kSquare + square2 + "f 1 2 3 4\nf -1 -3 -2 -1\n", false},
+      {"coordinates float32 does not keep, in both halves",
+       kSquare + "v 0.1234567891 0 0\nf 1 2 3 4\n" + square2 +
+           "v 1 2.00000001 3\nv 7 8 9.87654321012\nf 5 6 7 8\n",
+       true},
       {"forward references", "f 1 2 3 4\nf 5 6 7 8\n" + kSquare + "f 1 2 3 4\n" + square2, true},
       {"forward reference beyond the file", "f 1 2 3 9\n" + kSquare + "f 1 2 3 4\n" + square2, false},
       {"forward reference beyond the file, late",

@@ -26,6 +26,14 @@ MeshFormat format_from_path(std::string_view path);
 
 // What a reader saw besides positions and quads. qsp stores none of it yet; the CLI refuses input
 // that has any unless the user asks to drop it (`--positions-only`), so nothing is lost silently.
+// A coordinate float32 does not hold exactly, as the file has it (see ReadReport::rounded_coordinates).
+struct RoundedCoordinate {
+  std::uint64_t line = 0;    // 1-based text line (0: binary PLY)
+  std::uint64_t vertex = 0;  // 0-based vertex index
+  std::string value;         // the number as the file writes it ("0.1234567891234")
+  float nearest = 0.0f;      // the float32 it was read as
+};
+
 struct ReadReport {
   std::uint64_t texcoords = 0;            // `vt` lines
   std::uint64_t normals = 0;              // `vn` lines
@@ -39,6 +47,11 @@ struct ReadReport {
   std::uint64_t parameter_vertices = 0;   // OBJ `vp` lines
   std::uint64_t other_properties = 0;     // PLY vertex/face properties qsp does not know (one per element)
   std::vector<std::uint32_t> face_line;   // per face: 1-based line it starts on (0 if not from text)
+  // Coordinates whose value float32 does not hold (text with more digits than float32 keeps, a float64
+  // or an integer beyond 2^24 in PLY): each is read as its nearest float32, so writing the mesh back
+  // changes them. A caller that writes positions refuses or says so (the CLI: --float32).
+  std::uint64_t rounded_coordinates = 0;
+  RoundedCoordinate first_rounded;  // the first such coordinate in the file
 
   bool has_extra_data() const {
     return texcoords || normals || face_attribute_refs || groups || materials || smoothing || tags ||
@@ -46,6 +59,11 @@ struct ReadReport {
   }
   // "12 texture coordinates, 3 groups", empty if nothing extra.
   std::string describe_extra_data() const;
+  // "SOURCE:12: vertex 3 has 0.1234567891234, which float32 holds only as 0.12345679 (and 5 more
+  // coordinates)", empty if no coordinate was rounded.
+  std::string describe_rounding(std::string_view source) const;
+  // Counts a rounded coordinate, keeping the first one's place and value.
+  void note_rounded(std::uint64_t line, std::uint64_t vertex, std::string_view value, float nearest);
 };
 
 // Parse OBJ text. `source` names the input in messages ("file.obj:12: ..."). Accepts v/vt/vn face

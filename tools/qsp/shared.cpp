@@ -269,6 +269,19 @@ void refuse_extra_data(const std::string& path, const ReadReport& report, const 
                  report.describe_extra_data().c_str());
 }
 
+void refuse_rounding(const std::string& path, const ReadReport& report, const std::string& what, bool float32,
+                     bool quiet, const std::string& other_way) {
+  if (report.rounded_coordinates == 0) return;
+  if (!float32)
+    throw Error(ErrorCode::kUnsupported, report.describe_rounding(path) + "; " + what +
+                                             " keeps float32 coordinates: pass --float32 to round them" +
+                                             (other_way.empty() ? "" : ", or " + other_way));
+  if (!quiet)
+    std::fprintf(stderr, "qsp: %s: rounded %llu %s to float32 (--float32)\n", path.c_str(),
+                 static_cast<unsigned long long>(report.rounded_coordinates),
+                 report.rounded_coordinates == 1 ? "coordinate" : "coordinates");
+}
+
 void add_centering_option(CLI::App* cmd, Centering& value) {
   const std::map<std::string, Centering> names{
       {"component", Centering::kComponent}, {"mesh", Centering::kMesh}, {"none", Centering::kNone}};

@@ -138,6 +138,13 @@ MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadRep
 void refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
                        bool positions_only, bool quiet);
 
+// Coordinates the reader rounded to float32 (ReadReport::rounded_coordinates), which `what` would
+// write rounded: refused (kUnsupported, naming the first and --float32, plus `other_way` when not
+// empty) unless `float32`, then a note on stderr unless `quiet`. A lossless file must not change a
+// mesh without a word.
+void refuse_rounding(const std::string& path, const ReadReport& report, const std::string& what, bool float32,
+                     bool quiet, const std::string& other_way = "");
+
 // ---- Options shared by subcommands ----
 
 // Adds --centering component|mesh|none (MatchOptions::centering) to `cmd`, bound to `value`.

@@ -48,9 +48,9 @@ encode fedora_q14 "$root/testdata/mh_fedora.obj" --quantize 14
 encode spot_q14 "$root/testdata/keenan_spot_quadrangulated.obj" --quantize 14
 encode spot_q6 "$root/testdata/keenan_spot_quadrangulated.obj" --quantize 6
 bumpy "$work/bumpy_float.obj" float
-encode bumpy_float "$work/bumpy_float.obj"                       # float bits only: no candidates
+encode bumpy_float "$work/bumpy_float.obj" --float32             # %.9g prints of float32: float bits only
 bumpy "$work/bumpy_mixed.obj" mixed
-encode bumpy_mixed "$work/bumpy_mixed.obj"                       # float bits beside a decimal axis
+encode bumpy_mixed "$work/bumpy_mixed.obj" --float32             # float bits beside a decimal axis
 shared="${QSP_SHARED_DIR:-$root/../shared}/meshes"  # QSP_SHARED_DIR as the C++ tests read it
 if [[ ! -f $shared/MANIFEST.tsv ]]; then
   if [[ ${CI:-} == true || ${QSP_REQUIRE_SHARED:-} == 1 ]]; then
