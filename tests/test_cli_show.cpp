@@ -129,6 +129,13 @@ TEST_F(CliShow, BadArgumentsFailCleanly) {
   const std::string out = p("x.png");
   EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --size 0x10").exit_code, 2);
   EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --size 10").exit_code, 2);
+  // Out of range, or wrapping round to a valid size as sscanf's %u reads them (4294967297 is 2^32 + 1).
+  for (const char* size : {"99999x99999", "8193x10", "4294967297x10", "10x4294967297", "-4294967295x10",
+                           "+10x10", "10x 10", "10x10x"}) {
+    const auto r = run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --size '" + size + "'");
+    EXPECT_EQ(r.exit_code, 2) << size;
+    EXPECT_NE(r.err.find("--size must be WxH"), std::string::npos) << size << ": " << r.err;
+  }
   EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --view 10").exit_code, 2);
   EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(p("x.jpg"))).exit_code, 2);
   EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --partition stored").exit_code, 2);
