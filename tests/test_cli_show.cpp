@@ -449,7 +449,7 @@ TEST_F(CliShow, PatchesTagEveryFaceAndLinesAreTheSchematicEdges) {
         float x, y, z;
         pt >> x >> y >> z;
       }
-      std::map<std::vector<std::uint32_t>, std::uint32_t> ply_patch;
+      std::map<std::vector<std::uint32_t>, std::uint32_t> ply_patch, ply_colour;
       for (std::size_t f = 0; f < m.face_count(); ++f) {
         int n = 0;
         std::vector<std::uint32_t> q(4);
@@ -458,11 +458,24 @@ TEST_F(CliShow, PatchesTagEveryFaceAndLinesAreTheSchematicEdges) {
         ASSERT_EQ(n, 4);
         std::sort(q.begin(), q.end());
         ply_patch[q] = patch;
+        ply_colour[q] = red << 16 | green << 8 | blue;
       }
+      // Each face its group's patch number; one colour per patch, and patches that share an edge differ.
+      std::vector<std::uint32_t> colour(back.face_count());
+      std::map<std::uint32_t, std::uint32_t> patch_colour;
       for (std::size_t f = 0; f < back.face_count(); ++f) {
         std::vector<std::uint32_t> q(back.quads.begin() + 4 * f, back.quads.begin() + 4 * f + 4);
         std::sort(q.begin(), q.end());
         EXPECT_EQ(ply_patch[q], face_group[f]);
+        colour[f] = ply_colour[q];
+        EXPECT_EQ(patch_colour.emplace(face_group[f], colour[f]).first->second, colour[f])
+            << "patch " << face_group[f];
+      }
+      for (std::uint32_t h = 0; h < 4 * adj.face_count; ++h) {
+        const std::uint32_t t = adj.twin[h];
+        if (adj.is_exterior(t) || face_group[adj.face(h)] == face_group[adj.face(t)]) continue;
+        EXPECT_NE(colour[adj.face(h)], colour[adj.face(t)])
+            << "patches " << face_group[adj.face(h)] << " and " << face_group[adj.face(t)];
       }
     }
   }
