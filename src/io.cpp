@@ -205,7 +205,12 @@ std::string ReadReport::describe_rounding(std::string_view source) const {
 
 void ReadReport::note_rounded(std::uint64_t line, std::uint64_t vertex, std::string_view value,
                               float nearest) {
-  if (rounded_coordinates++ == 0) first_rounded = {line, vertex, std::string(value), nearest};
+  // At most 40 characters of the text, as every reader message quotes a token.
+  constexpr std::size_t kShown = 40;
+  if (rounded_coordinates++ == 0)
+    first_rounded = {
+        line, vertex,
+        value.size() <= kShown ? std::string(value) : std::string(value.substr(0, kShown)) + "...", nearest};
 }
 
 // The QuadMesh writers are the Mesh writers (io_write.cpp) on the same positions and quads; a

@@ -811,6 +811,11 @@ TEST_F(Float32Cli, RoundingIsRefusedUntilAskedForAndThenSaid) {
   EXPECT_FALSE(fs::exists(out));
   EXPECT_EQ(
       run_qsp("reorder --float32 --like " + quote(in) + " " + quote(in) + " -o " + quote(out)).exit_code, 0);
+  // layout's outputs are exports for other tools: a warning, not a refusal.
+  r = run_qsp("layout " + quote(in) + " -o " + quote(p("layout.obj")));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: " + in + ":3: vertex 2 has 0.1234567891234"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("layout writes float32 positions"), std::string::npos) << r.err;
   // A float32's own shortest text (8 digits here), or 17 digits printing the float64 whose shortest text that
   // is, are kept.
   testing::spit(in, "v 0.1 0.12345679 0\nv 1 0 0.10000000000000001\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");

@@ -800,6 +800,40 @@ TEST(ReadReport, CountsEveryCoordinateFloat32DoesNotKeep) {
   EXPECT_GE(with_rounding, qsp::testing::shared_present() ? 2 : 0);
 }
 
+// Crafted texts: OFF vertex lines with colours (never counted: only positions) and comments, a 17-digit print
+// of a float32's float64 (held), and a float64 halfway between two float32s whose shortest text reads as the
+// other one (not held: the reader keeps the text's own float32).
+TEST(ReadReport, CraftedCoordinatesAreNotedWhereFloat32RoundsThem) {
+  qsp::ReadReport off;
+  (void)qsp::read_off(
+      "COFF\n4 1 0\n0 0 0 1 1 1  # origin\n1 0 0.5 0.123456789012 0.2 0.3\n1 1 0.10000000000000001 0 0 0\n"
+      "0 1.2345678901 0 1 1 1 # x\n"
+      "4 0 1 2 3\n",
+      "t.off", &off);
+  EXPECT_EQ(off.rounded_coordinates, 1u);
+  EXPECT_EQ(off.first_rounded.line, 6u);
+  EXPECT_EQ(off.first_rounded.vertex, 3u);
+  EXPECT_EQ(off.first_rounded.value, "1.2345678901");
+  qsp::ReadReport ply;
+  (void)qsp::read_ply(
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0.10000000000000001\n1 1 0\n0 1 0\n4 0 1 2 3\n",
+      "t.ply", &ply);
+  EXPECT_EQ(ply.rounded_coordinates, 0u);
+  qsp::ReadReport tie;
+  (void)qsp::read_obj("v 29999999999.999999 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n", "t.obj", &tie);
+  EXPECT_EQ(tie.rounded_coordinates, 1u);
+  EXPECT_TRUE(qsp::testing::float32_keeps("0.10000000000000001"));
+  EXPECT_FALSE(qsp::testing::float32_keeps("29999999999.999999"));
+  // A hostile token is quoted in part, as other messages quote tokens.
+  qsp::ReadReport longer;
+  (void)qsp::read_obj("v 0." + std::string(5000, '3') + " 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n",
+                      "t.obj", &longer);
+  EXPECT_EQ(longer.rounded_coordinates, 1u);
+  EXPECT_LT(longer.describe_rounding("t.obj").size(), 200u);
+}
+
 // PLY: ASCII text as OBJ's, a binary float64 or an integer beyond 2^24 that float32 rounds; float32
 // values and small integers never.
 TEST(ReadReport, PlyNotesWhatFloat32Rounds) {

@@ -49,7 +49,8 @@ struct ReadReport {
   std::vector<std::uint32_t> face_line;   // per face: 1-based line it starts on (0 if not from text)
   // Coordinates whose value float32 does not hold (text with more digits than float32 keeps, a float64
   // or an integer beyond 2^24 in PLY): each is read as its nearest float32, so writing the mesh back
-  // changes them. A caller that writes positions refuses or says so (the CLI: --float32).
+  // changes them. A caller that writes positions refuses or says so (the CLI: compress and reorder
+  // refuse unless --float32, layout warns).
   std::uint64_t rounded_coordinates = 0;
   RoundedCoordinate first_rounded;  // the first such coordinate in the file
 
