@@ -239,32 +239,42 @@ void check_mesh(const Mesh& m) {
   }
 }
 
+std::string_view category_name(unsigned category) {
+  for (const CategoryName& c : kCategoryNames) {
+    if (c.category == category) return c.name;
+  }
+  return {};
+}
+
+std::string category_list(unsigned categories, std::string_view separator) {
+  std::string out;
+  for (const CategoryName& c : kCategoryNames) {
+    if (!(categories & c.category)) continue;
+    if (!out.empty()) out += separator;
+    out += c.name;
+  }
+  return out;
+}
+
 unsigned parse_categories(std::string_view list) {
-  static constexpr std::pair<std::string_view, unsigned> kNames[] = {{"uv", kCategoryUv},
-                                                                     {"normal", kCategoryNormal},
-                                                                     {"color", kCategoryColor},
-                                                                     {"colour", kCategoryColor},
-                                                                     {"group", kCategoryGroup},
-                                                                     {"material", kCategoryMaterial},
-                                                                     {"smoothing", kCategorySmoothing},
-                                                                     {"tag", kCategoryTag},
-                                                                     {"comment", kCategoryComment},
-                                                                     {"extra", kCategoryExtra},
-                                                                     {"all", kCategoryAll}};
   unsigned out = 0;
   std::size_t at = 0;
   while (at <= list.size()) {
     std::size_t comma = list.find(',', at);
     if (comma == std::string_view::npos) comma = list.size();
     const std::string_view name = list.substr(at, comma - at);
-    const auto* it =
-        std::find_if(std::begin(kNames), std::end(kNames), [&](const auto& p) { return p.first == name; });
-    if (it == std::end(kNames)) {
-      throw Error(ErrorCode::kUsage, "unknown category '" + std::string(name.substr(0, 40)) +
-                                         "' (expected uv, normal, color, group, material, smoothing, tag, "
-                                         "comment, extra or all)");
+    const auto* it = std::find_if(std::begin(kCategoryNames), std::end(kCategoryNames),
+                                  [&](const CategoryName& c) { return c.name == name; });
+    if (it != std::end(kCategoryNames)) {
+      out |= it->category;
+    } else if (name == "colour") {
+      out |= kCategoryColor;
+    } else if (name == "all") {
+      out |= kCategoryAll;
+    } else {
+      throw Error(ErrorCode::kUsage, "unknown category '" + std::string(name.substr(0, 40)) + "' (expected " +
+                                         category_list(kCategoryAll, ", ") + " or all)");
     }
-    out |= it->second;
     at = comma + 1;
   }
   return out;

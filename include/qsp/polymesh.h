@@ -191,7 +191,7 @@ struct Mesh {
 // untrusted input; O(size).
 void check_mesh(const Mesh& mesh);
 
-// The categories of data besides positions and faces, for dropping and reporting.
+// The categories of data besides positions and faces, for dropping and reporting (the CLI's --drop).
 enum Category : unsigned {
   kCategoryUv = 1u << 0,         // texcoords, corner texcoords
   kCategoryNormal = 1u << 1,     // normals, corner normals
@@ -201,12 +201,30 @@ enum Category : unsigned {
   kCategorySmoothing = 1u << 5,  // smoothing groups (s)
   kCategoryTag = 1u << 6,        // OpenSubdiv tags
   kCategoryComment = 1u << 7,    // comments
-  kCategoryExtra = 1u << 8,      // verbatim lines, PLY properties, vertex weights
+  kCategoryExtra = 1u << 8,      // verbatim lines, PLY properties and obj_info, vertex weights
   kCategoryAll = (1u << 9) - 1,  // --positions-only
 };
 
-// Parses a comma-separated list of category names ("uv,normal,color,group,material,smoothing,tag,
-// comment,extra", or "all"). Throws Error(kUsage) naming an unknown one.
+// Each category's name, in the order messages list them: the one table of them (parse_categories,
+// category_list, the CLI's --drop and its help).
+struct CategoryName {
+  std::string_view name;
+  Category category;
+};
+inline constexpr CategoryName kCategoryNames[] = {
+    {"uv", kCategoryUv},       {"normal", kCategoryNormal},     {"color", kCategoryColor},
+    {"group", kCategoryGroup}, {"material", kCategoryMaterial}, {"smoothing", kCategorySmoothing},
+    {"tag", kCategoryTag},     {"comment", kCategoryComment},   {"extra", kCategoryExtra},
+};
+
+// The name of one category ("uv"); "" for anything else.
+std::string_view category_name(unsigned category);
+
+// The names of `categories` joined by `separator` in kCategoryNames order ("uv,normal"); "" for none.
+std::string category_list(unsigned categories, std::string_view separator = ",");
+
+// Parses a comma-separated list of category names (kCategoryNames, "colour" for color, "all" for all of
+// them). Throws Error(kUsage) naming an unknown (or empty) one and the valid ones.
 unsigned parse_categories(std::string_view list);
 
 // How much of each category a mesh has (or a drop removed).
