@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -170,23 +171,73 @@ MeshFormat format_from_path(std::string_view path) {
   return MeshFormat::kUnknown;
 }
 
-std::string ReadReport::describe_extra_data() const {
-  std::string out;
-  const auto item = [&out](std::uint64_t n, const char* one, const char* many) {
-    detail::append_count(out, n, one, many);
-  };
-  item(texcoords, "texture coordinate", "texture coordinates");
-  item(normals, "normal", "normals");
-  item(face_attribute_refs, "face with texture/normal indices", "faces with texture/normal indices");
-  item(groups, "group/object name", "group/object names");
-  item(materials, "material statement", "material statements");
-  item(smoothing, "smoothing group statement", "smoothing group statements");
-  item(tags, "subdivision tag", "subdivision tags");
-  item(vertex_colors, "vertex colour (or w)", "vertex colours (or w)");
-  item(face_colors, "face colour", "face colours");
-  item(parameter_vertices, "parameter-space vertex", "parameter-space vertices");
-  item(other_properties, "other PLY property value", "other PLY property values");
+namespace {
+
+// One count of a ReadReport: its category and its words.
+struct ReportItem {
+  std::uint64_t ReadReport::*count;
+  Category category;
+  const char* one;
+  const char* many;
+};
+
+// In kCategoryNames order, so a description lists the categories as --drop does.
+constexpr ReportItem kReportItems[] = {
+    {&ReadReport::texcoords, kCategoryUv, "texture coordinate", "texture coordinates"},
+    {&ReadReport::faces_with_texcoords, kCategoryUv, "face with texture coordinate indices",
+     "faces with texture coordinate indices"},
+    {&ReadReport::normals, kCategoryNormal, "normal", "normals"},
+    {&ReadReport::faces_with_normals, kCategoryNormal, "face with normal indices",
+     "faces with normal indices"},
+    {&ReadReport::vertex_colors, kCategoryColor, "vertex colour", "vertex colours"},
+    {&ReadReport::face_colors, kCategoryColor, "face colour", "face colours"},
+    {&ReadReport::groups, kCategoryGroup, "group/object statement", "group/object statements"},
+    {&ReadReport::materials, kCategoryMaterial, "material statement", "material statements"},
+    {&ReadReport::smoothing, kCategorySmoothing, "smoothing group statement", "smoothing group statements"},
+    {&ReadReport::tags, kCategoryTag, "subdivision tag", "subdivision tags"},
+    {&ReadReport::vertex_weights, kCategoryExtra, "vertex weight (v x y z w)", "vertex weights (v x y z w)"},
+    {&ReadReport::kept_lines, kCategoryExtra, "line qsp keeps only as text", "lines qsp keeps only as text"},
+    {&ReadReport::other_properties, kCategoryExtra, "other PLY property value", "other PLY property values"},
+    {&ReadReport::obj_info, kCategoryExtra, "PLY obj_info line", "PLY obj_info lines"},
+};
+
+}  // namespace
+
+unsigned ReadReport::categories() const {
+  unsigned out = 0;
+  for (const ReportItem& item : kReportItems) {
+    if (this->*item.count) out |= item.category;
+  }
   return out;
+}
+
+std::string ReadReport::describe_extra_data(std::string_view source, unsigned categories) const {
+  std::string out, group;  // group: the current category's items
+  const auto close = [&](Category c) {
+    if (group.empty()) return;
+    if (!out.empty()) out += ", ";
+    out.append(group).append(" (").append(category_name(c)).append(")");
+    group.clear();
+  };
+  for (std::size_t i = 0; i < std::size(kReportItems); ++i) {
+    const ReportItem& item = kReportItems[i];
+    const std::uint64_t n = this->*item.count;
+    if (n && (categories & item.category)) {
+      detail::append_count(group, n, item.one, item.many);
+      if (item.count == &ReadReport::kept_lines) {
+        group.append(", the first at ").append(source);
+        if (first_kept.line) group.append(":").append(std::to_string(first_kept.line));
+        group.append(": ").append(first_kept.message);
+      }
+    }
+    if (i + 1 == std::size(kReportItems) || kReportItems[i + 1].category != item.category)
+      close(item.category);
+  }
+  return out;
+}
+
+void ReadReport::note_kept(std::uint64_t line, std::string_view what) {
+  if (kept_lines++ == 0) first_kept = {line, std::string(what)};
 }
 
 std::string ReadReport::describe_rounding(std::string_view source) const {

@@ -215,23 +215,14 @@ PlyHeader parse_header(std::string_view bytes, const std::string& path) {
   return h;
 }
 
-bool is_color(std::string_view n) {
-  return n == "red" || n == "green" || n == "blue" || n == "alpha" || n == "r" || n == "g" || n == "b" ||
-         n == "a" || n.substr(0, 8) == "diffuse_";
-}
-bool is_texcoord(std::string_view n) {
-  return n == "u" || n == "v" || n == "s" || n == "t" || n.substr(0, 8) == "texture_" || n == "texcoord";
-}
-bool is_normal(std::string_view n) { return n == "nx" || n == "ny" || n == "nz"; }
-
-// What the header promises: counted extras, checked limits, and counts the data can hold.
+// What the header promises: checked limits, and counts the data can hold.
 struct PlyLayout {
   const PlyElement* vertex = nullptr;
   const PlyElement* face = nullptr;
   int x = -1, y = -1, z = -1, indices = -1;
 };
 
-PlyLayout check_header(const PlyHeader& h, std::string_view bytes, const std::string& path, ReadReport& r) {
+PlyLayout check_header(const PlyHeader& h, std::string_view bytes, const std::string& path) {
   PlyLayout l;
   const std::uint64_t available = bytes.size() - h.data_offset;
   // In ASCII the last value needs no separator after it: one byte of slack.
@@ -275,18 +266,6 @@ PlyLayout check_header(const PlyHeader& h, std::string_view bytes, const std::st
     fail_at(ErrorCode::kLimit, path, l.vertex->header_line,
             std::to_string(l.vertex->count) + " vertices; qsp's limit is " + std::to_string(kMaxVertices));
   }
-  bool normals = false, colors = false, texcoords = false, other = false;
-  for (const auto& p : l.vertex->properties) {
-    if (p.name == "x" || p.name == "y" || p.name == "z") continue;
-    (is_normal(p.name)     ? normals
-     : is_color(p.name)    ? colors
-     : is_texcoord(p.name) ? texcoords
-                           : other) = true;
-  }
-  if (normals) r.normals += l.vertex->count;
-  if (colors) r.vertex_colors += l.vertex->count;
-  if (texcoords) r.texcoords += l.vertex->count;
-  if (other) r.other_properties += l.vertex->count;
   if (!l.face) return l;
   l.indices = l.face->find("vertex_indices");
   if (l.indices < 0) l.indices = l.face->find("vertex_index");
@@ -299,16 +278,6 @@ PlyLayout check_header(const PlyHeader& h, std::string_view bytes, const std::st
     fail_at(ErrorCode::kLimit, path, l.face->header_line,
             std::to_string(l.face->count) + " faces; qsp's limit is " + std::to_string(kMaxFaces));
   }
-  bool fcolors = false, fattr = false;
-  other = false;
-  for (int i = 0; i < static_cast<int>(l.face->properties.size()); ++i) {
-    if (i == l.indices) continue;
-    const std::string& n = l.face->properties[i].name;
-    (is_color(n) ? fcolors : is_texcoord(n) ? fattr : other) = true;
-  }
-  if (fcolors) r.face_colors += l.face->count;
-  if (fattr) r.face_attribute_refs += l.face->count;
-  if (other) r.other_properties += l.face->count;
   return l;
 }
 
@@ -665,6 +634,22 @@ PlyTargets ply_targets(const PlyLayout& l) {
   return t;
 }
 
+// What the QuadMesh reading drops, counted by the roles the exact reading gives the properties, so both
+// file them under the same --drop category.
+void count_extras(const PlyTargets& t, const PlyLayout& l, const PlyHeader& h, ReadReport& r) {
+  const auto has = [](const std::vector<PlyField>& fields, PlyRole role) {
+    return std::any_of(fields.begin(), fields.end(), [role](const PlyField& f) { return f.role == role; });
+  };
+  const std::uint64_t vertices = l.vertex->count, faces = l.face ? l.face->count : 0;
+  if (has(t.vertex, PlyRole::kNormal)) r.normals += vertices;
+  if (has(t.vertex, PlyRole::kTexcoord)) r.texcoords += vertices;
+  if (has(t.vertex, PlyRole::kColor)) r.vertex_colors += vertices;
+  if (has(t.vertex, PlyRole::kProperty)) r.other_properties += vertices;
+  if (has(t.face, PlyRole::kColor)) r.face_colors += faces;
+  if (has(t.face, PlyRole::kProperty)) r.other_properties += faces;
+  r.obj_info += h.obj_info.size();
+}
+
 // Index of the first repeated vertex pair of a face, or false.
 bool repeats(const std::vector<std::uint32_t>& c, std::vector<std::uint32_t>& scratch,
              std::uint32_t& vertex) {
@@ -693,12 +678,12 @@ template <bool kExact>
 Mesh read_ply_impl(std::string_view bytes, const std::string& path, ReadReport& r) {
   r = ReadReport{};
   const PlyHeader header = parse_header(bytes, path);
-  const PlyLayout layout = check_header(header, bytes, path, r);
+  const PlyLayout layout = check_header(header, bytes, path);
 
   Mesh mesh;
-  PlyTargets targets;
+  const PlyTargets targets = ply_targets(layout);
+  count_extras(targets, layout, header, r);
   if constexpr (kExact) {
-    targets = ply_targets(layout);
     mesh.comments = header.comments;
     mesh.ply.obj_info = header.obj_info;
     mesh.ply.format = header.format == PlyHeader::Format::kAscii    ? PlyFormat::kAscii

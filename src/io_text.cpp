@@ -644,11 +644,10 @@ class ObjReader {
   // The statements that are rare in large files, out of the hot path.
   [[gnu::noinline]] void other_statement(std::uint64_t line, const char* start, std::string_view k) {
     if (k == "vp") {
-      count_numbers(report_.parameter_vertices, 1, 3, "`vp` statement");
+      check_count(skip_numbers(in_, "`vp` statement"), 1, 3, "`vp` statement");
       return keep_text(line, start, "`vp` (parameter-space vertex)");
     }
     if (k == "usemap" || k == "maplib") {
-      ++report_.materials;
       in_.skip_statement();
       return keep_text(line, start, "`" + std::string(k) + "` (old texture map statement)");
     }
@@ -666,13 +665,10 @@ class ObjReader {
     const bool element = std::find(std::begin(kFreeFormElements), std::end(kFreeFormElements), k) !=
                          std::end(kFreeFormElements);
     const bool attribute = std::find(std::begin(kFreeForm), std::end(kFreeForm), k) != std::end(kFreeForm);
-    if (element || (attribute && !kExact)) {
+    if (element) {
       in_.fail(ErrorCode::kUnsupported, line,
-               "`" + std::string(k) +
-                   "` (free-form geometry or display attribute) is not supported; qsp "
-                   "stores quad meshes only");
+               "`" + std::string(k) + "` (free-form geometry) is not supported; qsp stores quad meshes only");
     }
-    if constexpr (!kExact) in_.fail(ErrorCode::kParse, line, "unknown statement " + quote_token(k));
     in_.skip_statement();
     keep_text(line, start,
               attribute ? "`" + std::string(k) + "` (free-form or display attribute, no geometry)"
@@ -689,15 +685,17 @@ class ObjReader {
     }
   }
 
-  // A statement qsp keeps as text: [start, the end of the statement), in place, with a warning.
+  // A statement qsp keeps as text: [start, the end of the statement), in place, with a warning (quads
+  // mode counts it, as both modes count everything else).
   [[gnu::noinline]] void keep_text(std::uint64_t line, const char* start, const std::string& what) {
+    report_.note_kept(line, what);
     if constexpr (kExact) {
       mesh_.verbatim.emplace_back(trim(std::string_view(start, static_cast<std::size_t>(in_.pos() - start))));
       run(ObjStatement::kVerbatim);
       add_warning(out_.warnings, out_.warning_count, line,
                   "kept as text and written back unchanged: " + what);
     } else {
-      (void)line, (void)start, (void)what;
+      (void)start;
     }
   }
 
@@ -753,7 +751,7 @@ class ObjReader {
         in_.fail(ErrorCode::kParse, "`v` has " + std::to_string(3 + extra) +
                                         " numbers; expected x y z, optionally followed by w or r g b");
       }
-      ++report_.vertex_colors;
+      ++(extra == 1 ? report_.vertex_weights : report_.vertex_colors);
     }
     if constexpr (kExact) {
       run(ObjStatement::kVertex);
@@ -849,7 +847,8 @@ class ObjReader {
       }
       corners_out_.push(index);
     }
-    if (attributes) ++report_.face_attribute_refs;
+    if (any_t) ++report_.faces_with_texcoords;
+    if (any_n) ++report_.faces_with_normals;
     const std::size_t degree = corners_out_.size() - base;
     if (degree < 3) {
       in_.fail(ErrorCode::kDegenerateFace, line,
@@ -907,19 +906,22 @@ class ObjReader {
   void quad(std::uint64_t line) {
     std::uint32_t q[4];
     std::uint64_t corners = 0;
-    bool attributes = false;
+    bool any_t = false, any_n = false;
     bool relative = false;
     const std::size_t base = corners_out_.size();
     std::uint32_t magnitude = 0;
     bool negative = false, in_range = false;
     while (next_corner(magnitude, negative, in_range)) {
       if (in_.peek() == '/') {  // v/vt, v//vn or v/vt/vn: checked for syntax only
-        attributes = true;
         in_.advance();
-        if (in_.peek() != '/') attribute_syntax("texture coordinate");
+        if (in_.peek() != '/') {
+          attribute_syntax("texture coordinate");
+          any_t = true;
+        }
         if (in_.peek() == '/') {
           in_.advance();
           attribute_syntax("normal");
+          any_n = true;
         }
         if (!in_.token_ends_at(in_.pos())) {
           in_.fail(ErrorCode::kParse,
@@ -936,7 +938,8 @@ class ObjReader {
       }
       ++corners;
     }
-    if (attributes) ++report_.face_attribute_refs;
+    if (any_t) ++report_.faces_with_texcoords;
+    if (any_n) ++report_.faces_with_normals;
     if (corners != 4) {
       // Its relative corners are not stored.
       while (!out_.relative_vertex.empty() && out_.relative_vertex.back() >= base)
@@ -1136,21 +1139,18 @@ class ObjReader {
     run(ObjStatement::kMaterialLibrary);
   }
 
+  // Both modes parse a tag: one that does not parse is kept as text, not a tag (`--drop extra`).
   [[gnu::noinline]] void tag(std::uint64_t line, const char* start) {
-    ++report_.tags;
     const char* s = in_.pos();
     in_.skip_statement();
+    Tag t;
+    if (!parse_tag(std::string_view(s, static_cast<std::size_t>(in_.pos() - s)), t))
+      return keep_text(line, start, "malformed OpenSubdiv tag");
+    ++report_.tags;
     if constexpr (kExact) {
-      Tag t;
-      if (parse_tag(std::string_view(s, static_cast<std::size_t>(in_.pos() - s)), t)) {
-        mesh_.tags.push_back(std::move(t));
-        out_.tag_line.push_back(line);
-        run(ObjStatement::kTag);
-      } else {
-        keep_text(line, start, "malformed OpenSubdiv tag");
-      }
-    } else {
-      (void)line, (void)start, (void)s;
+      mesh_.tags.push_back(std::move(t));
+      out_.tag_line.push_back(line);
+      run(ObjStatement::kTag);
     }
   }
 
@@ -1176,21 +1176,25 @@ class ObjReader {
 // Adds a part's counters; face lines are merged separately.
 void add_counts(ReadReport& to, const ReadReport& from) {
   // A new ReadReport member must be merged here too.
-  static_assert(sizeof(ReadReport) ==
-                12 * sizeof(std::uint64_t) + sizeof(std::vector<std::uint32_t>) + sizeof(RoundedCoordinate));
+  static_assert(sizeof(ReadReport) == 15 * sizeof(std::uint64_t) + sizeof(ReadWarning) +
+                                          sizeof(std::vector<std::uint32_t>) + sizeof(RoundedCoordinate));
   if (to.rounded_coordinates == 0) to.first_rounded = from.first_rounded;  // parts come in file order
   to.rounded_coordinates += from.rounded_coordinates;
+  if (to.kept_lines == 0) to.first_kept = from.first_kept;
+  to.kept_lines += from.kept_lines;
   to.texcoords += from.texcoords;
+  to.faces_with_texcoords += from.faces_with_texcoords;
   to.normals += from.normals;
-  to.face_attribute_refs += from.face_attribute_refs;
+  to.faces_with_normals += from.faces_with_normals;
   to.groups += from.groups;
   to.materials += from.materials;
   to.smoothing += from.smoothing;
   to.tags += from.tags;
   to.vertex_colors += from.vertex_colors;
   to.face_colors += from.face_colors;
-  to.parameter_vertices += from.parameter_vertices;
+  to.vertex_weights += from.vertex_weights;
   to.other_properties += from.other_properties;
+  to.obj_info += from.obj_info;
 }
 
 // Appends `from` and frees it at once.
@@ -1311,6 +1315,7 @@ std::optional<ObjPart> read_obj_parts(std::string_view text, std::string_view so
       if (line != 1) {
         for (std::uint32_t& l : part.report.face_line) l = clamp_line(l + line - 1);
         if (part.report.rounded_coordinates) part.report.first_rounded.line += line - 1;
+        if (part.report.kept_lines) part.report.first_kept.line += line - 1;
         for (ReadWarning& w : part.warnings) w.line += line - 1;
         for (std::uint64_t& l : part.tag_line) l += line - 1;
       }

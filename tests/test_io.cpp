@@ -101,7 +101,8 @@ TEST(ReadObj, PlainQuadsAndUnreferencedVertex) {
   EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{0, 1, 2, 3}));
   EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{6}));
   EXPECT_FALSE(r.has_extra_data());
-  EXPECT_EQ(r.describe_extra_data(), "");
+  EXPECT_EQ(r.categories(), 0u);
+  EXPECT_EQ(r.describe_extra_data("t.obj"), "");
 }
 
 TEST(ReadObj, FloatsRoundExactlyAsFromChars) {
@@ -143,20 +144,71 @@ TEST(ReadObj, AttributeSyntaxNegativeIndicesAndExtras) {
   EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{0, 1, 2, 3, 1, 4, 5, 2, 1, 2, 5, 3}));
   EXPECT_EQ(r.texcoords, 3u);
   EXPECT_EQ(r.normals, 1u);
-  EXPECT_EQ(r.parameter_vertices, 1u);
-  EXPECT_EQ(r.face_attribute_refs, 3u);
+  EXPECT_EQ(r.kept_lines, 1u);  // vp
+  EXPECT_EQ(r.first_kept.line, 14u);
+  EXPECT_EQ(r.faces_with_texcoords, 2u);
+  EXPECT_EQ(r.faces_with_normals, 2u);
   EXPECT_EQ(r.groups, 2u);
   EXPECT_EQ(r.materials, 2u);
   EXPECT_EQ(r.smoothing, 2u);
   EXPECT_EQ(r.tags, 2u);
-  EXPECT_EQ(r.vertex_colors, 2u);
+  EXPECT_EQ(r.vertex_colors, 1u);
+  EXPECT_EQ(r.vertex_weights, 1u);
   EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{18, 19, 20}));
   EXPECT_TRUE(r.has_extra_data());
-  EXPECT_EQ(
-      r.describe_extra_data(),
-      "3 texture coordinates, 1 normal, 3 faces with texture/normal indices, 2 group/object names, "
-      "2 material statements, 2 smoothing group statements, 2 subdivision tags, 2 vertex colours (or w), "
-      "1 parameter-space vertex");
+  EXPECT_EQ(r.categories(), qsp::kCategoryAll & ~qsp::kCategoryComment);
+  EXPECT_EQ(r.describe_extra_data("t.obj"),
+            "3 texture coordinates, 2 faces with texture coordinate indices (uv), 1 normal, 2 faces with "
+            "normal indices (normal), 1 vertex colour (color), 2 group/object statements (group), 2 material "
+            "statements (material), 2 smoothing group statements (smoothing), 2 subdivision tags (tag), 1 "
+            "vertex weight (v x y z w), 1 line qsp keeps only as text, the first at t.obj:14: `vp` "
+            "(parameter-space vertex) (extra)");
+  EXPECT_EQ(r.describe_extra_data("t.obj", qsp::kCategoryUv | qsp::kCategoryTag),
+            "3 texture coordinates, 2 faces with texture coordinate indices (uv), 2 subdivision tags (tag)");
+}
+
+// Lines without geometry that qsp does not understand are counted as kept lines (the exact reader
+// keeps them as text), the first one's line and what it is noted; what would change the mesh is refused.
+TEST(ReadObj, LinesWithoutGeometryAreCountedNotRefused) {
+  const std::string square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+  struct Case {
+    std::string lines;
+    std::uint64_t count;
+    const char* first;  // what the first kept line is
+  };
+  const Case cases[] = {
+      {"This asset was made by hand\n", 1, "unknown statement 'This'"},
+      {"foo 1 2\n", 1, "unknown statement 'foo'"},
+      {std::string("\x00\xff\x10 garbage\n", 12), 1, "unknown statement '\\x00\\xff\\x10'"},
+      {"cstype bspline\ndeg 3\nend\n", 3, "`cstype` (free-form or display attribute, no geometry)"},
+      {"vp 0.5 0.5\nvp 1\n", 2, "`vp` (parameter-space vertex)"},
+      {"usemap tex\nmaplib lib\n", 2, "`usemap` (old texture map statement)"},
+      {"t crease 3/1/0 0 1 2 1\n", 1, "malformed OpenSubdiv tag"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.lines);
+    const std::string text = square + c.lines + "f 1 2 3 4\n";
+    qsp::ReadReport r;
+    const qsp::QuadMesh m = qsp::read_obj(text, "t.obj", &r);
+    EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{0, 1, 2, 3}));
+    EXPECT_EQ(r.kept_lines, c.count);
+    EXPECT_EQ(r.first_kept.line, 5u);
+    EXPECT_EQ(r.first_kept.message, c.first);
+    EXPECT_EQ(r.categories(), unsigned{qsp::kCategoryExtra});
+    EXPECT_EQ(r.tags, 0u);
+    EXPECT_EQ(r.materials, 0u);
+    // The exact reader keeps the same lines, the first at the same line.
+    qsp::ReadNotes notes;
+    const qsp::Mesh exact = qsp::read_obj_mesh(text, "t.obj", &notes);
+    EXPECT_EQ(exact.verbatim.size(), c.count);
+    ASSERT_FALSE(notes.warnings.empty());
+    EXPECT_EQ(notes.warnings[0].line, r.first_kept.line);
+    EXPECT_EQ(notes.warnings[0].message, "kept as text and written back unchanged: " + std::string(c.first));
+  }
+  for (const char* geometry : {"curv 0 1 1 2\n", "curv2 1 2\n", "surf 0 1 0 1 1 2 3\n", "l 1 2\n", "p 1\n"}) {
+    SCOPED_TRACE(geometry);
+    EXPECT_THROW(qsp::read_obj(square + "cstype bspline\n" + geometry, "t.obj"), qsp::Error);
+  }
 }
 
 TEST(ReadObj, CrlfTabsTrailingSpaceContinuationBomForwardRefs) {
@@ -189,12 +241,16 @@ TEST(ReadObj, ContinuationJoinsLinesAndKeepsLineNumbers) {
       "  3 4\n"
       "f 4 \\\r\n 3 \\\n 2 1\n"
       "x_after";  // line 10: must be reported there
-  const std::string msg = expect_error([&] { qsp::read_obj(text, "t.obj"); }, qsp::ErrorCode::kParse);
-  EXPECT_NE(msg.find("t.obj:10: unknown statement 'x_after'"), std::string::npos) << msg;
   qsp::ReadReport r;
-  const qsp::QuadMesh m = qsp::read_obj(text.substr(0, text.size() - 7), "t.obj", &r);
+  const qsp::QuadMesh m = qsp::read_obj(text, "t.obj", &r);
   EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{0, 1, 2, 3, 3, 2, 1, 0}));
   EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{5, 7}));
+  EXPECT_EQ(r.kept_lines, 1u);
+  EXPECT_EQ(r.first_kept.line, 10u);
+  EXPECT_EQ(r.first_kept.message, "unknown statement 'x_after'");
+  const std::string msg = expect_error(
+      [&] { qsp::read_obj(text.substr(0, text.size() - 7) + "v 1 x", "t.obj"); }, qsp::ErrorCode::kParse);
+  EXPECT_NE(msg.find("t.obj:10: "), std::string::npos) << msg;
 }
 
 // A CR alone ends a line (classic Mac OS), as LF and CRLF do. Read as a blank, it once let a comment

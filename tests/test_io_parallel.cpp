@@ -63,16 +63,21 @@ void expect_same(const Outcome& want, const Outcome& got) {
   EXPECT_EQ(want.quads, got.quads);
   const qsp::ReadReport &a = want.report, &b = got.report;
   EXPECT_EQ(a.texcoords, b.texcoords);
+  EXPECT_EQ(a.faces_with_texcoords, b.faces_with_texcoords);
   EXPECT_EQ(a.normals, b.normals);
-  EXPECT_EQ(a.face_attribute_refs, b.face_attribute_refs);
+  EXPECT_EQ(a.faces_with_normals, b.faces_with_normals);
   EXPECT_EQ(a.groups, b.groups);
   EXPECT_EQ(a.materials, b.materials);
   EXPECT_EQ(a.smoothing, b.smoothing);
   EXPECT_EQ(a.tags, b.tags);
   EXPECT_EQ(a.vertex_colors, b.vertex_colors);
   EXPECT_EQ(a.face_colors, b.face_colors);
-  EXPECT_EQ(a.parameter_vertices, b.parameter_vertices);
+  EXPECT_EQ(a.vertex_weights, b.vertex_weights);
+  EXPECT_EQ(a.kept_lines, b.kept_lines);
+  EXPECT_EQ(a.first_kept.line, b.first_kept.line);
+  EXPECT_EQ(a.first_kept.message, b.first_kept.message);
   EXPECT_EQ(a.other_properties, b.other_properties);
+  EXPECT_EQ(a.obj_info, b.obj_info);
   EXPECT_EQ(a.face_line, b.face_line);
   EXPECT_EQ(a.rounded_coordinates, b.rounded_coordinates);
   EXPECT_EQ(a.first_rounded.line, b.first_rounded.line);
@@ -257,7 +262,11 @@ TEST(ReadObjParallel, CraftedTextsReadTheSameAtEverySplit) {
       {"errors in both halves: the first wins",
        kSquare + "v 1 2 x\nf 1 2 3 4\n" + square2 + "f 1 2 3 4\nv 1 2 y\nf 1 1 2 3\n", false},
       {"error late only", kSquare + "f 1 2 3 4\n" + square2 + "f 1 2 3 4\nusemtl a\nl 1 2\n", false},
-      {"error early only", kSquare + "q 1\nf 1 2 3 4\n" + square2 + "f 1 2 3 4\nf 5 6 7 8\n", false},
+      {"error early only", kSquare + "v 1 2\nf 1 2 3 4\n" + square2 + "f 1 2 3 4\nf 5 6 7 8\n", false},
+      {"lines kept as text on both sides",
+       kSquare + "This line is prose\nf 1 2 3 4\n" + square2 + "f 1 2 3 4\ncstype bspline\nq 1\n", true},
+      {"lines kept as text late only", kSquare + "f 1 2 3 4\n" + square2 + "f 5 6 7 8\nvp 0.5\nt crease 1\n",
+       true},
       {"non-quads in both halves",
        kSquare + "f 1 2 3\nf 1 2 3 4\nf 1 2 3 4 2\n" + square2 + "f 1 2\nf\nf 5 6 7 8\nf 4 3 2\n", false},
       {"non-quads early, a parse error late",
@@ -283,8 +292,8 @@ TEST(ReadObjParallel, CraftedTextsReadTheSameAtEverySplit) {
            "o b\ns off\nf 2//1 5//1 3//1 1//1\nusemap u\nmaplib l\n",
        true},
       {"a byte order mark at the start", "\xEF\xBB\xBF" + kSquare + "f 1 2 3 4\n", true},
-      {"a byte order mark mid-file", kSquare + "\xEF\xBB\xBFv 1 2 3\nf 1 2 3 4\n", false},
-      {"free-form geometry late", kSquare + "f 1 2 3 4\ncstype bspline\n", false},
+      {"a byte order mark mid-file: a line kept as text", kSquare + "\xEF\xBB\xBFv 1 2 3\nf 1 2 3 4\n", true},
+      {"free-form geometry late", kSquare + "f 1 2 3 4\ncstype bspline\ncurv 0 1 1 2\n", false},
       {"malformed numbers", kSquare + "v 1e99 0 0\nf 1 2 3 4\n", false},
       {"a vertex reference with junk", kSquare + "f 1/2/3/4 2 3 4\n", false},
       {"trailing junk", kSquare + "f 1 2 3 4 \\ x\nf 1 2 3 4\n", false},

@@ -24,8 +24,17 @@ enum class MeshFormat : std::uint8_t { kObj, kOff, kPly, kQsp, kUnknown };
 // Format from a path's extension (case-insensitive); kUnknown if none matches.
 MeshFormat format_from_path(std::string_view path);
 
+// A reader's note about input it kept but did not understand (an OBJ line kept as text).
+struct ReadWarning {
+  std::uint64_t line = 0;  // 1-based
+  std::string message;     // without the "file:line: " prefix
+};
+
 // What a reader saw besides positions and quads. qsp stores none of it yet; the CLI refuses input
-// that has any unless the user asks to drop it (`--positions-only`), so nothing is lost silently.
+// that has any unless the user asks to drop it (`--drop LIST`, `--positions-only`), so nothing is lost
+// silently. Each count belongs to the --drop category (qsp/polymesh.h) the Mesh readers file the same
+// data under, so dropping by category means the same in both readings. Comment lines are not counted
+// (the QuadMesh readers skip them): kCategoryComment is never reported.
 // A coordinate float32 does not hold exactly, as the file has it (see ReadReport::rounded_coordinates).
 struct RoundedCoordinate {
   std::uint64_t line = 0;    // 1-based text line (0: binary PLY)
@@ -35,18 +44,25 @@ struct RoundedCoordinate {
 };
 
 struct ReadReport {
-  std::uint64_t texcoords = 0;            // `vt` lines
-  std::uint64_t normals = 0;              // `vn` lines
-  std::uint64_t face_attribute_refs = 0;  // faces written v/vt, v//vn or v/vt/vn
-  std::uint64_t groups = 0;               // `g` and `o` lines
-  std::uint64_t materials = 0;            // `usemtl`, `mtllib` (and old `usemap`, `maplib`) lines
-  std::uint64_t smoothing = 0;            // `s` lines
-  std::uint64_t tags = 0;                 // OpenSubdiv `t` lines (creases, corners, ...)
-  std::uint64_t vertex_colors = 0;        // colours after x y z on `v` lines, or PLY/OFF colour properties
-  std::uint64_t face_colors = 0;          // OFF colour after a face's indices, PLY face colour properties
-  std::uint64_t parameter_vertices = 0;   // OBJ `vp` lines
-  std::uint64_t other_properties = 0;     // PLY vertex/face properties qsp does not know (one per element)
-  std::vector<std::uint32_t> face_line;   // per face: 1-based line it starts on (0 if not from text)
+  std::uint64_t texcoords = 0;             // uv: `vt` lines; per-vertex u/v (PLY) or ST (OFF)
+  std::uint64_t faces_with_texcoords = 0;  // uv: faces written v/vt or v/vt/vn
+  std::uint64_t normals = 0;               // normal: `vn` lines; per-vertex nx/ny/nz (PLY) or N (OFF)
+  std::uint64_t faces_with_normals = 0;    // normal: faces written v//vn or v/vt/vn
+  std::uint64_t vertex_colors = 0;         // color: `v x y z r g b [a]`, PLY/OFF vertex colours
+  std::uint64_t face_colors = 0;           // color: OFF colour after a face's indices, PLY face colours
+  std::uint64_t groups = 0;                // group: `g` and `o` lines
+  std::uint64_t materials = 0;             // material: `usemtl` and `mtllib` lines
+  std::uint64_t smoothing = 0;             // smoothing: `s` lines
+  std::uint64_t tags = 0;                  // tag: OpenSubdiv `t` lines (creases, corners, ...) that parse
+  std::uint64_t vertex_weights = 0;        // extra: `v x y z w`
+  // extra: OBJ lines that carry no geometry and that qsp does not understand (`vp`, `cstype` and the
+  // other free-form attributes, `usemap`, a malformed tag, a stray line of prose), which the Mesh
+  // readers keep as text; `first_kept` is the first one's line and what it is.
+  std::uint64_t kept_lines = 0;
+  ReadWarning first_kept;
+  std::uint64_t other_properties = 0;    // extra: PLY properties qsp does not know (one per element)
+  std::uint64_t obj_info = 0;            // extra: PLY `obj_info` header lines
+  std::vector<std::uint32_t> face_line;  // per face: 1-based line it starts on (0 if not from text)
   // Coordinates whose value float32 does not hold (text with more digits than float32 keeps, a float64
   // or an integer beyond 2^24 in PLY): each is read as its nearest float32, so writing the mesh back
   // changes them. A caller that writes positions refuses or says so (the CLI: compress and reorder
@@ -54,23 +70,29 @@ struct ReadReport {
   std::uint64_t rounded_coordinates = 0;
   RoundedCoordinate first_rounded;  // the first such coordinate in the file
 
-  bool has_extra_data() const {
-    return texcoords || normals || face_attribute_refs || groups || materials || smoothing || tags ||
-           vertex_colors || face_colors || parameter_vertices || other_properties;
-  }
-  // "12 texture coordinates, 3 groups", empty if nothing extra.
-  std::string describe_extra_data() const;
+  // The categories of everything counted above (never kCategoryComment); 0 for positions and quads only.
+  unsigned categories() const;
+  bool has_extra_data() const { return categories() != 0; }
+  // What was seen in `categories`, each category's counts followed by its name: "8 texture coordinates,
+  // 1 face with texture coordinate indices (uv), 1 line qsp keeps only as text, the first at
+  // SOURCE:3: unknown statement 'This' (extra)"; empty if nothing.
+  std::string describe_extra_data(std::string_view source, unsigned categories = kCategoryAll) const;
   // "SOURCE:12: vertex 3 has 0.1234567891234, which float32 holds only as 0.12345679 (and 5 more
   // coordinates)", empty if no coordinate was rounded.
   std::string describe_rounding(std::string_view source) const;
   // Counts a rounded coordinate, keeping the first one's place and value.
   void note_rounded(std::uint64_t line, std::uint64_t vertex, std::string_view value, float nearest);
+  // Counts a kept line, keeping the first one's place and what it is.
+  void note_kept(std::uint64_t line, std::string_view what);
 };
 
 // Parse OBJ text. `source` names the input in messages ("file.obj:12: ..."). Accepts v/vt/vn face
 // syntax, negative (relative) indices, comments, o/g/s/usemtl/mtllib/t lines, CRLF, trailing
-// whitespace. Refuses (Error with source:line): non-quad faces (count + first examples), index 0 or
-// out of range, a face repeating a vertex, malformed numbers, NaN/inf coordinates, unknown statements.
+// whitespace; lines without geometry it does not understand (as read_obj_mesh keeps them) are counted
+// in ReadReport::kept_lines. Refuses (Error with source:line): non-quad faces (count + first examples),
+// vertex index 0 or out of range (texture coordinate and normal indices are checked for syntax only), a
+// face repeating a vertex, malformed numbers and known statements, NaN/inf coordinates, `l`/`p`
+// elements and free-form geometry (curv, curv2, surf).
 // Positions are float32 exactly as `std::from_chars` rounds the decimal text. Safe on untrusted input.
 QuadMesh read_obj(std::string_view text, std::string_view source, ReadReport* report = nullptr);
 
@@ -105,18 +127,14 @@ std::string write_off(const QuadMesh& mesh);
 // ---------------------------------------------------------------------------------------------
 // Exact reading into a Mesh
 
-// A reader's note about input it kept but did not understand (an OBJ line kept as text).
-struct ReadWarning {
-  std::uint64_t line = 0;  // 1-based
-  std::string message;     // without the "file:line: " prefix
-};
-
 // What a reader saw besides the mesh.
 struct ReadNotes {
   static constexpr std::size_t kMaxWarnings = 20;
   std::vector<std::uint32_t> face_line;  // per face: 1-based line it starts on (0 if not from text)
-  std::vector<ReadWarning> warnings;     // the first kMaxWarnings
-  std::uint64_t warning_count = 0;       // all of them
+  // One per line kept as text (Mesh::verbatim, in file order: warnings[0] is the first kept line, the
+  // one ReadReport::first_kept names), the first kMaxWarnings.
+  std::vector<ReadWarning> warnings;
+  std::uint64_t warning_count = 0;  // all of them (Mesh::verbatim.size())
   // "file.obj:3: kept as text ...", one line each, and "(and N more)"; empty without warnings.
   std::string describe_warnings(std::string_view source) const;
 };

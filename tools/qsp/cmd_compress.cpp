@@ -22,7 +22,7 @@ struct CompressOptions {
   Verbosity verbosity;
   std::uint32_t quantize = 0;
   bool keep_order = false;
-  bool positions_only = false;
+  DropOptions drop;
   bool float32 = false;            // round coordinates float32 does not hold instead of refusing
   std::string partition = "auto";  // or a PartitionMode name
   int level = kDefaultLevel;       // -1 .. -9, --fast, --best
@@ -78,7 +78,7 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   ReadReport report;
   const QuadMesh mesh = read_input_mesh(in, format, &report);
   const bool quiet = o.verbosity.quiet;
-  refuse_extra_data(in, report, ".qsp", o.positions_only, quiet);
+  refuse_extra_data(in, report, ".qsp", o.drop, quiet);
   if (!o.quantize) refuse_rounding(in, report, "a lossless .qsp", o.float32, quiet, "--quantize BITS");
   if (mesh.face_count() == 0 && !quiet)
     std::fprintf(stderr, "qsp: warning: %s: has no faces (%zu vertices); writing an empty mesh\n", in.c_str(),
@@ -147,8 +147,7 @@ void register_compress(CLI::App& app, int& rc) {
                   "Lossy: quantize positions to BITS bits over the bounding box (1-30)")
       ->check(CLI::Range(1, 30));
   sub->add_flag("--keep-order", opt->keep_order, "Also store the vertex order, face order and first corners");
-  sub->add_flag("--positions-only", opt->positions_only,
-                "Drop texture coordinates, normals, groups, materials and tags instead of refusing");
+  add_drop_options(sub, opt->drop, "");
   sub->add_flag("--float32", opt->float32,
                 "Round coordinates with more digits than float32 holds to the nearest float32 instead of "
                 "refusing (the file is then lossless for those float32 values)");

@@ -22,7 +22,7 @@ struct ReorderOptions {
   std::string format;  // --format for standard input
   Centering centering = Centering::kComponent;
   bool force = false;
-  bool positions_only = false;
+  DropOptions drop;
   bool float32 = false;       // round coordinates float32 does not hold instead of refusing
   bool prefer_order = false;  // MatchOptions::prefer_order
   bool allow_mirror = false;  // MatchOptions::mirror: kAccept, else kHint
@@ -41,7 +41,7 @@ int run(const ReorderOptions& o) {
   ref.mesh = read_mesh_or_qsp(o.ref, ref.report, in_format);
   in.mesh = read_mesh_or_qsp(o.input, in.report, in_format);
   // Only IN's data reaches OUT; REF contributes its order alone.
-  refuse_extra_data(o.input, in.report, "reorder", o.positions_only, false);
+  refuse_extra_data(o.input, in.report, "reorder", o.drop, false);
   refuse_rounding(o.input, in.report, "reorder", o.float32, false);
   MatchOptions mo;
   mo.centering = o.centering;
@@ -98,8 +98,7 @@ void register_reorder(CLI::App& app, int& rc) {
   cmd->add_flag("--prefer-order", opt->prefer_order,
                 "For meshes exported in one vertex order: the isomorphism keeping most vertices at their own "
                 "index (the identity where it is one), the nearest among those keeping as many");
-  cmd->add_flag("--positions-only", opt->positions_only,
-                "Drop IN's texture coordinates, normals, groups, ... instead of refusing");
+  add_drop_options(cmd, opt->drop, "IN's ");
   cmd->add_flag("--float32", opt->float32,
                 "Round IN's coordinates with more digits than float32 holds to the nearest float32 instead "
                 "of refusing");

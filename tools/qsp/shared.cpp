@@ -258,15 +258,45 @@ MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadRep
   }
 }
 
+unsigned DropOptions::categories() const {
+  return (positions_only ? unsigned{kCategoryAll} : 0u) | (list.empty() ? 0u : parse_categories(list));
+}
+
+void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose) {
+  cmd->add_option("--drop", drop.list,
+                  "Drop " + whose + "data of these kinds instead of refusing the file (comma-separated: " +
+                      category_list(kCategoryAll, ", ") +
+                      "). extra: lines qsp keeps only as text (vp, cstype, a stray line of prose), vertex "
+                      "weights, other PLY properties. comment: accepted, but comments are never kept nor "
+                      "counted yet (always dropped)")
+      ->type_name("LIST")
+      ->check(CLI::Validator(
+          [](std::string& value) {
+            try {
+              parse_categories(value);
+            } catch (const Error& e) {
+              return std::string(e.what());
+            }
+            return std::string();
+          },
+          ""));
+  cmd->add_flag(
+      "--positions-only", drop.positions_only,
+      "Drop all of them (--drop " + category_list(kCategoryAll) + "): keep positions and faces only");
+}
+
 void refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
-                       bool positions_only, bool quiet) {
-  if (!report.has_extra_data()) return;
-  if (!positions_only)
-    throw Error(ErrorCode::kUnsupported, path + ": has " + report.describe_extra_data() + ", which " + what +
-                                             " does not keep; pass --positions-only to drop them");
+                       const DropOptions& drop, bool quiet) {
+  const unsigned has = report.categories(), dropped = drop.categories() & has;
+  if (has == 0) return;
+  if (dropped != has)
+    throw Error(ErrorCode::kUnsupported, path + ": has " + report.describe_extra_data(path, has & ~dropped) +
+                                             ", which " + what + " does not keep; pass --drop " +
+                                             category_list(has) + " (or --positions-only) to drop them");
   if (!quiet)
-    std::fprintf(stderr, "qsp: %s: dropped %s (--positions-only)\n", path.c_str(),
-                 report.describe_extra_data().c_str());
+    std::fprintf(stderr, "qsp: %s: dropped %s (%s)\n", path.c_str(),
+                 report.describe_extra_data(path, dropped).c_str(),
+                 drop.positions_only ? "--positions-only" : ("--drop " + drop.list).c_str());
 }
 
 void refuse_rounding(const std::string& path, const ReadReport& report, const std::string& what, bool float32,

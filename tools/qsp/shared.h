@@ -132,11 +132,24 @@ LoadedMesh with_adjacency(QuadMesh mesh, ReadReport report, const std::string& p
 // prepare_match(mesh) (match.h) with topology errors located as "path:LINE: ..." (rethrow_located).
 MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadReport& report);
 
+// --drop LIST and --positions-only (compress, reorder): the kinds of data (qsp/polymesh.h's categories)
+// a call drops instead of refusing a file that has them.
+struct DropOptions {
+  std::string list;  // --drop, as given ("uv,normal")
+  bool positions_only = false;
+  unsigned categories() const;  // checked by add_drop_options
+};
+
+// Adds --drop LIST (checked: an unknown item is a usage error naming the valid ones) and
+// --positions-only to `cmd`; `whose` ("", "IN's ") for the help.
+void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose);
+
 // Data a mesh file had beside positions and faces (texture coordinates, normals, groups, ...), which
-// `what` ("compress", "reorder") cannot keep: refused (kUnsupported, naming what was found and
-// --positions-only) unless `positions_only`, then a note on stderr unless `quiet`.
+// `what` (".qsp", "reorder") cannot keep: refused (kUnsupported, naming each kind not dropped with its
+// counts, and the --drop that drops everything the file has) unless `drop` drops every kind the file
+// has, then a note on stderr naming what was dropped, unless `quiet`.
 void refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
-                       bool positions_only, bool quiet);
+                       const DropOptions& drop, bool quiet);
 
 // Coordinates the reader rounded to float32 (ReadReport::rounded_coordinates), which `what` would
 // write rounded: refused (kUnsupported, naming the first and --float32, plus `other_way` when not
