@@ -4,7 +4,9 @@
 // Two readings of each format: into a qsp::Mesh (qsp/polymesh.h) with everything the file carries,
 // exactly (read_obj_mesh, read_off_mesh, read_ply_mesh, read_mesh); and the QuadMesh readers below
 // (read_obj, read_off, read_ply, read_mesh_file), positions rounded to float32 and quads only, which
-// refuse and count as they always did. Both are one parser per format.
+// refuse other faces and count the rest by kind (ReadReport). Both are one parser per format and accept
+// the same files but for the checks the QuadMesh readers skip (texture coordinate, normal and tag
+// indices in range; vertices agreeing on having colours) and their faces being quads.
 #pragma once
 
 #include <cstdint>
