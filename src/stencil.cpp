@@ -373,12 +373,26 @@ MeshLayout assemble(std::span<const ComponentPartition> parts, std::uint32_t unr
   MeshLayout out;
   auto shift = [](std::uint32_t v, std::uint32_t base) { return v == kInvalid ? kInvalid : v + base; };
   const bool patch = order == CodingOrder::kPatch;
+  // Every component's grid first, so the arrays are sized once: grown by doubling, they touched three
+  // times their memory (6 MB of fresh pages decoding mh_base's 153 components, 19k vertices).
+  std::vector<Numbering> numbering(parts.size());
+  std::vector<GridLayout> grids;
+  grids.reserve(parts.size());
+  std::size_t quads = 0, vertices = unreferenced;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    grids.push_back(grid_layout(parts[i], numbering[i]));
+    quads += grids.back().quads.size();
+    vertices += grids.back().vertex_count;
+  }
+  const bool one = parts.size() == 1;  // its arrays move, not copy (peak memory)
+  if (!one) out.quads.reserve(quads);
+  if (order && !one) out.stencil.reserve(vertices);
+  if (patch) out.coding.reserve(vertices);
   std::uint32_t base = 0;
-  for (const ComponentPartition& part : parts) {
-    Numbering n;
-    GridLayout g = grid_layout(part, n);
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    GridLayout& g = grids[i];
     if (order) {  // before the quads move: patch order reads them
-      ComponentStencils c = component_stencils(part, g, n, *order);
+      ComponentStencils c = component_stencils(parts[i], g, numbering[i], *order);
       if (patch) {
         if (c.coding.empty()) {
           for (std::uint32_t v = 0; v < g.vertex_count; ++v) out.coding.push_back(v + base);
@@ -386,8 +400,9 @@ MeshLayout assemble(std::span<const ComponentPartition> parts, std::uint32_t unr
           for (std::uint32_t v : c.coding) out.coding.push_back(v + base);
         }
       }
-      if (base == 0 && out.stencil.empty()) {
+      if (one) {
         out.stencil = std::move(c.stencil);
+        out.stencil.reserve(vertices);
       } else {
         for (Stencil st : c.stencil) {
           for (std::uint32_t* j : st.vertex_fields()) *j = shift(*j, base);
@@ -395,12 +410,13 @@ MeshLayout assemble(std::span<const ComponentPartition> parts, std::uint32_t unr
         }
       }
     }
-    if (base == 0 && out.quads.empty()) {  // the first component needs no shift: move, not copy (peak memory)
+    if (one) {
       out.quads = std::move(g.quads);
     } else {
       for (std::uint32_t v : g.quads) out.quads.push_back(v + base);
     }
     base += g.vertex_count;
+    g = GridLayout{};  // its memory back before the next component's stencils
   }
   out.vertex_count = base + unreferenced;
   if (!order) return out;
