@@ -100,7 +100,10 @@ void across_patches(const Schematic& s, const Numbering& n, std::vector<Stencil>
 // cell around it, else its row or column. Every point, schematic vertices included, is then predicted
 // from mesh neighbours one edge away, where layout order predicts schematic vertices from others a
 // patch side away: 5-22% smaller at 14 bits on coarse meshes with small patches (horse, gargoyle).
-void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layout, ComponentStencils& out) {
+// Appends to `stencil` and `coding`, which hold the `base` positions of the components before this one
+// (assemble() passes the mesh's arrays: no per-component copy to shift).
+void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layout, std::uint32_t base,
+                 std::vector<Stencil>& stencil, std::vector<std::uint32_t>& coding) {
   const std::uint32_t count = layout.vertex_count, vc = s.vertex_count;
   const std::uint32_t edge_end =
       vc +
@@ -145,10 +148,11 @@ void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layou
     for (std::uint32_t k = 0; k < layout.quads.size(); ++k) at_cell[fill[layout.quads[k]]++] = k;
   }
   std::vector<std::uint32_t> id(count, kInvalid);  // layout vertex -> coding position
-  std::vector<Stencil> st;                         // in coding positions
-  st.reserve(count);
-  out.coding.clear();
-  out.coding.reserve(count);
+  if (coding.size() != base || stencil.size() != base)
+    throw Error(ErrorCode::kInternal, "patch order appended at the wrong position");
+  stencil.reserve(std::size_t{base} + count);
+  coding.reserve(std::size_t{base} + count);
+  std::uint32_t position = 0;  // this component's next coding position
   auto coded = [&](std::uint32_t q) { return q != kInvalid && id[q] != kInvalid ? q : kInvalid; };
   // Patches holding each boundary point (CSR over ring entries), for choosing the next patch.
   std::vector<std::uint32_t> ring_first(edge_end + 1, 0), ring_patch;
@@ -284,10 +288,10 @@ void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layou
         }
         // Every field names a coded vertex: into coding positions now, while t is in cache.
         for (std::uint32_t* v : t.vertex_fields())
-          if (*v != kInvalid) *v = id[*v];
-        id[p] = static_cast<std::uint32_t>(out.coding.size());
-        out.coding.push_back(p);
-        st.push_back(t);
+          if (*v != kInvalid) *v = id[*v] + base;
+        id[p] = position++;
+        coding.push_back(p + base);
+        stencil.push_back(t);
         if (p < edge_end)
           for (std::uint32_t k = ring_first[p]; k < ring_first[p + 1]; ++k) {
             const std::uint32_t q = ring_patch[k];
@@ -296,8 +300,7 @@ void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layou
           }
       }
   }
-  if (out.coding.size() != count) throw Error(ErrorCode::kInternal, "patch order misses a vertex");
-  out.stencil = std::move(st);
+  if (position != count) throw Error(ErrorCode::kInternal, "patch order misses a vertex");
 }
 
 }  // namespace
@@ -307,7 +310,7 @@ ComponentStencils component_stencils(const ComponentPartition& part, const GridL
   const bool general = part.kind == ComponentKind::kUnstructured || part.kind == ComponentKind::kDisk;
   ComponentStencils out;
   if (general && order == CodingOrder::kPatch) {  // its own stencils: none of layout order's are needed
-    patch_order(part.schematic, n, layout, out);
+    patch_order(part.schematic, n, layout, 0, out.stencil, out.coding);
     return out;
   }
   out.stencil.assign(layout.vertex_count, {});
@@ -386,12 +389,16 @@ MeshLayout assemble(std::span<const ComponentPartition> parts, std::uint32_t unr
   }
   const bool one = parts.size() == 1;  // its arrays move, not copy (peak memory)
   if (!one) out.quads.reserve(quads);
-  if (order && !one) out.stencil.reserve(vertices);
+  if (order) out.stencil.reserve(vertices);
   if (patch) out.coding.reserve(vertices);
   std::uint32_t base = 0;
   for (std::size_t i = 0; i < parts.size(); ++i) {
     GridLayout& g = grids[i];
-    if (order) {  // before the quads move: patch order reads them
+    const ComponentKind kind = parts[i].kind;
+    if (patch && (kind == ComponentKind::kUnstructured || kind == ComponentKind::kDisk)) {
+      // Patch order straight into the mesh's arrays, before the quads move (it reads them).
+      patch_order(parts[i].schematic, numbering[i], g, base, out.stencil, out.coding);
+    } else if (order) {
       ComponentStencils c = component_stencils(parts[i], g, numbering[i], *order);
       if (patch) {
         if (c.coding.empty()) {
@@ -400,7 +407,7 @@ MeshLayout assemble(std::span<const ComponentPartition> parts, std::uint32_t unr
           for (std::uint32_t v : c.coding) out.coding.push_back(v + base);
         }
       }
-      if (one) {
+      if (one && out.stencil.empty()) {
         out.stencil = std::move(c.stencil);
         out.stencil.reserve(vertices);
       } else {
