@@ -688,6 +688,9 @@ class ObjReader {
   // A statement qsp keeps as text: [start, the end of the statement), in place, with a warning (quads
   // mode counts it, as both modes count everything else).
   [[gnu::noinline]] void keep_text(std::uint64_t line, const char* start, const std::string& what) {
+    // Prose is kept; a NUL byte says the file is not text at all (a binary file read as OBJ).
+    if (std::memchr(start, '\0', static_cast<std::size_t>(in_.pos() - start)))
+      in_.fail(ErrorCode::kParse, line, "binary data (a NUL byte) where a statement should be: not OBJ text");
     report_.note_kept(line, what);
     if constexpr (kExact) {
       mesh_.verbatim.emplace_back(trim(std::string_view(start, static_cast<std::size_t>(in_.pos() - start))));

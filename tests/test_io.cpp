@@ -179,7 +179,7 @@ TEST(ReadObj, LinesWithoutGeometryAreCountedNotRefused) {
   const Case cases[] = {
       {"This asset was made by hand\n", 1, "unknown statement 'This'"},
       {"foo 1 2\n", 1, "unknown statement 'foo'"},
-      {std::string("\x00\xff\x10 garbage\n", 12), 1, "unknown statement '\\x00\\xff\\x10'"},
+      {"\xff\x10 garbage\n", 1, "unknown statement '\\xff\\x10'"},
       {"cstype bspline\ndeg 3\nend\n", 3, "`cstype` (free-form or display attribute, no geometry)"},
       {"vp 0.5 0.5\nvp 1\n", 2, "`vp` (parameter-space vertex)"},
       {"usemap tex\nmaplib lib\n", 2, "`usemap` (old texture map statement)"},
@@ -204,6 +204,22 @@ TEST(ReadObj, LinesWithoutGeometryAreCountedNotRefused) {
     ASSERT_FALSE(notes.warnings.empty());
     EXPECT_EQ(notes.warnings[0].line, r.first_kept.line);
     EXPECT_EQ(notes.warnings[0].message, "kept as text and written back unchanged: " + std::string(c.first));
+  }
+  // A NUL byte is no prose: a binary file read as OBJ is refused by both readers, at its line.
+  const std::string binary = square + std::string("\x00\xff\x10 garbage\n", 12) + "f 1 2 3 4\n";
+  for (const bool exact : {false, true}) {
+    try {
+      if (exact) {
+        (void)qsp::read_obj_mesh(binary, "t.obj");
+      } else {
+        (void)qsp::read_obj(binary, "t.obj");
+      }
+      ADD_FAILURE() << "a NUL byte was kept as text (exact reader: " << exact << ")";
+    } catch (const qsp::Error& e) {
+      EXPECT_EQ(e.code(), qsp::ErrorCode::kParse);
+      EXPECT_EQ(std::string(e.what()),
+                "t.obj:5: binary data (a NUL byte) where a statement should be: not OBJ text");
+    }
   }
   for (const char* geometry : {"curv 0 1 1 2\n", "curv2 1 2\n", "surf 0 1 0 1 1 2 3\n", "l 1 2\n", "p 1\n"}) {
     SCOPED_TRACE(geometry);
