@@ -202,11 +202,11 @@ int main(int argc, char** argv) {
       if (m.vertex_count() > 0)
         put(polygons, id + ".bin", submesh_bytes(static_cast<std::uint32_t>(m.vertex_count()), faces));
     }
-    for (int mode = 0; mode < 4; ++mode) {  // lossless, keep-order, 11 bits, 11 bits in revision 4 or 5
+    for (int mode = 0; mode < 4; ++mode) {  // lossless, keep-order, 11 bits, 11 bits at --best (costly tools)
       qsp::EncodeOptions o;
       o.keep_order = mode == 1;
       o.quantize_bits = mode >= 2 ? 11 : 0;
-      if (mode == 3) o.geometry_shapes = false;
+      if (mode == 3) o.level = qsp::kMaxLevel;
       try {
         put(qspdir, id + "_" + std::to_string(mode) + ".qsp", qsp::encode(m, o), 2 * kMaxSeed);
       } catch (const qsp::Error& e) {

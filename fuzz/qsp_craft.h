@@ -1,11 +1,8 @@
-// Building and re-sealing .qsp containers by hand, for the fuzzers and tests/test_hostile.cpp.
-// Mirrors the container layout of src/codec.cpp: magic (8), major, minor, flags, file size (LEB128,
-// counting itself), tagged sections (tag, LEB128 length, payload), XXH64 (seed 0, little-endian) of
-// every byte before it. Header-only; uses xxhash inline so no link dependency is needed.
+// Taking .qsp containers apart and putting them back together by hand, for the fuzzers and
+// tests/test_hostile.cpp. The container itself (magic, version, encoder byte, size field, sections,
+// XXH64) is the library's own src/container.h, which seals what is built here; these helpers only add
+// what crafting needs: splitting a file that may be malformed without checking it.
 #pragma once
-
-#define XXH_INLINE_ALL
-#include <xxhash.h>
 
 #include <cstdint>
 #include <cstring>
@@ -13,48 +10,28 @@
 #include <string_view>
 #include <vector>
 
+#include "bytes.h"
+#include "container.h"
+
 namespace qsp::craft {
 
-inline constexpr unsigned char kMagic[8] = {0x89, 'Q', 'S', 'P', 0x0D, 0x0A, 0x1A, 0x0A};
-inline constexpr std::size_t kFixedHeader = 11;  // magic, major, minor, flags
-inline constexpr std::size_t kChecksumBytes = 8;
-inline constexpr std::uint8_t kTagCounts = 0x01, kTagTopology = 0x02, kTagGeometry = 0x03, kTagOrder = 0x04;
-
-inline void put_varint(std::string& out, std::uint64_t v) {
-  while (v >= 0x80) {
-    out.push_back(static_cast<char>(static_cast<std::uint8_t>(v) | 0x80));
-    v >>= 7;
-  }
-  out.push_back(static_cast<char>(v));
-}
-
-inline std::size_t varint_size(std::uint64_t v) {
-  std::size_t n = 1;
-  for (; v >= 0x80; v >>= 7) ++n;
-  return n;
-}
-
-inline std::uint64_t xxh64(std::string_view bytes) { return XXH64(bytes.data(), bytes.size(), 0); }
+using container::kChecksumBytes;
+using container::kFixedHeader;
+using container::kMagic;
+using container::kTagCounts;
+using container::kTagGeometry;
+using container::kTagOrder;
+using container::kTagTopology;
+using qsp::put_varint;
 
 // A complete file around `body` (the sections): correct size field and checksum.
-inline std::string seal(std::uint8_t major, std::uint8_t minor, std::uint8_t flags, std::string_view body) {
-  std::string out(reinterpret_cast<const char*>(kMagic), 8);
-  out.push_back(static_cast<char>(major));
-  out.push_back(static_cast<char>(minor));
-  out.push_back(static_cast<char>(flags));
-  std::uint64_t total = kFixedHeader + 1 + body.size() + kChecksumBytes;
-  while (kFixedHeader + varint_size(total) + body.size() + kChecksumBytes != total) ++total;
-  put_varint(out, total);
-  out.append(body);
-  const std::uint64_t sum = xxh64(out);
-  for (std::size_t i = 0; i < kChecksumBytes; ++i) out.push_back(static_cast<char>(static_cast<std::uint8_t>(sum >> (8 * i))));
-  return out;
+inline std::string seal(std::uint8_t major, std::uint8_t minor, std::uint8_t encoder, std::string_view body) {
+  return container::seal(major, minor, encoder, body);
 }
 
 inline std::string section(std::uint8_t tag, std::string_view payload) {
-  std::string out(1, static_cast<char>(tag));
-  put_varint(out, payload.size());
-  out.append(payload);
+  std::string out;
+  container::put_section(out, tag, payload);
   return out;
 }
 
@@ -70,16 +47,17 @@ inline std::string counts_payload(std::uint64_t vertices, std::uint64_t faces, s
 }
 
 struct Parts {
-  std::uint8_t major = 0, minor = 0, flags = 0;
+  std::uint8_t major = 0, minor = 0, encoder = 0;
   std::string body;  // the sections, as in the file
 };
 
-// Splits a well-formed container (does not check the checksum); false if it is not one.
+// Splits a container-shaped file (does not check the checksum); false if it is not one.
 inline bool split(std::string_view file, Parts& p) {
-  if (file.size() < kFixedHeader + 1 + kChecksumBytes || std::memcmp(file.data(), kMagic, 8) != 0) return false;
+  if (file.size() < kFixedHeader + 1 + kChecksumBytes || std::memcmp(file.data(), kMagic, 8) != 0)
+    return false;
   p.major = static_cast<std::uint8_t>(file[8]);
   p.minor = static_cast<std::uint8_t>(file[9]);
-  p.flags = static_cast<std::uint8_t>(file[10]);
+  p.encoder = static_cast<std::uint8_t>(file[10]);
   std::size_t pos = kFixedHeader;
   while (pos < file.size() && (static_cast<std::uint8_t>(file[pos]) & 0x80)) ++pos;
   ++pos;
@@ -93,7 +71,7 @@ inline bool split(std::string_view file, Parts& p) {
 inline std::string reseal(std::string_view file) {
   Parts p;
   if (!split(file, p)) return {};
-  return seal(p.major, p.minor, p.flags, p.body);
+  return seal(p.major, p.minor, p.encoder, p.body);
 }
 
 struct SectionView {

@@ -8,12 +8,18 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <bit>
 #include <cstring>
+#include <exception>
 #include <numeric>
 #include <string>
+#include <system_error>
+#include <thread>
 #include <tuple>
 #include <unordered_set>
 
+#include "order_set.h"
 #include "qsp/error.h"
 
 namespace qsp {
@@ -21,69 +27,91 @@ namespace {
 
 [[noreturn]] void bad_code(const std::string& what) { throw Error(ErrorCode::kFormat, "topology: " + what); }
 
-// Order-statistics over labels 0..n-1 ("which open darts are there, and what is the k-th").
-class Fenwick {
+// The open labels of a traversal (darts no dart's `next` reaches yet) and how many lie below a label:
+// a bit per label and an OrderSet over 64-label words, holding each word once per open label in it, so
+// a step costs a few instructions on a small component and a dozen on a large one.
+class OpenLabels {
  public:
-  explicit Fenwick(std::size_t n) : tree_(n + 1, 0), log_(1) {
-    while ((std::size_t{1} << log_) <= n) ++log_;
+  explicit OpenLabels(std::size_t n) : bits_((n + 63) / 64, 0), words_(bits_.size()) {}
+  void open(std::uint32_t i) {
+    bits_[i >> 6] |= bit(i);
+    if (bits_.size() > 1) words_.insert(i >> 6);
   }
-  void add(std::size_t i, int delta) {
-    for (++i; i < tree_.size(); i += i & (~i + 1)) tree_[i] += delta;
+  void close(std::uint32_t i) {
+    bits_[i >> 6] &= ~bit(i);
+    if (bits_.size() > 1) words_.erase(i >> 6);
   }
-  // Number of set labels < i.
-  std::uint32_t prefix(std::size_t i) const {
-    std::uint32_t s = 0;
-    for (; i > 0; i -= i & (~i + 1)) s += tree_[i];
-    return s;
+  std::uint32_t below(std::uint32_t i) const {
+    return words_.rank(i >> 6) + static_cast<std::uint32_t>(std::popcount(bits_[i >> 6] & (bit(i) - 1)));
   }
-  // Label of the k-th set element (1-based); n if none.
-  std::size_t find(std::uint32_t k) const {
-    std::size_t pos = 0;
-    for (int b = log_; b >= 0; --b) {
-      const std::size_t nxt = pos + (std::size_t{1} << b);
-      if (nxt < tree_.size() && static_cast<std::uint32_t>(tree_[nxt]) < k) {
-        pos = nxt;
-        k -= tree_[nxt];
-      }
-    }
-    return pos;  // 0-based label
+  void clear() {
+    std::fill(bits_.begin(), bits_.end(), 0);
+    words_.clear();
   }
 
  private:
-  std::vector<std::int32_t> tree_;
-  int log_;
+  static std::uint64_t bit(std::uint32_t i) { return std::uint64_t{1} << (i & 63); }
+  std::vector<std::uint64_t> bits_;
+  OrderSet words_;
 };
 
-// Darts in canonical label order from `root`, and the code of that traversal.
-void traverse(const Schematic& s, std::uint32_t root, std::vector<std::uint32_t>& order, TopologyCode& code) {
-  const std::uint32_t nd = s.dart_count();
-  std::vector<std::uint32_t> label(nd, kInvalid);
-  order.clear();
-  order.reserve(nd);
-  code.next_ref.clear();
-  code.edge_length.clear();
-  code.corner.clear();
-  Fenwick open(nd);
-  auto assign = [&](std::uint32_t d) {
-    for (std::uint32_t x : {d, d ^ 1}) {
-      label[x] = static_cast<std::uint32_t>(order.size());
-      order.push_back(x);
-      open.add(label[x], 1);
-    }
-    code.edge_length.push_back(s.edge_length[d >> 1]);
+// What the traversals of one component share, so that trying each candidate root allocates nothing.
+struct Traversal {
+  explicit Traversal(std::uint32_t nd) : label(nd, kInvalid), order(nd), open(nd) {}
+  std::vector<std::uint32_t> label;  // per dart: its label; all kInvalid between traversals
+  std::vector<std::uint32_t> order;  // darts in label order, of the last traversal
+  OpenLabels open;                   // none open between traversals
+  TopologyCode code;                 // of the last traversal (its kind is the caller's)
+};
+
+// Darts in canonical label order from `root` (into t.order), and the code of that traversal (t.code).
+// The schematic is connected, so every dart gets a label and the streams are filled to their sizes.
+// With `expect`, stops at the first entry that differs from it and returns false (t.code is then
+// partial); true when the whole code equals it, or without `expect`.
+bool traverse(const Schematic& s, std::uint32_t root, Traversal& t, const TopologyCode* expect = nullptr) {
+  const std::size_t nd = t.order.size();
+  t.code.next_ref.resize(nd);  // no-ops but after the streams changed hands with a smaller code's
+  t.code.edge_length.resize(nd / 2);
+  t.code.corner.resize(nd);
+  std::uint32_t* const label = t.label.data();
+  std::uint32_t* const order = t.order.data();
+  std::uint32_t* const next_ref = t.code.next_ref.data();
+  std::uint32_t* const edge_length = t.code.edge_length.data();
+  std::uint8_t* const corner = t.code.corner.data();
+  std::uint32_t labelled = 0;
+  bool same = true;
+  auto assign = [&](std::uint32_t d) {  // labels the edge of d, d first
+    label[d] = labelled;
+    label[d ^ 1] = labelled + 1;
+    order[labelled] = d;
+    order[labelled + 1] = d ^ 1;
+    t.open.open(labelled);
+    t.open.open(labelled + 1);
+    edge_length[labelled / 2] = s.edge_length[d >> 1];
+    if (expect && expect->edge_length[labelled / 2] != edge_length[labelled / 2]) same = false;
+    labelled += 2;
   };
   assign(root);
-  for (std::size_t i = 0; i < order.size(); ++i) {
+  for (std::uint32_t i = 0; i < labelled && same; ++i) {
     const std::uint32_t d = order[i], n = s.dart_next[d];
     if (label[n] == kInvalid) {
       assign(n);
-      code.next_ref.push_back(0);
+      next_ref[i] = 0;
     } else {
-      code.next_ref.push_back(1 + open.prefix(label[n]));
+      next_ref[i] = 1 + t.open.below(label[n]);
     }
-    open.add(label[n], -1);
-    code.corner.push_back(s.dart_corner[d]);
+    t.open.close(label[n]);
+    corner[i] = s.dart_corner[d];
+    if (expect && (expect->next_ref[i] != next_ref[i] || expect->corner[i] != corner[i])) same = false;
   }
+  for (std::uint32_t i = 0; i < labelled; ++i) label[order[i]] = kInvalid;
+  if (!same) {
+    t.open.clear();  // stopped with darts open
+    return false;
+  }
+  if (labelled != nd) throw Error(ErrorCode::kInternal, "canonical: schematic is not connected");
+  // Every dart was opened once and closed once (next is a permutation), so none is open again.
+  return true;
 }
 
 // Everything but the mesh link, numbered from the dart order alone: vertices and faces by first
@@ -162,15 +190,57 @@ std::uint64_t mix(std::uint64_t h, std::uint64_t v) {
   return h ^ (h >> 33);
 }
 
-// Colour refinement on darts: colours depend only on the labelled map, never on numbering.
-std::vector<std::uint64_t> refine(const Schematic& s) {
+// How many darts have each colour: a flat hash table sized once per component, so that counting a
+// refinement round's classes costs O(darts), not a sort.
+class ColourCounts {
+ public:
+  explicit ColourCounts(std::size_t n) {
+    std::size_t cap = 16;
+    while (cap < 2 * n) cap <<= 1;
+    colour_.resize(cap);
+    count_.resize(cap);
+    shift_ = 64 - std::countr_zero(cap);
+  }
+  // Counts `colours`; returns how many distinct ones there are.
+  std::size_t count(const std::vector<std::uint64_t>& colours) {
+    std::fill(count_.begin(), count_.end(), 0);
+    std::size_t distinct = 0;
+    const std::size_t mask = count_.size() - 1;
+    for (const std::uint64_t c : colours) {
+      std::size_t i = static_cast<std::size_t>((c * 0x9E3779B97F4A7C15ull) >> shift_);
+      while (count_[i] != 0 && colour_[i] != c) i = (i + 1) & mask;
+      if (count_[i]++ == 0) colour_[i] = c, ++distinct;
+    }
+    return distinct;
+  }
+  // Of the last count: the colour of the fewest darts (ties: the smallest colour).
+  std::uint64_t rarest() const {
+    std::uint64_t best = 0;
+    std::uint32_t best_count = 0;
+    for (std::size_t i = 0; i < count_.size(); ++i) {
+      if (count_[i] == 0) continue;
+      if (best_count == 0 || count_[i] < best_count || (count_[i] == best_count && colour_[i] < best))
+        best = colour_[i], best_count = count_[i];
+    }
+    return best;
+  }
+
+ private:
+  std::vector<std::uint64_t> colour_;
+  std::vector<std::uint32_t> count_;  // 0: empty slot
+  int shift_ = 0;
+};
+
+// Colour refinement on darts: colours depend only on the labelled map, never on numbering. `counts`
+// is left holding the returned colours' counts.
+std::vector<std::uint64_t> refine(const Schematic& s, ColourCounts& counts) {
   const std::uint32_t nd = s.dart_count();
   std::vector<std::uint32_t> face_len(s.face_count(), 0), vertex_deg(s.vertex_count, 0);
   for (std::uint32_t d = 0; d < nd; ++d) {
     ++face_len[s.dart_face[d]];
     ++vertex_deg[s.dart_vertex[d]];
   }
-  std::vector<std::uint64_t> c(nd), tmp(nd), sorted;
+  std::vector<std::uint64_t> c(nd), tmp(nd);
   for (std::uint32_t d = 0; d < nd; ++d) {
     std::uint64_t h = mix(s.edge_length[d >> 1], s.dart_corner[d]);
     h = mix(h, s.dart_corner[d ^ 1]);
@@ -178,16 +248,11 @@ std::vector<std::uint64_t> refine(const Schematic& s) {
     h = mix(h, face_len[s.dart_face[d]]);
     c[d] = mix(h, vertex_deg[s.dart_vertex[d]]);
   }
-  auto classes = [&](const std::vector<std::uint64_t>& col) {
-    sorted = col;
-    std::sort(sorted.begin(), sorted.end());
-    return std::unique(sorted.begin(), sorted.end()) - sorted.begin();
-  };
-  auto n = classes(c);
-  for (int round = 0; round < 64 && n < static_cast<std::ptrdiff_t>(nd); ++round) {
+  std::size_t n = counts.count(c);
+  for (int round = 0; round < 64 && n < nd; ++round) {
     for (std::uint32_t d = 0; d < nd; ++d)
       tmp[d] = mix(mix(mix(c[d], c[s.dart_next[d]]), c[s.dart_prev[d]]), c[d ^ 1]);
-    const auto m = classes(tmp);
+    const std::size_t m = counts.count(tmp);
     c.swap(tmp);
     if (m == n) break;
     n = m;
@@ -195,54 +260,56 @@ std::vector<std::uint64_t> refine(const Schematic& s) {
   return c;
 }
 
-// Roots whose traversal code is the smallest: the canonical root and its images under every
-// orientation-preserving automorphism (one automorphism per root: a map is fixed by one dart's image).
-std::vector<std::uint32_t> tied_roots(const Schematic& s, TopologyCode& best) {
+// Candidate roots: the darts of the smallest colour class (ties: smallest colour value), increasing.
+std::vector<std::uint32_t> candidate_roots(const Schematic& s) {
   const std::uint32_t nd = s.dart_count();
-  const std::vector<std::uint64_t> colour = refine(s);
-  // Candidate roots: the smallest colour class (ties: smallest colour value).
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> by_colour(nd);
-  for (std::uint32_t d = 0; d < nd; ++d) by_colour[d] = {colour[d], d};
-  std::sort(by_colour.begin(), by_colour.end());
-  std::uint64_t best_colour = 0;
-  std::size_t best_size = SIZE_MAX;
-  for (std::size_t i = 0; i < nd;) {
-    std::size_t j = i;
-    while (j < nd && by_colour[j].first == by_colour[i].first) ++j;
-    if (j - i < best_size) {
-      best_size = j - i;
-      best_colour = by_colour[i].first;
-    }
-    i = j;
-  }
+  ColourCounts counts(nd);
+  const std::vector<std::uint64_t> colour = refine(s, counts);
+  const std::uint64_t rarest = counts.rarest();
   std::vector<std::uint32_t> candidates;
-  for (auto [col, d] : by_colour)
-    if (col == best_colour) candidates.push_back(d);
+  for (std::uint32_t d = 0; d < nd; ++d)
+    if (colour[d] == rarest) candidates.push_back(d);
+  return candidates;
+}
 
-  std::vector<std::uint32_t> order;
-  std::vector<std::uint32_t> tied;  // roots whose code equals the best
-  TopologyCode code;
-  code.kind = best.kind;
-  for (std::uint32_t root : candidates) {
-    traverse(s, root, order, code);
-    const int c = tied.empty() ? -1 : compare_codes(code, best);
+// Traverses from every candidate root and calls on_tie(root, t.order, fresh) for each whose code is
+// the smallest so far (then in `best`); fresh: smaller than every earlier one, which no longer tie.
+// The roots still tied at the end are the canonical root and its images under every
+// orientation-preserving automorphism (one automorphism per root: a map is fixed by one dart's image).
+template <class OnTie>
+void smallest_codes(const Schematic& s, TopologyCode& best, Traversal& t, OnTie&& on_tie) {
+  t.code.kind = best.kind;
+  bool first = true;
+  for (const std::uint32_t root : candidate_roots(s)) {
+    traverse(s, root, t);
+    const int c = first ? -1 : compare_codes(t.code, best);
+    first = false;
     if (c < 0) {
-      best = code;
-      tied.assign(1, root);
+      std::swap(best, t.code);  // same kind and sizes: only the streams change hands
+      on_tie(root, t.order, true);
     } else if (c == 0) {
-      tied.push_back(root);
+      on_tie(root, t.order, false);
     }
   }
+}
+
+// Roots whose traversal code is the smallest (see smallest_codes), in candidate order.
+std::vector<std::uint32_t> tied_roots(const Schematic& s, TopologyCode& best) {
+  Traversal t(s.dart_count());
+  std::vector<std::uint32_t> tied;
+  smallest_codes(s, best, t, [&](std::uint32_t root, const std::vector<std::uint32_t>&, bool fresh) {
+    if (fresh) tied.clear();
+    tied.push_back(root);
+  });
   return tied;
 }
 
 // `part` relabelled in the traversal order from `root`, still linked to the mesh.
-ComponentPartition relabel(const ComponentPartition& part, std::uint32_t root) {
+ComponentPartition relabel(const ComponentPartition& part, std::uint32_t root, Traversal& t) {
   const Schematic& s = part.schematic;
   const std::uint32_t nd = s.dart_count();
-  std::vector<std::uint32_t> order;
-  TopologyCode code;
-  traverse(s, root, order, code);
+  traverse(s, root, t);
+  const std::vector<std::uint32_t>& order = t.order;
   std::vector<std::uint32_t> label(nd);
   for (std::uint32_t i = 0; i < nd; ++i) label[order[i]] = i;
   std::vector<std::uint32_t> next(nd), lengths(nd / 2);
@@ -263,51 +330,147 @@ ComponentPartition relabel(const ComponentPartition& part, std::uint32_t root) {
   return p;
 }
 
-// The mesh vertices of relabel(part, root)'s schematic vertices, in their order there (first appearance
-// in traversal order, as schematic_from_next numbers them), without building the relabelled component.
-std::vector<std::uint32_t> relabelled_vertex_mesh(const Schematic& s, std::uint32_t root,
-                                                  std::vector<std::uint32_t>& order,
-                                                  std::vector<std::uint8_t>& seen) {
-  TopologyCode code;
-  traverse(s, root, order, code);
+// The label positions where a traversal in `order` first reaches each schematic vertex: a relabelling by
+// `order` numbers the vertices in this order (as schematic_from_next does), and lists them first in
+// its layout. The same for every root of one code.
+void first_reached(const Schematic& s, const std::vector<std::uint32_t>& order,
+                   std::vector<std::uint8_t>& seen, std::vector<std::uint32_t>& out) {
   seen.assign(s.vertex_count, 0);
-  std::vector<std::uint32_t> out;
-  out.reserve(s.vertex_count);
-  for (const std::uint32_t d : order) {
-    const std::uint32_t v = s.dart_vertex[d];
-    if (!seen[v]) seen[v] = 1, out.push_back(s.vertex_mesh[v]);
+  out.clear();
+  for (std::uint32_t i = 0; i < order.size(); ++i) {
+    const std::uint32_t v = s.dart_vertex[order[i]];
+    if (!seen[v]) seen[v] = 1, out.push_back(i);
   }
-  return out;
 }
 
-CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
-                                     const ComponentPartition& part) {
-  CanonicalComponent out;
-  out.code.kind = part.kind;
-  const std::vector<std::uint32_t> tied = tied_roots(part.schematic, out.code);
-  out.automorphisms = static_cast<std::uint32_t>(tied.size());
-
-  // Build the relabelled component for a root; with several tied roots keep the one whose layout
-  // lists the smallest positions (schematic vertices come first, so this is usually decided early).
-  out.part = relabel(part, tied[0]);
-  if (tied.size() > 1) {
+// Chooses among the roots tied on topology (given in candidate order) by the positions their layouts
+// list, the first of the smallest winning. The schematic vertices come first there and decide for most
+// roots: only the roots equal to the best on them (`finalists`) are relabelled and laid out.
+class RootChoice {
+ public:
+  RootChoice(const QuadMesh& mesh, const Schematic& s) : mesh_(mesh), s_(s) {}
+  // The next tied root, whose traversal reaches the schematic vertices at darts first[0], first[1], ...
+  // (`fresh`: the first of a new smallest code, the roots before no longer tied).
+  template <class FirstDart>
+  void add(std::uint32_t root, bool fresh, FirstDart first) {
+    tied_ = fresh ? 1 : tied_ + 1;
+    prefix_.resize(s_.vertex_count);
+    for (std::uint32_t j = 0; j < s_.vertex_count; ++j) prefix_[j] = s_.vertex_mesh[s_.dart_vertex[first(j)]];
+    const int c = fresh ? -1 : compare_positions(mesh_, prefix_, best_prefix_);
+    if (c < 0) {
+      best_prefix_.swap(prefix_);
+      finalists_.assign(1, root);
+    } else if (c == 0) {
+      finalists_.push_back(root);
+    }
+  }
+  // The component relabelled from the chosen root, with its layout map and automorphism count.
+  void finish(const Adjacency& adj, const ComponentPartition& part, Traversal& t, CanonicalComponent& out) {
+    out.automorphisms = tied_;
+    out.part = relabel(part, finalists_[0], t);
     out.map = layout_to_mesh(out.part, adj);
-    std::vector<std::uint32_t> order;
-    std::vector<std::uint8_t> seen;
-    for (std::size_t t = 1; t < tied.size(); ++t) {
-      // Most symmetric roots lose on the schematic vertices alone: relabel only those that may win.
-      if (compare_positions(mesh, relabelled_vertex_mesh(part.schematic, tied[t], order, seen),
-                            out.part.schematic.vertex_mesh) > 0)
-        continue;
-      ComponentPartition p = relabel(part, tied[t]);
+    for (std::size_t i = 1; i < finalists_.size(); ++i) {
+      ComponentPartition p = relabel(part, finalists_[i], t);
       LayoutMap m = layout_to_mesh(p, adj);
-      if (compare_positions(mesh, m.vertex, out.map.vertex) < 0) {
+      if (compare_positions(mesh_, m.vertex, out.map.vertex) < 0) {
         out.part = std::move(p);
         out.map = std::move(m);
       }
     }
-  } else {
-    out.map = layout_to_mesh(out.part, adj);
+  }
+
+ private:
+  const QuadMesh& mesh_;
+  const Schematic& s_;
+  std::vector<std::uint32_t> finalists_, best_prefix_, prefix_;
+  std::uint32_t tied_ = 0;
+};
+
+// A small component's shape, up to isomorphism, as its canonicalization found it: a component met
+// again in another place (the 125 helper cubes of a MakeHuman mesh) is canonicalized from it with
+// one traversal, no colour refinement and no traversal per tied root. Its tied roots are the images
+// of these, and their order is theirs by dart number, as candidate order is.
+struct KnownShape {
+  TopologyCode code;  // the smallest
+  std::uint32_t vertices = 0;
+  // Per tied root, in candidate order, 1 + vertices labels in the traversal from the first tied
+  // root: the root's own, then those of the darts where its traversal first reaches each vertex.
+  std::vector<std::uint32_t> labels;
+};
+
+// Components this small are remembered (a shape costs tied roots x vertices labels), this many per
+// dart and vertex count (a new component tries each until one matches).
+constexpr std::uint32_t kKnownShapeDarts = 256;
+constexpr std::size_t kKnownShapesPerSize = 4;
+
+struct ShapeMemory {
+  std::vector<KnownShape> shapes;
+};
+
+// `part` canonicalized from a remembered shape it is isomorphic to; false (nothing done) if none is.
+bool canonical_from_known(const QuadMesh& mesh, const Adjacency& adj, const ComponentPartition& part,
+                          const ShapeMemory& memory, Traversal& t, CanonicalComponent& out) {
+  const Schematic& s = part.schematic;
+  const std::uint32_t nd = s.dart_count(), nv = s.vertex_count;
+  for (const KnownShape& k : memory.shapes) {
+    if (k.code.kind != part.kind || k.code.next_ref.size() != nd || k.vertices != nv) continue;
+    std::uint32_t root = 0;
+    while (root < nd && !traverse(s, root, t, &k.code)) ++root;
+    if (root == nd) continue;
+    // t.order: the traversal from the first tied root's image. Each tied root's images, by dart.
+    const std::size_t stride = 1 + std::size_t{nv}, ties = k.labels.size() / stride;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> roots(ties);  // (dart, entry)
+    for (std::uint32_t e = 0; e < ties; ++e) roots[e] = {t.order[k.labels[e * stride]], e};
+    std::sort(roots.begin(), roots.end());
+    out.code = k.code;
+    RootChoice choice(mesh, s);
+    for (std::size_t r = 0; r < ties; ++r) {
+      const std::uint32_t* first = &k.labels[roots[r].second * stride + 1];
+      choice.add(roots[r].first, r == 0, [&](std::uint32_t j) { return t.order[first[j]]; });
+    }
+    choice.finish(adj, part, t, out);
+    return true;
+  }
+  return false;
+}
+
+CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
+                                     const ComponentPartition& part, ShapeMemory& memory) {
+  const Schematic& s = part.schematic;
+  const std::uint32_t nd = s.dart_count();
+  CanonicalComponent out;
+  out.code.kind = part.kind;
+  Traversal t(nd);
+  if (nd <= kKnownShapeDarts && canonical_from_known(mesh, adj, part, memory, t, out)) return out;
+  std::size_t same_size = 0;
+  for (const KnownShape& k : memory.shapes)
+    same_size += k.code.next_ref.size() == nd && k.vertices == s.vertex_count;
+  const bool remember = nd <= kKnownShapeDarts && same_size < kKnownShapesPerSize;
+  KnownShape shape;
+  shape.vertices = s.vertex_count;
+  std::vector<std::uint32_t> label_of, first;  // in the traversal from the first tied root
+  std::vector<std::uint8_t> seen;
+  RootChoice choice(mesh, s);
+  smallest_codes(s, out.code, t,
+                 [&](std::uint32_t root, const std::vector<std::uint32_t>& order, bool fresh) {
+                   if (fresh) {
+                     first_reached(s, order, seen, first);
+                     if (remember) {
+                       label_of.resize(nd);
+                       for (std::uint32_t i = 0; i < nd; ++i) label_of[order[i]] = i;
+                       shape.labels.clear();
+                     }
+                   }
+                   choice.add(root, fresh, [&](std::uint32_t j) { return order[first[j]]; });
+                   if (remember) {
+                     shape.labels.push_back(label_of[root]);
+                     for (const std::uint32_t i : first) shape.labels.push_back(label_of[order[i]]);
+                   }
+                 });
+  choice.finish(adj, part, t, out);
+  if (remember) {
+    shape.code = out.code;
+    memory.shapes.push_back(std::move(shape));
   }
   return out;
 }
@@ -453,13 +616,86 @@ CanonicalComponent canonical_structured(const QuadMesh& mesh, const Adjacency& a
 bool operator==(const TopologyCode& x, const TopologyCode& y) { return compare_codes(x, y) == 0; }
 bool operator<(const TopologyCode& x, const TopologyCode& y) { return compare_codes(x, y) < 0; }
 
-CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition) {
+namespace {
+
+CanonicalComponent canonical_component(const QuadMesh& mesh, const Adjacency& adj,
+                                       const ComponentPartition& part, ShapeMemory& memory) {
+  if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus)
+    return canonical_structured(mesh, adj, part);
+  return canonical_general(mesh, adj, part, memory);
+}
+
+// A component's share of the work, roughly: its layout's faces, and its darts times the traversals of
+// the colour refinement and the candidate roots.
+std::uint64_t canonical_cost(const Adjacency& adj, const ComponentPartition& part) {
+  return std::uint64_t{adj.component_faces[part.component]} + 16 * std::uint64_t{part.schematic.dart_count()};
+}
+
+// From this much work on other components than the largest, a second thread pays for its start.
+constexpr std::uint64_t kSecondThreadFrom = 4096;
+
+// The components canonicalized on two threads, each taking the next component (largest first) as it
+// finishes one. Each component's result depends on that component alone, so it is the same whichever
+// thread computes it. An error is the one the first failing component (in partition order) gives, as
+// on one thread.
+void canonical_components_on_two_threads(const QuadMesh& mesh, const Adjacency& adj,
+                                         const Partition& partition, std::vector<CanonicalComponent>& out) {
+  const std::size_t n = partition.components.size();
+  std::vector<std::uint64_t> cost(n);
+  for (std::size_t i = 0; i < n; ++i) cost[i] = canonical_cost(adj, partition.components[i]);
+  std::vector<std::uint32_t> work(n);
+  std::iota(work.begin(), work.end(), 0);
+  std::stable_sort(work.begin(), work.end(),
+                   [&](std::uint32_t x, std::uint32_t y) { return cost[x] > cost[y]; });
+  std::vector<std::exception_ptr> failed(n);
+  std::atomic<std::size_t> next{0};
+  auto run = [&] {
+    ShapeMemory memory;  // each thread its own: a component's result never depends on it
+    for (std::size_t k; (k = next.fetch_add(1, std::memory_order_relaxed)) < n;) {
+      const std::uint32_t i = work[k];
+      try {
+        out[i] = canonical_component(mesh, adj, partition.components[i], memory);
+      } catch (...) {
+        failed[i] = std::current_exception();
+      }
+    }
+  };
+  std::thread helper;
+  try {
+    helper = std::thread(run);
+  } catch (const std::system_error&) {
+    // no thread to be had: this one does all
+  }
+  run();
+  if (helper.joinable()) helper.join();
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
+}
+
+}  // namespace
+
+CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition,
+                           unsigned threads) {
   CanonicalMesh out;
-  for (const auto& part : partition.components) {
-    if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus)
-      out.components.push_back(canonical_structured(mesh, adj, part));
-    else
-      out.components.push_back(canonical_general(mesh, adj, part));
+  const std::size_t n = partition.components.size();
+  bool two = false;
+  if (n >= 2 && threads != 1 && std::thread::hardware_concurrency() > 1) {
+    std::uint64_t total = 0, largest = 0;
+    for (const auto& part : partition.components) {
+      const std::uint64_t c = canonical_cost(adj, part);
+      total += c;
+      largest = std::max(largest, c);
+    }
+    two = threads >= 2 || total - largest >= kSecondThreadFrom;
+  }
+  if (two) {
+    out.components.resize(n);
+    canonical_components_on_two_threads(mesh, adj, partition, out.components);
+  } else {
+    out.components.reserve(n);
+    ShapeMemory memory;
+    for (const auto& part : partition.components)
+      out.components.push_back(canonical_component(mesh, adj, part, memory));
   }
   std::vector<std::uint32_t> idx(out.components.size());
   std::iota(idx.begin(), idx.end(), 0);
@@ -501,7 +737,8 @@ ComponentPartition canonical_from_start(const Adjacency& adj, const CanonicalCom
                                         std::uint32_t start) {
   if (comp.part.kind == ComponentKind::kAnnulus || comp.part.kind == ComponentKind::kTorus)
     return at_anchor(adj, comp.part, start);
-  return relabel(comp.part, start);
+  Traversal t(comp.part.schematic.dart_count());
+  return relabel(comp.part, start, t);
 }
 
 ComponentPartition partition_from_code(const TopologyCode& code) {
@@ -524,10 +761,10 @@ ComponentPartition partition_from_code(const TopologyCode& code) {
   if (nd < 2 || nd % 2 || code.corner.size() != nd || code.edge_length.size() * 2 != nd)
     bad_code("stream sizes disagree");
   std::vector<std::uint32_t> next(nd, kInvalid);
-  Fenwick open(nd);
+  OrderSet open(nd);
   std::size_t labelled = 2, open_count = 2;
-  open.add(0, 1);
-  open.add(1, 1);
+  open.insert(0);
+  open.insert(1);
   for (std::size_t i = 0; i < nd; ++i) {
     if (i >= labelled) bad_code("traversal ends before its streams do");
     const std::uint32_t ref = code.next_ref[i];
@@ -535,15 +772,15 @@ ComponentPartition partition_from_code(const TopologyCode& code) {
     if (ref == 0) {
       if (labelled + 2 > nd) bad_code("more edges than declared");
       target = labelled;
-      open.add(labelled, 1);
-      open.add(labelled + 1, 1);
+      open.insert(labelled);
+      open.insert(labelled + 1);
       labelled += 2;
       open_count += 2;
     } else {
       if (ref > open_count) bad_code("reference to a dart that is not open");
-      target = open.find(ref);
+      target = open.select(ref - 1);
     }
-    open.add(target, -1);
+    open.erase(target);
     --open_count;
     next[i] = static_cast<std::uint32_t>(target);
   }

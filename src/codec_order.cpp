@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "qsp/codec.h"
-#include "qsp/entropy.h"
+#include "codec_sections.h"
+#include "entropy.h"
 #include "qsp/error.h"
 
 namespace qsp {
@@ -56,7 +56,7 @@ struct PermutationCoder {
 
 std::string encode_order(const OrderMap& order) {
   std::string out;
-  RangeEncoder enc(out, StreamEnds::kCompact);
+  RangeEncoder enc(out);
   auto nv = static_cast<std::uint32_t>(order.vertex.size());
   auto nf = static_cast<std::uint32_t>(order.face.size());
   if (order.rotation.size() != nf) throw Error(ErrorCode::kInternal, "encode_order: rotation size");
@@ -76,8 +76,8 @@ std::string encode_order(const OrderMap& order) {
 }
 
 OrderMap decode_order(std::string_view payload, std::uint64_t base_offset, std::uint32_t vertex_count,
-                      std::uint32_t face_count, StreamEnds ends) {
-  RangeDecoder dec(payload, base_offset, "order section", ends);
+                      std::uint32_t face_count) {
+  RangeDecoder dec(payload, base_offset, "order section");
   OrderMap order;
   order.vertex.resize(vertex_count);
   order.face.resize(face_count);

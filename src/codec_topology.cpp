@@ -14,8 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "qsp/codec.h"
-#include "qsp/entropy.h"
+#include "codec_sections.h"
+#include "entropy.h"
+#include "order_set.h"
 #include "qsp/error.h"
 
 namespace qsp {
@@ -23,65 +24,13 @@ namespace {
 
 [[noreturn]] void fail(ErrorCode code, const std::string& what) { throw Error(code, what); }
 
-// Order-statistic set over dart labels (Fenwick tree), growing by doubling.
-class Pool {
- public:
-  void insert(std::uint32_t d) {
-    if (d >= member_.size()) grow(d + 1);
-    member_[d] = 1;
-    ++size_;
-    for (std::size_t i = d + 1; i <= tree_.size(); i += i & (~i + 1)) ++tree_[i - 1];
-  }
-  void erase(std::uint32_t d) {
-    member_[d] = 0;
-    --size_;
-    for (std::size_t i = d + 1; i <= tree_.size(); i += i & (~i + 1)) --tree_[i - 1];
-  }
-  bool contains(std::uint32_t d) const { return d < member_.size() && member_[d]; }
-  std::uint32_t size() const { return size_; }
-  // Members with a label below d.
-  std::uint32_t rank(std::uint32_t d) const {
-    std::uint32_t r = 0;
-    for (std::size_t i = std::min<std::size_t>(d, tree_.size()); i > 0; i -= i & (~i + 1)) r += tree_[i - 1];
-    return r;
-  }
-  // The member with `r` members below it (r < size()).
-  std::uint32_t select(std::uint32_t r) const {
-    std::size_t pos = 0;
-    std::size_t step = std::bit_floor(tree_.size());
-    for (; step > 0; step >>= 1) {
-      if (pos + step <= tree_.size() && tree_[pos + step - 1] <= r) {
-        pos += step;
-        r -= tree_[pos - 1];
-      }
-    }
-    return static_cast<std::uint32_t>(pos);
-  }
-
- private:
-  void grow(std::size_t need) {
-    std::size_t cap = std::max<std::size_t>(64, member_.size());
-    while (cap < need) cap *= 2;
-    member_.resize(cap, 0);
-    tree_.assign(cap, 0);
-    for (std::size_t i = 1; i <= cap; ++i) {
-      tree_[i - 1] += member_[i - 1];
-      std::size_t parent = i + (i & (~i + 1));
-      if (parent <= cap) tree_[parent - 1] += tree_[i - 1];
-    }
-  }
-  std::vector<std::uint8_t> member_;
-  std::vector<std::uint32_t> tree_;
-  std::uint32_t size_ = 0;
-};
-
 // The traversal state shared by encoder and decoder: darts labelled so far, their `next` links, and
 // for the two kinds of partial orbits (face chains along next, vertex paths along sigma(d) =
 // next(twin(d))) the other end and length of each path, kept at both ends.
 struct Traversal {
   std::vector<std::uint32_t> next, prev;
   std::vector<std::uint32_t> fend, flen, vend, vlen;
-  Pool pool;
+  OrderSet pool;  // darts without a predecessor yet, by label
 
   std::uint32_t labelled() const { return static_cast<std::uint32_t>(next.size()); }
   std::uint32_t add_edge() {
@@ -93,6 +42,7 @@ struct Traversal {
       flen.push_back(1);
       vend.push_back(x);
       vlen.push_back(1);
+      pool.reserve(x + 1);
       pool.insert(x);
     }
     return d;
@@ -324,7 +274,7 @@ bool has_schematic(ComponentKind k) { return k == ComponentKind::kUnstructured |
 
 std::string encode_topology(std::span<const TopologyCode> codes) {
   std::string out;
-  RangeEncoder enc(out, StreamEnds::kCompact);
+  RangeEncoder enc(out);
   Models m;
   for (const TopologyCode& c : codes) {
     auto k = static_cast<unsigned>(c.kind);
@@ -450,8 +400,8 @@ std::string encode_topology(std::span<const TopologyCode> codes) {
 
 std::vector<TopologyCode> decode_topology(std::string_view payload, std::uint64_t base_offset,
                                           std::uint64_t component_count, std::uint64_t max_edges,
-                                          std::uint64_t max_length, StreamEnds ends) {
-  RangeDecoder dec(payload, base_offset, "topology section", ends);
+                                          std::uint64_t max_length) {
+  RangeDecoder dec(payload, base_offset, "topology section");
   Models m;
   std::vector<TopologyCode> codes(component_count);
   for (TopologyCode& c : codes) {

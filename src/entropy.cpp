@@ -1,5 +1,5 @@
 // Adaptive binary range coder (see format-spec/qsp_format.md, "Entropy coding").
-#include "qsp/entropy.h"
+#include "entropy.h"
 
 #include <algorithm>
 #include <bit>
@@ -31,7 +31,7 @@ void RangeEncoder::shift_low() {
     std::uint8_t temp = cache_;
     do {
       if (skip_first_) {
-        skip_first_ = false;  // LZMA's first byte, always 0: kCompact leaves it out
+        skip_first_ = false;  // LZMA's first byte, always 0, is left out
       } else {
         out_.push_back(static_cast<char>(static_cast<std::uint8_t>(temp + carry)));
       }
@@ -41,33 +41,6 @@ void RangeEncoder::shift_low() {
   }
   ++cache_size_;
   low_ = (low_ & 0x00FFFFFFu) << 8;
-}
-
-// A specific model that has seen this many bits codes alone (and the general one no longer learns
-// from it): mixing then gains nothing, and a large mesh decodes almost as fast as with one model.
-constexpr unsigned kMixUntil = 64;
-
-// The two models' probabilities averaged, each weighted by how much it has seen (min(seen, 30) + 1):
-// a young specific model defers to the general one, a trained one to itself.
-std::uint32_t mixed_p0(const BitModel& a, const BitModel& b) {
-  const std::uint32_t wa = std::min<std::uint32_t>(a.seen, 30) + 1,
-                      wb = std::min<std::uint32_t>(b.seen, 30) + 1;
-  return (a.p0() * wa + b.p0() * wb) / (wa + wb);
-}
-
-void RangeEncoder::encode_bit(BitModel& a, BitModel& b, unsigned bit) {
-  if (a.seen >= kMixUntil) return encode_bit(a, bit);
-  encode_p0(mixed_p0(a, b), bit);
-  learn(a, bit);
-  learn(b, bit);
-}
-
-unsigned RangeDecoder::decode_bit(BitModel& a, BitModel& b) {
-  if (a.seen >= kMixUntil) return decode_bit(a);
-  const unsigned bit = decode_p0(mixed_p0(a, b));
-  learn(a, bit);
-  learn(b, bit);
-  return bit;
 }
 
 void RangeEncoder::encode_p0(std::uint32_t p0, unsigned bit) {
@@ -119,10 +92,6 @@ void RangeEncoder::encode_raw(std::uint32_t value, unsigned count) {
 }
 
 void RangeEncoder::finish() {
-  if (!compact_) {
-    for (int i = 0; i < 5; ++i) shift_low();
-    return;
-  }
   // The value in [low, low + range) with the most trailing zero bytes (k of the 4 bytes of low): any
   // value of the final interval decodes the same symbols, and zeros need not be written.
   const CompactEnd end = compact_end(low_, range_);
@@ -134,14 +103,8 @@ void RangeEncoder::finish() {
   out_.resize(out_.size() - static_cast<std::size_t>(k));
 }
 
-RangeDecoder::RangeDecoder(std::string_view bytes, std::uint64_t base_offset, const char* what,
-                           StreamEnds ends)
-    : bytes_(bytes), base_offset_(base_offset), what_(what), compact_(ends == StreamEnds::kCompact) {
-  if (!compact_ && next_byte() != 0) {
-    throw Error(ErrorCode::kFormat, std::string(what_) +
-                                        ": range coder stream must start with a zero byte (at byte offset " +
-                                        std::to_string(base_offset_) + ")");
-  }
+RangeDecoder::RangeDecoder(std::string_view bytes, std::uint64_t base_offset, const char* what)
+    : bytes_(bytes), base_offset_(base_offset), what_(what) {
   for (int i = 0; i < 4; ++i) code_ = (code_ << 8) | next_byte();
   check_code();
 }
@@ -159,7 +122,7 @@ void RangeDecoder::check_code() const {
 
 std::uint8_t RangeDecoder::next_byte() {
   if (pos_ >= bytes_.size()) {
-    if (compact_ && pos_ < bytes_.size() + 4) {
+    if (pos_ < bytes_.size() + 4) {
       ++pos_;
       window_ <<= 8;
       return 0;  // a zero the compact flush left out
@@ -199,26 +162,21 @@ std::uint32_t RangeDecoder::decode_raw(unsigned count) {
 }
 
 void RangeDecoder::finish() const {
-  // A stream the encoder wrote is used up exactly, and the decoder's code register is then 0.
-  // kCompact: the final interval starts at (last 4 bytes read) - code; the stream must end on the
-  // value the encoder picks in it, with exactly its trailing zero bytes left out.
-  bool ended = pos_ == bytes_.size() && code_ == 0;
-  if (compact_) {
-    const CompactEnd end = compact_end(static_cast<std::uint32_t>(window_ - code_), range_);
-    ended = pos_ == bytes_.size() + static_cast<std::size_t>(end.zeros) &&
-            end.value % (std::uint64_t{1} << 32) == window_;
+  // The final interval starts at (last 4 bytes read) - code; the stream must end on the value the
+  // encoder picks in it, with exactly its trailing zero bytes left out.
+  const CompactEnd end = compact_end(static_cast<std::uint32_t>(window_ - code_), range_);
+  if (pos_ == bytes_.size() + static_cast<std::size_t>(end.zeros) &&
+      end.value % (std::uint64_t{1} << 32) == window_)
+    return;
+  if (pos_ < bytes_.size()) {
+    throw Error(ErrorCode::kFormat, std::string(what_) + " does not end where its symbols end (" +
+                                        std::to_string(bytes_.size() - pos_) +
+                                        " bytes unused, at byte offset " +
+                                        std::to_string(base_offset_ + pos_) + ")");
   }
-  if (!ended) {
-    if (pos_ < bytes_.size()) {
-      throw Error(ErrorCode::kFormat, std::string(what_) + " does not end where its symbols end (" +
-                                          std::to_string(bytes_.size() - pos_) +
-                                          " bytes unused, at byte offset " +
-                                          std::to_string(base_offset_ + pos_) + ")");
-    }
-    throw Error(ErrorCode::kFormat,
-                std::string(what_) + " does not end as the encoder ends it (its last bytes, at byte offset " +
-                    std::to_string(base_offset_ + bytes_.size()) + ")");
-  }
+  throw Error(ErrorCode::kFormat,
+              std::string(what_) + " does not end as the encoder ends it (its last bytes, at byte offset " +
+                  std::to_string(base_offset_ + bytes_.size()) + ")");
 }
 
 IntModel::IntModel() : tree_(std::size_t{2} << kTreeBits), tail_(32 * 32) {}

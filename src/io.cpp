@@ -1,5 +1,5 @@
-// File access, format dispatch and the OBJ/OFF writers. The parsers are in io_text.cpp (OBJ, OFF)
-// and io_ply.cpp (PLY through OpenMesh).
+// File access and format dispatch. The parsers are in io_text.cpp (OBJ, OFF) and io_ply.cpp (PLY),
+// the writers in io_write.cpp.
 #include "qsp/io.h"
 
 #include <fcntl.h>
@@ -7,17 +7,15 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <future>
 #include <memory>
 #include <string>
 #include <string_view>
-#include <system_error>
-#include <thread>
 
+#include "io_numbers.h"
+#include "plural.h"
 #include "qsp/error.h"
 #include "qsp/mesh.h"
 
@@ -62,69 +60,6 @@ void check_writable(const QuadMesh& mesh, const char* what) {
                                             std::to_string(v));
     }
   }
-}
-
-// Appends with std::to_chars into a growing buffer (no locale, no iostreams).
-class TextWriter {
- public:
-  explicit TextWriter(std::size_t expected) { out_.reserve(expected); }
-  void text(std::string_view s) { out_.append(s); }
-  void number(float f) {
-    char buf[32];
-    const auto r = std::to_chars(buf, buf + sizeof buf, f);  // shortest round-trip form
-    out_.append(buf, r.ptr);
-  }
-  void number(std::uint64_t n) {
-    char buf[24];
-    const auto r = std::to_chars(buf, buf + sizeof buf, n);
-    out_.append(buf, r.ptr);
-  }
-  void ch(char c) { out_.push_back(c); }
-  std::string take() { return std::move(out_); }
-
- private:
-  std::string out_;
-};
-
-// The `v` lines of vertices [begin, end).
-void write_positions(TextWriter& w, const QuadMesh& mesh, std::string_view prefix, std::size_t begin,
-                     std::size_t end) {
-  for (std::size_t i = 3 * begin; i < 3 * end; i += 3) {
-    w.text(prefix);
-    w.number(mesh.positions[i]);
-    w.ch(' ');
-    w.number(mesh.positions[i + 1]);
-    w.ch(' ');
-    w.number(mesh.positions[i + 2]);
-    w.ch('\n');
-  }
-}
-
-constexpr std::size_t kCoordinateChars = 14;  // a typical coordinate's text and its separator
-std::size_t expected_text_size(const QuadMesh& mesh) {
-  return mesh.positions.size() * kCoordinateChars + mesh.quads.size() * 9 + 64;
-}
-
-// Every vertex's line. From kSplitFrom vertices the second half is formatted on a second thread: the
-// shortest float text is a quarter of decompressing mh_female_generic_cc2 (229 of 1555 M instructions).
-// The text is the same either way (a test compares it with a plain formatter).
-void write_positions(TextWriter& w, const QuadMesh& mesh, std::string_view prefix) {
-  constexpr std::size_t kSplitFrom = 1 << 16;  // below, starting a thread costs more than it saves
-  const std::size_t n = mesh.vertex_count(), half = n / 2;
-  if (n < kSplitFrom || std::thread::hardware_concurrency() == 1)
-    return write_positions(w, mesh, prefix, 0, n);
-  std::future<std::string> second;
-  try {
-    second = std::async(std::launch::async, [&mesh, prefix, half, n] {
-      TextWriter t((n - half) * 3 * kCoordinateChars);
-      write_positions(t, mesh, prefix, half, n);
-      return t.take();
-    });
-  } catch (const std::system_error&) {
-    return write_positions(w, mesh, prefix, 0, n);  // no thread to be had
-  }
-  write_positions(w, mesh, prefix, 0, half);
-  w.text(second.get());
 }
 
 bool write_all(int fd, std::string_view bytes, int* err) {
@@ -238,9 +173,7 @@ MeshFormat format_from_path(std::string_view path) {
 std::string ReadReport::describe_extra_data() const {
   std::string out;
   const auto item = [&out](std::uint64_t n, const char* one, const char* many) {
-    if (n == 0) return;
-    if (!out.empty()) out += ", ";
-    out += std::to_string(n) + " " + (n == 1 ? one : many);
+    detail::append_count(out, n, one, many);
   };
   item(texcoords, "texture coordinate", "texture coordinates");
   item(normals, "normal", "normals");
@@ -256,39 +189,40 @@ std::string ReadReport::describe_extra_data() const {
   return out;
 }
 
+std::string ReadReport::describe_rounding(std::string_view source) const {
+  if (rounded_coordinates == 0) return {};
+  std::string out(source);
+  if (first_rounded.line) out.append(":").append(std::to_string(first_rounded.line));
+  out.append(": vertex ").append(std::to_string(first_rounded.vertex)).append(" has ");
+  out.append(first_rounded.value).append(", which float32 holds only as ");
+  detail::append_float(out, first_rounded.nearest);
+  if (rounded_coordinates > 1) {
+    out.append(" (and ").append(std::to_string(rounded_coordinates - 1));
+    out.append(rounded_coordinates == 2 ? " more coordinate like it)" : " more coordinates like it)");
+  }
+  return out;
+}
+
+void ReadReport::note_rounded(std::uint64_t line, std::uint64_t vertex, std::string_view value,
+                              float nearest) {
+  // At most 40 characters of the text, as every reader message quotes a token.
+  constexpr std::size_t kShown = 40;
+  if (rounded_coordinates++ == 0)
+    first_rounded = {
+        line, vertex,
+        value.size() <= kShown ? std::string(value) : std::string(value.substr(0, kShown)) + "...", nearest};
+}
+
+// The QuadMesh writers are the Mesh writers (io_write.cpp) on the same positions and quads; a
+// QuadMesh may hold a face that repeats a vertex, which they write as it is.
 std::string write_obj(const QuadMesh& mesh) {
   check_writable(mesh, "write_obj");
-  TextWriter w(expected_text_size(mesh));
-  write_positions(w, mesh, "v ");
-  for (std::size_t i = 0; i < mesh.quads.size(); i += 4) {
-    w.text("f ");
-    for (int c = 0; c < 4; ++c) {
-      if (c) w.ch(' ');
-      w.number(std::uint64_t{mesh.quads[i + c]} + 1);
-    }
-    w.ch('\n');
-  }
-  return w.take();
+  return write_obj_mesh(from_quad_mesh(mesh));
 }
 
 std::string write_off(const QuadMesh& mesh) {
   check_writable(mesh, "write_off");
-  TextWriter w(expected_text_size(mesh));
-  w.text("OFF\n");
-  w.number(std::uint64_t{mesh.vertex_count()});
-  w.ch(' ');
-  w.number(std::uint64_t{mesh.face_count()});
-  w.text(" 0\n");
-  write_positions(w, mesh, "");
-  for (std::size_t i = 0; i < mesh.quads.size(); i += 4) {
-    w.ch('4');
-    for (int c = 0; c < 4; ++c) {
-      w.ch(' ');
-      w.number(std::uint64_t{mesh.quads[i + c]});
-    }
-    w.ch('\n');
-  }
-  return w.take();
+  return write_off_mesh(from_quad_mesh(mesh));
 }
 
 namespace {
@@ -341,24 +275,36 @@ std::string read_file_bytes(const std::string& path) {
   return std::string(buf.view());
 }
 
-QuadMesh read_mesh_file(const std::string& path, ReadReport* report, MeshFormat format) {
+namespace {
+
+// The format to read `path` as: kObj, kOff or kPly; throws for anything else.
+MeshFormat readable_format(const std::string& path, MeshFormat format) {
   if (format == MeshFormat::kUnknown) format = format_from_path(path);
-  switch (format) {
-    case MeshFormat::kObj:
-      return read_obj(read_file_raw(path).view(), path, report);
-    case MeshFormat::kOff:
-      return read_off(read_file_raw(path).view(), path, report);
-    case MeshFormat::kPly:
-      return read_ply_file(path, report);
-    case MeshFormat::kQsp:
-      throw Error(ErrorCode::kUnsupported,
-                  path + ": a .qsp file is compressed data, not a mesh to read here");
-    case MeshFormat::kUnknown:
-      break;
+  if (format == MeshFormat::kObj || format == MeshFormat::kOff || format == MeshFormat::kPly) return format;
+  if (format == MeshFormat::kQsp) {
+    throw Error(ErrorCode::kUnsupported, path + ": a .qsp file is compressed data, not a mesh to read here");
   }
   throw Error(ErrorCode::kUnsupported,
               path + (path == "-" ? ": give the format of standard input (obj, off or ply)"
                                   : ": unknown mesh format (expected .obj, .off or .ply)"));
+}
+
+}  // namespace
+
+QuadMesh read_mesh_file(const std::string& path, ReadReport* report, MeshFormat format) {
+  format = readable_format(path, format);
+  if (format == MeshFormat::kPly) return read_ply_file(path, report);
+  const FileBuffer text = read_file_raw(path);
+  return format == MeshFormat::kObj ? read_obj(text.view(), path, report)
+                                    : read_off(text.view(), path, report);
+}
+
+Mesh read_mesh(const std::string& path, ReadNotes* notes, MeshFormat format) {
+  format = readable_format(path, format);
+  const FileBuffer bytes = read_file_raw(path);
+  return format == MeshFormat::kObj   ? read_obj_mesh(bytes.view(), path, notes)
+         : format == MeshFormat::kOff ? read_off_mesh(bytes.view(), path, notes)
+                                      : read_ply_mesh(bytes.view(), path, notes);
 }
 
 void set_before_rename_hook(void (*hook)()) { before_rename_hook = hook; }

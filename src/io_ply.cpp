@@ -5,6 +5,8 @@
 // file's faces corner for corner, and located errors; manifoldness is checked by build_adjacency
 // as for OBJ/OFF. tests/test_io.cpp compares this reader with OpenMesh on files both can read.
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -13,9 +15,11 @@
 #include <limits>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <unordered_set>
 #include <vector>
 
+#include "io_numbers.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
@@ -92,7 +96,15 @@ struct PlyHeader {
   std::size_t data_offset = 0;  // first byte after end_header's newline
   std::uint64_t header_lines = 0;
   std::vector<PlyElement> elements;
+  std::vector<std::string> comments, obj_info;  // the text after the keyword and one blank
 };
+
+// A header line's text after its keyword and the blank that follows it.
+std::string after_keyword(std::string_view line, std::size_t keyword) {
+  std::string_view rest = line.substr(std::min(keyword, line.size()));
+  if (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t')) rest.remove_prefix(1);
+  return std::string(rest);
+}
 
 std::vector<std::string_view> split_words(std::string_view line) {
   std::vector<std::string_view> words;
@@ -140,7 +152,12 @@ PlyHeader parse_header(std::string_view bytes, const std::string& path) {
         fail_at(ErrorCode::kParse, path, 1, "not a PLY file (no 'ply' magic line)");
       continue;
     }
-    if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
+    if (w.empty()) continue;
+    if (w[0] == "comment" || w[0] == "obj_info") {
+      const std::size_t at = line.find(w[0]) + w[0].size();
+      (w[0] == "comment" ? h.comments : h.obj_info).push_back(after_keyword(line, at));
+      continue;
+    }
     if (w[0] == "format") {
       if (w.size() != 3 || w[2] != "1.0")
         fail_at(ErrorCode::kParse, path, line_no, "malformed PLY format line");
@@ -295,6 +312,31 @@ PlyLayout check_header(const PlyHeader& h, std::string_view bytes, const std::st
   return l;
 }
 
+// One value as the file has it (exact reading).
+struct PlyValue {
+  enum class Kind : std::uint8_t { kFloat32, kFloat64, kInteger, kText } kind = Kind::kInteger;
+  float f = 0.0f;
+  double d = 0.0;
+  std::int64_t i = 0;
+  detail::TextNumber text;
+
+  bool finite() const {
+    return kind == Kind::kFloat32 ? std::isfinite(f) : kind == Kind::kFloat64 ? std::isfinite(d) : true;
+  }
+  void push(Numbers& n) const {
+    switch (kind) {
+      case Kind::kFloat32:
+        return detail::push_float32(n, f);
+      case Kind::kFloat64:
+        return detail::push_float64(n, d);
+      case Kind::kInteger:
+        return detail::push_integer(n, i);
+      case Kind::kText:
+        return detail::push_text(n, text);
+    }
+  }
+};
+
 // Reads the data section value by value. Positions keep float32 values bit for bit; ASCII text
 // goes through std::from_chars<float> like OBJ/OFF; float64 values round to nearest float32.
 class PlyData {
@@ -341,10 +383,14 @@ class PlyData {
          "unexpected data after the last element (" + std::to_string(end_ - p_) + " bytes)");
   }
 
-  float coordinate(PlyType t, const char* what, std::uint64_t index) {
+  // Vertex `index`'s coordinate as a float32; one float32 does not hold exactly is noted in `r`.
+  float coordinate(PlyType t, const char* what, std::uint64_t index, ReadReport& r) {
     float f = 0.0f;
     if (!is_float_type(t)) {
-      f = static_cast<float>(integer(t, what, index));  // ASCII too: an integer in the type's range
+      const std::int64_t v = integer(t, what, index);  // ASCII too: an integer in the type's range
+      f = static_cast<float>(v);
+      if (static_cast<double>(f) != static_cast<double>(v)) [[unlikely]]
+        r.note_rounded(ascii() ? line_ : 0, index, std::to_string(v), f);
     } else if (ascii()) {
       const std::string_view tok = next_token(what, index);
       const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), f);
@@ -356,6 +402,12 @@ class PlyData {
         fail(ErrorCode::kBadNumber, "number '" + shown(tok) + "' in " + what + " " + std::to_string(index) +
                                         " is outside the float32 range");
       }
+      detail::TextNumber text;
+      const char* e = tok.data() + tok.size();
+      if (detail::read_number(
+              tok.data(), e, [e](const char* q) { return q == e; }, text) == detail::NumberStatus::kOk &&
+          !detail::float32_by_digits(text) && !detail::float32_holds(text)) [[unlikely]]
+        r.note_rounded(line_, index, tok, f);
     } else if (t == PlyType::kFloat32) {
       f = std::bit_cast<float>(static_cast<std::uint32_t>(raw(4, what, index)));
     } else if (t == PlyType::kFloat64) {
@@ -367,6 +419,11 @@ class PlyData {
                                         " has a coordinate outside the float32 range (it does not round to "
                                         "a finite nonzero float)");
       }
+      if (static_cast<double>(f) != d && std::isfinite(d)) [[unlikely]] {
+        std::string text;
+        detail::append_double(text, d);
+        r.note_rounded(0, index, text, f);
+      }
     }
     if (!std::isfinite(f)) {
       fail(ErrorCode::kBadNumber,
@@ -374,6 +431,46 @@ class PlyData {
                " has a non-finite coordinate (NaN and infinity are not valid mesh data)");
     }
     return f;
+  }
+
+  // One scalar value as it is in the file (exact reading): binary bits or integers; ASCII integers
+  // for integer types, exact text for float types. NaN and infinity are returned (as float64).
+  PlyValue value(PlyType t, const char* what, std::uint64_t index) {
+    PlyValue v;
+    if (!is_float_type(t)) {
+      v.kind = PlyValue::Kind::kInteger;
+      v.i = integer(t, what, index);
+    } else if (!ascii()) {
+      if (t == PlyType::kFloat32) {
+        v.kind = PlyValue::Kind::kFloat32;
+        v.f = std::bit_cast<float>(static_cast<std::uint32_t>(raw(4, what, index)));
+      } else {
+        v.kind = PlyValue::Kind::kFloat64;
+        v.d = std::bit_cast<double>(raw(8, what, index));
+      }
+    } else {
+      const std::string_view tok = next_token(what, index);
+      const char* e = tok.data() + tok.size();
+      const detail::NumberStatus st = detail::read_number(
+          tok.data(), e, [e](const char* q) { return q == e; }, v.text);
+      v.kind = PlyValue::Kind::kText;
+      double d = 0;
+      if (st == detail::NumberStatus::kMalformed) {
+        fail(ErrorCode::kParse,
+             std::string("malformed number '") + shown(tok) + "' in " + what + " " + std::to_string(index));
+      } else if (st == detail::NumberStatus::kNotFinite) {
+        std::from_chars(tok.data(), e, d);
+        v.kind = PlyValue::Kind::kFloat64;
+        v.d = d;
+      } else if (st == detail::NumberStatus::kFloatRange) {
+        if (!detail::text_double(v.text, d)) {
+          fail(ErrorCode::kBadNumber, "number '" + shown(tok) + "' in " + what + " " + std::to_string(index) +
+                                          " is outside the float64 range");
+        }
+        v.text.f = static_cast<float>(d);
+      }
+    }
+    return v;
   }
 
   std::int64_t integer(PlyType t, const char* what, std::uint64_t index) {
@@ -496,43 +593,168 @@ class PlyData {
   const std::string& path_;
 };
 
-}  // namespace
+// The vertex and face properties' places in a Mesh (exact reading), in header order.
+struct PlyTargets {
+  std::vector<PlyField> vertex, face;
+  std::uint8_t color_components = 0, face_color_components = 0;
+  bool normals = false, texcoords = false;
+};
 
-QuadMesh read_ply_file(const std::string& path, ReadReport* report) {
-  return read_ply(read_file_bytes(path), path, report);
+ScalarType scalar_type(PlyType t) { return static_cast<ScalarType>(static_cast<int>(t) - 1); }
+
+PlyTargets ply_targets(const PlyLayout& l) {
+  PlyTargets t;
+  const auto scalar = [](const PlyElement& e, std::string_view name) {
+    const int i = e.find(name);
+    return i >= 0 && !e.properties[i].list() ? i : -1;
+  };
+  // Role of each property index, or -1 for a PLY property of its own.
+  const auto roles = [&](const PlyElement& e, bool vertex) {
+    std::vector<std::pair<PlyRole, int>> role(e.properties.size(), {PlyRole::kProperty, -1});
+    const auto group = [&](PlyRole r, std::initializer_list<std::string_view> names, bool& found) {
+      std::vector<int> at;
+      for (const std::string_view n : names) at.push_back(scalar(e, n));
+      if (std::find(at.begin(), at.end(), -1) != at.end()) return;
+      for (std::size_t c = 0; c < at.size(); ++c) role[at[c]] = {r, static_cast<int>(c)};
+      found = true;
+    };
+    bool unused = false, colors = false;
+    if (vertex) {
+      for (std::size_t c = 0; c < 3; ++c)
+        role[std::array<int, 3>{l.x, l.y, l.z}[c]] = {PlyRole::kPosition, static_cast<int>(c)};
+      group(PlyRole::kNormal, {"nx", "ny", "nz"}, t.normals);
+      for (const auto& pair : {std::pair<std::string_view, std::string_view>{"u", "v"},
+                               {"s", "t"},
+                               {"texture_u", "texture_v"},
+                               {"texture_s", "texture_t"}}) {
+        if (!t.texcoords) group(PlyRole::kTexcoord, {pair.first, pair.second}, t.texcoords);
+      }
+    } else {
+      role[l.indices] = {PlyRole::kVertexIndices, 0};
+    }
+    group(PlyRole::kColor, {"red", "green", "blue"}, colors);
+    std::uint8_t components = 0;
+    if (colors) {
+      components = 3;
+      const int alpha = scalar(e, "alpha");
+      if (alpha >= 0) {
+        role[alpha] = {PlyRole::kColor, 3};
+        components = 4;
+      }
+    }
+    (vertex ? t.color_components : t.face_color_components) = components;
+    (void)unused;
+    return role;
+  };
+  const auto fields = [&](const PlyElement& e, bool vertex, std::vector<PlyField>& out) {
+    const auto role = roles(e, vertex);
+    std::uint32_t property = 0;
+    for (std::size_t i = 0; i < e.properties.size(); ++i) {
+      const PlyProperty& p = e.properties[i];
+      PlyField f;
+      f.role = role[i].first;
+      f.index = f.role == PlyRole::kProperty ? property++ : static_cast<std::uint32_t>(role[i].second);
+      f.name = p.name;
+      f.type = scalar_type(p.type);
+      if (p.list()) f.count_type = scalar_type(p.count_type);
+      out.push_back(std::move(f));
+    }
+  };
+  fields(*l.vertex, true, t.vertex);
+  if (l.face) fields(*l.face, false, t.face);
+  return t;
 }
 
-QuadMesh read_ply(std::string_view bytes, const std::string& path, ReadReport* report) {
-  ReadReport local;
-  ReadReport& r = report ? *report : local;
+// Index of the first repeated vertex pair of a face, or false.
+bool repeats(const std::vector<std::uint32_t>& c, std::vector<std::uint32_t>& scratch,
+             std::uint32_t& vertex) {
+  if (c.size() <= 16) {
+    for (std::size_t a = 0; a < c.size(); ++a) {
+      for (std::size_t b = a + 1; b < c.size(); ++b) {
+        if (c[a] == c[b]) {
+          vertex = c[a];
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+  scratch = c;
+  std::sort(scratch.begin(), scratch.end());
+  const auto d = std::adjacent_find(scratch.begin(), scratch.end());
+  if (d == scratch.end()) return false;
+  vertex = *d;
+  return true;
+}
+
+// Both readings: exact (a Mesh with every property) or quads (float32 positions, quads counted and
+// refused as before).
+template <bool kExact>
+Mesh read_ply_impl(std::string_view bytes, const std::string& path, ReadReport& r) {
   r = ReadReport{};
   const PlyHeader header = parse_header(bytes, path);
   const PlyLayout layout = check_header(header, bytes, path, r);
 
-  QuadMesh mesh;
+  Mesh mesh;
+  PlyTargets targets;
+  if constexpr (kExact) {
+    targets = ply_targets(layout);
+    mesh.comments = header.comments;
+    mesh.ply.obj_info = header.obj_info;
+    mesh.ply.format = header.format == PlyHeader::Format::kAscii    ? PlyFormat::kAscii
+                      : header.format == PlyHeader::Format::kLittle ? PlyFormat::kBinaryLittleEndian
+                                                                    : PlyFormat::kBinaryBigEndian;
+    mesh.ply.faces_first = layout.face && layout.face < layout.vertex;
+    mesh.ply.vertex = targets.vertex;
+    mesh.ply.face = targets.face;
+    mesh.vertex_color_components = targets.color_components;
+    mesh.face_color_components = targets.face_color_components;
+    mesh.face_offsets.push_back(0);
+    for (const auto& [fields, element, props] :
+         {std::tuple{&targets.vertex, layout.vertex, &mesh.vertex_properties},
+          std::tuple{&targets.face, layout.face, &mesh.face_properties}}) {
+      for (std::size_t k = 0; k < fields->size(); ++k) {
+        const PlyField& f = (*fields)[k];
+        if (f.role != PlyRole::kProperty) continue;
+        Property p;
+        p.name = f.name;
+        p.type = f.type;
+        p.list = element->properties[k].list();
+        p.count_type = f.count_type;
+        if (p.list) p.offsets.push_back(0);
+        props->push_back(std::move(p));
+      }
+    }
+  }
   PlyData in(header, bytes, path);
   std::uint64_t non_quads = 0, first_non_quad_line = 0;
   std::string examples;
+  std::vector<PlyValue> values;
+  std::vector<std::uint32_t> corners, scratch;
   for (const auto& e : header.elements) {
     const bool is_vertex = &e == layout.vertex, is_face = &e == layout.face;
     const char* what = is_vertex ? "vertex" : is_face ? "face" : "element";
-    if (is_vertex) mesh.positions.resize(3 * e.count);
+    const std::vector<PlyField>* fields = is_vertex ? &targets.vertex : is_face ? &targets.face : nullptr;
+    if (is_vertex) {
+      if constexpr (kExact) {
+        mesh.positions.f32.reserve(3 * e.count);
+      } else {
+        mesh.positions.f32.resize(3 * e.count);
+      }
+    }
     if (is_face) {
-      mesh.quads.reserve(4 * e.count);
+      mesh.corner_vertices.reserve(4 * e.count);
       if (in.ascii()) r.face_line.reserve(e.count);
     }
+    values.resize(e.properties.size());
     for (std::uint64_t i = 0; i < e.count; ++i) {
       in.begin_element();
       const std::uint64_t line = in.line();
       for (int k = 0; k < static_cast<int>(e.properties.size()); ++k) {
         const PlyProperty& p = e.properties[k];
-        if (is_vertex && (k == layout.x || k == layout.y || k == layout.z)) {
-          mesh.positions[3 * i + (k == layout.x   ? 0
-                                  : k == layout.y ? 1
-                                                  : 2)] = in.coordinate(p.type, what, i);
-        } else if (is_face && k == layout.indices) {
+        if (is_face && k == layout.indices) {
           const std::uint64_t n = in.length(p.count_type, what, i);
-          std::uint32_t q[4];
+          corners.clear();
           for (std::uint64_t c = 0; c < n; ++c) {
             const std::int64_t v = in.integer(p.type, what, i);
             if (v < 0 || static_cast<std::uint64_t>(v) >= layout.vertex->count) {
@@ -541,9 +763,9 @@ QuadMesh read_ply(std::string_view bytes, const std::string& path, ReadReport* r
                                                 std::to_string(layout.vertex->count) +
                                                 " vertices, numbered from 0)");
             }
-            if (c < 4) q[c] = static_cast<std::uint32_t>(v);
+            if (kExact || c < 4) corners.push_back(static_cast<std::uint32_t>(v));
           }
-          if (n != 4) {
+          if (!kExact && n != 4) {
             if (non_quads < 3) {
               if (non_quads == 0) first_non_quad_line = line;
               if (!examples.empty()) examples += ", ";
@@ -553,23 +775,69 @@ QuadMesh read_ply(std::string_view bytes, const std::string& path, ReadReport* r
             ++non_quads;
             continue;
           }
-          for (int a = 0; a < 4; ++a) {
-            for (int b = a + 1; b < 4; ++b) {
-              if (q[a] == q[b]) {
-                in.fail(ErrorCode::kDegenerateFace, "face " + std::to_string(i) + " repeats vertex " +
-                                                        std::to_string(q[a]) +
-                                                        "; a quad needs 4 distinct vertices");
-              }
-            }
+          if (n < 3) {
+            in.fail(ErrorCode::kDegenerateFace, "face " + std::to_string(i) + " has " + std::to_string(n) +
+                                                    (n == 1 ? " vertex" : " vertices") +
+                                                    "; a face needs at least 3 distinct vertices");
           }
-          mesh.quads.insert(mesh.quads.end(), q, q + 4);
+          std::uint32_t repeated = 0;
+          if (repeats(corners, scratch, repeated)) {
+            in.fail(ErrorCode::kDegenerateFace,
+                    "face " + std::to_string(i) + " repeats vertex " + std::to_string(repeated) +
+                        (n == 4 ? "; a quad needs 4 distinct vertices" : "; a face needs distinct vertices"));
+          }
+          if (mesh.corner_vertices.size() + n > 0xFFFFFFFEu)
+            in.fail(ErrorCode::kLimit, "more than 2^32 - 2 face corners");
+          mesh.corner_vertices.insert(mesh.corner_vertices.end(), corners.begin(), corners.end());
+          if constexpr (kExact)
+            mesh.face_offsets.push_back(static_cast<std::uint32_t>(mesh.corner_vertices.size()));
           if (in.ascii())
             r.face_line.push_back(static_cast<std::uint32_t>(std::min<std::uint64_t>(line, 0xFFFFFFFFu)));
+        } else if (!kExact && is_vertex && (k == layout.x || k == layout.y || k == layout.z)) {
+          mesh.positions.f32[3 * i + (k == layout.x   ? 0
+                                      : k == layout.y ? 1
+                                                      : 2)] = in.coordinate(p.type, what, i, r);
+        } else if (kExact && fields && p.list()) {  // a list property of its own
+          Property& prop = (is_vertex ? mesh.vertex_properties : mesh.face_properties)[(*fields)[k].index];
+          const std::uint64_t n = in.length(p.count_type, what, i);
+          for (std::uint64_t c = 0; c < n; ++c) in.value(p.type, what, i).push(prop.values);
+          if (prop.values.size() > 0xFFFFFFFEu) in.fail(ErrorCode::kLimit, "more than 2^32 - 2 list values");
+          prop.offsets.push_back(static_cast<std::uint32_t>(prop.values.size()));
+        } else if (kExact && fields) {
+          values[k] = in.value(p.type, what, i);
+          const PlyField& f = (*fields)[k];
+          if (f.role != PlyRole::kProperty && !values[k].finite()) {
+            in.fail(ErrorCode::kBadNumber, std::string(what) + " " + std::to_string(i) +
+                                               " has a non-finite '" + shown(p.name) +
+                                               "' (NaN and infinity are not valid mesh data)");
+          }
         } else {
           in.skip(p, what, i);
         }
       }
       in.end_element(what, i);
+      if constexpr (kExact) {
+        if (!fields) continue;
+        // The scalar values to their arrays, components in order whatever the header's order.
+        for (int round = 0; round < 4; ++round) {
+          for (std::size_t k = 0; k < fields->size(); ++k) {
+            const PlyField& f = (*fields)[k];
+            if (e.properties[k].list() || f.role == PlyRole::kVertexIndices) continue;
+            if (f.role == PlyRole::kProperty) {
+              if (round == 0)
+                values[k].push((is_vertex ? mesh.vertex_properties : mesh.face_properties)[f.index].values);
+              continue;
+            }
+            if (f.index != static_cast<std::uint32_t>(round)) continue;
+            Numbers& to = f.role == PlyRole::kPosition   ? mesh.positions
+                          : f.role == PlyRole::kNormal   ? mesh.normals
+                          : f.role == PlyRole::kTexcoord ? mesh.texcoords
+                          : is_vertex                    ? mesh.vertex_colors
+                                                         : mesh.face_colors;
+            values[k].push(to);
+          }
+        }
+      }
     }
   }
   in.finish();
@@ -582,8 +850,38 @@ QuadMesh read_ply(std::string_view bytes, const std::string& path, ReadReport* r
                     (non_quads > 3 ? ", ..." : "") +
                     "); qsp stores quad meshes only and never triangulates or drops faces");
   }
-  if (!in.ascii()) r.face_line.assign(mesh.face_count(), 0);  // binary faces have no line
+  const std::size_t faces = kExact ? mesh.face_count() : mesh.corner_vertices.size() / 4;
+  if (!in.ascii()) r.face_line.assign(faces, 0);  // binary faces have no line
+  if constexpr (kExact) {
+    if (targets.normals) mesh.corner_normals = mesh.corner_vertices;
+    if (targets.texcoords) mesh.corner_texcoords = mesh.corner_vertices;
+  }
   return mesh;
+}
+
+}  // namespace
+
+QuadMesh read_ply_file(const std::string& path, ReadReport* report) {
+  return read_ply(read_file_bytes(path), path, report);
+}
+
+QuadMesh read_ply(std::string_view bytes, const std::string& path, ReadReport* report) {
+  ReadReport local;
+  Mesh m = read_ply_impl<false>(bytes, path, report ? *report : local);
+  QuadMesh q;
+  q.positions = std::move(m.positions.f32);
+  q.quads = std::move(m.corner_vertices);
+  return q;
+}
+
+Mesh read_ply_mesh(std::string_view bytes, const std::string& path, ReadNotes* notes) {
+  ReadReport r;
+  Mesh m = read_ply_impl<true>(bytes, path, r);
+  if (notes) {
+    *notes = ReadNotes{};
+    notes->face_line = std::move(r.face_line);
+  }
+  return m;
 }
 
 }  // namespace qsp

@@ -1,4 +1,4 @@
-// src/io_text.h (internal): the seams of read_obj's two-thread read, declared for tests.
+// src/io_text.h (internal): the seams of the OBJ readers' two-thread read, declared for tests.
 #pragma once
 
 #include <cstddef>
@@ -8,6 +8,7 @@
 
 #include "qsp/io.h"
 #include "qsp/mesh.h"
+#include "qsp/polymesh.h"
 
 namespace qsp::detail {
 
@@ -31,5 +32,10 @@ std::vector<std::size_t> obj_read_splits(std::string_view text);
 // *parallel (may be null) says whether the two-thread result (mesh, or non-quads error) was used.
 QuadMesh read_obj_split(std::string_view text, std::string_view source, ReadReport* report,
                         std::span<const std::size_t> splits, bool* parallel);
+
+// read_obj_mesh split at `splits`, with the same guarantees: mesh, notes and error are always the
+// sequential read's.
+Mesh read_obj_mesh_split(std::string_view text, std::string_view source, ReadNotes* notes,
+                         std::span<const std::size_t> splits, bool* parallel);
 
 }  // namespace qsp::detail

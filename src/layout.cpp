@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 
+#include "layout_grid.h"
 #include "qsp/error.h"
 #include "qsp/partition.h"
 
@@ -16,61 +17,6 @@ namespace {
 
 std::uint32_t right_of(const Adjacency& adj, std::uint32_t h) { return adj.next(adj.twin[adj.next(h)]); }
 std::uint32_t up_of(const Adjacency& adj, std::uint32_t h) { return adj.twin[adj.next(adj.next(h))]; }
-
-// Grid points of one patch in layout numbering: P(i, j), 0 <= i <= a, 0 <= j <= b.
-struct PatchGrid {
-  std::uint32_t a = 0, b = 0;
-  std::vector<std::uint32_t> ring;  // boundary points counter-clockwise from corner (0,0)
-  std::uint32_t interior_base = 0;  // first id of the (a-1)(b-1) inner points, row by row
-  std::uint32_t at(std::uint32_t i, std::uint32_t j) const {
-    if (j == 0) return ring[i];
-    if (i == a) return ring[a + j];
-    if (j == b) return ring[2 * a + b - i];
-    if (i == 0) return ring[2 * a + 2 * b - j];
-    return interior_base + (j - 1) * (a - 1) + (i - 1);
-  }
-};
-
-// Numbering of a general schematic's vertices: X, then edge-inner, then patch-inner points.
-struct Numbering {
-  std::vector<std::uint32_t> edge_base;  // per edge: id of its first inner point
-  std::vector<PatchGrid> patches;        // per face (empty for holes)
-  std::uint32_t vertex_count = 0;
-};
-
-// Returns an empty string, or why the schematic cannot be laid out.
-std::string number_schematic(const Schematic& s, Numbering& n) {
-  std::uint64_t next = s.vertex_count;
-  n.edge_base.resize(s.edge_count());
-  for (std::uint32_t e = 0; e < s.edge_count(); ++e) {
-    n.edge_base[e] = static_cast<std::uint32_t>(next);
-    next += s.edge_length[e] - 1;
-  }
-  n.patches.assign(s.face_count(), {});
-  for (std::uint32_t f = 0; f < s.face_count(); ++f) {
-    if (s.face_hole[f]) continue;
-    PatchGrid& g = n.patches[f];
-    const PatchSize size = patch_size(s, f);
-    g.a = size.a;
-    g.b = size.b;
-    g.ring.reserve(2ull * (g.a + g.b));
-    std::uint32_t d = s.face_dart[f];
-    do {
-      const std::uint32_t e = d >> 1, len = s.edge_length[e];
-      g.ring.push_back(s.dart_vertex[d]);
-      for (std::uint32_t k = 1; k < len; ++k)
-        g.ring.push_back(n.edge_base[e] + ((d & 1) ? len - 1 - k : k - 1));
-      d = s.dart_next[d];
-    } while (d != s.face_dart[f]);
-    if (g.ring.size() != 2ull * (g.a + g.b))
-      return "patch " + std::to_string(f) + " has unequal opposite sides";
-    g.interior_base = static_cast<std::uint32_t>(next);
-    next += static_cast<std::uint64_t>(g.a - 1) * (g.b - 1);
-    if (next > 0xFFFFFFF0u) return "too many vertices";
-  }
-  n.vertex_count = static_cast<std::uint32_t>(next);
-  return {};
-}
 
 // Visits every cell of the layout with its layout corner ids and (when adj given) the mesh half-edge
 // at its bottom; returns false from `visit` to stop.
@@ -119,6 +65,14 @@ std::uint32_t layout_vertex_count(const ComponentPartition& part, const Numberin
   return n.vertex_count;
 }
 
+std::uint64_t layout_face_count(const ComponentPartition& part, const Numbering& n) {
+  if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus)
+    return std::uint64_t{part.a} * part.b;
+  std::uint64_t faces = 0;
+  for (const PatchGrid& g : n.patches) faces += std::uint64_t{g.a} * g.b;
+  return faces;
+}
+
 // Layout -> mesh correspondence; returns why it fails, or empty.
 std::string link(const ComponentPartition& part, const Adjacency& adj, LayoutMap& map) {
   Numbering n;
@@ -154,365 +108,60 @@ std::string link(const ComponentPartition& part, const Adjacency& adj, LayoutMap
   return why;
 }
 
-// Boundary point r of a patch ring as grid coordinates, and the side it is on (0 bottom, 1 right,
-// 2 top, 3 left; a corner counts as the side that starts at it).
-struct RingPoint {
-  std::int64_t i, j;
-  int side;
-};
-RingPoint ring_point(const PatchGrid& g, std::int64_t r) {
-  const std::int64_t a = g.a, b = g.b;
-  if (r < a) return {r, 0, 0};
-  if (r < a + b) return {a, r - a, 1};
-  if (r < 2 * a + b) return {2 * a + b - r, b, 2};
-  return {0, 2 * a + 2 * b - r, 3};
-}
-
-// The stencil fields o/ow/ofar (edge points) and x0/x1/x2/xnum/xden (schematic vertices): the
-// opposite side of a patch, or its corners, predict a point far better than its own edge can when
-// patches are small (coarse meshes with many extraordinary vertices).
-void across_patches(const Schematic& s, const Numbering& n, std::vector<GridLayout::Stencil>& st) {
-  const std::uint32_t edge_end =
-      s.vertex_count +
-      static_cast<std::uint32_t>(
-          std::accumulate(s.edge_length.begin(), s.edge_length.end(), std::uint64_t{0}) - s.edge_count());
-  std::vector<std::uint32_t> across(edge_end, kInvalid);  // patch distance to o, for the nearest patch
-  for (std::uint32_t f = 0; f < s.face_count(); ++f) {
-    if (s.face_hole[f]) continue;
-    const PatchGrid& g = n.patches[f];
-    const auto ring = static_cast<std::int64_t>(g.ring.size());
-    const std::int64_t a = g.a, b = g.b;
-    static constexpr std::int64_t kStep[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
-    for (std::int64_t r = 0; r < ring; ++r) {
-      const std::uint32_t x = g.ring[r];
-      const RingPoint p = ring_point(g, r);
-      auto at = [&](std::int64_t i, std::int64_t j) {
-        return g.at(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
-      };
-      GridLayout::Stencil& t = st[x];
-      if (x < s.vertex_count) {
-        const bool corner = (p.i == 0 || p.i == a) && (p.j == 0 || p.j == b);
-        if (corner) {
-          if (t.x2 != kInvalid) continue;
-          const std::uint32_t c1 = at(a - p.i, p.j), c2 = at(p.i, b - p.j), c0 = at(a - p.i, b - p.j);
-          if (c0 < x && c1 < x && c2 < x) t.x0 = c0, t.x1 = c1, t.x2 = c2, t.xnum = t.xden = 0;
-        } else if (t.x0 == kInvalid) {
-          // On a side: the lerp between that side's corners.
-          const bool horizontal = p.side == 0 || p.side == 2;
-          const std::uint32_t c0 = horizontal ? at(0, p.j) : at(p.i, 0),
-                              c1 = horizontal ? at(a, p.j) : at(p.i, b);
-          if (c0 < x && c1 < x) {
-            t.x0 = c0, t.x1 = c1;
-            t.xnum = static_cast<std::uint32_t>(horizontal ? p.i : p.j);
-            t.xden = static_cast<std::uint32_t>(horizontal ? a : b);
-          }
-        }
-        continue;
-      }
-      if (x >= edge_end) continue;
-      // Edge point: w is one ring step away, far the other way; map all three across the patch.
-      const std::int64_t dir = g.ring[(r + ring - 1) % ring] == t.w ? -1 : 1;
-      const std::int64_t di = kStep[p.side][0], dj = kStep[p.side][1];
-      auto opposite = [&](std::int64_t i, std::int64_t j) {
-        return p.side == 0 || p.side == 2 ? at(i, b - j) : at(a - i, j);
-      };
-      const std::int64_t fd = t.far_dist, wi = p.i + dir * di, wj = p.j + dir * dj;
-      const std::int64_t fi = p.i - dir * fd * di, fj = p.j - dir * fd * dj;
-      if (wi < 0 || wi > a || wj < 0 || wj > b || fi < 0 || fi > a || fj < 0 || fj > b) continue;
-      const std::uint32_t o = opposite(p.i, p.j), ow = opposite(wi, wj), of = opposite(fi, fj);
-      if (o >= x || ow >= x) continue;
-      const std::uint32_t dist =
-          static_cast<std::uint32_t>(p.side == 0 || p.side == 2 ? b : a) * 2 + (of < x ? 0 : 1);
-      if (dist >= across[x]) continue;
-      across[x] = dist;
-      t.o = o, t.ow = ow, t.ofar = of < x ? of : kInvalid;
-    }
-  }
-}
-
-// Patch coding order (CodingOrder::kPatch, geometry revision 3). Patches are visited greedily, the one
-// with the largest share of its boundary already coded next; each is turned so that its raster starts
-// at the corner whose two sides are most coded, and its points are coded row by row where the raster
-// first reaches them. A point's stencil is that patch's grid frame, extended one step across the
-// bottom and left sides into the patches there; without a frame parallelogram it takes a finished
-// cell around it, else its row or column. Every point, schematic vertices included, is then predicted
-// from mesh neighbours one edge away, where layout order predicts schematic vertices from others a
-// patch side away: 5-22% smaller at 14 bits on coarse meshes with small patches (horse, gargoyle).
-void patch_order(const Schematic& s, const Numbering& n, GridLayout& out) {
-  const std::uint32_t count = out.vertex_count, vc = s.vertex_count;
-  const std::uint32_t edge_end =
-      vc +
-      static_cast<std::uint32_t>(
-          std::accumulate(s.edge_length.begin(), s.edge_length.end(), std::uint64_t{0}) - s.edge_count());
-  // Each edge point's seats: (patch, ring index) in the up to two patches beside its edge.
-  struct Seat {
-    std::uint32_t f = kInvalid, r = 0;
-  };
-  std::vector<std::array<Seat, 2>> seats(edge_end - vc);
-  for (std::uint32_t f = 0; f < s.face_count(); ++f) {
-    if (s.face_hole[f]) continue;
-    const PatchGrid& g = n.patches[f];
-    for (std::uint32_t r = 0; r < g.ring.size(); ++r) {
-      const std::uint32_t x = g.ring[r];
-      if (x < vc || x >= edge_end) continue;
-      auto& seat = seats[x - vc];
-      (seat[0].f == kInvalid ? seat[0] : seat[1]) = Seat{f, r};
-    }
-  }
-  // The neighbour of edge point x one step into the patch beside it other than f (kInvalid if none).
-  auto across = [&](std::uint32_t x, std::uint32_t f) {
-    if (x < vc || x >= edge_end) return kInvalid;
-    for (const Seat& seat : seats[x - vc]) {
-      if (seat.f == kInvalid || seat.f == f) continue;
-      const PatchGrid& q = n.patches[seat.f];
-      RingPoint p = ring_point(q, seat.r);
-      if (p.side == 0) p.j = 1;
-      if (p.side == 1) p.i = q.a - 1;
-      if (p.side == 2) p.j = q.b - 1;
-      if (p.side == 3) p.i = 1;
-      return q.at(static_cast<std::uint32_t>(p.i), static_cast<std::uint32_t>(p.j));
-    }
-    return kInvalid;
-  };
-  // Cells around each layout vertex (CSR over quad corners), for points without a frame.
-  std::vector<std::uint32_t> first(count + 1, 0), at_cell(out.quads.size());
-  for (std::uint32_t v : out.quads) ++first[v + 1];
-  for (std::uint32_t v = 0; v < count; ++v) first[v + 1] += first[v];
-  {
-    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
-    for (std::uint32_t k = 0; k < out.quads.size(); ++k) at_cell[fill[out.quads[k]]++] = k;
-  }
-  std::vector<std::uint32_t> id(count, kInvalid);  // layout vertex -> coding position
-  std::vector<GridLayout::Stencil> st;             // in coding positions
-  st.reserve(count);
-  out.coding.clear();
-  out.coding.reserve(count);
-  auto coded = [&](std::uint32_t q) { return q != kInvalid && id[q] != kInvalid ? q : kInvalid; };
-  // Patches holding each boundary point (CSR over ring entries), for choosing the next patch.
-  std::vector<std::uint32_t> ring_first(edge_end + 1, 0), ring_patch;
-  for (std::uint32_t f = 0; f < s.face_count(); ++f)
-    if (!s.face_hole[f])
-      for (std::uint32_t x : n.patches[f].ring) ++ring_first[x + 1];
-  for (std::uint32_t x = 0; x < edge_end; ++x) ring_first[x + 1] += ring_first[x];
-  ring_patch.resize(ring_first[edge_end]);
-  {
-    std::vector<std::uint32_t> fill(ring_first.begin(), ring_first.end() - 1);
-    for (std::uint32_t f = 0; f < s.face_count(); ++f)
-      if (!s.face_hole[f])
-        for (std::uint32_t x : n.patches[f].ring) ring_patch[fill[x]++] = f;
-  }
-  // Next patch: the one with the largest share of its boundary ring coded (ties: lowest index), so
-  // rows start from coded sides. Shares compare exactly (cross products); stale heap entries (a count
-  // since raised) are skipped.
-  std::vector<std::uint32_t> ring_coded(s.face_count(), 0);
-  std::vector<std::uint8_t> visited(s.face_count(), 0);
-  struct Candidate {
-    std::uint64_t coded, ring;
-    std::uint32_t f;
-    bool operator<(const Candidate& o) const {  // "less urgent than"
-      const std::uint64_t l = coded * o.ring, r = o.coded * ring;
-      return l != r ? l < r : f > o.f;
-    }
-  };
-  std::priority_queue<Candidate> next;
-  std::uint32_t scan = 0;  // lowest patch not yet visited, when no patch touches the coded part
-  std::vector<std::uint32_t> turned;
-  for (;;) {
-    std::uint32_t f = kInvalid;
-    while (!next.empty()) {
-      const Candidate c = next.top();
-      next.pop();
-      if (!visited[c.f] && c.coded == ring_coded[c.f]) {
-        f = c.f;
-        break;
-      }
-    }
-    if (f == kInvalid) {
-      while (scan < s.face_count() && (s.face_hole[scan] || visited[scan])) ++scan;
-      if (scan == s.face_count()) break;
-      f = scan;
-    }
-    visited[f] = 1;
-    const PatchGrid& g = n.patches[f];
-    // The patch turned so that its raster starts at corner `rot` (0 = face_dart's): point (i, j) of
-    // the turned (a, b)-grid.
-    int rot = 0;
-    std::int64_t a = g.a, b = g.b;
-    auto at = [&](std::int64_t i, std::int64_t j) {
-      std::int64_t x = i, y = j;
-      if (rot == 1) x = g.a - j, y = i;
-      if (rot == 2) x = g.a - i, y = g.b - j;
-      if (rot == 3) x = j, y = g.b - i;
-      return g.at(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
-    };
-    // Grid point (i, j) of the turned patch, or one step beyond its left or bottom side: looked up in
-    // `turned`, the turned grid's points row by row with that extra row and column (filled below).
-    auto nb = [&](std::int64_t i, std::int64_t j) {
-      return i >= -1 && i <= a && j >= -1 && j <= b
-                 ? turned[static_cast<std::size_t>((j + 1) * (a + 2) + i + 1)]
-                 : kInvalid;
-    };
-    // Start where most of the bottom and left sides are coded already (their rows then have a frame).
-    std::int64_t best = -1;
-    int rot_best = 0;
-    for (int r = 0; r < 4; ++r) {
-      rot = r;
-      a = (r & 1) ? g.b : g.a, b = (r & 1) ? g.a : g.b;
-      std::int64_t score = 0;
-      for (std::int64_t i = 0; i <= a; ++i) score += id[at(i, 0)] != kInvalid;
-      for (std::int64_t j = 1; j <= b; ++j) score += id[at(0, j)] != kInvalid;
-      if (score > best) best = score, rot_best = r;
-    }
-    rot = rot_best;
-    a = (rot & 1) ? g.b : g.a, b = (rot & 1) ? g.a : g.b;
-    turned.assign(static_cast<std::size_t>((a + 2) * (b + 2)), kInvalid);
-    for (std::int64_t j = 0; j <= b; ++j)
-      for (std::int64_t i = 0; i <= a; ++i)
-        turned[static_cast<std::size_t>((j + 1) * (a + 2) + i + 1)] = at(i, j);
-    for (std::int64_t j = 0; j <= b; ++j)
-      turned[static_cast<std::size_t>((j + 1) * (a + 2))] = across(at(0, j), f);
-    for (std::int64_t i = 0; i <= a; ++i) turned[static_cast<std::size_t>(i + 1)] = across(at(i, 0), f);
-    for (std::int64_t j = 0; j <= b; ++j)
-      for (std::int64_t i = 0; i <= a; ++i) {
-        const std::uint32_t p = nb(i, j);
-        if (id[p] != kInvalid) continue;
-        GridLayout::Stencil t;
-        const std::uint32_t w = coded(nb(i - 1, j)), s0 = coded(nb(i, j - 1));
-        const std::uint32_t sw = w != kInvalid && s0 != kInvalid ? coded(nb(i - 1, j - 1)) : kInvalid;
-        if (sw != kInvalid) {  // the frame: everything a patch-inner point of layout order has, and more
-          t.w = w, t.s = s0, t.sw = sw;
-          t.ww = coded(nb(i - 2, j));
-          t.se = coded(nb(i + 1, j - 1));
-          t.ss = coded(nb(i, j - 2));
-          t.sww = t.ww != kInvalid ? coded(nb(i - 2, j - 1)) : kInvalid;
-          t.ssw = t.ss != kInvalid ? coded(nb(i - 1, j - 2)) : kInvalid;
-          if (i < a && coded(nb(a, j)) != kInvalid && coded(nb(a, j - 1)) != kInvalid)
-            t.e = nb(a, j), t.es = nb(a, j - 1), t.e_dist = static_cast<std::uint32_t>(a - i);
-          if (j < b && coded(nb(i, b)) != kInvalid && coded(nb(i - 1, b)) != kInvalid)
-            t.n = nb(i, b), t.nw = nb(i - 1, b), t.n_dist = static_cast<std::uint32_t>(b - j);
-        } else {
-          // A finished cell around p (the first in layout face order), as w, s, sw.
-          const std::span<const std::uint32_t> around(at_cell.data() + first[p], first[p + 1] - first[p]);
-          for (std::size_t k = 0; k < around.size() && t.w == kInvalid; ++k) {
-            const std::uint32_t q = around[k] & ~3u, r = around[k] & 3u;
-            const std::uint32_t u1 = out.quads[q + ((r + 1) & 3)], u2 = out.quads[q + ((r + 2) & 3)],
-                                u3 = out.quads[q + ((r + 3) & 3)];
-            if (coded(u1) != kInvalid && coded(u2) != kInvalid && coded(u3) != kInvalid)
-              t.w = u3, t.s = u1, t.sw = u2;
-          }
-          if (t.w != kInvalid) {
-            // done
-          } else if (w != kInvalid) {  // along the row, towards its end if that is coded
-            t.w = w;
-            t.ww = coded(nb(i - 2, j));
-            if (i < a && coded(nb(a, j)) != kInvalid)
-              t.far = nb(a, j), t.far_dist = static_cast<std::uint32_t>(a - i);
-          } else if (s0 != kInvalid) {  // along the column
-            t.w = s0;
-            t.ww = coded(nb(i, j - 2));
-            if (j < b && coded(nb(i, b)) != kInvalid)
-              t.far = nb(i, b), t.far_dist = static_cast<std::uint32_t>(b - j);
-          } else {  // any coded neighbour (else the previous vertex stands in)
-            for (std::size_t k = 0; k < around.size() && t.w == kInvalid; ++k) {
-              const std::uint32_t q = around[k] & ~3u, r = around[k] & 3u;
-              t.w = coded(out.quads[q + ((r + 1) & 3)]);
-              if (t.w == kInvalid) t.w = coded(out.quads[q + ((r + 3) & 3)]);
-            }
-          }
-        }
-        // Every field names a coded vertex: into coding positions now, while t is in cache.
-        for (std::uint32_t* v : t.vertex_fields())
-          if (*v != kInvalid) *v = id[*v];
-        id[p] = static_cast<std::uint32_t>(out.coding.size());
-        out.coding.push_back(p);
-        st.push_back(t);
-        if (p < edge_end)
-          for (std::uint32_t k = ring_first[p]; k < ring_first[p + 1]; ++k) {
-            const std::uint32_t q = ring_patch[k];
-            ++ring_coded[q];
-            if (!visited[q]) next.push({ring_coded[q], n.patches[q].ring.size(), q});
-          }
-      }
-  }
-  if (out.coding.size() != count) throw Error(ErrorCode::kInternal, "patch order misses a vertex");
-  out.stencil = std::move(st);
-}
-
 }  // namespace
 
-GridLayout grid_layout(const ComponentPartition& part, CodingOrder order) {
+std::string number_schematic(const Schematic& s, Numbering& n) {
+  std::uint64_t next = s.vertex_count;
+  n.edge_base.resize(s.edge_count());
+  for (std::uint32_t e = 0; e < s.edge_count(); ++e) {
+    n.edge_base[e] = static_cast<std::uint32_t>(next);
+    next += s.edge_length[e] - 1;
+  }
+  n.patches.assign(s.face_count(), {});
+  for (std::uint32_t f = 0; f < s.face_count(); ++f) {
+    if (s.face_hole[f]) continue;
+    PatchGrid& g = n.patches[f];
+    const PatchSize size = patch_size(s, f);
+    g.a = size.a;
+    g.b = size.b;
+    g.ring.reserve(2ull * (g.a + g.b));
+    std::uint32_t d = s.face_dart[f];
+    do {
+      const std::uint32_t e = d >> 1, len = s.edge_length[e];
+      g.ring.push_back(s.dart_vertex[d]);
+      for (std::uint32_t k = 1; k < len; ++k)
+        g.ring.push_back(n.edge_base[e] + ((d & 1) ? len - 1 - k : k - 1));
+      d = s.dart_next[d];
+    } while (d != s.face_dart[f]);
+    if (g.ring.size() != 2ull * (g.a + g.b))
+      return "patch " + std::to_string(f) + " has unequal opposite sides";
+    g.interior_base = static_cast<std::uint32_t>(next);
+    next += static_cast<std::uint64_t>(g.a - 1) * (g.b - 1);
+    if (next > 0xFFFFFFF0u) return "too many vertices";
+  }
+  n.vertex_count = static_cast<std::uint32_t>(next);
+  return {};
+}
+
+GridLayout grid_layout(const ComponentPartition& part, Numbering& n) {
   GridLayout out;
-  Numbering n;
   const bool general = part.kind == ComponentKind::kUnstructured || part.kind == ComponentKind::kDisk;
   if (general) {
     std::string why = number_schematic(part.schematic, n);
     if (!why.empty()) throw Error(ErrorCode::kFormat, "schematic: " + why);
   }
   out.vertex_count = layout_vertex_count(part, n);
+  out.quads.reserve(4 * std::size_t{layout_face_count(part, n)});
   for_each_cell(part, &n, nullptr, [&](const std::uint32_t* c, std::uint32_t) {
     out.quads.insert(out.quads.end(), c, c + 4);
     return true;
   });
-  if (general && order == CodingOrder::kPatch) {  // its own stencils: none of layout order's are needed
-    patch_order(part.schematic, n, out);
-    return out;
-  }
-  out.stencil.assign(out.vertex_count, {});
-  auto& st = out.stencil;
-  if (!general) {
-    const std::uint32_t a = part.a, rows = out.vertex_count / std::max(a, 1u);
-    for (std::uint32_t y = 0; y < rows; ++y)
-      for (std::uint32_t x = 0; x < a; ++x) {
-        auto& t = st[y * a + x];
-        if (x >= 1) t.w = y * a + x - 1;
-        if (x >= 2) t.ww = y * a + x - 2;
-        if (y >= 1) t.s = (y - 1) * a + x;
-        if (x >= 1 && y >= 1) t.sw = (y - 1) * a + x - 1;
-        if (order == CodingOrder::kPatch && x >= 1 && y >= 1) {
-          // Patch order's stencils carry these explicitly; here they are what layout order derives.
-          if (x + 1 < a) t.se = (y - 1) * a + x + 1;
-          if (y >= 2) t.ss = (y - 2) * a + x, t.ssw = (y - 2) * a + x - 1;
-          if (x >= 2) t.sww = (y - 1) * a + x - 2;
-        }
-      }
-    return out;
-  }
-  const Schematic& s = part.schematic;
-  // X vertices: predicted from a schematic neighbour numbered earlier, else the previous one.
-  for (std::uint32_t d = 0; d < s.dart_count(); ++d) {
-    const std::uint32_t v = s.dart_vertex[d], u = s.dart_vertex[d ^ 1];
-    if (u < v && (st[v].w == kInvalid || u > st[v].w)) st[v].w = u;
-  }
-  for (std::uint32_t v = 1; v < s.vertex_count; ++v)
-    if (st[v].w == kInvalid) st[v].w = v - 1;
-  // Edge-inner points: along the edge from dart 2e's origin.
-  for (std::uint32_t e = 0; e < s.edge_count(); ++e) {
-    const std::uint32_t len = s.edge_length[e], base = n.edge_base[e], u = s.dart_vertex[2 * e];
-    for (std::uint32_t k = 1; k < len; ++k) {
-      auto& t = st[base + k - 1];
-      t.w = k == 1 ? u : base + k - 2;
-      t.ww = k == 1 ? kInvalid : (k == 2 ? u : base + k - 3);
-      t.far = s.dart_vertex[2 * e + 1];
-      t.far_dist = len - k;
-    }
-  }
-  // Patch-inner points: all boundary points are numbered before them.
-  for (std::uint32_t f = 0; f < s.face_count(); ++f) {
-    if (s.face_hole[f]) continue;
-    const PatchGrid& g = n.patches[f];
-    for (std::uint32_t j = 1; j < g.b; ++j)
-      for (std::uint32_t i = 1; i < g.a; ++i) {
-        auto& t = st[g.at(i, j)];
-        t.w = g.at(i - 1, j);
-        t.ww = i >= 2 ? g.at(i - 2, j) : kInvalid;
-        t.s = g.at(i, j - 1);
-        t.sw = g.at(i - 1, j - 1);
-        t.e = g.at(g.a, j), t.es = g.at(g.a, j - 1), t.e_dist = g.a - i;
-        t.n = g.at(i, g.b), t.nw = g.at(i - 1, g.b), t.n_dist = g.b - j;
-      }
-  }
-  across_patches(s, n, st);
   return out;
+}
+
+GridLayout grid_layout(const ComponentPartition& part) {
+  Numbering n;
+  return grid_layout(part, n);
 }
 
 LayoutMap layout_to_mesh(const ComponentPartition& part, const Adjacency& adj) {

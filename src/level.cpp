@@ -17,10 +17,10 @@ struct Level {
   const char* description;
 };
 
-// Levels 1-3 code each mesh once in one partition (the motorcycle graph), in revision 4 or 5: the
-// decoder then runs the cheaper model. 4 adds the second coding order, 5-6 try every header in full, 7 adds
-// revision 6 (shape transfers, logistic mixing: a few percent smaller, twice the decode time), 8-9 every
-// partition.
+// Levels 1-3 code each mesh once in one partition (the motorcycle graph), without the costly geometry
+// tools: the decoder then runs the cheaper model. 4 adds the second coding order, 5-6 try every header
+// in full, 7 adds the cell shapes and logistic mixing tools (a few percent smaller, twice the decode
+// time), 8-9 every partition.
 constexpr std::array<Level, kMaxLevel> kLevels = {{
     {{false, false, kSmallSample, false, false, true},
      "motorcycle graph, patch order, header chosen on 1024 vertices (value repeats where they save 3%), "
@@ -30,7 +30,7 @@ constexpr std::array<Level, kMaxLevel> kLevels = {{
     {{false, true, kSample, true, false}, "as 3, in both coding orders (the smaller kept)"},
     {{false, false, 0, true, false}, "motorcycle graph, patch order, every header coded in full"},
     {{false, true, 0, true, false}, "as 5, in both coding orders"},
-    {{false, true, 0, true, true}, "as 6, and geometry revision 6 where smaller"},
+    {{false, true, 0, true, true}, "as 6, and the cell shapes and logistic mixing tools where smaller"},
     {{true, false, 0, true, true},
      "as 7 in patch order, the smallest of the motorcycle, greedy and merge partitions"},
     {{true, true, 0, true, true}, "as 8, in both coding orders"},
@@ -49,7 +49,7 @@ const Level& level_entry(int level) {
 Effort level_effort(int level, std::uint64_t vertex_count) {
   Effort e = level_entry(level).effort;
   if (vertex_count > kSearchVertexLimit) {
-    e.all_partitions = e.both_orders = e.try_shapes = false;
+    e.all_partitions = e.both_orders = e.try_costly_tools = false;
     if (e.header_sample == 0) e.header_sample = kSample;
   }
   return e;

@@ -18,7 +18,8 @@ namespace qsp {
 namespace {
 
 // Raster samples per pixel side: 2 (anti-aliased) up to this many pixels, 1 beyond, so the buffers
-// (11 bytes a sample) stay within a few hundred MB at kMaxRenderSide.
+// (11 bytes a sample) stay under 0.75 GB at kMaxRenderSide (0.9 GB peak with the picture and its PNG,
+// measured at 4096x4096 and 8192x8192).
 constexpr std::uint64_t kSuperPixels = std::uint64_t{1} << 24;
 constexpr float kMargin = 0.04f;  // picture border left free, per side
 constexpr std::array<std::uint8_t, 3> kLine = {30, 30, 34};

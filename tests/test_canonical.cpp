@@ -4,10 +4,12 @@
 #include <cstring>
 #include <filesystem>
 
+#include "layout_grid.h"
 #include "qsp/canonical.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/partition.h"
+#include "stencil.h"
 #include "support/corpus.h"
 #include "support/mesh_gen.h"
 
@@ -43,8 +45,11 @@ void check_component(const QuadMesh& m, const CanonicalComponent& comp) {
       ASSERT_EQ(comp.map.vertex[layout.quads[4 * f + k]],
                 m.quads[4 * comp.map.face[f] + (k + comp.map.rotation[f]) % 4])
           << "face " << f;
+  Numbering numbering;
+  (void)grid_layout(decoded, numbering);
+  const ComponentStencils stencils = component_stencils(decoded, layout, numbering, CodingOrder::kLayout);
   for (std::uint32_t v = 0; v < layout.vertex_count; ++v) {
-    const auto& s = layout.stencil[v];
+    const auto& s = stencils.stencil[v];
     for (std::uint32_t n : s.vertex_fields()) ASSERT_TRUE(n == kInvalid || n < v) << "stencil of " << v;
   }
 }
@@ -125,6 +130,43 @@ TEST(Canonical, MirroredCopyDiffersUnlessSymmetric) {
   const QuadMesh rh = testing::polyomino(
       {"######..", "######..", "########", "########", "########", "########", "..######", "..######"});
   EXPECT_EQ(topology_fingerprint(canon(rh)), topology_fingerprint(canon(mirror(rh))));
+}
+
+// The threaded seam (CONTRIBUTING, "Threads"): components canonicalized on two threads give the form one
+// thread gives, forced on small meshes of several components (some interchangeable, some structured).
+TEST(Canonical, TwoThreadsGiveTheSameForm) {
+  std::vector<QuadMesh> meshes;
+  meshes.push_back(testing::copies(testing::cube(2), 5, 3.0f));
+  QuadMesh mixed = testing::grid(4, 6);
+  testing::append(mixed, testing::periodic(8, 5, true, 0), 10.0f);
+  testing::append(mixed, testing::periodic(8, 5, false, 0), 20.0f);
+  testing::append(mixed, testing::cube(3), 30.0f);
+  testing::append(mixed, testing::polyomino({"##..", "##..", "####", "####"}), 40.0f);
+  meshes.push_back(testing::shuffled(mixed, 7));
+  mixed.positions.insert(mixed.positions.end(), {1.0f, 2.0f, 3.0f, 0.5f, 0.5f, 0.5f});  // unreferenced
+  meshes.push_back(mixed);
+  const std::filesystem::path base = testing::shared_dir() / "meshes" / "mh_base.obj";
+  if (std::filesystem::exists(base)) meshes.push_back(read_mesh_file(base.string()));
+  for (std::size_t k = 0; k < meshes.size(); ++k) {
+    SCOPED_TRACE(k);
+    const QuadMesh& m = meshes[k];
+    const Adjacency adj = build_adjacency(m);
+    const Partition p = partition_motorcycle(adj);
+    ASSERT_GE(p.components.size(), 2u);
+    const CanonicalMesh one = canonicalize(m, adj, p, 1), two = canonicalize(m, adj, p, 2);
+    ASSERT_EQ(one.components.size(), two.components.size());
+    for (std::size_t i = 0; i < one.components.size(); ++i) {
+      const CanonicalComponent &a = one.components[i], &b = two.components[i];
+      EXPECT_TRUE(a.code == b.code) << "component " << i;
+      EXPECT_EQ(a.automorphisms, b.automorphisms);
+      EXPECT_EQ(a.map.vertex, b.map.vertex);
+      EXPECT_EQ(a.map.face, b.map.face);
+      EXPECT_EQ(a.map.rotation, b.map.rotation);
+      EXPECT_EQ(a.part.schematic.dart_halfedge, b.part.schematic.dart_halfedge);
+      EXPECT_EQ(a.part.anchor_halfedge, b.part.anchor_halfedge);
+    }
+    EXPECT_EQ(one.unreferenced, two.unreferenced);
+  }
 }
 
 TEST(Canonical, HostileCodesAreRefused) {

@@ -395,7 +395,7 @@ TEST_F(CliFiles, StandardInputInAnyFormat) {
   // A .qsp on standard input: stats, fingerprint and match read it; compress says what it is.
   auto r = run_qsp("stats - < " + quote(p("a.qsp")));
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("format 2.2"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("format 3.0"), std::string::npos) << r.out;
   r = run_qsp("compress -c - < " + quote(p("a.qsp")));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("-: is .qsp compressed data, not a mesh (qsp decompress reads it)"), std::string::npos)

@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "qsp/codec.h"
 #include "qsp/io.h"
 #include "support/cli.h"
 #include "support/mesh_gen.h"
@@ -45,7 +46,7 @@ TEST_F(CliReport, StatsOnAQspSaysWhatItHoldsAndItsBytesAddUp) {
   for (const Case& c :
        {Case{"", "lossless, canonical order"}, Case{"--quantize 12", "quantized to 12 bits, canonical order"},
         Case{"--quantize 14 --keep-order", "quantized to 14 bits, original order kept"},
-        Case{"--keep-order --compat 2.1", "(2.1 readers decode it); lossless, original order kept"}}) {
+        Case{"--keep-order --best", "format 3.0, level 9, geometry"}}) {
     SCOPED_TRACE(c.options);
     const std::string q = p("x.qsp");
     ASSERT_EQ(run_qsp("compress -f -q --positions-only " + c.options + " " + quote(mesh) + " " + quote(q))
@@ -267,14 +268,19 @@ TEST_F(CliReport, HugeIsomorphismCountsArePrintedReadably) {
   EXPECT_NE(r.out.find("isomorphic: 24 isomorphisms"), std::string::npos) << r.out;  // exact when it fits
 }
 
-// Until the file records the level that wrote it (format 3.0), stats says nothing of it in the table
-// and null in JSON: the field is there for scripts to read.
-TEST_F(CliReport, StatsHasAPlaceForTheLevelThatWroteAFile) {
+// The file records the level that wrote it (header byte 10): stats shows it in the table and the JSON.
+TEST_F(CliReport, StatsShowsTheLevelThatWroteAFile) {
   const std::string q = p("x.qsp");
-  ASSERT_EQ(run_qsp("compress -q " + quote(kData + "/cube_4.obj") + " " + quote(q)).exit_code, 0);
-  const auto r = run_qsp("stats --json " + quote(q));
+  ASSERT_EQ(run_qsp("compress -q -7 " + quote(kData + "/cube_4.obj") + " " + quote(q)).exit_code, 0);
+  auto r = run_qsp("stats --json " + quote(q));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("\"keep_order\": false, \"level\": null"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"level\": 7,"), std::string::npos) << r.out;
+  r = run_qsp("stats " + quote(q));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("level 7"), std::string::npos) << r.out;
+  ASSERT_EQ(run_qsp("compress -q -f " + quote(kData + "/cube_4.obj") + " " + quote(q)).exit_code, 0);
+  r = run_qsp("stats --json " + quote(q));
+  EXPECT_NE(r.out.find("\"level\": " + std::to_string(kDefaultLevel) + ","), std::string::npos) << r.out;
 }
 
 }  // namespace

@@ -129,6 +129,13 @@ TEST_F(CliShow, BadArgumentsFailCleanly) {
   const std::string out = p("x.png");
   EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --size 0x10").exit_code, 2);
   EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --size 10").exit_code, 2);
+  // Out of range, or wrapping round to a valid size as sscanf's %u reads them (4294967297 is 2^32 + 1).
+  for (const char* size : {"99999x99999", "8193x10", "4294967297x10", "10x4294967297", "-4294967295x10",
+                           "+10x10", "10x 10", "10x10x"}) {
+    const auto r = run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --size '" + size + "'");
+    EXPECT_EQ(r.exit_code, 2) << size;
+    EXPECT_NE(r.err.find("--size must be WxH"), std::string::npos) << size << ": " << r.err;
+  }
   EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --view 10").exit_code, 2);
   EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(p("x.jpg"))).exit_code, 2);
   EXPECT_EQ(run_qsp("show " + quote(kSpot) + " -o " + quote(out) + " --partition stored").exit_code, 2);
@@ -186,6 +193,51 @@ std::vector<std::uint32_t> indices(std::istringstream& ls) {
   return out;
 }
 
+// Calls f(keyword, the rest of the line as a stream, the line) for each line of OBJ text.
+template <class F>
+void each_statement(const std::string& text, F f) {
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream ls(line);
+    std::string kw;
+    ls >> kw;
+    f(kw, ls, line);
+  }
+}
+
+// A --patches OBJ as written: vertices (with their text), faces with the group they are in, lines.
+struct PatchesObj {
+  QuadMesh mesh;
+  std::vector<std::string> position;              // per vertex: its coordinates as written
+  std::vector<std::string> groups;                // group names in file order
+  std::vector<std::uint32_t> face_group;          // per face: its group (index into groups)
+  std::vector<std::vector<std::uint32_t>> lines;  // `l` polylines, 0-based vertices
+  std::size_t faces_before_any_group = 0;
+};
+
+PatchesObj read_patches_obj(const std::string& text) {
+  PatchesObj out;
+  each_statement(text, [&](const std::string& kw, std::istringstream& ls, const std::string& line) {
+    if (kw == "v") {
+      out.position.push_back(line.substr(2));
+      float x, y, z;
+      ls >> x >> y >> z;
+      out.mesh.positions.insert(out.mesh.positions.end(), {x, y, z});
+    } else if (kw == "g") {
+      std::string name;
+      ls >> name;
+      out.groups.push_back(name);
+    } else if (kw == "f") {
+      out.faces_before_any_group += out.groups.empty();
+      for (std::uint32_t i : indices(ls)) out.mesh.quads.push_back(i);
+      out.face_group.push_back(static_cast<std::uint32_t>(out.groups.size() - 1));
+    } else if (kw == "l") {
+      out.lines.push_back(indices(ls));
+    }
+  });
+  return out;
+}
+
 TEST_F(CliShow, LayoutHasAFacePerPatchOverItsSchematicVertices) {
   for (const std::string& in : {kSpot, kMulti, std::string(QSP_TESTDATA_DIR) + "/l_shape.obj",
                                 std::string(QSP_TESTDATA_DIR) + "/mh_fedora.obj"}) {
@@ -216,27 +268,111 @@ TEST_F(CliShow, LayoutHasAFacePerPatchOverItsSchematicVertices) {
       }
       std::vector<std::array<float, 3>> v;
       std::vector<std::vector<std::array<float, 3>>> got;
-      std::istringstream text(slurp(p("l.obj")));
-      for (std::string line; std::getline(text, line);) {
-        std::istringstream ls(line);
-        std::string kw;
-        ls >> kw;
-        if (kw == "v") {
-          std::array<float, 3> p{};
-          ls >> p[0] >> p[1] >> p[2];
-          v.push_back(p);
-        } else if (kw == "f") {
-          std::vector<std::array<float, 3>> ring;
-          for (std::uint32_t i : indices(ls)) ring.push_back(v.at(i));
-          got.push_back(ring);
-        }
-      }
+      each_statement(slurp(p("l.obj")),
+                     [&](const std::string& kw, std::istringstream& ls, const std::string&) {
+                       if (kw == "v") {
+                         std::array<float, 3> p{};
+                         ls >> p[0] >> p[1] >> p[2];
+                         v.push_back(p);
+                       } else if (kw == "f") {
+                         std::vector<std::array<float, 3>> ring;
+                         for (std::uint32_t i : indices(ls)) ring.push_back(v.at(i));
+                         got.push_back(ring);
+                       }
+                     });
       EXPECT_EQ(got.size(), partition_size(partition(adj, mode, m.positions)).patches -
                                 std::count_if(cm.components.begin(), cm.components.end(), [](const auto& c) {
                                   return c.part.kind == ComponentKind::kAnnulus ||
                                          c.part.kind == ComponentKind::kTorus;
                                 }));
       EXPECT_EQ(got, want);
+    }
+  }
+}
+
+// The layout read against the --patches file only (not qsp's schematic): walking a layout face, each
+// step from one of its vertices to the next is one `l` polyline, with the patch's own faces on its left
+// (the mesh's orientation) and as many mesh edges as the face's comment says; every side of every line
+// that has a face is walked exactly once. So no T-junction is left out, the corners are in order, and
+// the lengths are the sides'.
+TEST_F(CliShow, LayoutFacesWalkTheLinesAroundTheirPatch) {
+  for (const std::string& in : {kSpot, kMulti, std::string(QSP_TESTDATA_DIR) + "/l_shape.obj",
+                                std::string(QSP_TESTDATA_DIR) + "/mh_fedora.obj",
+                                std::string(QSP_TESTDATA_DIR) + "/annulus_12x3.obj"}) {
+    for (const char* mode : {"motorcycle", "greedy", "merge"}) {
+      SCOPED_TRACE(in + " " + mode);
+      const auto r = run_qsp("layout -f " + quote(in) + " -o " + quote(p("l.obj")) + " --patches " +
+                             quote(p("p.obj")) + " --partition " + mode);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      const PatchesObj po = read_patches_obj(slurp(p("p.obj")));
+      const QuadMesh& mesh = po.mesh;
+      const auto& lines = po.lines;
+      ASSERT_EQ(po.faces_before_any_group, 0u);
+      for (std::size_t g = 0; g < po.groups.size(); ++g)
+        ASSERT_EQ(po.groups[g], "patch_" + std::to_string(g));
+      const std::vector<std::uint32_t>& face_group = po.face_group;
+      const std::vector<std::string>& position = po.position;
+      ASSERT_EQ(face_group.size(), mesh.face_count());
+      const Adjacency adj = build_adjacency(mesh);
+      std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> halfedge;
+      for (std::uint32_t h = 0; h < adj.halfedge_count(); ++h) halfedge[{adj.origin[h], adj.dest(h)}] = h;
+      std::map<std::string, std::uint32_t> vertex_at;
+      for (std::uint32_t v = 0; v < position.size(); ++v)
+        ASSERT_TRUE(vertex_at.emplace(position[v], v).second) << "two vertices at " << position[v];
+      // Each side of each line: from its first vertex to its last (face on the left of the first edge).
+      struct Side {
+        std::uint32_t from, to, patch, length;
+        bool walked;
+      };
+      std::vector<Side> sides;
+      for (const auto& l : lines) {
+        ASSERT_GE(l.size(), 2u);
+        for (int dir = 0; dir < 2; ++dir) {
+          const std::uint32_t a = dir ? l.back() : l.front(), b = dir ? l[l.size() - 2] : l[1];
+          ASSERT_TRUE(halfedge.count({a, b})) << "a line off the mesh edges";
+          const std::uint32_t h = halfedge.at({a, b});
+          if (adj.is_exterior(h)) continue;
+          sides.push_back({a, dir ? l.front() : l.back(), face_group[adj.face(h)],
+                           static_cast<std::uint32_t>(l.size() - 1), false});
+        }
+      }
+      // The layout: walk each face.
+      std::vector<std::uint32_t> layout_vertex;
+      std::uint32_t patch = ~0u;
+      std::vector<std::uint32_t> lengths;
+      std::size_t faces = 0;
+      each_statement(
+          slurp(p("l.obj")), [&](const std::string& kw, std::istringstream& ls, const std::string& line) {
+            if (line.rfind("# patch ", 0) == 0) {
+              patch = static_cast<std::uint32_t>(std::stoul(line.substr(8)));
+              lengths.clear();
+              const std::size_t at = line.find("edge lengths");
+              if (at != std::string::npos) {
+                std::istringstream numbers(line.substr(at + 12));
+                for (std::uint32_t n; numbers >> n;) lengths.push_back(n);
+              }
+            } else if (kw == "v") {
+              ASSERT_TRUE(vertex_at.count(line.substr(2))) << "a layout vertex off the mesh: " << line;
+              layout_vertex.push_back(vertex_at.at(line.substr(2)));
+            } else if (kw == "f") {
+              ++faces;
+              std::vector<std::uint32_t> ring;
+              for (std::uint32_t i : indices(ls)) ring.push_back(layout_vertex.at(i));
+              ASSERT_EQ(ring.size(), lengths.size()) << line;
+              for (std::size_t k = 0; k < ring.size(); ++k) {
+                const std::uint32_t u = ring[k], v = ring[(k + 1) % ring.size()];
+                auto it = std::find_if(sides.begin(), sides.end(), [&](const Side& s) {
+                  return !s.walked && s.from == u && s.to == v && s.patch == patch && s.length == lengths[k];
+                });
+                ASSERT_NE(it, sides.end()) << "patch " << patch << ": no line " << u << " -> " << v
+                                           << " of length " << lengths[k] << " with the patch on its left";
+                it->walked = true;
+              }
+            }
+          });
+      EXPECT_EQ(faces == 0, lines.empty()) << "an annulus alone has neither";
+      for (const Side& s : sides)
+        EXPECT_TRUE(s.walked) << "line " << s.from << " -> " << s.to << " of patch " << s.patch;
     }
   }
 }
@@ -267,35 +403,17 @@ TEST_F(CliShow, PatchesTagEveryFaceAndLinesAreTheSchematicEdges) {
         const PartitionSize size = partition_size(partition(adj0, pm, m.positions));
         patches = size.patches, edges = size.edges;
       }
-      // Parse groups, faces and lines.
-      QuadMesh back;
-      std::vector<std::uint32_t> face_group;
-      std::vector<std::string> groups;
+      const PatchesObj po = read_patches_obj(slurp(p("p.obj")));
+      const QuadMesh& back = po.mesh;
+      const std::vector<std::uint32_t>& face_group = po.face_group;
+      const std::vector<std::string>& groups = po.groups;
+      EXPECT_EQ(po.faces_before_any_group, 0u) << "a face before any group";
       std::set<std::pair<std::uint32_t, std::uint32_t>> line_edges;
       std::size_t line_edge_count = 0;
-      std::istringstream text(slurp(p("p.obj")));
-      for (std::string line; std::getline(text, line);) {
-        std::istringstream ls(line);
-        std::string kw;
-        ls >> kw;
-        if (kw == "v") {
-          float x, y, z;
-          ls >> x >> y >> z;
-          back.positions.insert(back.positions.end(), {x, y, z});
-        } else if (kw == "g") {
-          std::string name;
-          ls >> name;
-          groups.push_back(name);
-        } else if (kw == "f") {
-          ASSERT_FALSE(groups.empty()) << "a face before any group";
-          for (std::uint32_t i : indices(ls)) back.quads.push_back(i);
-          face_group.push_back(static_cast<std::uint32_t>(groups.size() - 1));
-        } else if (kw == "l") {
-          const auto path = indices(ls);
-          ASSERT_GE(path.size(), 2u);
-          for (std::size_t k = 0; k + 1 < path.size(); ++k, ++line_edge_count)
-            line_edges.insert(std::minmax(path[k], path[k + 1]));
-        }
+      for (const auto& path : po.lines) {
+        ASSERT_GE(path.size(), 2u);
+        for (std::size_t k = 0; k + 1 < path.size(); ++k, ++line_edge_count)
+          line_edges.insert(std::minmax(path[k], path[k + 1]));
       }
       EXPECT_EQ(back.positions, m.positions);
       EXPECT_EQ(face_set(back), face_set(m)) << "every face exactly once";
@@ -331,7 +449,7 @@ TEST_F(CliShow, PatchesTagEveryFaceAndLinesAreTheSchematicEdges) {
         float x, y, z;
         pt >> x >> y >> z;
       }
-      std::map<std::vector<std::uint32_t>, std::uint32_t> ply_patch;
+      std::map<std::vector<std::uint32_t>, std::uint32_t> ply_patch, ply_colour;
       for (std::size_t f = 0; f < m.face_count(); ++f) {
         int n = 0;
         std::vector<std::uint32_t> q(4);
@@ -340,11 +458,24 @@ TEST_F(CliShow, PatchesTagEveryFaceAndLinesAreTheSchematicEdges) {
         ASSERT_EQ(n, 4);
         std::sort(q.begin(), q.end());
         ply_patch[q] = patch;
+        ply_colour[q] = red << 16 | green << 8 | blue;
       }
+      // Each face its group's patch number; one colour per patch, and patches that share an edge differ.
+      std::vector<std::uint32_t> colour(back.face_count());
+      std::map<std::uint32_t, std::uint32_t> patch_colour;
       for (std::size_t f = 0; f < back.face_count(); ++f) {
         std::vector<std::uint32_t> q(back.quads.begin() + 4 * f, back.quads.begin() + 4 * f + 4);
         std::sort(q.begin(), q.end());
         EXPECT_EQ(ply_patch[q], face_group[f]);
+        colour[f] = ply_colour[q];
+        EXPECT_EQ(patch_colour.emplace(face_group[f], colour[f]).first->second, colour[f])
+            << "patch " << face_group[f];
+      }
+      for (std::uint32_t h = 0; h < 4 * adj.face_count; ++h) {
+        const std::uint32_t t = adj.twin[h];
+        if (adj.is_exterior(t) || face_group[adj.face(h)] == face_group[adj.face(t)]) continue;
+        EXPECT_NE(colour[adj.face(h)], colour[adj.face(t)])
+            << "patches " << face_group[adj.face(h)] << " and " << face_group[adj.face(t)];
       }
     }
   }

@@ -39,26 +39,24 @@ TEST(CliStats, JsonHasTheDocumentedFields) {
     EXPECT_NE(r.out.find(key), std::string::npos) << key << "\n" << r.out;
 }
 
-// A .qsp row says which format version and geometry coding wrote it (the goldens pin both orders and
-// revisions 4 to 6, the 2.1 goldens format 2.1, the 2.0 goldens format 2.0, the 1.3 goldens format 1.3
-// and the 1.2 goldens revision 3).
+// A .qsp row says which format version and level wrote it, and how its geometry is coded: the order
+// and the tools (testdata/golden/tools/ pins every combination).
 TEST(CliStats, QspRowNamesItsFormatAndCoding) {
   const std::string golden = std::string(QSP_TESTDATA_DIR) + "/golden/";
-  auto r = run_qsp("stats " + quote(golden + "l_shape_layout_order.qsp"));
+  auto r = run_qsp("stats " + quote(golden + "tools/tilted_noise_q14_lcsm.qsp"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("format 2.2, geometry coding revision 6, layout order"), std::string::npos) << r.out;
-  r = run_qsp("stats " + quote(golden + "tilted_noise_no_shapes.qsp"));
-  EXPECT_NE(r.out.find("format 2.2, geometry coding revision 5, patch order"), std::string::npos) << r.out;
-  r = run_qsp("stats " + quote(golden + "v2.1/l_shape_layout_order.qsp"));
-  EXPECT_NE(r.out.find("format 2.1, geometry coding revision 4, layout order"), std::string::npos) << r.out;
-  r = run_qsp("stats " + quote(golden + "v2.0/l_shape.qsp"));
-  EXPECT_NE(r.out.find("format 2.0, geometry coding revision 4, patch order"), std::string::npos) << r.out;
-  r = run_qsp("stats " + quote(golden + "v1.3/l_shape.qsp"));
-  EXPECT_NE(r.out.find("format 1.3, geometry coding revision 4, patch order"), std::string::npos) << r.out;
-  r = run_qsp("stats " + quote(golden + "v1.2/l_shape.qsp"));
-  EXPECT_NE(r.out.find("format 1.2, geometry coding revision 3, patch order"), std::string::npos) << r.out;
-  r = run_qsp("stats --json " + quote(golden + "l_shape.qsp"));
-  EXPECT_NE(r.out.find("\"format\": \"2.2\", \"geometry_coding\": {\"revision\": 6, \"order\": \"patch\"}"),
+  EXPECT_NE(
+      r.out.find("format 3.0, level 9, geometry layout order, tools: normal chaining, cell shapes, logistic "
+                 "mixing; quantized to 14 bits"),
+      std::string::npos)
+      << r.out;
+  r = run_qsp("stats " + quote(golden + "tools/tilted_noise_r.qsp"));
+  EXPECT_NE(r.out.find("geometry patch order, tools: value repeats; lossless"), std::string::npos) << r.out;
+  r = run_qsp("stats " + quote(golden + "tools/tilted_noise_q14_plain.qsp"));
+  EXPECT_NE(r.out.find("geometry patch order, tools: none;"), std::string::npos) << r.out;
+  r = run_qsp("stats --json " + quote(golden + "tools/tilted_noise_q14_rc.qsp"));
+  EXPECT_NE(r.out.find("\"format\": \"3.0\", \"level\": 9, \"geometry_coding\": {\"tools\": \"value repeats, "
+                       "normal chaining\", \"order\": \"patch\"}"),
             std::string::npos)
       << r.out;
 }
@@ -114,7 +112,7 @@ TEST(CliStats, MissingFileAndUsage) {
   const auto v = run_qsp("--version");
   EXPECT_EQ(v.exit_code, 0);
   EXPECT_NE(v.out.find("qsp"), std::string::npos);
-  EXPECT_NE(v.out.find("writes .qsp format 2.2, reads 1.0 to 2.2"), std::string::npos) << v.out;
+  EXPECT_NE(v.out.find("writes .qsp format 3.0, reads 3.0 to 3.0"), std::string::npos) << v.out;
 }
 
 }  // namespace

@@ -46,7 +46,9 @@ TEST(Fingerprint, AQspFileHasItsMeshsFingerprint) {
     }
     ++meshes;
   }
-  EXPECT_GT(meshes, 40);
+  // read_valid fails any refusal the manifest does not call for; this floor guards the corpus itself
+  // (testdata's 25 meshes alone in a clone without ../shared, which fails the sentinel under CI).
+  EXPECT_GT(meshes, testing::shared_present() ? 40 : 20);
 }
 
 TEST(Fingerprint, DiffersAcrossTopologiesAndRefusesDamagedFiles) {

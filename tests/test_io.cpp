@@ -18,12 +18,14 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
 #include "support/corpus.h"
+#include "support/float32_text.h"
 #include "support/openmesh.h"
 
 namespace fs = std::filesystem;
@@ -770,6 +772,102 @@ Topology count_topology(const qsp::QuadMesh& m) {
 // is read with its V and F, and its components, edges, boundary edges and loops, Euler characteristic
 // and irregular vertices counted from the faces as read equal the row's (and qsp's adjacency agrees on
 // the components); any other file is refused with an error naming one of the defects the row lists.
+// Every OBJ and OFF file of the corpus: the reader reports exactly the coordinates float32 does not keep
+// (counted by testing::count_rounded_coordinates, which shares no code with it), and the first one's
+// line, vertex and text. pmp_hole_capsule.off (ten digits) and the libigl OFF (seventeen) have some.
+TEST(ReadReport, CountsEveryCoordinateFloat32DoesNotKeep) {
+  int files = 0, with_rounding = 0;
+  for (const fs::path& p : qsp::testing::corpus()) {
+    if (p.extension() != ".obj" && p.extension() != ".off") continue;
+    SCOPED_TRACE(p.string());
+    qsp::ReadReport r;
+    try {
+      (void)qsp::read_mesh_file(p.string(), &r);
+    } catch (const qsp::Error&) {
+      continue;  // refused before its end: the count would be partial
+    }
+    const qsp::testing::RoundedCount want = qsp::testing::count_rounded_coordinates(p);
+    EXPECT_EQ(r.rounded_coordinates, want.count);
+    if (want.count) {
+      EXPECT_EQ(r.first_rounded.line, want.first_line);
+      EXPECT_EQ(r.first_rounded.vertex, want.first_vertex);
+      EXPECT_EQ(r.first_rounded.value, want.first_token);
+      ++with_rounding;
+    }
+    ++files;
+  }
+  EXPECT_GT(files, 20);
+  EXPECT_GE(with_rounding, qsp::testing::shared_present() ? 2 : 0);
+}
+
+// Crafted texts: OFF vertex lines with colours (never counted: only positions) and comments, a 17-digit print
+// of a float32's float64 (held), and a float64 halfway between two float32s whose shortest text reads as the
+// other one (not held: the reader keeps the text's own float32).
+TEST(ReadReport, CraftedCoordinatesAreNotedWhereFloat32RoundsThem) {
+  qsp::ReadReport off;
+  (void)qsp::read_off(
+      "COFF\n4 1 0\n0 0 0 1 1 1  # origin\n1 0 0.5 0.123456789012 0.2 0.3\n1 1 0.10000000000000001 0 0 0\n"
+      "0 1.2345678901 0 1 1 1 # x\n"
+      "4 0 1 2 3\n",
+      "t.off", &off);
+  EXPECT_EQ(off.rounded_coordinates, 1u);
+  EXPECT_EQ(off.first_rounded.line, 6u);
+  EXPECT_EQ(off.first_rounded.vertex, 3u);
+  EXPECT_EQ(off.first_rounded.value, "1.2345678901");
+  qsp::ReadReport ply;
+  (void)qsp::read_ply(
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0.10000000000000001\n1 1 0\n0 1 0\n4 0 1 2 3\n",
+      "t.ply", &ply);
+  EXPECT_EQ(ply.rounded_coordinates, 0u);
+  qsp::ReadReport tie;
+  (void)qsp::read_obj("v 29999999999.999999 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n", "t.obj", &tie);
+  EXPECT_EQ(tie.rounded_coordinates, 1u);
+  EXPECT_TRUE(qsp::testing::float32_keeps("0.10000000000000001"));
+  EXPECT_FALSE(qsp::testing::float32_keeps("29999999999.999999"));
+  // A hostile token is quoted in part, as other messages quote tokens.
+  qsp::ReadReport longer;
+  (void)qsp::read_obj("v 0." + std::string(5000, '3') + " 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n",
+                      "t.obj", &longer);
+  EXPECT_EQ(longer.rounded_coordinates, 1u);
+  EXPECT_LT(longer.describe_rounding("t.obj").size(), 200u);
+}
+
+// PLY: ASCII text as OBJ's, a binary float64 or an integer beyond 2^24 that float32 rounds; float32
+// values and small integers never.
+TEST(ReadReport, PlyNotesWhatFloat32Rounds) {
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty int z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  qsp::ReadReport r;
+  (void)qsp::read_ply(head + "0 0 0\n1 0.5 0\n1 1.00000001 16777217\n0 1 16777216\n4 0 1 2 3\n", "t.ply", &r);
+  EXPECT_EQ(r.rounded_coordinates, 2u);
+  EXPECT_EQ(r.first_rounded.line, 12u);
+  EXPECT_EQ(r.first_rounded.vertex, 2u);
+  EXPECT_EQ(r.first_rounded.value, "1.00000001");
+  EXPECT_EQ(
+      r.describe_rounding("t.ply"),
+      "t.ply:12: vertex 2 has 1.00000001, which float32 holds only as 1 (and 1 more coordinate like it)");
+  // The same numbers in binary: doubles 0.5 and 1e-8 apart, an int one past 2^24.
+  std::string bin =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
+      "property int z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  auto put = [&bin](const auto v) { bin.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  for (const auto& [x, y, z] : std::vector<std::tuple<double, double, int>>{
+           {0, 0, 0}, {1, 0.5, 0}, {1, 1.00000001, 16777217}, {0, 1, 16777216}}) {
+    put(x), put(y), put(z);
+  }
+  put(std::uint8_t{4});
+  for (int i = 0; i < 4; ++i) put(i);
+  qsp::ReadReport b;
+  (void)qsp::read_ply(bin, "t.ply", &b);
+  EXPECT_EQ(b.rounded_coordinates, 2u);
+  EXPECT_EQ(b.first_rounded.line, 0u);
+  EXPECT_EQ(b.first_rounded.vertex, 2u);
+  EXPECT_EQ(b.first_rounded.value, "1.00000001");
+}
+
 TEST(SharedMeshes, EveryManifestRowHoldsForTheFileAsRead) {
   QSP_NEEDS_SHARED();
   std::size_t rows = 0, valid = 0;

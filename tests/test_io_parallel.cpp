@@ -7,20 +7,22 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <random>
 #include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "../src/io_text.h"
+#include "io_text.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
 #include "support/corpus.h"
+#include "support/files.h"
+#include "support/mesh_compare.h"
 
 namespace fs = std::filesystem;
+using qsp::testing::slurp;
 
 namespace {
 
@@ -72,6 +74,10 @@ void expect_same(const Outcome& want, const Outcome& got) {
   EXPECT_EQ(a.parameter_vertices, b.parameter_vertices);
   EXPECT_EQ(a.other_properties, b.other_properties);
   EXPECT_EQ(a.face_line, b.face_line);
+  EXPECT_EQ(a.rounded_coordinates, b.rounded_coordinates);
+  EXPECT_EQ(a.first_rounded.line, b.first_rounded.line);
+  EXPECT_EQ(a.first_rounded.vertex, b.first_rounded.vertex);
+  EXPECT_EQ(a.first_rounded.value, b.first_rounded.value);
 }
 
 // Every split point of `text`, in order.
@@ -92,15 +98,14 @@ Splits spread(const Splits& all, std::size_t most) {
   return out;
 }
 
-// Reads `text` split in two at each split point (at most `max_halves` of them, spread evenly), in
-// parts at every split point (at most 256), and at `subsets` random subsets of them, against the sequential
-// read. Returns how many of those reads there were and how many used the two-thread result.
+// How many split reads a check made and how many of them used the two-thread result.
 struct Checked {
   std::size_t reads = 0, parallel = 0;
 };
-Checked check_splits(std::string_view text, std::size_t max_halves = std::string_view::npos,
-                     int subsets = 8) {
-  const Outcome want = read(text, kSequential);
+
+// The splits to compare with the sequential read: each single one (spread, at most `max_halves`),
+// all of them (at most 256), and `subsets` random subsets.
+std::vector<Splits> split_cases(std::string_view text, std::size_t max_halves, int subsets) {
   const Splits all = split_points(text);
   std::vector<Splits> cases;
   for (const std::size_t s : spread(all, max_halves)) cases.push_back({s});
@@ -113,9 +118,17 @@ Checked check_splits(std::string_view text, std::size_t max_halves = std::string
     }
     if (!some.empty()) cases.push_back(some);
   }
+  return cases;
+}
+
+// Reads `text` with `read(text, splits, &parallel)` at each of split_cases against the sequential
+// read, compared by expect_same.
+template <class Read>
+Checked check_splits_with(std::string_view text, std::size_t max_halves, int subsets, Read read) {
+  const auto want = read(text, kSequential, nullptr);
   const bool failed_before = ::testing::Test::HasFailure();
   Checked checked;
-  for (const Splits& splits : cases) {
+  for (const Splits& splits : split_cases(text, max_halves, subsets)) {
     std::ostringstream where;
     where << "split at";
     for (std::size_t i = 0; i < splits.size() && i < 16; ++i) where << ' ' << splits[i];
@@ -130,11 +143,12 @@ Checked check_splits(std::string_view text, std::size_t max_halves = std::string
   return checked;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+// read_obj split in two at each split point (at most `max_halves`), in parts at every split point,
+// and at `subsets` random subsets of them, against the sequential read.
+Checked check_splits(std::string_view text, std::size_t max_halves = std::string_view::npos,
+                     int subsets = 8) {
+  return check_splits_with(text, max_halves, subsets,
+                           [](std::string_view t, const Splits& s, bool* p) { return read(t, s, p); });
 }
 
 const std::string kSquare = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
@@ -232,6 +246,10 @@ TEST(ReadObjParallel, CraftedTextsReadTheSameAtEverySplit) {
        kSquare + "f 1 2 3 4\n" + square2 + "f -4 -3 -2 -1\nf -9 -3 -2 -1\n", false},
       {"relative index repeating an absolute one", kSquare + square2 + "f 1 2 3 4\nf 8 -3 -2 -1\n", false},
       {"relative indices repeating each other", kSquare + square2 + "f 1 2 3 4\nf -1 -3 -2 -1\n", false},
+      {"coordinates float32 does not keep, in both halves",
+       kSquare + "v 0.1234567891 0 0\nf 1 2 3 4\n" + square2 +
+           "v 1 2.00000001 3\nv 7 8 9.87654321012\nf 5 6 7 8\n",
+       true},
       {"forward references", "f 1 2 3 4\nf 5 6 7 8\n" + kSquare + "f 1 2 3 4\n" + square2, true},
       {"forward reference beyond the file", "f 1 2 3 9\n" + kSquare + "f 1 2 3 4\n" + square2, false},
       {"forward reference beyond the file, late",
@@ -369,4 +387,116 @@ TEST(WriteTextParallel, LargeMeshesGiveTheSingleThreadedText) {
     const std::string got = off.substr(0, head.size() + xyz.size());
     EXPECT_TRUE(got == head + xyz) << "write_off differs at byte " << first_difference(got, head + xyz);
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The exact reader (read_obj_mesh): the same guarantees, over the whole model.
+
+namespace {
+
+struct MeshOutcome {
+  bool ok = false;
+  qsp::Mesh mesh;
+  qsp::ReadNotes notes;
+  std::string message;
+};
+
+MeshOutcome read_mesh(std::string_view text, const Splits& splits, bool* parallel = nullptr) {
+  MeshOutcome out;
+  try {
+    out.mesh = qsp::detail::read_obj_mesh_split(text, "t.obj", &out.notes, splits, parallel);
+    out.ok = true;
+  } catch (const qsp::Error& e) {
+    out.message = std::string(qsp::error_name(e.code())) + ": " + e.what();
+  }
+  return out;
+}
+
+void expect_same(const MeshOutcome& want, const MeshOutcome& got) {
+  ASSERT_EQ(want.ok, got.ok) << (want.ok ? got.message : want.message);
+  EXPECT_EQ(want.message, got.message);
+  if (!want.ok) return;
+  qsp::testing::expect_same_mesh(want.mesh, got.mesh);
+  EXPECT_EQ(want.notes.face_line, got.notes.face_line);
+  EXPECT_EQ(want.notes.warning_count, got.notes.warning_count);
+  EXPECT_EQ(want.notes.describe_warnings("t.obj"), got.notes.describe_warnings("t.obj"));
+}
+
+// As check_splits, for the exact reader.
+Checked check_mesh_splits(std::string_view text, std::size_t max_halves = std::string_view::npos) {
+  return check_splits_with(text, max_halves, 8,
+                           [](std::string_view t, const Splits& s, bool* p) { return read_mesh(t, s, p); });
+}
+
+}  // namespace
+
+TEST(ReadObjMeshParallel, EveryCorpusObjReadsTheSameAtManySplits) {
+  int files = 0;
+  for (const fs::path& p : qsp::testing::corpus()) {
+    if (p.extension() != ".obj") continue;
+    SCOPED_TRACE(p.string());
+    const std::string text = slurp(p);
+    const MeshOutcome want = read_mesh(text, kSequential);
+    const bool large = text.size() >= (1 << 20);
+    const Checked checked = check_mesh_splits(text, text.size() < 4096 ? 1000 : large ? 2 : 16);
+    // Every file the reader accepts takes the two-thread result however it is split.
+    if (want.ok) {
+      EXPECT_EQ(checked.parallel, checked.reads);
+    }
+    ++files;
+  }
+  // Without ../shared the corpus is testdata's OBJ files alone (the sentinel test fails that under CI).
+  EXPECT_GT(files, qsp::testing::shared_present() ? 100 : 20);
+}
+
+TEST(ReadObjMeshParallel, CraftedTextsReadTheSameAtEverySplit) {
+  const std::string square2 = "v 2 0 0\nv 2 1 0\nv 3 0 0\nv 3 1 0\n";
+  const std::vector<std::pair<const char*, std::string>> cases = {
+      {"labels across the split",
+       "# licence\nmtllib m.mtl\no a\n" + kSquare + "g x y\nusemtl red\ns 1\nf 1 2 3 4\n" + square2 +
+           "f 5 6 7 8\nusemtl blue\nf 1 2 3\ng z\ns off\nf 2 3 4\no b\nusemtl red\nf 4 3 2 1\n"},
+      {"labels only late", kSquare + "f 1 2 3 4\n" + square2 + "f 5 6 7\ng late\nf 6 7 8\n"},
+      {"relative texture coordinates and normals",
+       kSquare + "vt 0 0\nvt 1 0\nvn 0 0 1\nf -4/-2/-1 -3/-1/-1 -2/-2/-1\n" + square2 +
+           "vt 0.5 0.5\nvn 1 0 0\nf -4/-1/-1 -3/-2/-2 -2/1/1 -1//-1\n"},
+      {"texture coordinates of different lengths",
+       "vt 0.5\n" + kSquare + "vt 1 2 3\nf 1/1 2/2 3/1\n" + square2 + "vt 4\n"},
+      {"vertex colours", "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nf 1 2 3\nv 0 1 0 1 1 1\nf 1 3 4\n"},
+      {"vertex colours disagreeing late",
+       "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nf 1 2 3\nv 0 1 0\nf 1 3 4\n"},
+      {"tags and kept lines", kSquare + "f 1 2 3 4\nThis is prose\n" + square2 +
+                                  "vp 0.1\nt crease 2/1/0 0 7 3\nt hole 1/0/0 0\ncstype bspline\n"},
+      {"a tag index beyond the file", kSquare + "f 1 2 3 4\n" + square2 + "t corner 1/1/0 8 3\n"},
+      {"a forward texture coordinate beyond the file",
+       kSquare + "f 1/3 2/1 3/2\n" + square2 + "vt 0 0\nvt 1 1\n"},
+      {"n-gons and a repeat late", kSquare + square2 + "f 1 2 3 4 5 6\nf 1 2 3\nf -1 -2 -1\n"},
+      {"many decimals",
+       "v 0.1234567890123 1e39 0.1\n" + kSquare + "v 0.123456789012345678901 0 0\nf 1 2 3\n"},
+  };
+  for (const auto& [name, text] : cases) {
+    SCOPED_TRACE(name);
+    const MeshOutcome want = read_mesh(text, kSequential);
+    const Checked checked = check_mesh_splits(text);
+    if (want.ok) {
+      EXPECT_EQ(checked.parallel, checked.reads);
+    }
+  }
+}
+
+TEST(ReadObjMeshParallel, LargeInputsAreReadOnTwoThreads) {
+  std::string text = "# big\n" + kSquare;
+  for (int i = 0; text.size() < qsp::detail::kParallelObjBytes; ++i) {
+    text += "v " + std::to_string(i) + " 0.5 -1e-3 0 0.5 1\nvt 0.5 " + std::to_string(i % 7) +
+            "\nf -5/-1 -4/-1 -3/-1 -2/-1\n";
+    if (i % 1000 == 0) text += "g part" + std::to_string(i / 1000) + "\n";
+  }
+  text.replace(text.find("v 0 0 0\n"), 8, "v 0 0 0 1 1 1\n");
+  text.replace(text.find("v 1 0 0\n"), 8, "v 1 0 0 1 1 1\n");
+  text.replace(text.find("v 1 1 0\n"), 8, "v 1 1 0 1 1 1\n");
+  text.replace(text.find("v 0 1 0\n"), 8, "v 0 1 0 1 1 1\n");
+  const MeshOutcome want = read_mesh(text, kSequential);
+  ASSERT_TRUE(want.ok) << want.message;
+  bool parallel = false;
+  expect_same(want, read_mesh(text, qsp::detail::obj_read_splits(text), &parallel));
+  EXPECT_TRUE(parallel);
 }

@@ -33,16 +33,16 @@ TEST(Levels, EffortGrowsWithTheLevelAndStopsAtTheSearchLimit) {
     EXPECT_THROW((void)level_description(bad), Error);
   }
   const Effort fast = level_effort(kMinLevel, 1000), best = level_effort(kMaxLevel, 1000);
-  EXPECT_FALSE(fast.all_partitions || fast.both_orders || fast.try_chaining || fast.try_shapes);
+  EXPECT_FALSE(fast.all_partitions || fast.both_orders || fast.try_chaining || fast.try_costly_tools);
   EXPECT_NE(fast.header_sample, 0u);
-  EXPECT_TRUE(best.all_partitions && best.both_orders && best.try_chaining && best.try_shapes);
+  EXPECT_TRUE(best.all_partitions && best.both_orders && best.try_chaining && best.try_costly_tools);
   EXPECT_EQ(best.header_sample, 0u);
-  // The default decodes with the cheaper model: no revision 6.
-  EXPECT_FALSE(level_effort(kDefaultLevel, 1000).try_shapes);
+  // The default decodes with the cheaper model: no cell shapes or logistic mixing.
+  EXPECT_FALSE(level_effort(kDefaultLevel, 1000).try_costly_tools);
   // Above the limit every level codes one partition, one order, sampled headers.
   for (int l = kMinLevel; l <= kMaxLevel; ++l) {
     const Effort e = level_effort(l, kSearchVertexLimit + 1);
-    EXPECT_FALSE(e.all_partitions || e.both_orders || e.try_shapes) << l;
+    EXPECT_FALSE(e.all_partitions || e.both_orders || e.try_costly_tools) << l;
     EXPECT_NE(e.header_sample, 0u) << l;
     EXPECT_FALSE(level_description(l).empty());
   }
@@ -55,15 +55,10 @@ TEST(Levels, EveryLevelRoundTripsAndIsCanonical) {
   int meshes = 0;
   for (const auto& path : testing::corpus()) {
     QuadMesh mesh;
-    try {
-      mesh = read_mesh_file(path.string());
-      build_adjacency(mesh);
-    } catch (const Error&) {
-      continue;  // invalid meshes: Codec.RoundTripSharedMeshes checks their refusal
-    }
+    if (!testing::read_valid(path, mesh)) continue;  // fails unless the manifest calls it invalid
     SCOPED_TRACE(path.string());
     ++meshes;
-    // The fastest, the default, and full trials in both orders with revision 6; 8 and 9 are pinned by
+    // The fastest, the default, and full trials in both orders with the costly tools; 8 and 9 are pinned by
     // the goldens and Codec.BestKeepsTheSmallestPartition, forced orders by Codec.RoundTripSharedMeshes.
     for (int level : {kMinLevel, kDefaultLevel, 7}) {
       if (mesh.vertex_count() > kSearchVertexLimit && level > kDefaultLevel) continue;  // as 3
@@ -86,7 +81,7 @@ TEST(Levels, EveryLevelRoundTripsAndIsCanonical) {
       }
     }
   }
-  EXPECT_GT(meshes, 20);
+  EXPECT_EQ(meshes, testing::expected_valid_count(testing::corpus()));
 }
 
 TEST(Levels, CommandLineSpellings) {
@@ -106,7 +101,10 @@ TEST(Levels, CommandLineSpellings) {
   EXPECT_EQ(compress("-9", "nine.qsp"), best);
   EXPECT_EQ(best, slurp(std::string(QSP_TESTDATA_DIR) + "/golden/tilted_noise_q14.qsp"));
   EXPECT_EQ(compress("--threads 1", "one_thread.qsp"), dflt) << "the bytes depend on the thread count";
-  EXPECT_EQ(inspect(dflt).geometry_revision < 6, true) << "the default writes revision 6";
+  EXPECT_EQ(inspect(dflt).geometry_tools & (geometry_tool::kCellShapes | geometry_tool::kLogisticMixing), 0)
+      << "the default writes the costly tools";
+  EXPECT_EQ(inspect(dflt).level, kDefaultLevel);
+  EXPECT_EQ(inspect(best).level, kMaxLevel);
   for (const char* bad : {"-0", "-10"}) {
     const auto r =
         run_qsp(std::string("compress -f ") + bad + " " + in + " " + quote((dir / "x.qsp").string()));

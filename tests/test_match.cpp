@@ -762,15 +762,16 @@ TEST_F(MatchCli, ReorderGivesTheReferenceOrder) {
             1);
 }
 
-// Files of every format version this build reads fingerprint as their mesh (1.x topology streams have
-// LZMA ends, 2.x compact ends).
+// Files of every released format version fingerprint as their mesh: the goldens of the current
+// encoder, and those of older released versions where a later one changed the bytes (testdata/golden/
+// vX.Y/, none yet: 3.0 is the first release format).
 TEST_F(MatchCli, OlderFormatFilesFingerprintAsTheirMesh) {
   const std::string golden = std::string(QSP_TESTDATA_DIR) + "/golden/";
   int seen = 0;
   for (const char* name : {"cube_4", "l_shape", "multi_component", "torus_twist_9x6_t2", "annulus_12x3"}) {
     std::string cmd = "fingerprint " + quote(golden + name + ".obj") + " " + quote(golden + name + ".qsp");
     int files = 2;
-    for (const char* dir : {"v1.0", "v1.1", "v1.2", "v1.3", "v2.0", "v2.1"}) {
+    for (const char* dir : {"v3.0"}) {
       const std::string old = (fs::path(golden) / dir / (std::string(name) + ".qsp")).string();
       if (!fs::exists(old)) continue;
       cmd += " " + quote(old);
@@ -783,7 +784,7 @@ TEST_F(MatchCli, OlderFormatFilesFingerprintAsTheirMesh) {
     for (const auto& l : out) EXPECT_EQ(l.substr(0, 16), out[0].substr(0, 16)) << name << "\n" << r.out;
     seen += files;
   }
-  EXPECT_GE(seen, 25);
+  EXPECT_GE(seen, 10);
 }
 
 TEST_F(MatchCli, QspFilesFingerprintMatchAndReorder) {

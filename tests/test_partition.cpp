@@ -8,9 +8,11 @@
 #include <set>
 #include <string>
 
+#include "layout_grid.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/partition.h"
+#include "stencil.h"
 #include "support/corpus.h"
 #include "support/mesh_gen.h"
 #include "support/schematic_counts.h"
@@ -196,18 +198,13 @@ void check_bounds(const Adjacency& adj, const Partition& p) {
   }
 }
 
-// A corpus mesh and its adjacency; false if it is refused (as a typed input error, never internal).
-bool load_valid(const fs::path& path, QuadMesh& m, Adjacency& adj) {
-  return testing::read_valid(path, m, &adj);
-}
-
 TEST(Corpus, EveryValidMeshPartitionsIntoGridsWithinBounds) {
   int partitioned = 0, refused = 0;
   for (const auto& path : corpus()) {
     SCOPED_TRACE(path.string());
     QuadMesh m;
     Adjacency adj;
-    if (!load_valid(path, m, adj)) {
+    if (!testing::read_valid(path, m, &adj)) {
       ++refused;
       continue;
     }
@@ -225,9 +222,9 @@ TEST(Corpus, EveryValidMeshPartitionsIntoGridsWithinBounds) {
   EXPECT_EQ(partitioned, testing::expected_valid_count(corpus()));
 }
 
-// Patch coding order (geometry revision 3) over every mesh: a permutation of the layout's vertices, each
+// Patch coding order over every mesh: a permutation of the layout's vertices, each
 // stencil naming only earlier ones, every parallelogram stencil (w, s, sw) a real cell of the mesh with
-// the point as its fourth corner, and the explicit se/ss/sww/ssw (which revision 3 takes as given,
+// the point as its fourth corner, and the explicit se/ss/sww/ssw (which patch order takes as given,
 // annulus and torus included) mesh neighbours continuing that frame.
 TEST(Corpus, PatchOrderStencilsAreCellsOfTheMesh) {
   int checked = 0;
@@ -236,20 +233,21 @@ TEST(Corpus, PatchOrderStencilsAreCellsOfTheMesh) {
     SCOPED_TRACE(path.string());
     QuadMesh m;
     Adjacency adj;
-    if (!load_valid(path, m, adj)) continue;
+    if (!testing::read_valid(path, m, &adj)) continue;
     for (const ComponentPartition& comp : partition_motorcycle(adj).components) {
-      const GridLayout layout = grid_layout(comp), patch = grid_layout(comp, CodingOrder::kPatch);
-      ASSERT_EQ(patch.quads, layout.quads);  // the mesh itself does not change, only the coding order
+      Numbering numbering;
+      const GridLayout layout = grid_layout(comp, numbering);
+      const ComponentStencils patch = component_stencils(comp, layout, numbering, CodingOrder::kPatch);
       const std::uint32_t n = layout.vertex_count;
       ASSERT_EQ(patch.stencil.size(), n);
       std::vector<std::uint32_t> coding = patch.coding;
       if (coding.empty()) {  // annulus / torus: already row by row
         ASSERT_TRUE(comp.kind == ComponentKind::kAnnulus || comp.kind == ComponentKind::kTorus);
         for (std::uint32_t v = 0; v < n; ++v) coding.push_back(v);
-        // Revision 3 reads se/ss/sww/ssw from every stencil: a grid point two rows up and two
+        // Patch order reads se/ss/sww/ssw from every stencil: a grid point two rows up and two
         // columns in must have all four.
         if (comp.a >= 4 && n >= 3 * comp.a) {
-          const GridLayout::Stencil& t = patch.stencil[2 * comp.a + 2];
+          const Stencil& t = patch.stencil[2 * comp.a + 2];
           EXPECT_TRUE(t.se != kInvalid && t.ss != kInvalid && t.sww != kInvalid && t.ssw != kInvalid);
         }
       }
@@ -269,7 +267,7 @@ TEST(Corpus, PatchOrderStencilsAreCellsOfTheMesh) {
         return edges.count({std::min(x, y), std::max(x, y)}) > 0;
       };
       for (std::uint32_t k = 0; k < n; ++k) {
-        const GridLayout::Stencil& t = patch.stencil[k];
+        const Stencil& t = patch.stencil[k];
         for (std::uint32_t j : t.vertex_fields())
           ASSERT_TRUE(j == kInvalid || j < k) << "stencil of " << k << " refers forward";
         if (t.w == kInvalid || t.s == kInvalid || t.sw == kInvalid) continue;

@@ -89,7 +89,7 @@ TEST(Render, ViewAndPngOnEveryCorpusMesh) {
     SCOPED_TRACE(path.string());
     QuadMesh m;
     Adjacency adj;
-    if (!testing::load_valid(path, m, adj)) continue;
+    if (!testing::read_valid(path, m, &adj)) continue;
     for (PartitionMode mode : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
       SCOPED_TRACE(partition_mode_name(mode));
       check_view(m, adj, mode);

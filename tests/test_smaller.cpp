@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 
+#include "codec_sections.h"
 #include "qsp/canonical.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
@@ -43,9 +44,8 @@ void check_round_trip(const QuadMesh& m, const Adjacency& adj, const std::vector
     edges += c.edge_length.size();
     for (auto l : c.edge_length) max_length = std::max<std::uint64_t>(max_length, l);
   }
-  const std::vector<TopologyCode> back =
-      decode_topology(encode_topology(mode_codes), 0, mode_codes.size(), edges,
-                      std::max<std::uint64_t>(max_length, 1), StreamEnds::kCompact);
+  const std::vector<TopologyCode> back = decode_topology(encode_topology(mode_codes), 0, mode_codes.size(),
+                                                         edges, std::max<std::uint64_t>(max_length, 1));
   ASSERT_EQ(back, mode_codes);
   QuadMesh rebuilt;
   for (const auto& c : back) {

@@ -7,7 +7,7 @@ pkgs=(cmake ninja-build g++ pkg-config libopenmesh-dev libcli11-dev libzstd-dev 
 if [[ "${1:-}" == "--bench" ]]; then
   pkgs+=(draco libmeshoptimizer-dev bliss zstd xz-utils hyperfine time)
 fi
-if [[ "${QSP_WITH_FUZZ:-0}" == "1" ]]; then
+if [[ "${QSP_WITH_CLANG:-0}" == "1" ]]; then  # tools/hardening.sh: the sanitized builds and the fuzzers
   pkgs+=(clang libclang-rt-14-dev)
 fi
 missing=()

@@ -43,8 +43,12 @@ struct CanonicalMesh {
 // Canonical form of a partitioned mesh. Components are ordered by code, equal codes by positions;
 // within a component, roots that tie on topology are chosen between by positions (lexicographic on
 // the float bits in layout order), so the result depends only on the mesh up to isomorphism plus
-// its positions. Never compares all flags pairwise: dart colours are refined first.
-CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition);
+// its positions. Never compares all flags pairwise: dart colours are refined first. `threads`: 1 =
+// this thread only; 0 = a second thread for the components when there are several and enough work
+// besides the largest; 2 or more = two threads whenever there are two components (tests). The result
+// never depends on it; errors are those the first failing component gives, as on one thread.
+CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition,
+                           unsigned threads = 0);
 
 // The starts of a canonical traversal that all give `comp.code`: one per orientation-preserving
 // automorphism of the component, so their number is its topological symmetry count. General

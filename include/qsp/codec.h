@@ -10,20 +10,17 @@
 #include <vector>
 
 #include "qsp/canonical.h"
-#include "qsp/entropy.h"
+#include "qsp/geometry.h"
 #include "qsp/mesh.h"
 #include "qsp/partition.h"
-#include "qsp/smaller.h"
 
 namespace qsp {
 
-// 2.0: the topology and order streams have compact ends. A 1.x decoder cannot read them, so this is a
-// new major: it refuses 2.0 files at the version bytes, with "upgrade qsp". 2.1: geometry coding
-// revision 5 (normal chaining), which a 2.0 decoder refuses by its revision byte. 2.2: geometry coding
-// revision 6 (shape transfers, logistic decisions), which a 2.1 decoder refuses the same way.
-inline constexpr std::uint8_t kFormatMajor = 2;
-inline constexpr std::uint8_t kFormatMinor = 2;
-inline constexpr std::uint8_t kOldestMajor = 1;  // 1.0 to 1.3 files still decode
+// The format version this library writes: 3.0, the first release format. It reads every 3.x file (the
+// required sections a newer minor may add excepted, which it refuses with "upgrade qsp"); 1.x and 2.x
+// were development versions and are not read (format-spec/qsp_format.md, "Version").
+inline constexpr std::uint8_t kFormatMajor = 3;
+inline constexpr std::uint8_t kFormatMinor = 0;
 
 // Compression levels, as gzip's and zstd's: 1 is the fastest, 9 the smallest. Every level is canonical
 // (isomorphic meshes with the same positions give the same bytes) and every file decodes with the same
@@ -40,7 +37,7 @@ struct Effort {
   bool both_orders = false;         // patch and layout order; keep the smaller geometry section
   std::uint32_t header_sample = 0;  // GeometryOptions::header_sample (0: every header coded in full)
   bool try_chaining = false;        // GeometryOptions::try_chaining
-  bool try_shapes = false;          // geometry revision 6, kept where smaller (needs full header trials)
+  bool try_costly_tools = false;    // cell shapes + logistic mixing, kept where smaller (full header trials)
   bool repeats_must_pay = false;    // GeometryOptions::repeats_must_pay
 };
 
@@ -60,12 +57,9 @@ struct EncodeOptions {
   // Which structured partition to store; any decodes with the same decoder (all three are canonical).
   // nullopt: the level decides (Effort::all_partitions, else the motorcycle graph).
   std::optional<PartitionMode> partition;
-  // Geometry coding order (format-spec, "Coding orders"). nullopt: the level decides
+  // Geometry coding order (geometry_section.md, "Coding orders and stencils"). nullopt: the level decides
   // (Effort::both_orders, else patch order, which is smaller on nearly every mesh measured).
   std::optional<CodingOrder> geometry_order;
-  // Geometry coding revision 6 (format 2.2; GeometryOptions::shapes). nullopt: the level decides
-  // (Effort::try_shapes); false: never, so format 2.1 decoders read the file; true: always.
-  std::optional<bool> geometry_shapes;
 };
 
 // What a decoder accepts before allocating. The defaults suit real assets (tens of millions of
@@ -115,13 +109,15 @@ struct ComponentSummary {
 // What `qsp stats` prints for a .qsp: the Table-1 row and where the bytes go.
 struct FileInfo {
   std::uint8_t version_major = 0, version_minor = 0;
+  std::uint8_t level = 0;  // the compression level that wrote the file, 1-9; 0 if it does not say
   std::uint64_t total_bytes = 0;
   std::uint64_t header_bytes = 0;        // magic, version, flags, size, checksum
   std::uint64_t connectivity_bytes = 0;  // counts + topology sections
   std::uint64_t geometry_bytes = 0;
-  std::uint64_t order_bytes = 0;       // keep-order permutations (0 if absent)
-  std::uint64_t other_bytes = 0;       // optional sections this decoder skipped
-  std::uint8_t geometry_revision = 0;  // 1, 2 (layout order), 3 (patch order), 4 to 6 (either); see the spec
+  std::uint64_t order_bytes = 0;    // keep-order permutations (0 if absent)
+  std::uint64_t other_bytes = 0;    // optional sections this decoder skipped
+  std::uint8_t geometry_tools = 0;  // qsp/geometry.h's geometry_tool bits (geometry_tool_names() says them)
+  std::uint8_t quantize_bits = 0;   // 0: lossless positions; 1..30: quantized to that many bits
   CodingOrder geometry_order = CodingOrder::kLayout;  // the order the positions were coded in
   std::uint64_t vertices = 0, edges = 0, faces = 0, unreferenced = 0, extraordinary = 0;
   std::uint64_t schematic_vertices = 0, schematic_edges = 0, patches = 0;
@@ -148,28 +144,5 @@ FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits = 
 // no order section): with them, decode()'s numbering can be related to the canonical layout's. Checks
 // as inspect() does; same errors as decode(). Safe on untrusted input.
 OrderMap file_order(std::string_view bytes, const DecodeLimits& limits = {});
-
-// ---- Building blocks (exposed for tests and tools) ----
-
-// Entropy-codes the connectivity of `codes` (canonical order) into the topology section's payload
-// (compact stream ends, format 2). Throws Error(kInternal) if a code is not one partition_from_code
-// would accept.
-std::string encode_topology(std::span<const TopologyCode> codes);
-
-// Inverse of encode_topology for `component_count` components. `max_edges` bounds the total number of
-// schematic edges and `max_length` any edge length (both derive from the declared face count), so
-// memory stays proportional to the declared mesh. `base_offset` is the payload's offset in the file,
-// for messages; `ends` is kCompact in format 2 files, kLzma in 1.x. Throws Error(kFormat). Safe on
-// untrusted input (codes still need partition_from_code).
-std::vector<TopologyCode> decode_topology(std::string_view payload, std::uint64_t base_offset,
-                                          std::uint64_t component_count, std::uint64_t max_edges,
-                                          std::uint64_t max_length, StreamEnds ends);
-
-// The order section's payload (compact stream ends, format 2).
-std::string encode_order(const OrderMap& order);
-// Throws Error(kFormat) unless the payload holds exactly two permutations of the given sizes; `ends` as
-// for decode_topology.
-OrderMap decode_order(std::string_view payload, std::uint64_t base_offset, std::uint32_t vertex_count,
-                      std::uint32_t face_count, StreamEnds ends);
 
 }  // namespace qsp

@@ -1,5 +1,10 @@
 // qsp/io.h: strict, exact mesh readers and writers (OBJ, OFF, PLY: qsp's own parsers).
-// The only stage that knows about files. Uses only qsp/mesh.h.
+// The only stage that knows about files. Uses only qsp/mesh.h and qsp/polymesh.h.
+//
+// Two readings of each format: into a qsp::Mesh (qsp/polymesh.h) with everything the file carries,
+// exactly (read_obj_mesh, read_off_mesh, read_ply_mesh, read_mesh); and the QuadMesh readers below
+// (read_obj, read_off, read_ply, read_mesh_file), positions rounded to float32 and quads only, which
+// refuse and count as they always did. Both are one parser per format.
 #pragma once
 
 #include <cstdint>
@@ -8,21 +13,27 @@
 #include <vector>
 
 #include "qsp/mesh.h"
+#include "qsp/polymesh.h"
 
 namespace qsp {
 
 enum class MeshFormat : std::uint8_t { kObj, kOff, kPly, kQsp, kUnknown };
 
-// Reader limits (Error kLimit beyond them). Vertex ids are uint32 below kInvalid; build_adjacency
-// numbers up to 8 half-edges per face (4 interior + at most 4 exterior) in uint32.
-inline constexpr std::uint64_t kMaxVertices = 0xFFFFFFFEu;
-inline constexpr std::uint64_t kMaxFaces = (std::uint64_t{1} << 29) - 1;
+// Reader limits (Error kLimit beyond them): kMaxVertices and kMaxFaces of qsp/mesh.h.
 
 // Format from a path's extension (case-insensitive); kUnknown if none matches.
 MeshFormat format_from_path(std::string_view path);
 
 // What a reader saw besides positions and quads. qsp stores none of it yet; the CLI refuses input
 // that has any unless the user asks to drop it (`--positions-only`), so nothing is lost silently.
+// A coordinate float32 does not hold exactly, as the file has it (see ReadReport::rounded_coordinates).
+struct RoundedCoordinate {
+  std::uint64_t line = 0;    // 1-based text line (0: binary PLY)
+  std::uint64_t vertex = 0;  // 0-based vertex index
+  std::string value;         // the number as the file writes it ("0.1234567891234")
+  float nearest = 0.0f;      // the float32 it was read as
+};
+
 struct ReadReport {
   std::uint64_t texcoords = 0;            // `vt` lines
   std::uint64_t normals = 0;              // `vn` lines
@@ -36,6 +47,12 @@ struct ReadReport {
   std::uint64_t parameter_vertices = 0;   // OBJ `vp` lines
   std::uint64_t other_properties = 0;     // PLY vertex/face properties qsp does not know (one per element)
   std::vector<std::uint32_t> face_line;   // per face: 1-based line it starts on (0 if not from text)
+  // Coordinates whose value float32 does not hold (text with more digits than float32 keeps, a float64
+  // or an integer beyond 2^24 in PLY): each is read as its nearest float32, so writing the mesh back
+  // changes them. A caller that writes positions refuses or says so (the CLI: compress and reorder
+  // refuse unless --float32, layout warns).
+  std::uint64_t rounded_coordinates = 0;
+  RoundedCoordinate first_rounded;  // the first such coordinate in the file
 
   bool has_extra_data() const {
     return texcoords || normals || face_attribute_refs || groups || materials || smoothing || tags ||
@@ -43,6 +60,11 @@ struct ReadReport {
   }
   // "12 texture coordinates, 3 groups", empty if nothing extra.
   std::string describe_extra_data() const;
+  // "SOURCE:12: vertex 3 has 0.1234567891234, which float32 holds only as 0.12345679 (and 5 more
+  // coordinates)", empty if no coordinate was rounded.
+  std::string describe_rounding(std::string_view source) const;
+  // Counts a rounded coordinate, keeping the first one's place and value.
+  void note_rounded(std::uint64_t line, std::uint64_t vertex, std::string_view value, float nearest);
 };
 
 // Parse OBJ text. `source` names the input in messages ("file.obj:12: ..."). Accepts v/vt/vn face
@@ -79,6 +101,90 @@ QuadMesh read_mesh_file(const std::string& path, ReadReport* report = nullptr,
 // (std::to_chars), so read(write(m)) == m bit for bit.
 std::string write_obj(const QuadMesh& mesh);
 std::string write_off(const QuadMesh& mesh);
+
+// ---------------------------------------------------------------------------------------------
+// Exact reading into a Mesh
+
+// A reader's note about input it kept but did not understand (an OBJ line kept as text).
+struct ReadWarning {
+  std::uint64_t line = 0;  // 1-based
+  std::string message;     // without the "file:line: " prefix
+};
+
+// What a reader saw besides the mesh.
+struct ReadNotes {
+  static constexpr std::size_t kMaxWarnings = 20;
+  std::vector<std::uint32_t> face_line;  // per face: 1-based line it starts on (0 if not from text)
+  std::vector<ReadWarning> warnings;     // the first kMaxWarnings
+  std::uint64_t warning_count = 0;       // all of them
+  // "file.obj:3: kept as text ...", one line each, and "(and N more)"; empty without warnings.
+  std::string describe_warnings(std::string_view source) const;
+};
+
+// Parse OBJ text into a Mesh, keeping everything: faces of any degree >= 3 in the file's corner
+// order; numbers exactly (qsp::Precision: float32 where its shortest text is the text's value, else
+// float64 up to 17 significant digits, else the decimal digits); `v x y z [w | r g b [a]]`; `vt` (1 to 3
+// components; a shorter one is padded with the OBJ default 0), `vn`, their per-corner indices (v/vt/vn,
+// negative indices resolved); o, g, usemtl, s per face; mtllib; OpenSubdiv `t` tags; comment lines; and the
+// order of all of them (Mesh::statements). Lines qsp does not understand but that carry no geometry (vp,
+// cstype and other free-form attributes, usemap, malformed tags, a stray line of prose) are kept as
+// text, in place, with a warning in `notes`. Refuses (Error with source:line): index 0 or out of
+// range (vertices, texture coordinates, normals, tag indices), a face with fewer than 3 corners or
+// repeating a vertex, malformed numbers and known statements, NaN/inf, numbers beyond float64's range,
+// `l`/`p` elements and free-form geometry (curv, curv2, surf), vertices that disagree on having
+// colours, and the limits. Safe on untrusted input.
+Mesh read_obj_mesh(std::string_view text, std::string_view source, ReadNotes* notes = nullptr);
+
+// Parse OFF text into a Mesh: [ST][C][N]OFF headers, per-vertex normals, colours (3 or 4, the same
+// for every vertex) and texture coordinates (corner arrays then equal corner_vertices), faces of any
+// degree with optional colours (1, 3 or 4 numbers, the same for every face), comment lines. Refuses
+// as read_obj_mesh and read_off. Safe on untrusted input.
+Mesh read_off_mesh(std::string_view text, std::string_view source, ReadNotes* notes = nullptr);
+
+// Read PLY bytes into a Mesh: every vertex and face property with its name and type (binary values
+// bit for bit, ASCII values exactly as text), x/y/z to positions, nx/ny/nz, u/v (s/t) and
+// red/green/blue[/alpha] to per-vertex normals, texture coordinates and colours, face
+// red/green/blue[/alpha] to face colours, the rest to Mesh::vertex_properties / face_properties;
+// comments and obj_info lines; the header's layout (Mesh::ply). Refuses as read_ply, except that
+// faces may have any degree >= 3. Safe on untrusted input.
+Mesh read_ply_mesh(std::string_view bytes, const std::string& source, ReadNotes* notes = nullptr);
+
+// Read a mesh file into a Mesh by extension (`-` = standard input, needs `format`). Errors as
+// read_mesh_file.
+Mesh read_mesh(const std::string& path, ReadNotes* notes = nullptr, MeshFormat format = MeshFormat::kUnknown);
+
+// ---------------------------------------------------------------------------------------------
+// Writing a Mesh
+
+struct WriteOptions {
+  bool keep_order = true;  // follow Mesh::statements / Mesh::ply when present (else canonical order)
+  PlyFormat ply_format = PlyFormat::kAscii;  // when the mesh has no PLY layout
+  bool ply_keep_format = true;               // the layout's own format when it has one
+};
+
+// Write a Mesh as OBJ text: the same statements in the same order when the mesh has its statement
+// order (and keep_order), else comments, mtllib, kept lines, v, vt, vn, then faces with o, g, usemtl
+// and s where they change, then tags. Numbers as the shortest text denoting their exact value.
+// Throws Error(kUnsupported) naming what OBJ cannot hold (face colours, PLY properties, a face
+// without a label after faces with one) and the --drop category that removes it; kUsage when the
+// mesh breaks an invariant of check_mesh (a face repeating a vertex is written as it is) or the
+// statement order does not match the per-face labels. Safe on any mesh.
+std::string write_obj_mesh(const Mesh& mesh, const WriteOptions& options = {});
+
+// Write a Mesh as OFF text ([ST][C][N]OFF as the data needs). Throws Error(kUnsupported) naming what
+// OFF cannot hold (texture coordinates or normals per corner, groups, materials, smoothing, tags,
+// kept lines, PLY properties, vertex weights) and how to drop it; kUsage as write_obj_mesh.
+std::string write_off_mesh(const Mesh& mesh);
+
+// Write a Mesh as PLY (ASCII or binary): the file's own header layout when the mesh has one, with a
+// property's type widened to double where its values need it. Throws Error(kUnsupported) naming what
+// PLY cannot hold (per-corner texture coordinates or normals, groups, materials, smoothing, tags,
+// kept lines, vertex weights; decimals beyond float64 in binary) and how to drop it; kUsage as
+// write_obj_mesh.
+std::string write_ply_mesh(const Mesh& mesh, const WriteOptions& options = {});
+
+// The writer for `format` (kObj, kOff, kPly); kUsage for others.
+std::string write_mesh(const Mesh& mesh, MeshFormat format, const WriteOptions& options = {});
 
 // Read a whole file (or stdin for "-") into memory. Throws Error(kIo) with the path and reason.
 std::string read_file_bytes(const std::string& path);

@@ -61,17 +61,24 @@ struct Adjacency {
   }
 };
 
-// build_adjacency's sizes: fewer faces and vertices than these (kLimit beyond).
-inline constexpr std::uint64_t kAdjacencyFaceLimit = std::uint64_t{1} << 29;
-inline constexpr std::uint64_t kAdjacencyVertexLimit = std::uint64_t{1} << 31;
+// The largest mesh qsp handles, the same in every stage: the readers (io.h), build_adjacency and the
+// .qsp format (Error kLimit beyond, kFormat for a file declaring more). build_adjacency numbers up to 8
+// half-edges per face (4 interior, at most 4 exterior) in uint32, and vertex ids stay below kInvalid.
+inline constexpr std::uint64_t kMaxFaces = (std::uint64_t{1} << 29) - 1;
+inline constexpr std::uint64_t kMaxVertices = (std::uint64_t{1} << 31) - 1;
 
 // Builds the adjacency and checks that the mesh is an orientable 2-manifold with quad faces.
 // Throws Error: kBadIndex (index >= vertex count), kDegenerateFace (repeated vertex in a face),
 // kNonManifold (edge with 3+ faces, vertex with several fans), kOrientation (two faces traverse an
-// edge the same way); messages name the face or vertex (0-based). Safe on untrusted input.
-Adjacency build_adjacency(const QuadMesh& mesh);
+// edge the same way); messages name the face or vertex (0-based). kLimit past kMaxFaces or
+// kMaxVertices, kUsage for arrays that end inside a vertex or face. Safe on untrusted input.
+// `threads`: 1 = this thread only; 0 = a second thread from 4096 faces; 2 or more = two threads on
+// any mesh (tests). The result and the errors never depend on it.
+Adjacency build_adjacency(const QuadMesh& mesh, unsigned threads = 0);
 // The same for `quads` (4 vertex indices per face) over `vertex_count` vertices, without positions.
-Adjacency build_adjacency(std::span<const std::uint32_t> quads, std::uint32_t vertex_count);
+// One thread unless asked: the decoder runs it beside its geometry, where the other core is busy.
+Adjacency build_adjacency(std::span<const std::uint32_t> quads, std::uint32_t vertex_count,
+                          unsigned threads = 1);
 
 // Per connected component (of faces): vertex, edge and face counts and Euler characteristic.
 struct ComponentInfo {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "qsp/mesh.h"
@@ -93,6 +94,34 @@ Partition partition_motorcycle(const Adjacency& adj);
 // must leave every extraordinary vertex with no two consecutive uncut edges, and no region an annulus.
 Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_t> cuts);
 
+// Which structured partition to build. All three give partitions that partition_from_cuts has validated
+// (every patch an (a,b)-grid, exact tiling), so any of them decodes with the same decoder:
+//   kMotorcycle  the motorcycle graph of §5 (partition_motorcycle).
+//   kGreedy      §7's path-at-a-time construction from the extraordinary vertices, then the merge pass
+//                (qsp/smaller.h).
+//   kMerge       the motorcycle graph, then repeated merging of two patches whose union is a grid.
+// All three are canonical: every choice is ordered by structure and then by the canonical dart labels
+// of a canonical schematic, so isomorphic meshes get isomorphic partitions (equal TopologyCodes). On a
+// mesh with symmetries several labellings are canonical; given the positions, greedy and merge take
+// the one the codec would (smallest positions), so a renumbered copy gets the same partition, not just
+// an isomorphic one, and the same .qsp bytes.
+enum class PartitionMode : std::uint8_t { kMotorcycle = 0, kGreedy = 1, kMerge = 2 };
+
+// "motorcycle", "greedy", "merge".
+const char* partition_mode_name(PartitionMode mode) noexcept;
+// Parses one of the names above into `out`; returns false (out untouched) for anything else.
+bool parse_partition_mode(std::string_view name, PartitionMode& out) noexcept;
+
+// The partition of every component of `adj` (a valid Adjacency from build_adjacency) in `mode`.
+// Structured components (disk, annulus, torus) come out exactly as partition_motorcycle makes them.
+// Never returns an invalid partition: a heuristic whose cut set fails partition_from_cuts' checks
+// falls back to the motorcycle graph for the whole mesh. Throws Error(kInternal) only where
+// partition_motorcycle itself would. Deterministic; depends only on connectivity and orientation
+// (isomorphic meshes give isomorphic partitions) and, among symmetric choices, on `positions` (3
+// floats per vertex; empty: the choice follows the numbering). Safe on any mesh build_adjacency
+// accepted.
+Partition partition(const Adjacency& adj, PartitionMode mode, std::span<const float> positions = {});
+
 // Checks every condition of §4's definition of a schematic partition, and — when the schematic is
 // linked to `adj` — that its patches tile the component exactly once as (a,b)-grids. Returns an empty
 // string when valid, otherwise what is wrong.
@@ -101,49 +130,13 @@ std::string validate(const ComponentPartition& part, const Adjacency* adj = null
 // The mesh a component partition stands for, numbered canonically from the schematic alone:
 // schematic vertices in order, then each edge's inner vertices (from dart 2e's origin), then each
 // patch's inner vertices row by row from its face_dart corner; faces patch by patch, row by row,
-// each starting at its lower-left grid corner. This is what the decoder emits. The stencils are for
-// the geometry coder, in layout order or, with CodingOrder::kPatch, in patch order (`coding`).
+// each starting at its lower-left grid corner. This is what the decoder emits (format-spec/
+// qsp_format.md, "Grid layout"). Throws Error(kFormat) for a schematic that cannot be laid out.
 struct GridLayout {
   std::uint32_t vertex_count = 0;
   std::vector<std::uint32_t> quads;  // 4 per face
-  // Per vertex: grid neighbours already numbered before it, for geometry prediction (kInvalid if none):
-  // w = previous along its row/edge, ww = the one before that, s = below, sw = below-left.
-  // far = for a point inside a schematic edge, the edge's end vertex ahead of it (numbered before it,
-  // like every schematic vertex), far_dist mesh edges away (>= 1); kInvalid and 0 elsewhere.
-  // For a patch-inner point (i, j) of an (a,b)-grid: e = (a, j) and es = (a, j-1) on the patch side
-  // ahead along its row, e_dist = a - i; n = (i, b) and nw = (i-1, b) on the side ahead along its
-  // column, n_dist = b - j. All are boundary points, numbered before every patch-inner point.
-  // Across a patch (edge points and schematic vertices), points numbered before it that a bilinear
-  // patch relates to it: for an edge point, o / ow / ofar = the points opposite it, opposite w and
-  // opposite far on the patch's other side (ofar may be kInvalid). For a schematic vertex, x1 + x2 - x0
-  // (the patch's other three corners) when x2 is set, else the lerp x0 + (x1 - x0) * xnum / xden
-  // between the two corners of the patch side it lies on.
-  struct Stencil {
-    std::uint32_t w = kInvalid, ww = kInvalid, s = kInvalid, sw = kInvalid;
-    std::uint32_t far = kInvalid, far_dist = 0;
-    std::uint32_t e = kInvalid, es = kInvalid, n = kInvalid, nw = kInvalid, e_dist = 0, n_dist = 0;
-    std::uint32_t o = kInvalid, ow = kInvalid, ofar = kInvalid;
-    std::uint32_t x0 = kInvalid, x1 = kInvalid, x2 = kInvalid, xnum = 0, xden = 0;
-    // Patch order only: se (1,-1), ss (0,-2), sww (-2,-1), ssw (-1,-2) in w/s's frame, when coded.
-    std::uint32_t se = kInvalid, ss = kInvalid, sww = kInvalid, ssw = kInvalid;
-    // Every field that names a vertex (kInvalid when absent): the one list for code that offsets,
-    // remaps or checks them all, so a new field cannot be missed in one of those places.
-    std::array<std::uint32_t*, 19> vertex_fields() {
-      return {&w, &ww, &s, &sw, &far, &e, &es, &n, &nw, &o, &ow, &ofar, &x0, &x1, &x2, &se, &ss, &sww, &ssw};
-    }
-    std::array<std::uint32_t, 19> vertex_fields() const {
-      return {w, ww, s, sw, far, e, es, n, nw, o, ow, ofar, x0, x1, x2, se, ss, sww, ssw};
-    }
-  };
-  std::vector<Stencil> stencil;
-  // Patch order only: the layout vertex at each coding position (stencil indices are coding positions).
-  std::vector<std::uint32_t> coding;
 };
-// Coding orders of the geometry. kLayout: the layout numbering (schematic vertices, edges, patch
-// interiors). kPatch: patch by patch, row by row, each vertex where its first patch reaches it, with
-// its neighbours across patch sides (geometry revision 3).
-enum class CodingOrder : std::uint8_t { kLayout = 0, kPatch = 1 };
-GridLayout grid_layout(const ComponentPartition& part, CodingOrder order = CodingOrder::kLayout);
+GridLayout grid_layout(const ComponentPartition& part);
 
 // For a partition linked to a mesh: layout vertex -> mesh vertex, layout face -> mesh face and the
 // rotation r such that layout corner c is mesh corner (c + r) % 4.

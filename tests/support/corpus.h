@@ -135,19 +135,6 @@ inline std::vector<std::filesystem::path> shared_meshes() {
 
 // testdata/ (with golden/ and the hand-worked known-answers/) and, when present, the shared meshes.
 
-// Reads a corpus mesh and its adjacency; false for a mesh qsp refuses (non-quads, non-manifold),
-// which must be refused with a clear error, never an internal one.
-inline bool load_valid(const std::filesystem::path& path, QuadMesh& mesh, Adjacency& adj) {
-  try {
-    mesh = read_mesh_file(path.string());
-    adj = build_adjacency(mesh);
-    return true;
-  } catch (const Error& e) {
-    if (e.code() == ErrorCode::kInternal) ADD_FAILURE() << path << ": " << e.what();
-    return false;
-  }
-}
-
 inline std::vector<std::filesystem::path> corpus() {
   namespace fs = std::filesystem;
   std::vector<fs::path> out;

@@ -16,7 +16,7 @@
 # lines (first three coordinates, the author's text unchanged) and the `f` lines with only the
 # vertex indices (v/vt/vn -> v); texture coordinates, normals, groups, materials and OpenSubdiv tags
 # are dropped. .off files (Draco reads no OFF) are converted with
-# `qsp compress --positions-only --keep-order` + `qsp decompress` (shortest float text, same order).
+# `qsp compress --positions-only --float32 --keep-order` + `qsp decompress` (shortest float text, same order).
 #
 # Per mesh:
 #   qsp       `qsp compress` (lossless, float32 bit-exact) and `--quantize 14`; byte split from
@@ -68,7 +68,7 @@ positions_only() {
            $1 == "f" { printf "f"; for (i = 2; i <= NF; i++) { split($i, a, "/"); printf " %s", a[1] }
                        printf "\n" }' "$1" > "$2" ;;
     *)
-      "$QSP" compress -f --positions-only --keep-order "$1" "$work/conv.qsp"
+      "$QSP" compress -f --positions-only --float32 --keep-order "$1" "$work/conv.qsp"
       "$QSP" decompress -f "$work/conv.qsp" "$2" ;;
   esac
 }

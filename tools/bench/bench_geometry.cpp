@@ -15,21 +15,25 @@
 #include <string>
 #include <vector>
 
+#include "bytes.h"
+#include "geometry_coder.h"
+#include "layout_grid.h"
 #include "qsp/error.h"
-#include "qsp/geometry.h"
 #include "qsp/io.h"
 #include "qsp/partition.h"
+#include "stencil.h"
 
 namespace {
 
 using qsp::GridLayout;
 using qsp::kInvalid;
+using qsp::Stencil;
 
 // Positions in coding order with their stencils, as the codec builds them: every component's layout in
 // `order`, one after the other, then the unreferenced vertices (no neighbours).
 struct Coded {
   std::vector<float> positions;
-  std::vector<GridLayout::Stencil> stencil;
+  std::vector<Stencil> stencil;
   qsp::CodingOrder order = qsp::CodingOrder::kLayout;
 };
 
@@ -39,11 +43,13 @@ Coded coding_order(const qsp::QuadMesh& mesh, qsp::CodingOrder order) {
   Coded c;
   c.order = order;
   for (const auto& comp : part.components) {
-    const GridLayout layout = qsp::grid_layout(comp, order);
+    qsp::Numbering n;
+    const GridLayout g = qsp::grid_layout(comp, n);
+    const qsp::ComponentStencils layout = qsp::component_stencils(comp, g, n, order);
     const qsp::LayoutMap map = qsp::layout_to_mesh(comp, adj);
     const auto base = static_cast<std::uint32_t>(c.stencil.size());
-    for (std::uint32_t k = 0; k < layout.vertex_count; ++k) {
-      GridLayout::Stencil s = layout.stencil[k];
+    for (std::uint32_t k = 0; k < g.vertex_count; ++k) {
+      Stencil s = layout.stencil[k];
       for (std::uint32_t* j : s.vertex_fields())
         if (*j != kInvalid) *j += base;
       c.stencil.push_back(s);
@@ -60,7 +66,7 @@ Coded coding_order(const qsp::QuadMesh& mesh, qsp::CodingOrder order) {
 
 // Lower bound without a partition: each vertex predicted from the previous one in file order.
 Coded file_order(const qsp::QuadMesh& mesh) {
-  Coded c{mesh.positions, std::vector<GridLayout::Stencil>(mesh.vertex_count())};
+  Coded c{mesh.positions, std::vector<Stencil>(mesh.vertex_count())};
   for (std::uint32_t i = 1; i < c.stencil.size(); ++i) c.stencil[i].w = i - 1;
   return c;
 }
@@ -68,7 +74,7 @@ Coded file_order(const qsp::QuadMesh& mesh) {
 double bits_per_vertex(const Coded& c, std::uint32_t bits, double* max_error = nullptr) {
   const std::string bytes = qsp::encode_geometry(c.positions, c.stencil, {bits, c.order});
   const std::vector<float> back =
-      qsp::decode_geometry(bytes, c.stencil, static_cast<std::uint32_t>(c.stencil.size()));
+      qsp::decode_geometry(bytes, 0, c.stencil, static_cast<std::uint32_t>(c.stencil.size()));
   const double err = qsp::max_geometry_error(c.positions, back);
   if (bits == 0 && err != 0) std::fprintf(stderr, "LOSSLESS ROUND TRIP FAILED\n");
   if (max_error) *max_error = err;
@@ -113,9 +119,7 @@ double zstd_baseline_bits(const Coded& c, std::uint32_t bits) {
       }
       const std::int64_t r = q[3 * i + a] - pred;
       std::uint64_t u = (static_cast<std::uint64_t>(r) << 1) ^ static_cast<std::uint64_t>(r >> 63);
-      std::string& out = streams[a * 4 + kind];
-      while (u >= 0x80) out.push_back(static_cast<char>((u & 0x7F) | 0x80)), u >>= 7;
-      out.push_back(static_cast<char>(u));
+      qsp::put_varint(streams[a * 4 + kind], u);
     }
   }
   std::size_t total = 0;
@@ -146,7 +150,7 @@ void BM_Decode(benchmark::State& state) {
   const auto bits = static_cast<std::uint32_t>(state.range(1));
   const std::string bytes = qsp::encode_geometry(c.positions, c.stencil, {bits, c.order});
   const auto n = static_cast<std::uint32_t>(c.stencil.size());
-  for (auto _ : state) benchmark::DoNotOptimize(qsp::decode_geometry(bytes, c.stencil, n));
+  for (auto _ : state) benchmark::DoNotOptimize(qsp::decode_geometry(bytes, 0, c.stencil, n));
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(n));
   state.SetLabel(g_names[state.range(0)]);
 }

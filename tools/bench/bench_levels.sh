@@ -30,8 +30,9 @@ awk -F'\t' 'NR > 1 && $11 == "True" {print $1}' "$shared/MANIFEST.tsv" | while r
   if [[ $ext == obj ]]; then  # positions only: v and f lines, vertex indices only
     awk '/^v /{print $1, $2, $3, $4} /^f /{printf "f"; for (i = 2; i <= NF; ++i) {split($i, a, "/"); printf " %s", a[1]} print ""}' \
       "$src" > "$work/in.obj"
-  else  # OFF: Draco reads OBJ; qsp's lossless --keep-order round trip writes the same mesh as OBJ
-    "$QSP" compress -f --keep-order "$src" "$work/t.qsp" && "$QSP" decompress -f "$work/t.qsp" "$work/in.obj"
+  else  # OFF: Draco reads OBJ; qsp's --keep-order round trip writes the same mesh as OBJ (float32)
+    rm -f "$work/in.obj"  # a refused conversion must not leave the previous mesh to be measured
+    "$QSP" compress -f --keep-order --float32 "$src" "$work/t.qsp" && "$QSP" decompress -f "$work/t.qsp" "$work/in.obj"
   fi
   in=$work/in.obj
   if ! "$QSP" compress -f -1 "$in" "$work/q.qsp" 2> "$work/err"; then

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "codec_sections.h"
 #include "qsp/canonical.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"

@@ -23,8 +23,8 @@ struct CompressOptions {
   std::uint32_t quantize = 0;
   bool keep_order = false;
   bool positions_only = false;
+  bool float32 = false;            // round coordinates float32 does not hold instead of refusing
   std::string partition = "auto";  // or a PartitionMode name
-  std::string compat;              // "2.1": only what format 2.1 readers decode
   int level = kDefaultLevel;       // -1 .. -9, --fast, --best
   unsigned threads = 0;            // 0: as the encoder sees fit
 };
@@ -60,7 +60,6 @@ EncodeOptions encode_options(const CompressOptions& o) {
     parse_partition_mode(o.partition, mode);  // CLI11 checked the name
     eo.partition = mode;
   }
-  if (o.compat == "2.1") eo.geometry_shapes = false;  // geometry revisions 4 and 5 only
   return eo;
 }
 
@@ -80,6 +79,7 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   const QuadMesh mesh = read_input_mesh(in, format, &report);
   const bool quiet = o.verbosity.quiet;
   refuse_extra_data(in, report, ".qsp", o.positions_only, quiet);
+  if (!o.quantize) refuse_rounding(in, report, "a lossless .qsp", o.float32, quiet, "--quantize BITS");
   if (mesh.face_count() == 0 && !quiet)
     std::fprintf(stderr, "qsp: warning: %s: has no faces (%zu vertices); writing an empty mesh\n", in.c_str(),
                  mesh.vertex_count());
@@ -149,10 +149,9 @@ void register_compress(CLI::App& app, int& rc) {
   sub->add_flag("--keep-order", opt->keep_order, "Also store the vertex order, face order and first corners");
   sub->add_flag("--positions-only", opt->positions_only,
                 "Drop texture coordinates, normals, groups, materials and tags instead of refusing");
-  sub->add_option("--compat", opt->compat,
-                  "2.1: write only what qsp format 2.1 readers decode (no geometry coding revision 6; "
-                  "files of small meshes 1-2% larger)")
-      ->check(CLI::IsMember({"2.1"}));
+  sub->add_flag("--float32", opt->float32,
+                "Round coordinates with more digits than float32 holds to the nearest float32 instead of "
+                "refusing (the file is then lossless for those float32 values)");
   // gzip's and zstd's spelling: -1 fastest .. -9 smallest, --fast = -1, --best = -9.
   for (int l = kMinLevel; l <= kMaxLevel; ++l) {
     const std::string name = "-" + std::to_string(l);

@@ -60,7 +60,7 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
   if (o.verbosity.verbose && !o.verbosity.quiet) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const FileInfo info = inspect(bytes, limits);
-    const int bits = geometry_bits(bytes, info);
+    const int bits = info.quantize_bits;
     const std::string kind = bits > 0 ? "quantized " + std::to_string(bits) + " bits" : "lossless";
     std::fprintf(stderr, "qsp: %s -> %s: %zu -> %zu bytes, %zu vertices, %zu faces, %s, %s order, %.3f s\n",
                  job.input.c_str(), job.output.c_str(), bytes.size(), text.size(), mesh.vertex_count(),

@@ -1,5 +1,6 @@
 // `qsp layout IN -o LAYOUT.obj [--patches OUT.obj|OUT.ply]`: the partition exported for other tools
 // (qsp/layout_export.h).
+#include <cstdio>
 #include <string>
 
 #include "commands.h"
@@ -36,6 +37,9 @@ void run(const LayoutOptions& o) {
   refuse_existing(outputs, wo);
   const PartitionedMesh pm = load_partitioned(o.input, o.partition, parse_format_option(o.format));
   const std::string header = describe(o.input, pm);
+  // Both outputs are exports for other tools, not the mesh kept: say so rather than refuse.
+  if (!pm.rounding.empty())
+    std::fprintf(stderr, "qsp: warning: %s; layout writes float32 positions\n", pm.rounding.c_str());
   if (!o.output.empty()) write_output(o.output, layout_obj(pm.mesh, pm.canonical, header), wo);
   if (!o.patches.empty()) {
     write_output(o.patches,

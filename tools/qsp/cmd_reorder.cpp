@@ -23,6 +23,7 @@ struct ReorderOptions {
   Centering centering = Centering::kComponent;
   bool force = false;
   bool positions_only = false;
+  bool float32 = false;       // round coordinates float32 does not hold instead of refusing
   bool prefer_order = false;  // MatchOptions::prefer_order
   bool allow_mirror = false;  // MatchOptions::mirror: kAccept, else kHint
 };
@@ -41,6 +42,7 @@ int run(const ReorderOptions& o) {
   in.mesh = read_mesh_or_qsp(o.input, in.report, in_format);
   // Only IN's data reaches OUT; REF contributes its order alone.
   refuse_extra_data(o.input, in.report, "reorder", o.positions_only, false);
+  refuse_rounding(o.input, in.report, "reorder", o.float32, false);
   MatchOptions mo;
   mo.centering = o.centering;
   mo.prefer_order = o.prefer_order;
@@ -98,6 +100,9 @@ void register_reorder(CLI::App& app, int& rc) {
                 "index (the identity where it is one), the nearest among those keeping as many");
   cmd->add_flag("--positions-only", opt->positions_only,
                 "Drop IN's texture coordinates, normals, groups, ... instead of refusing");
+  cmd->add_flag("--float32", opt->float32,
+                "Round IN's coordinates with more digits than float32 holds to the nearest float32 instead "
+                "of refusing");
   cmd->callback([opt, &rc] { rc = run(*opt); });
 }
 

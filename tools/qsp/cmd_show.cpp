@@ -1,7 +1,9 @@
 // `qsp show IN -o OUT.png|OUT.svg`: a picture of the partition on its mesh (qsp/render.h).
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <string_view>
 
 #include "commands.h"
 #include "partitioned.h"
@@ -31,16 +33,23 @@ bool ends_with(const std::string& s, const char* tail) {
   return true;
 }
 
+// One side of --size: decimal digits only, 1 to kMaxRenderSide (from_chars reports overflow where
+// sscanf's %u wraps 4294967297 round to 1 and reads "-1" and " 1").
+bool parse_side(std::string_view text, std::uint32_t& side) {
+  if (text.empty() || text.front() < '0' || text.front() > '9') return false;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), side);
+  return ec == std::errc() && end == text.data() + text.size() && side >= 1 && side <= kMaxRenderSide;
+}
+
 RenderOptions parse_render_options(const ShowOptions& o) {
   RenderOptions r;
-  unsigned w = 0, h = 0;
-  char tail = 0;
-  if (std::sscanf(o.size.c_str(), "%ux%u%c", &w, &h, &tail) != 2 || w == 0 || h == 0 || w > kMaxRenderSide ||
-      h > kMaxRenderSide)
+  const std::size_t x = o.size.find('x');
+  if (x == std::string::npos || !parse_side(std::string_view(o.size).substr(0, x), r.width) ||
+      !parse_side(std::string_view(o.size).substr(x + 1), r.height))
     throw CLI::ValidationError("--size must be WxH with 1 to " + std::to_string(kMaxRenderSide) +
                                " pixels a side, not '" + o.size + "'");
-  r.width = w, r.height = h;
   double az = 0, el = 0;
+  char tail = 0;
   if (std::sscanf(o.view.c_str(), "%lf,%lf%c", &az, &el, &tail) != 2 || !std::isfinite(az) ||
       !std::isfinite(el))
     throw CLI::ValidationError("--view must be AZIMUTH,ELEVATION in degrees, not '" + o.view + "'");

@@ -38,8 +38,8 @@ struct Row {
                 other_bytes = 0;  // the parts add up to the total
   bool keep_order = false;
   int quantize_bits = -1;  // 0 lossless, 1..30 quantized; -1 unknown
-  int version_major = 0, version_minor = 0, geometry_revision = 0;
-  int level = 0;                    // the compression level that wrote the file; 0: the file does not say
+  int version_major = 0, version_minor = 0, level = 0;
+  std::string geometry_tools;       // geometry_tool_names()
   const char* geometry_order = "";  // "patch" or "layout"
   struct Comp {
     const char* kind;
@@ -49,12 +49,7 @@ struct Row {
   std::vector<Comp> comps;
 };
 
-// The compression level that wrote a .qsp, 0 when the file does not record it. Format 2.x files do
-// not; format 3.0 adds the level to its header (FileInfo): read it here, and the table and the JSON
-// show it.
-int written_level(const FileInfo&) { return 0; }
-
-void add_sizes(Row& r, const FileInfo& info, const std::string& bytes) {
+void add_sizes(Row& r, const FileInfo& info) {
   r.has_bytes = true;
   r.total_bytes = info.total_bytes;
   r.header_bytes = info.header_bytes;
@@ -63,11 +58,11 @@ void add_sizes(Row& r, const FileInfo& info, const std::string& bytes) {
   r.order_bytes = info.order_bytes;
   r.other_bytes = info.other_bytes;
   r.keep_order = info.keep_order;
-  r.quantize_bits = geometry_bits(bytes, info);
+  r.quantize_bits = info.quantize_bits;
   r.version_major = info.version_major;
   r.version_minor = info.version_minor;
-  r.geometry_revision = info.geometry_revision;
-  r.level = written_level(info);
+  r.level = info.level;
+  r.geometry_tools = geometry_tool_names(info.geometry_tools);
   r.geometry_order = info.geometry_order == CodingOrder::kPatch ? "patch" : "layout";
 }
 
@@ -98,7 +93,7 @@ Row info_row(const std::string& file, const std::string& bytes, const char* part
     r.se += r.comps.back().se;
     r.patches += r.comps.back().patches;
   }
-  add_sizes(r, info, bytes);
+  add_sizes(r, info);
   return r;
 }
 
@@ -137,7 +132,7 @@ Row mesh_row(const std::string& file, const LoadedMesh& loaded, PartitionMode mo
     EncodeOptions eo;
     eo.partition = mode;
     const std::string bytes = encode(mesh, eo);
-    add_sizes(r, inspect(bytes), bytes);
+    add_sizes(r, inspect(bytes));
   }
   return r;
 }
@@ -189,14 +184,14 @@ void print_json(const std::vector<Row>& rows, bool verbose, bool lines) {
           ", \"bytes\": {\"total\": %llu, \"header\": %llu, \"connectivity\": %llu, \"geometry\": %llu, "
           "\"order\": %llu, \"other\": %llu}, "
           "\"bits_per_vertex\": {\"total\": %.4f, \"connectivity\": %.4f, \"geometry\": %.4f}, "
-          "\"format\": \"%d.%d\", \"geometry_coding\": {\"revision\": %d, \"order\": \"%s\"}, "
-          "\"quantize_bits\": %d, \"keep_order\": %s, \"level\": %s",
+          "\"format\": \"%d.%d\", \"level\": %d, \"geometry_coding\": {\"tools\": %s, \"order\": \"%s\"}, "
+          "\"quantize_bits\": %d, \"keep_order\": %s",
           (unsigned long long)r.total_bytes, (unsigned long long)r.header_bytes,
           (unsigned long long)r.connectivity_bytes, (unsigned long long)r.geometry_bytes,
           (unsigned long long)r.order_bytes, (unsigned long long)r.other_bytes, 8.0 * r.total_bytes / v,
           8.0 * r.connectivity_bytes / v, 8.0 * r.geometry_bytes / v, r.version_major, r.version_minor,
-          r.geometry_revision, r.geometry_order, r.quantize_bits, r.keep_order ? "true" : "false",
-          r.level ? std::to_string(r.level).c_str() : "null");
+          r.level, json_string(r.geometry_tools).c_str(), r.geometry_order, r.quantize_bits,
+          r.keep_order ? "true" : "false");
     }
     if (verbose) {
       std::printf(", \"components\": [");
@@ -248,14 +243,10 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
                                         ? "quantized to " + std::to_string(r.quantize_bits) + " bits"
                                     : r.quantize_bits == 0 ? "lossless"
                                                            : "positions unknown";
-      // Format 2.2 headers with geometry revision 5 or lower are what --compat 2.1 writes: 2.1 readers
-      // decode them.
-      const bool old_readers = r.version_major == 2 && r.version_minor == 2 && r.geometry_revision <= 5;
-      const std::string level = r.level ? ", written at level " + std::to_string(r.level) : "";
-      std::printf("\n  format %d.%d, geometry coding revision %d, %s order%s; %s, %s%s\n", r.version_major,
-                  r.version_minor, r.geometry_revision, r.geometry_order,
-                  old_readers ? " (2.1 readers decode it)" : "", positions.c_str(),
-                  r.keep_order ? "original order kept" : "canonical order", level.c_str());
+      const std::string level = r.level ? "level " + std::to_string(r.level) : "level not said";
+      std::printf("\n  format %d.%d, %s, geometry %s order, tools: %s; %s, %s\n", r.version_major,
+                  r.version_minor, level.c_str(), r.geometry_order, r.geometry_tools.c_str(),
+                  positions.c_str(), r.keep_order ? "original order kept" : "canonical order");
     }
     if (!verbose) continue;
     for (std::size_t c = 0; c < r.comps.size(); ++c) {

@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
   // The file format too: users keeping .qsp archives need to know what this build writes and reads.
   const std::string writes = std::to_string(qsp::kFormatMajor) + "." + std::to_string(qsp::kFormatMinor);
   app.set_version_flag("--version", std::string("qsp ") + qsp::version() + " (writes .qsp format " + writes +
-                                        ", reads " + std::to_string(qsp::kOldestMajor) + ".0 to " + writes +
+                                        ", reads " + std::to_string(qsp::kFormatMajor) + ".0 to " + writes +
                                         ")");
   app.require_subcommand(1);
   // Test seam (tests/test_hostile.cpp, AtomicOutput): stop just before an output file gets its name, so

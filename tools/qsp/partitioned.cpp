@@ -40,6 +40,7 @@ PartitionedMesh load_partitioned(const std::string& path, const std::string& par
       throw Error(e.code(), path + ": " + e.what());
     }
   } else {
+    pm.rounding = in.report.describe_rounding(path);
     LoadedMesh loaded = with_adjacency(std::move(in.mesh), std::move(in.report), path);
     pm.mesh = std::move(loaded.mesh);
     pm.adjacency = std::move(loaded.adjacency);

@@ -15,7 +15,8 @@ struct PartitionedMesh {
   Adjacency adjacency;
   CanonicalMesh canonical;
   PatchView view;
-  std::string label;  // which partition: a PartitionMode name, "auto (NAME)" or "stored"
+  std::string label;     // which partition: a PartitionMode name, "auto (NAME)" or "stored"
+  std::string rounding;  // a mesh input's ReadReport::describe_rounding: empty if nothing was rounded
 };
 
 // The --partition values show and layout accept, for CLI11's check and the help text.

@@ -250,24 +250,6 @@ LoadedMesh with_adjacency(QuadMesh mesh, ReadReport report, const std::string& p
   return out;
 }
 
-// The geometry section's `bits` field (format-spec "Geometry", Layout): after the tag, the section
-// length, the revision byte and, up to revision 3, the vertex count. -1 if not found; `bytes` has been
-// checked by inspect(), this only reads what it already accepted.
-int geometry_bits(const std::string& bytes, const FileInfo& info) {
-  const auto varint_end = [&](std::size_t at) {
-    while (at < bytes.size() && (static_cast<unsigned char>(bytes[at]) & 0x80)) ++at;
-    return at + 1;
-  };
-  for (const SectionInfo& s : info.sections) {
-    if (s.tag != 0x03) continue;  // geometry
-    std::size_t at = varint_end(s.offset + 1);
-    const int revision = at < bytes.size() ? static_cast<unsigned char>(bytes[at]) : 0;
-    at = revision <= 3 ? varint_end(at + 1) : at + 1;
-    return at < bytes.size() ? static_cast<unsigned char>(bytes[at]) : -1;
-  }
-  return -1;
-}
-
 MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadReport& report) {
   try {
     return prepare_match(std::move(mesh));
@@ -285,6 +267,19 @@ void refuse_extra_data(const std::string& path, const ReadReport& report, const 
   if (!quiet)
     std::fprintf(stderr, "qsp: %s: dropped %s (--positions-only)\n", path.c_str(),
                  report.describe_extra_data().c_str());
+}
+
+void refuse_rounding(const std::string& path, const ReadReport& report, const std::string& what, bool float32,
+                     bool quiet, const std::string& other_way) {
+  if (report.rounded_coordinates == 0) return;
+  if (!float32)
+    throw Error(ErrorCode::kUnsupported, report.describe_rounding(path) + "; " + what +
+                                             " keeps float32 coordinates: pass --float32 to round them" +
+                                             (other_way.empty() ? "" : ", or " + other_way));
+  if (!quiet)
+    std::fprintf(stderr, "qsp: %s: rounded %llu %s to float32 (--float32)\n", path.c_str(),
+                 static_cast<unsigned long long>(report.rounded_coordinates),
+                 report.rounded_coordinates == 1 ? "coordinate" : "coordinates");
 }
 
 void add_centering_option(CLI::App* cmd, Centering& value) {

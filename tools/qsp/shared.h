@@ -126,11 +126,6 @@ struct LoadedMesh {
 // rethrown as "path:LINE: ..." using the line `report` has for the face. Throws qsp::Error.
 LoadedMesh with_adjacency(QuadMesh mesh, ReadReport report, const std::string& path);
 
-// A .qsp's position precision: 0 lossless, 1..30 the quantization bits (the geometry section's `bits`
-// field), -1 if `info` (inspect(bytes)) lists no geometry section. Reads only what inspect() checked.
-// Format knowledge the library should give (FileInfo) once format 3.0 settles the geometry header.
-int geometry_bits(const std::string& bytes, const FileInfo& info);
-
 // Rethrows `e` with "path:LINE: " in front when it names a face the report has a line for.
 [[noreturn]] void rethrow_located(const Error& e, const std::string& path, const ReadReport& report);
 
@@ -142,6 +137,13 @@ MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadRep
 // --positions-only) unless `positions_only`, then a note on stderr unless `quiet`.
 void refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
                        bool positions_only, bool quiet);
+
+// Coordinates the reader rounded to float32 (ReadReport::rounded_coordinates), which `what` would
+// write rounded: refused (kUnsupported, naming the first and --float32, plus `other_way` when not
+// empty) unless `float32`, then a note on stderr unless `quiet`. A lossless file must not change a
+// mesh without a word.
+void refuse_rounding(const std::string& path, const ReadReport& report, const std::string& what, bool float32,
+                     bool quiet, const std::string& other_way = "");
 
 // ---- Options shared by subcommands ----
 

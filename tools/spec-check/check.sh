@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
-# Decodes geometry sections with tools/spec-check/qspgeo.py, written from format-spec/qsp_format.md
-# alone, and compares every coordinate bit for bit with the reference decoder: the golden files of the
-# versions whose geometry it reads (revisions 4 to 6: testdata/golden, mostly revision 6, and v1.3,
-# v2.0, v2.1), and fresh encodes of testdata meshes, of a generated grid with float-bits axes (all
-# three, or beside a decimal axis) and, when ../shared/meshes is there, of meshes that exercise
-# chaining, repeats, shape transfers, layout order and trailing-zero coding.
+# Decodes geometry sections with tools/spec-check/qspgeo.py, written from format-spec/geometry_section.md
+# and qsp_format.md alone (its coding orders and stencils too, from the topology section: qsplayout.py),
+# and compares the stencils field for field and every coordinate bit for bit with the reference
+# decoder's: every golden file (testdata/golden, and testdata/golden/tools with one file per combination
+# of the geometry tools), and fresh encodes of testdata meshes, of a generated grid with float-bits
+# axes (all three, or beside a decimal axis) and, when ../shared/meshes is there, of meshes that
+# exercise chaining, repeats, shape transfers, layout order and trailing-zero coding; and two of them
+# recoded under all 32 tools bytes.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -12,8 +14,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-files=("$root"/testdata/golden/*.qsp "$root"/testdata/golden/v1.3/*.qsp "$root"/testdata/golden/v2.0/*.qsp
-       "$root"/testdata/golden/v2.1/*.qsp)
+files=("$root"/testdata/golden/*.qsp "$root"/testdata/golden/tools/*.qsp)
 encode() {  # encode NAME MESH [OPTIONS...]: a fresh file to check
   local name=$1 mesh=$2
   shift 2
@@ -47,9 +48,9 @@ encode fedora_q14 "$root/testdata/mh_fedora.obj" --quantize 14
 encode spot_q14 "$root/testdata/keenan_spot_quadrangulated.obj" --quantize 14
 encode spot_q6 "$root/testdata/keenan_spot_quadrangulated.obj" --quantize 6
 bumpy "$work/bumpy_float.obj" float
-encode bumpy_float "$work/bumpy_float.obj"                       # float bits only: no candidates
+encode bumpy_float "$work/bumpy_float.obj" --float32             # %.9g prints of float32: float bits only
 bumpy "$work/bumpy_mixed.obj" mixed
-encode bumpy_mixed "$work/bumpy_mixed.obj"                       # float bits beside a decimal axis
+encode bumpy_mixed "$work/bumpy_mixed.obj" --float32             # float bits beside a decimal axis
 shared="${QSP_SHARED_DIR:-$root/../shared}/meshes"  # QSP_SHARED_DIR as the C++ tests read it
 if [[ ! -f $shared/MANIFEST.tsv ]]; then
   if [[ ${CI:-} == true || ${QSP_REQUIRE_SHARED:-} == 1 ]]; then
@@ -59,17 +60,53 @@ if [[ ! -f $shared/MANIFEST.tsv ]]; then
   echo "spec decoder: $shared absent: its 5 real-mesh encodes are skipped"
 fi
 encode gargoyle_q14 "$shared/quadriflow_gargoyle.obj" --quantize 14  # normal chaining, distorted cells
-encode horse "$shared/igl_horse_quad.obj"
-encode pawn "$shared/osd_catmark_pawn.obj"                           # value repeats, shape transfers
-encode xord "$shared/osd_catmark_xord_interior.obj"                  # layout order, exceptions
+encode gargoyle_q14_best "$shared/quadriflow_gargoyle.obj" --quantize 14 --best  # and the costly tools
+encode horse "$shared/igl_horse_quad.obj" --best
+encode pawn "$shared/osd_catmark_pawn.obj" --best                    # value repeats, shape transfers
+encode xord "$shared/osd_catmark_xord_interior.obj"                  # exceptions, trailing zeros
 encode xord_q14 "$shared/osd_catmark_xord_interior.obj" --quantize 14
-failed=0
-for f in "${files[@]}"; do
-  prefix="$work/$(basename "$f" .qsp)_$RANDOM"
+# The encoder writes only the tool combinations its levels try; qspgeo.py --recode writes a file again
+# under each of the 32 tools bytes (same header and values, its own encoder from the text), and the
+# reference must decode each to the original's positions: lossless decimal axes with exceptions and
+# trailing zeros (xord), and float bits beside a decimal axis (bumpy_mixed).
+declare -A original=()
+recode() {  # recode NAME: NAME.qsp under every tools byte
+  local f=$work/$1.qsp
+  [[ -f $f ]] || return 0
+  mkdir -p "$work/recode"
+  "$dump" "$f" "$work/recode/$1"
+  while read -r g; do
+    files+=("$g")
+    original[$g]=$work/recode/$1.pos
+  done < <("$python" "$here/qspgeo.py" --recode "$f" "$work/recode")
+}
+recode xord
+recode bumpy_mixed
+check() {  # check FILE: the text's decoder against the reference's dump (prints nothing on success)
+  local f=$1 prefix
+  prefix="$work/$(basename "$f" .qsp)_$BASHPID"
   if ! "$dump" "$f" "$prefix" || ! "$python" "$here/qspgeo.py" "$f" "$prefix"; then
     echo "spec decoder disagrees: $f" >&2
-    failed=1
+    return 1
+  elif [[ -n ${original[$f]:-} ]] && ! cmp -s "$prefix.pos" "${original[$f]}"; then
+    echo "the reference decodes a recoded file to other positions than its original: $f" >&2
+    return 1
   fi
+}
+# Files are independent: as many at once as there are cores (the Python decoder is the long pole of
+# the release suite).
+failed=0 running=0
+for f in "${files[@]}"; do
+  if ((running >= $(nproc))); then
+    wait -n || failed=1
+    running=$((running - 1))
+  fi
+  check "$f" &
+  running=$((running + 1))
+done
+while ((running)); do
+  wait -n || failed=1
+  running=$((running - 1))
 done
 echo "spec decoder: ${#files[@]} files checked"
 exit $failed

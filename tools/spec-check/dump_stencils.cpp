@@ -8,25 +8,12 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "qsp/canonical.h"
 #include "qsp/codec.h"
-#include "qsp/geometry.h"
 #include "qsp/partition.h"
-
-namespace {
-
-// The payload of the section at `info` (its tag byte's offset), after its varint length.
-std::string_view payload(std::string_view bytes, const qsp::SectionInfo& info, std::uint64_t& offset) {
-  std::uint64_t at = info.offset + 1;
-  while (static_cast<std::uint8_t>(bytes[at]) & 0x80) ++at;
-  offset = at + 1;
-  return bytes.substr(offset, info.offset + info.size - offset);
-}
-
-}  // namespace
+#include "stencil.h"
 
 int main(int argc, char** argv) {
   if (argc != 3) {
@@ -39,41 +26,28 @@ int main(int argc, char** argv) {
     text << in.rdbuf();
     const std::string bytes = text.str();
     const qsp::QuadMesh mesh = qsp::decode(bytes);
-    const qsp::FileInfo info = qsp::inspect(bytes);  // the coding order, version and sections
+    const qsp::FileInfo info = qsp::inspect(bytes);  // the coding order
 
-    std::ofstream st(std::string(argv[2]) + ".stencil");
-    auto write = [&st](std::uint32_t vertex, qsp::GridLayout::Stencil s, std::uint32_t base) {
-      st << vertex;
-      for (std::uint32_t* v : s.vertex_fields())
-        st << ' ' << (*v == qsp::kInvalid ? -1 : std::int64_t{*v + base});
-      st << ' ' << s.far_dist << ' ' << s.e_dist << ' ' << s.n_dist << ' ' << s.xnum << ' ' << s.xden << '\n';
-    };
+    // Per coding position: the layout vertex coded there, the 19 vertex fields, far_dist, e_dist,
+    // n_dist, xnum, xden.
     const qsp::FileTopology top = qsp::file_topology(bytes);
-    std::uint32_t base = 0;
-    for (const qsp::TopologyCode& code : top.codes) {
-      const qsp::GridLayout g = qsp::grid_layout(qsp::partition_from_code(code), info.geometry_order);
-      for (std::uint32_t k = 0; k < g.vertex_count; ++k)
-        write(base + (g.coding.empty() ? k : g.coding[k]), g.stencil[k], base);
-      base += g.vertex_count;
-    }
-    for (std::uint64_t u = 0; u < top.unreferenced; ++u, ++base) {  // w = the previous vertex
-      qsp::GridLayout::Stencil s;
-      if (base > 0) s.w = base - 1;
-      write(base, s, 0);
+    std::vector<qsp::ComponentPartition> parts;
+    for (const qsp::TopologyCode& code : top.codes) parts.push_back(qsp::partition_from_code(code));
+    const qsp::MeshLayout layout =
+        qsp::assemble(parts, static_cast<std::uint32_t>(top.unreferenced), info.geometry_order);
+    std::ofstream st(std::string(argv[2]) + ".stencil");
+    for (std::uint32_t k = 0; k < layout.stencil.size(); ++k) {
+      const qsp::Stencil& s = layout.stencil[k];
+      st << (layout.coding.empty() ? k : layout.coding[k]);
+      for (std::uint32_t v : s.vertex_fields()) st << ' ' << (v == qsp::kInvalid ? -1 : std::int64_t{v});
+      st << ' ' << s.far_dist << ' ' << s.e_dist << ' ' << s.n_dist << ' ' << s.xnum << ' ' << s.xden << '\n';
     }
 
     // Positions in canonical order: with an order section, decode() restored the input's order.
     std::vector<float> pos = mesh.positions;
-    for (const qsp::SectionInfo& section : info.sections) {
-      if (section.tag != 4) continue;
-      std::uint64_t offset = 0;
-      const std::string_view order = payload(bytes, section, offset);
-      const qsp::OrderMap om =
-          qsp::decode_order(order, offset, mesh.vertex_count(), mesh.face_count(),
-                            info.version_major >= 2 ? qsp::StreamEnds::kCompact : qsp::StreamEnds::kLzma);
-      for (std::size_t j = 0; j < om.vertex.size(); ++j)
-        for (int a = 0; a < 3; ++a) pos[3 * std::size_t{om.vertex[j]} + a] = mesh.positions[3 * j + a];
-    }
+    const qsp::OrderMap om = qsp::file_order(bytes);
+    for (std::size_t j = 0; j < om.vertex.size(); ++j)
+      for (int a = 0; a < 3; ++a) pos[3 * std::size_t{om.vertex[j]} + a] = mesh.positions[3 * j + a];
     std::ofstream(std::string(argv[2]) + ".pos", std::ios::binary)
         .write(reinterpret_cast<const char*>(pos.data()), static_cast<std::streamsize>(pos.size() * 4));
     return 0;

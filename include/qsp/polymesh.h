@@ -1,0 +1,242 @@
+// qsp/polymesh.h: a polygon mesh with everything a mesh file carries, kept exactly: faces of any
+// degree, numbers as the file wrote them, texture coordinates and normals in their own index spaces,
+// colours, groups, materials, smoothing groups, OpenSubdiv tags, comments, PLY properties, and the
+// order the file had. docs/mesh_model.md says what is per vertex, per corner and per face, and how a
+// codec stores each part. Uses only qsp/mesh.h (for QuadMesh and kInvalid).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "qsp/mesh.h"
+
+namespace qsp {
+
+// How exactly a list of numbers is held. The classes are nested: what float32 holds, float64 holds.
+// A number read from text is the decimal value the text denotes ("1.50" and "1.5" are one value);
+// float32 holds it when the shortest text of the nearest float32 denotes the same value; float64
+// holds every text of up to 17 significant digits (the most a float64 print needs, printf's %.17g):
+// the float64 is its value, written back as its shortest text, which reads back to the same float64
+// and decides the class ("0.10000000000000001" is 0.1, which float32 holds).
+// A binary number is its own value: float32 data is kFloat32, float64 data kFloat64, bit for bit.
+enum class Precision : std::uint8_t {
+  kFloat32 = 0,  // every value is the shortest text of its float32
+  kFloat64 = 1,  // every value is a float64; some need more than float32
+  kDecimal = 2,  // some values are decimals of more than 17 significant digits, kept as digits
+};
+
+// A value no float64 holds, as the decimal (-1)^negative * digits * 10^exponent.
+struct DecimalNumber {
+  std::uint32_t index = 0;  // which value of its Numbers
+  bool negative = false;
+  std::int32_t exponent = 0;
+  std::string digits;  // significant digits, no leading or trailing zero (never empty: zero is a float)
+};
+
+// A list of numbers kept exactly (see Precision). Mirrors are kept for geometry: `f32` always.
+struct Numbers {
+  Precision precision = Precision::kFloat32;
+  std::vector<float> f32;  // every value rounded to the nearest float32 (the value itself for kFloat32; +-inf
+                           // or 0 beyond float32's range)
+  std::vector<double> f64;  // precision >= kFloat64: every value rounded to the nearest float64; else empty
+  std::vector<DecimalNumber> decimals;  // kDecimal: the values float64 does not hold, by increasing index
+
+  std::size_t size() const { return f32.size(); }
+  bool empty() const { return f32.empty(); }
+  // The value as a double: exact for kFloat64 and below (kFloat32 gives the float's own value).
+  double approx(std::size_t i) const { return f64.empty() ? f32[i] : f64[i]; }
+};
+
+// Numbers holding exactly these float32 values.
+Numbers numbers_from_float32(std::vector<float> values);
+// Numbers holding exactly these float64 values (precision kFloat64).
+Numbers numbers_from_float64(const std::vector<double>& values);
+
+// A per-face label (OBJ o, g, usemtl, s): an index per face into the distinct values.
+struct FaceLabels {
+  std::vector<std::uint32_t> face;  // per face: index into `names`, kInvalid before the file's first
+                                    // statement of this kind; empty when the file has none
+  std::vector<std::string> names;   // the values, in order of first statement (g: names separated by ' ')
+
+  bool empty() const { return face.empty() && names.empty(); }
+};
+
+// An OpenSubdiv tag: `t name nint/nfloat/nstring ints... floats... strings...`.
+struct Tag {
+  std::string name;                  // crease, corner, hole, interpolateboundary, ...
+  std::vector<std::int64_t> ints;    // as written; tag_indices() says which index vertices or faces
+  Numbers floats;                    // sharpness values and the like, exact
+  std::vector<std::string> strings;  // creasemethod's "chaikin", ...
+};
+
+// What a tag's integer arguments index, by its name (OpenSubdiv regression/common/far_utils.h).
+enum class TagIndices : std::uint8_t {
+  kNone,      // settings (interpolateboundary, facevaryinginterpolateboundary, creasemethod, ...)
+  kVertices,  // corner: vertex indices
+  kEdges,     // crease: pairs of vertex indices, one pair per edge
+  kFaces,     // hole: face indices
+  kUnknown,   // anything else (the hierarchical vertexedit, edgeedit, faceedit): qsp cannot renumber it
+};
+TagIndices tag_indices(std::string_view name);
+
+// A PLY scalar type; integers are kept as exact values in Numbers.
+enum class ScalarType : std::uint8_t { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };
+std::string_view scalar_type_name(ScalarType t);  // PLY 1.0's name: "char", "uchar", ..., "double"
+
+// A PLY vertex or face property qsp has no other place for ("quality", "flags", a `texcoord` list).
+struct Property {
+  std::string name;
+  ScalarType type = ScalarType::kFloat32;  // of the values
+  bool list = false;
+  ScalarType count_type = ScalarType::kUint8;  // a list's length type
+  std::vector<std::uint32_t> offsets;  // list: per element and one more, where its values start; else empty
+  Numbers values;                      // scalar: one per element; list: the lists end to end
+};
+
+// One OBJ statement, or a run of them, in file order. Runs consume the next entries of their array.
+enum class ObjStatement : std::uint8_t {
+  kVertex,           // run of `v`
+  kTexcoord,         // run of `vt`
+  kNormal,           // run of `vn`
+  kFace,             // run of `f`
+  kObject,           // one `o`; value: index into Mesh::objects.names
+  kGroup,            // one `g`; value: index into Mesh::groups.names
+  kMaterial,         // one `usemtl`; value: index into Mesh::materials.names
+  kSmoothing,        // one `s`; value: index into Mesh::smoothing.names
+  kMaterialLibrary,  // run of `mtllib`
+  kTag,              // run of `t`
+  kComment,          // run of comment lines
+  kVerbatim,         // run of lines kept as text
+};
+struct Statement {
+  ObjStatement kind;
+  std::uint32_t value;  // a run's length, or a label's index
+};
+
+// Where a PLY file put each vertex and face property, to write the header back as it was.
+enum class PlyFormat : std::uint8_t { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
+enum class PlyRole : std::uint8_t {
+  kPosition,       // x, y, z (component 0-2)
+  kNormal,         // nx, ny, nz, per vertex (corner normals equal corner vertices)
+  kTexcoord,       // u, v (or s, t), per vertex
+  kColor,          // red, green, blue, alpha: vertex or face colour
+  kVertexIndices,  // the face's list of vertices
+  kProperty,       // Mesh::vertex_properties / face_properties[index]
+};
+struct PlyField {
+  PlyRole role = PlyRole::kProperty;
+  std::uint32_t index = 0;  // component (0-3) or property index
+  std::string name;
+  ScalarType type = ScalarType::kFloat32;
+  ScalarType count_type = ScalarType::kUint8;  // kVertexIndices and list properties
+};
+struct PlyLayout {
+  PlyFormat format = PlyFormat::kAscii;
+  bool faces_first = false;            // the face element came before the vertex element
+  std::vector<PlyField> vertex, face;  // header order; empty: the writer lays the file out itself
+  std::vector<std::string> obj_info;   // `obj_info` header lines' text
+};
+
+// A polygon mesh as read: nothing inferred, merged, triangulated or reordered. Each attribute array
+// is empty when the file has none of it.
+struct Mesh {
+  // Vertices
+  Numbers positions;                         // 3 per vertex: x, y, z
+  Numbers vertex_colors;                     // vertex_color_components per vertex
+  std::uint8_t vertex_color_components = 0;  // 0, 3 (r g b) or 4 (r g b a)
+  Numbers vertex_weights;                    // OBJ `v x y z w`: 1 per vertex
+
+  // Faces: any degree >= 3, corners in the file's order (counter-clockwise seen from outside)
+  std::vector<std::uint32_t> face_offsets;     // per face and one more: its first corner (0, ..., corners)
+  std::vector<std::uint32_t> corner_vertices;  // per corner: its vertex
+
+  // Corner attributes, each in its own index space (seams are corners of one vertex with two values)
+  Numbers texcoords;                            // texcoord_components per texture coordinate (`vt`)
+  std::uint8_t texcoord_components = 2;         // 1 to 3
+  std::vector<std::uint32_t> corner_texcoords;  // per corner: its texture coordinate or kInvalid
+  Numbers normals;                              // 3 per normal (`vn`)
+  std::vector<std::uint32_t> corner_normals;    // per corner: its normal or kInvalid
+
+  // Face attributes
+  Numbers face_colors;                     // face_color_components per face
+  std::uint8_t face_color_components = 0;  // 0, 1 (OFF colour-map index), 3 or 4
+  FaceLabels objects;                      // `o`
+  FaceLabels groups;                       // `g`
+  FaceLabels materials;                    // `usemtl`
+  FaceLabels smoothing;                    // `s` ("off", "1", ...)
+
+  // The file's other content
+  std::vector<std::string> material_libraries;  // per `mtllib` statement: its arguments
+  std::vector<Tag> tags;                        // OpenSubdiv tags, in file order
+  std::vector<std::string> comments;            // comment lines' text after '#' (PLY: after "comment ")
+  std::vector<std::string> verbatim;            // OBJ lines kept as text (vp, cstype, prose), file order
+  std::vector<Property> vertex_properties;      // PLY
+  std::vector<Property> face_properties;        // PLY
+
+  // The order the file had; a writer follows it when present. Empty: canonical order.
+  std::vector<Statement> statements;  // OBJ
+  PlyLayout ply;                      // PLY
+
+  std::size_t vertex_count() const { return positions.size() / 3; }
+  std::size_t face_count() const { return face_offsets.empty() ? 0 : face_offsets.size() - 1; }
+  std::size_t corner_count() const { return corner_vertices.size(); }
+  std::uint32_t degree(std::size_t f) const { return face_offsets[f + 1] - face_offsets[f]; }
+};
+
+// Checks every invariant the comments above state (sizes, offsets, indices in range, degrees >= 3, no
+// face repeating a vertex, labels, layouts). Throws Error(kUsage) naming the array and index. Safe on
+// untrusted input; O(size).
+void check_mesh(const Mesh& mesh);
+
+// The categories of data besides positions and faces, for dropping and reporting.
+enum Category : unsigned {
+  kCategoryUv = 1u << 0,         // texcoords, corner texcoords
+  kCategoryNormal = 1u << 1,     // normals, corner normals
+  kCategoryColor = 1u << 2,      // vertex and face colours
+  kCategoryGroup = 1u << 3,      // objects (o) and groups (g)
+  kCategoryMaterial = 1u << 4,   // materials (usemtl) and material libraries (mtllib)
+  kCategorySmoothing = 1u << 5,  // smoothing groups (s)
+  kCategoryTag = 1u << 6,        // OpenSubdiv tags
+  kCategoryComment = 1u << 7,    // comments
+  kCategoryExtra = 1u << 8,      // verbatim lines, PLY properties, vertex weights
+  kCategoryAll = (1u << 9) - 1,  // --positions-only
+};
+
+// Parses a comma-separated list of category names ("uv,normal,color,group,material,smoothing,tag,
+// comment,extra", or "all"). Throws Error(kUsage) naming an unknown one.
+unsigned parse_categories(std::string_view list);
+
+// How much of each category a mesh has (or a drop removed).
+struct Extras {
+  std::uint64_t texcoords = 0, normals = 0;             // values (vt, vn), or per-vertex ones (PLY, OFF)
+  std::uint64_t vertex_colors = 0, face_colors = 0;     // coloured vertices, faces
+  std::uint64_t objects = 0, groups = 0;                // distinct names
+  std::uint64_t materials = 0, material_libraries = 0;  // distinct names, mtllib statements
+  std::uint64_t smoothing = 0;                          // distinct smoothing values
+  std::uint64_t tags = 0, comments = 0, verbatim = 0;   // tags, comment lines, verbatim lines
+  std::uint64_t properties = 0, vertex_weights = 0;     // PLY properties, weighted vertices
+
+  bool any() const;
+  // "12 texture coordinates, 3 groups", empty if nothing.
+  std::string describe() const;
+};
+
+// What `mesh` carries in `categories`.
+Extras extras(const Mesh& mesh, unsigned categories = kCategoryAll);
+
+// Removes `categories` from `mesh` (their arrays, their statements and PLY fields) and returns what
+// was removed. Positions and faces are never dropped. Never throws for a mesh check_mesh accepts.
+Extras drop(Mesh& mesh, unsigned categories);
+
+// The mesh's quads as a QuadMesh with the float32 mirror of the positions; attributes are ignored.
+// Throws kNotQuad when a face is not a quad (naming the first ones, counting all), kBadNumber when a
+// position is beyond float32's range.
+QuadMesh to_quad_mesh(const Mesh& mesh);
+
+// A Mesh with exactly the QuadMesh's float32 positions and quads.
+Mesh from_quad_mesh(QuadMesh mesh);
+
+}  // namespace qsp

@@ -1,0 +1,133 @@
+// One partition's .qsp: canonical form, the layout checked against the input, the geometry searched as
+// the level says (in one or both coding orders), the sections sealed into the container.
+#include "codec_encode.h"
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "bytes.h"
+#include "codec_sections.h"
+#include "container.h"
+#include "qsp/error.h"
+#include "stencil.h"
+
+namespace qsp {
+
+std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition,
+                             const EncodeOptions& options, const Effort& effort, const EncodeTuning& tuning,
+                             OrderMap* order_out, ChoiceRole role) {
+  const std::uint64_t nv = mesh.vertex_count(), nf = mesh.face_count();
+  CanonicalMesh cm = canonicalize(mesh, adj, partition);
+
+  // Canonical numbering of the input, checked to be a bijection that maps every layout quad onto an
+  // input quad (rotated): the decoder rebuilds exactly these quads, so the file cannot lie.
+  std::vector<TopologyCode> codes;
+  std::vector<ComponentPartition> parts;
+  OrderMap order;
+  order.vertex.assign(nv, kInvalid);
+  order.face.assign(nf, kInvalid);
+  order.rotation.assign(nf, 0);
+  std::uint32_t vbase = 0, fbase = 0;
+  auto internal = [](const std::string& why) { throw Error(ErrorCode::kInternal, "encode: " + why); };
+  for (const CanonicalComponent& cc : cm.components) {
+    codes.push_back(cc.code);
+    parts.push_back(cc.part);
+    for (std::size_t i = 0; i < cc.map.vertex.size(); ++i) {
+      std::uint32_t v = cc.map.vertex[i];
+      if (v >= nv || order.vertex[v] != kInvalid) internal("layout vertex map is not a bijection");
+      order.vertex[v] = vbase + static_cast<std::uint32_t>(i);
+    }
+    for (std::size_t i = 0; i < cc.map.face.size(); ++i) {
+      std::uint32_t f = cc.map.face[i];
+      if (f >= nf || order.face[f] != kInvalid) internal("layout face map is not a bijection");
+      order.face[f] = fbase + static_cast<std::uint32_t>(i);
+      order.rotation[f] = cc.map.rotation[i] & 3u;
+    }
+    vbase += static_cast<std::uint32_t>(cc.map.vertex.size());
+    fbase += static_cast<std::uint32_t>(cc.map.face.size());
+  }
+  for (std::uint32_t v : cm.unreferenced) {
+    if (v >= nv || order.vertex[v] != kInvalid)
+      internal("unreferenced vertex listed twice or also in a face");
+    order.vertex[v] = vbase++;
+  }
+  if (vbase != nv || fbase != nf) internal("canonical form does not cover every vertex and face");
+
+  const CodingOrder first = options.geometry_order.value_or(CodingOrder::kPatch);
+  const auto unreferenced = static_cast<std::uint32_t>(cm.unreferenced.size());
+  MeshLayout layout = assemble(parts, unreferenced, first);
+  std::vector<std::uint32_t>& quads = layout.quads;
+  if (quads.size() != mesh.quads.size() || layout.stencil.size() != nv ||
+      (first == CodingOrder::kPatch && layout.coding.size() != nv))
+    internal("layout sizes differ from the mesh");
+  std::vector<std::uint32_t> canonical_to_input(nv);
+  for (std::uint32_t v = 0; v < nv; ++v) canonical_to_input[order.vertex[v]] = v;
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    std::uint32_t cf = order.face[f], r = order.rotation[f];
+    for (std::uint32_t c = 0; c < 4; ++c) {
+      if (canonical_to_input[quads[4 * cf + c]] != mesh.quads[4 * f + (c + r) % 4]) {
+        internal("layout quad " + std::to_string(cf) + " does not match input face " + std::to_string(f));
+      }
+    }
+  }
+  quads = {};
+
+  // Positions in coding order: canonical order, or for patch order canonical vertex coding[k] at k.
+  auto coded_positions = [&](CodingOrder o) {
+    std::vector<float> positions(3 * std::size_t{nv});
+    for (std::uint32_t k = 0; k < nv; ++k) {
+      const std::uint32_t v = canonical_to_input[o == CodingOrder::kPatch ? layout.coding[k] : k];
+      std::copy_n(&mesh.positions[3 * std::size_t{v}], 3, &positions[3 * std::size_t{k}]);
+    }
+    return positions;
+  };
+  GeometryOptions gopt;
+  gopt.quantize_bits = options.quantize_bits;
+  gopt.order = first;
+  gopt.try_costly_tools = effort.try_costly_tools;
+  gopt.tools = tuning.geometry_tools;
+  gopt.header_sample = effort.header_sample;
+  gopt.try_chaining = effort.try_chaining;
+  gopt.repeats_must_pay = effort.repeats_must_pay;
+  // One pipeline leaves the second core idle: give it the range coder from a smaller section than
+  // geometry's own default, which assumes the partitions' pipelines keep both cores busy.
+  constexpr std::uint64_t kCoderThreadAloneAbove = 8192;
+  if (options.threads == 1) {
+    gopt.coder_thread = false;
+  } else if (!effort.all_partitions && nv > kCoderThreadAloneAbove) {
+    gopt.coder_thread = true;
+  }
+  if (role.wait) gopt.choice = role.wait->get();  // rethrows what failed the encode that chooses
+  GeometryChoice chosen;
+  std::string geometry = encode_geometry(coded_positions(first), layout.stencil, gopt, &chosen);
+  gopt.choice = chosen;
+  if (role.publish && !role.publish->set) {
+    role.publish->chosen.set_value(chosen);
+    role.publish->set = true;
+  }
+  if (!options.geometry_order && effort.both_orders) {
+    layout = assemble(parts, unreferenced, CodingOrder::kLayout);
+    gopt.order = CodingOrder::kLayout;
+    std::string in_layout_order =
+        encode_geometry(coded_positions(CodingOrder::kLayout), layout.stencil, gopt);
+    if (in_layout_order.size() < geometry.size()) geometry = std::move(in_layout_order);
+  }
+
+  std::string counts;
+  put_varint(counts, nv);
+  put_varint(counts, nf);
+  put_varint(counts, codes.size());
+  put_varint(counts, cm.unreferenced.size());
+  counts.push_back(0);  // flags: reserved
+
+  std::string body;
+  container::put_section(body, container::kTagCounts, counts);
+  container::put_section(body, container::kTagTopology, encode_topology(codes));
+  container::put_section(body, container::kTagGeometry, geometry);
+  if (options.keep_order) container::put_section(body, container::kTagOrder, encode_order(order));
+  if (order_out) *order_out = std::move(order);
+  return container::seal(kFormatMajor, kFormatMinor, static_cast<std::uint8_t>(options.level), body);
+}
+
+}  // namespace qsp

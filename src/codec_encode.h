@@ -1,0 +1,51 @@
+// Writing a .qsp: one partition's file (codec_encode.cpp), and the choice among partitions and the
+// threads that run them (encode_choice.cpp). Internal; tests reach encode_tuned through the private
+// include path.
+#pragma once
+
+#include <cstdint>
+#include <future>
+#include <optional>
+#include <string>
+
+#include "geometry_coder.h"
+#include "qsp/codec.h"
+
+namespace qsp {
+
+// What tests and goldens may fix beyond EncodeOptions: the geometry tools (geometry_tool bits, the
+// layout-order bit aside), so that a golden pins each combination whatever the level would choose.
+struct EncodeTuning {
+  std::optional<std::uint8_t> geometry_tools;
+};
+
+// encode() with `tuning`. Same contract.
+std::string encode_tuned(const QuadMesh& mesh, const EncodeOptions& options, const EncodeTuning& tuning,
+                         OrderMap* order = nullptr);
+
+// The geometry header choice (value repeats, decimal grid or float bits) that the encodes of one mesh
+// share. Which header is smallest depends on the coordinates, hardly on the partition or the coding
+// order, so only the first encode tries them all; on the 23 shared meshes, lossless and at 14 bits,
+// the files are byte-identical to trying every header everywhere. Small meshes then run 7 geometry
+// encodes at 14 bits and 9 lossless, not 12 and 24 (plus the normal-chaining trials).
+struct SharedChoice {
+  std::promise<GeometryChoice> chosen;  // set once, by the encode that chooses (or its failure)
+  std::shared_future<GeometryChoice> future = chosen.get_future().share();
+  bool set = false;
+};
+
+// How one encode_partition takes part: the one that chooses publishes its choice, the others wait for
+// it (each with its own copy of the future, as threads must); without one, the encode chooses alone
+// and reuses its choice for its second coding order.
+struct ChoiceRole {
+  SharedChoice* publish = nullptr;
+  std::optional<std::shared_future<GeometryChoice>> wait;
+};
+
+// The file for `mesh` stored with `partition` (of `adj`, its adjacency), searched as `effort` says.
+// If `order_out` is given it gets the original -> canonical map. Throws as encode() does.
+std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition,
+                             const EncodeOptions& options, const Effort& effort, const EncodeTuning& tuning,
+                             OrderMap* order_out, ChoiceRole role = {});
+
+}  // namespace qsp

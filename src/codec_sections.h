@@ -1,0 +1,36 @@
+// The topology and order sections' coders (format-spec/qsp_format.md, "Topology section", "Order
+// section"), internal to the codec: codec.cpp and the encoder call them, tests reach them through the
+// private include path.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "qsp/canonical.h"
+#include "qsp/codec.h"
+
+namespace qsp {
+
+// Entropy-codes the connectivity of `codes` (canonical order) into the topology section's payload.
+// Throws Error(kInternal) if a code is not one partition_from_code would accept.
+std::string encode_topology(std::span<const TopologyCode> codes);
+
+// Inverse of encode_topology for `component_count` components. `max_edges` bounds the total number of
+// schematic edges and `max_length` any edge length (both derive from the declared face count), so
+// memory stays proportional to the declared mesh. `base_offset` is the payload's offset in the file,
+// for messages. Throws Error(kFormat). Safe on untrusted input (codes still need partition_from_code).
+std::vector<TopologyCode> decode_topology(std::string_view payload, std::uint64_t base_offset,
+                                          std::uint64_t component_count, std::uint64_t max_edges,
+                                          std::uint64_t max_length);
+
+// The order section's payload.
+std::string encode_order(const OrderMap& order);
+// Throws Error(kFormat) unless the payload holds exactly two permutations of the given sizes (and the
+// rotations); `base_offset` as for decode_topology. Safe on untrusted input.
+OrderMap decode_order(std::string_view payload, std::uint64_t base_offset, std::uint32_t vertex_count,
+                      std::uint32_t face_count);
+
+}  // namespace qsp

@@ -1,0 +1,60 @@
+// The .qsp container (format-spec/qsp_format.md, "File structure", "Sections"): magic number,
+// version, encoder byte, file size, tagged sections and the XXH64 checksum. The one place that reads
+// and writes them: decode, inspect, the fingerprint of a .qsp and encode go through it, and so do the
+// fuzzers (fuzz/qsp_craft.h) and the format tests that build files by hand.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "qsp/codec.h"
+
+namespace qsp::container {
+
+inline constexpr unsigned char kMagic[8] = {0x89, 'Q', 'S', 'P', 0x0D, 0x0A, 0x1A, 0x0A};
+inline constexpr std::size_t kFixedHeader = 11;  // magic, major, minor, encoder byte
+inline constexpr std::size_t kChecksumBytes = 8;
+
+// Section tags. Bit 7 set: optional (a decoder that does not know it skips it).
+inline constexpr std::uint8_t kTagCounts = 0x01, kTagTopology = 0x02, kTagGeometry = 0x03, kTagOrder = 0x04;
+inline constexpr std::uint8_t kOptionalBit = 0x80;
+
+// The encoder byte: the compression level in bits 0-3 (0 = not said, 1-9), bits 4-7 reserved.
+inline constexpr std::uint8_t kLevelMask = 0x0F, kMaxLevelValue = 9;
+
+struct Section {
+  std::uint8_t tag = 0;
+  std::uint64_t offset = 0;                                                        // of the tag byte
+  std::uint64_t payload_offset = 0;                                                // of the payload
+  std::string_view payload;                                                        // into the parsed file
+  std::uint64_t size() const { return payload_offset + payload.size() - offset; }  // tag + length + payload
+};
+
+struct File {
+  std::uint8_t major = 0, minor = 0, level = 0;
+  std::vector<Section> sections;  // in file order (increasing tags), optional ones included
+  // The section with `tag`, or null.
+  const Section* find(std::uint8_t tag) const;
+};
+
+// Checks a whole file's container, in the spec's order (magic, version, size, checksum, encoder
+// byte, then the sections' framing: tags in increasing order, counts, topology and geometry
+// present, no unknown required tag) and returns its sections, which point into `file`. Throws
+// Error(kFormat) naming what and the byte offset, kVersion for another major version (or an unknown
+// required section in a file of a newer minor), kChecksum. Safe on untrusted input.
+File parse(std::string_view file);
+
+// XXH64 with seed 0, as the checksum field holds it.
+std::uint64_t checksum(std::string_view bytes);
+
+// Appends a section: tag, varint length, payload.
+void put_section(std::string& out, std::uint8_t tag, std::string_view payload);
+
+// A whole file around `sections` (put_section's output, in order): magic, version, encoder byte, the
+// size field (which counts itself) and the checksum. Writes whatever it is given (tests craft invalid
+// files with it).
+std::string seal(std::uint8_t major, std::uint8_t minor, std::uint8_t encoder, std::string_view sections);
+
+}  // namespace qsp::container

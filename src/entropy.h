@@ -1,0 +1,126 @@
+// The adaptive binary range coder every entropy-coded .qsp stream uses (internal). Exactly specified in
+// format-spec/qsp_format.md ("Entropy coding"): a change here is a format change.
+#pragma once
+
+#include <array>
+#include <bit>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace qsp {
+
+// Probability that the next bit is 0, in units of 2^-16: the mean of a fast (rate 1/16) and a slow
+// (rate 1/128) estimate, so it follows drifting statistics and is still precise on long streams.
+// While young, both rates start at 1/2 and slow down with the bits seen (1/2, 1/4, 1/4, 1/8 x4, ...),
+// about a running average: schematics are small (hundreds of symbols per context), and this warm-up
+// saves ~20% on them over fixed rates.
+struct BitModel {
+  std::uint16_t fast = 32768, slow = 32768;
+  std::uint8_t seen = 0;
+  std::uint32_t p0() const { return (std::uint32_t{fast} + slow) >> 1; }
+};
+
+// What coding `bit` teaches model m (the rates above). Inline: the geometry section's logistic
+// decisions update four models a bit.
+inline void learn(BitModel& m, unsigned bit) {
+  const auto warm = static_cast<unsigned>(std::bit_width(static_cast<unsigned>(m.seen) + 1u));
+  const unsigned fast_shift = warm < 4 ? warm : 4, slow_shift = warm < 7 ? warm : 7;
+  if (bit) {
+    m.fast = static_cast<std::uint16_t>(m.fast - (m.fast >> fast_shift));
+    m.slow = static_cast<std::uint16_t>(m.slow - (m.slow >> slow_shift));
+  } else {
+    m.fast = static_cast<std::uint16_t>(m.fast + ((65536u - m.fast) >> fast_shift));
+    m.slow = static_cast<std::uint16_t>(m.slow + ((65536u - m.slow) >> slow_shift));
+  }
+  if (m.seen < 255) ++m.seen;
+}
+
+// How a stream ends ("Compact ends"): LZMA's range coder without its first byte (always 0), and a flush
+// that ends on the value of the final interval [low, low + range) (range >= 2^24) with the most
+// trailing zero bytes, those bytes left out; the decoder reads them back as zeros. The number of
+// those bytes k (3 or 4), and that value's low 32 bits plus 2^32 if it carries.
+struct CompactEnd {
+  std::uint64_t value;
+  int zeros;
+};
+CompactEnd compact_end(std::uint64_t low, std::uint32_t range);
+
+// LZMA-style range encoder (32-bit range, carry propagation through a cached byte), appending to `out`.
+class RangeEncoder {
+ public:
+  explicit RangeEncoder(std::string& out) : out_(out) {}
+  void encode_bit(BitModel& m, unsigned bit);
+  // `count` (<= 32) bits of `value`, most significant first, each with probability 1/2.
+  void encode_raw(std::uint32_t value, unsigned count);
+  // One bit with probability p0 / 2^16 of a 0 (1 <= p0 <= 65535), from a model outside this class.
+  void encode_p0(std::uint32_t p0, unsigned bit);
+  // Writes the final bytes; call exactly once, after the last symbol.
+  void finish();
+
+ private:
+  void shift_low();
+  std::string& out_;
+  bool skip_first_ = true;  // LZMA's first byte (always 0) is not written
+  std::uint64_t low_ = 0;
+  std::uint32_t range_ = 0xFFFFFFFFu;
+  std::uint8_t cache_ = 0;
+  std::uint64_t cache_size_ = 1;
+};
+
+// Inverse of RangeEncoder over exactly `bytes`. Reading past the end (more than the 4 zero bytes the
+// flush may leave out) throws Error(kFormat) naming `what` and the absolute offset (`base_offset` +
+// position), so a hostile stream fails as soon as it runs out; finish() checks that every byte was
+// used and the stream ended as the encoder ends it. Safe on untrusted input.
+class RangeDecoder {
+ public:
+  RangeDecoder(std::string_view bytes, std::uint64_t base_offset, const char* what);
+  unsigned decode_bit(BitModel& m);
+  std::uint32_t decode_raw(unsigned count);
+  unsigned decode_p0(std::uint32_t p0);
+  void finish() const;
+  // Absolute file offset of the next unread byte (for error messages).
+  std::uint64_t offset() const { return base_offset_ + pos_; }
+
+ private:
+  std::uint8_t next_byte();
+  void check_code() const;
+  std::string_view bytes_;
+  std::uint64_t base_offset_;
+  const char* what_;
+  std::size_t pos_ = 0;  // may pass bytes_.size() by up to 4 (zeros the flush left out)
+  std::uint32_t range_ = 0xFFFFFFFFu;
+  std::uint32_t code_ = 0;
+  std::uint32_t window_ = 0;  // the last 4 bytes read (the end check)
+};
+
+// Adaptive Exp-Golomb model for unsigned integers 0 .. 2^32 - 2. Codes n = bit length of (v + 1)
+// minus 1 in unary (one context per position; no terminator when n = 31), then the n bits of v + 1
+// below its leading one, most significant first: through a full binary context tree when n <= 8 (so
+// any distribution of small values is learnt exactly), otherwise one context per (n, position) (so
+// e.g. "always a multiple of 4" is still learnt).
+class IntModel {
+ public:
+  static constexpr unsigned kMaxBits = 31;
+  static constexpr unsigned kTreeBits = 8;
+  IntModel();
+  void encode(RangeEncoder& enc, std::uint32_t value);
+  // Throws Error(kFormat) if the prefix is longer than any value the encoder can write.
+  std::uint32_t decode(RangeDecoder& dec);
+
+ private:
+  std::array<BitModel, kMaxBits> prefix_;
+  std::vector<BitModel> tree_;  // index (1 << n) + node - 1, node = 1 then 2*node + bit
+  std::vector<BitModel> tail_;  // index 32 * n + position, for n > kTreeBits
+};
+
+// Zigzag map of a signed value to unsigned (0, -1, 1, -2, ... -> 0, 1, 2, 3, ...).
+inline std::uint32_t zigzag(std::int64_t v) {
+  return static_cast<std::uint32_t>(v >= 0 ? 2 * v : -2 * v - 1);
+}
+inline std::int64_t unzigzag(std::uint32_t u) {
+  return (u & 1u) ? -static_cast<std::int64_t>(u >> 1) - 1 : static_cast<std::int64_t>(u >> 1);
+}
+
+}  // namespace qsp

@@ -1,0 +1,121 @@
+// Value repeats: see geometry_repeats.h.
+#include "geometry_repeats.h"
+
+#include <algorithm>
+#include <iterator>
+
+#include "qsp/error.h"
+
+namespace qsp {
+
+void Repeats::insert(std::int64_t v) {
+  if (pages_.empty()) {
+    pages_.push_back({{{v}}, {v}});
+    page_last_.push_back(v);
+    return;
+  }
+  std::size_t p = page_of(v);
+  if (p == pages_.size()) --p;  // beyond every page: append to the last
+  Page& page = pages_[p];
+  std::size_t b = block_in(page, v);
+  if (b == page.blocks.size()) --b;
+  std::vector<std::int64_t>& blk = page.blocks[b];
+  auto it = std::lower_bound(blk.begin(), blk.end(), v);
+  if (it != blk.end() && *it == v) return;
+  blk.insert(it, v);
+  page.last[b] = blk.back();
+  if (blk.size() > kBlock) {  // split the block in two halves, within its page
+    std::vector<std::int64_t> upper(blk.begin() + kBlock / 2, blk.end());
+    blk.resize(kBlock / 2);
+    page.last[b] = blk.back();
+    page.last.insert(page.last.begin() + static_cast<std::ptrdiff_t>(b) + 1, upper.back());
+    page.blocks.insert(page.blocks.begin() + static_cast<std::ptrdiff_t>(b) + 1, std::move(upper));
+  }
+  page_last_[p] = page.last.back();
+  if (page.blocks.size() > kPage) {  // split the page in two halves
+    Page upper;
+    upper.blocks.assign(std::make_move_iterator(page.blocks.begin() + kPage / 2),
+                        std::make_move_iterator(page.blocks.end()));
+    upper.last.assign(page.last.begin() + kPage / 2, page.last.end());
+    page.blocks.resize(kPage / 2);
+    page.last.resize(kPage / 2);
+    page_last_[p] = page.last.back();
+    page_last_.insert(page_last_.begin() + static_cast<std::ptrdiff_t>(p) + 1, upper.last.back());
+    pages_.insert(pages_.begin() + static_cast<std::ptrdiff_t>(p) + 1, std::move(upper));
+  }
+}
+
+bool Repeats::nth(std::int64_t pred, std::uint32_t k, std::int64_t& v) const {
+  // hi = first value >= pred, lo = the one before it, as (page, block, index) cursors; (pages, 0) is
+  // the end.
+  Cursor h{page_of(pred), 0, 0};
+  if (h.page < pages_.size()) {
+    const Page& page = pages_[h.page];
+    h.block = block_in(page, pred);
+    const auto& blk = page.blocks[h.block];
+    h.index = static_cast<std::size_t>(std::lower_bound(blk.begin(), blk.end(), pred) - blk.begin());
+  }
+  Cursor l = h;  // its index points one past the next lower value
+  for (std::uint32_t i = 0;; ++i) {
+    while (l.index == 0 && (l.page > 0 || l.block > 0)) {
+      if (l.block > 0) {
+        --l.block;
+      } else {
+        --l.page;
+        l.block = pages_[l.page].blocks.size() - 1;
+      }
+      l.index = pages_[l.page].blocks[l.block].size();
+    }
+    const bool has_lo = l.index > 0, has_hi = h.page < pages_.size();
+    if (!has_lo && !has_hi) return false;
+    bool take_lo = has_lo;
+    if (has_lo && has_hi) take_lo = pred - at(l, l.index - 1) <= at(h, h.index) - pred;
+    std::int64_t c;
+    if (take_lo) {
+      c = at(l, --l.index);
+    } else {
+      c = at(h, h.index++);
+      if (h.index == pages_[h.page].blocks[h.block].size()) {
+        h.index = 0;
+        if (++h.block == pages_[h.page].blocks.size()) ++h.page, h.block = 0;
+      }
+    }
+    if (i == k) {
+      v = c;
+      return true;
+    }
+  }
+}
+
+RepeatRanks::RepeatRanks(std::vector<std::int64_t> values) : sorted_(std::move(values)) {
+  std::sort(sorted_.begin(), sorted_.end());
+  sorted_.erase(std::unique(sorted_.begin(), sorted_.end()), sorted_.end());
+  in_.assign(sorted_.size(), 0);
+  set_ = OrderSet(sorted_.size());
+}
+
+std::size_t RepeatRanks::index(std::int64_t v) const {
+  return static_cast<std::size_t>(std::lower_bound(sorted_.begin(), sorted_.end(), v) - sorted_.begin());
+}
+
+void RepeatRanks::insert(std::int64_t v) {
+  const std::size_t i = index(v);
+  if (i == sorted_.size() || sorted_[i] != v)
+    throw Error(ErrorCode::kInternal, "geometry: unplanned repeat value");
+  if (in_[i]) return;
+  in_[i] = 1;
+  set_.insert(i);
+}
+
+std::uint32_t RepeatRanks::rank_of(std::int64_t pred, std::int64_t v) const {
+  constexpr std::uint32_t kMiss = Repeats::kMaxRank + 1;
+  if (!has(index(v), v)) return kMiss;
+  const std::int64_t d = v >= pred ? v - pred : pred - v;
+  if (d == 0) return 0;
+  // Inserted values strictly closer than d: in (pred - d, pred + d).
+  std::size_t k = set_.rank(index(pred + d)) - set_.rank(index(pred - d + 1));
+  if (v > pred && has(index(pred - d), pred - d)) ++k;  // as close and smaller: it ranks first
+  return static_cast<std::uint32_t>(std::min<std::size_t>(k, kMiss));
+}
+
+}  // namespace qsp

@@ -1,0 +1,146 @@
+// qsp compress and decompress end to end: round trips, output rules, extra data, standard streams,
+// corrupt files.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "qsp/codec.h"
+#include "qsp/error.h"
+#include "qsp/io.h"
+
+namespace fs = std::filesystem;
+
+namespace qsp {
+namespace {
+
+// ---- CLI ----
+
+struct CliRun {
+  int status;
+  std::string err;
+};
+
+CliRun run_cli(const std::string& args) {
+  std::string errfile = (fs::temp_directory_path() / ("qsp_cli_err_" + std::to_string(::getpid()))).string();
+  std::string cmd = std::string(QSP_CLI_PATH) + " " + args + " 2>" + errfile;
+  int rc = std::system(cmd.c_str());
+  std::ifstream in(errfile);
+  std::string err((std::istreambuf_iterator<char>(in)), {});
+  fs::remove(errfile);
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, err};
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("qsp_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    fs::copy_file(std::string(QSP_TESTDATA_DIR) + "/cube_4.obj", dir_ / "cube.obj");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string p(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+TEST_F(CliTest, CompressDecompressRoundTrip) {
+  ASSERT_EQ(run_cli("compress " + p("cube.obj")).status, 0);
+  ASSERT_TRUE(fs::exists(p("cube.obj.qsp")));
+  // Default output would be cube.obj again: the input exists, so it is refused without -f.
+  CliRun r = run_cli("decompress " + p("cube.obj.qsp"));
+  EXPECT_EQ(r.status, 3) << r.err;
+  EXPECT_NE(r.err.find("exists"), std::string::npos) << r.err;
+  ASSERT_EQ(run_cli("decompress " + p("cube.obj.qsp") + " -o " + p("back.obj")).status, 0);
+  QuadMesh a = read_mesh_file(p("cube.obj")), b = read_mesh_file(p("back.obj"));
+  EXPECT_EQ(a.vertex_count(), b.vertex_count());
+  EXPECT_EQ(encode(a), encode(b));
+  // compress -> decompress -> compress gives the same bytes.
+  ASSERT_EQ(run_cli("compress " + p("back.obj") + " " + p("again.qsp")).status, 0);
+  EXPECT_EQ(read_file_bytes(p("again.qsp")), read_file_bytes(p("cube.obj.qsp")));
+  // OFF output by extension, keep-order restores the file's own order.
+  ASSERT_EQ(run_cli("compress --keep-order " + p("cube.obj") + " " + p("k.qsp")).status, 0);
+  ASSERT_EQ(run_cli("decompress " + p("k.qsp") + " " + p("k.off")).status, 0);
+  QuadMesh k = read_mesh_file(p("k.off"));
+  EXPECT_EQ(k.quads, a.quads);
+  EXPECT_EQ(k.positions, a.positions);
+}
+
+// --best and the default write files of the same format that decode to the same mesh; stats says
+// which level wrote each, and --compat (development versions are gone) is no option.
+TEST_F(CliTest, LevelsShareOneFormat) {
+  const std::string golden = std::string(QSP_TESTDATA_DIR) + "/golden/tilted_noise_q14.obj";
+  ASSERT_EQ(run_cli("compress --best --quantize 14 " + golden + " " + p("best.qsp")).status, 0);
+  ASSERT_EQ(run_cli("compress --quantize 14 " + golden + " " + p("default.qsp")).status, 0);
+  const std::string best = read_file_bytes(p("best.qsp")), dflt = read_file_bytes(p("default.qsp"));
+  EXPECT_EQ(inspect(best).level, kMaxLevel);
+  EXPECT_EQ(inspect(dflt).level, kDefaultLevel);
+  EXPECT_EQ(inspect(best).version_major, kFormatMajor);
+  EXPECT_EQ(decode(best).positions, decode(dflt).positions);
+  EXPECT_EQ(run_cli("compress --compat 2.1 " + golden + " " + p("x.qsp")).status, 2);
+}
+
+TEST_F(CliTest, RefusesToOverwrite) {
+  ASSERT_EQ(run_cli("compress " + p("cube.obj") + " " + p("x.qsp")).status, 0);
+  CliRun r = run_cli("compress " + p("cube.obj") + " " + p("x.qsp"));
+  EXPECT_EQ(r.status, 3);
+  EXPECT_EQ(run_cli("compress -f " + p("cube.obj") + " " + p("x.qsp")).status, 0);
+  // Never the input, not even with -f, not even through a link.
+  std::string before = read_file_bytes(p("cube.obj"));
+  r = run_cli("compress -f " + p("cube.obj") + " " + p("cube.obj"));
+  EXPECT_EQ(r.status, 3);
+  EXPECT_NE(r.err.find("input"), std::string::npos) << r.err;
+  fs::create_hard_link(p("cube.obj"), p("link.obj"));
+  r = run_cli("compress -f " + p("cube.obj") + " -o " + p("link.obj"));
+  EXPECT_EQ(r.status, 3);
+  EXPECT_EQ(read_file_bytes(p("cube.obj")), before);
+  // Usage errors exit 2.
+  EXPECT_EQ(run_cli("compress " + p("cube.obj") + " " + p("a.qsp") + " -o " + p("b.qsp")).status, 2);
+  EXPECT_EQ(run_cli("compress --quantize 31 " + p("cube.obj")).status, 2);
+}
+
+TEST_F(CliTest, ExtraDataIsRefusedUnlessDropped) {
+  {
+    std::ofstream o(p("uv.obj"));
+    o << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\ng quad\nf 1/1 2/2 3/3 4/4\n";
+  }
+  CliRun r = run_cli("compress " + p("uv.obj"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("--positions-only"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("texture"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p("uv.obj.qsp")));
+  r = run_cli("compress --positions-only " + p("uv.obj"));
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("dropped"), std::string::npos) << r.err;
+}
+
+TEST_F(CliTest, StdinAndStdout) {
+  ASSERT_EQ(
+      std::system(
+          (std::string(QSP_CLI_PATH) + " compress - - < " + p("cube.obj") + " > " + p("s.qsp")).c_str()),
+      0);
+  ASSERT_EQ(
+      std::system((std::string(QSP_CLI_PATH) + " decompress - < " + p("s.qsp") + " > " + p("s.obj")).c_str()),
+      0);
+  EXPECT_EQ(encode(read_mesh_file(p("s.obj"))), encode(read_mesh_file(p("cube.obj"))));
+}
+
+TEST_F(CliTest, CorruptFileGivesTypedError) {
+  ASSERT_EQ(run_cli("compress " + p("cube.obj") + " " + p("c.qsp")).status, 0);
+  std::string bytes = read_file_bytes(p("c.qsp"));
+  bytes[bytes.size() / 2] ^= 0x10;
+  write_file_atomic(p("bad.qsp"), bytes, false);
+  CliRun r = run_cli("decompress " + p("bad.qsp") + " " + p("bad.obj"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("checksum"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p("bad.obj")));
+}
+
+}  // namespace
+}  // namespace qsp
