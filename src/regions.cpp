@@ -3,8 +3,6 @@
 #include "qsp/regions.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <array>
 #include <cstring>
 #include <numeric>
@@ -187,7 +185,8 @@ class RegionCoder {
     for (std::uint32_t v : listed_) listed_copy_[s_.vertex_original[v]] = kInvalid;
     listed_.clear();
     for (std::uint32_t g : out_.face) reached_[g] = 0;
-    if (out_.face.size() != s_.regions[r].faces.size()) internal("a region is not connected across its edges");
+    if (out_.face.size() != s_.regions[r].faces.size())
+      internal("a region is not connected across its edges");
 
     const RegionCode& c = out_.code;
     std::vector<std::uint32_t>& k = out_.key;
@@ -414,7 +413,8 @@ class Canonicalizer {
     loops_of_.assign(nk, 0);
     for (std::uint32_t k = 0; k < nk; ++k)
       for (std::uint32_t v : cm_.components[k].map.vertex) {
-        if (v >= vq_ || comp_of_[v] != kInvalid) internal("the canonical layout does not cover the quad submesh");
+        if (v >= vq_ || comp_of_[v] != kInvalid)
+          internal("the canonical layout does not cover the quad submesh");
         comp_of_[v] = k;
       }
     for (std::uint32_t l = 0; l < s_.loop_halfedge.size(); ++l) {
@@ -501,7 +501,8 @@ class Canonicalizer {
       for (std::uint32_t c : {tied[0], faces_.next(tied[0])})
         for (std::uint32_t b : bits_(faces_.vertex[c])) key.push_back(b);
       key.insert(key.end(), coded.back().key.begin(), coded.back().key.end());
-      order.emplace_back(std::move(key), s_.regions[r].faces[0], static_cast<std::uint32_t>(coded.size() - 1));
+      order.emplace_back(std::move(key), s_.regions[r].faces[0],
+                         static_cast<std::uint32_t>(coded.size() - 1));
     }
     std::sort(order.begin(), order.end());
     free_local_.assign(ids_, kInvalid);
@@ -554,6 +555,7 @@ class Canonicalizer {
   }
   // Any order of the component's vertices will do.
   void unplace(std::uint32_t comp) {
+    work_ += cm_.components[comp].map.vertex.size();
     for (std::uint32_t v : cm_.components[comp].map.vertex) {
       num_.layout[v] = kInvalid;
       if (faces_.hole_loop[v] != kInvalid) num_.loop_id[faces_.hole_loop[v]] = kInvalid;
@@ -561,6 +563,7 @@ class Canonicalizer {
   }
   void place(const Choice& c, std::uint32_t step) {
     const CanonicalComponent& cc = cm_.components[c.comp];
+    work_ += cc.map.vertex.size();
     if (c.start == kInvalid) {
       place(cc.map.vertex, step_base_[step], step_loops_[step]);
       return;
@@ -621,6 +624,7 @@ class Canonicalizer {
         scratch_index_[coded[i].interior[j]] = j;
       }
     for (std::uint32_t g : touching_glue_[k]) {
+      work_ += glue_.offsets[g + 1] - glue_.offsets[g];
       std::vector<std::array<std::uint32_t, 3>> d;
       for (std::uint32_t i = glue_.offsets[g]; i < glue_.offsets[g + 1]; ++i) {
         const std::uint32_t v = glue_.members[i];
@@ -657,7 +661,8 @@ class Canonicalizer {
     for (std::size_t j = 0; j < held_.size(); ++j)
       if (j >= suffix.size() || !(held_[j] == suffix[j])) unplace(held_[j].comp);
     for (std::size_t j = 0; j < suffix.size(); ++j)
-      if (j >= held_.size() || !(held_[j] == suffix[j])) place(suffix[j], base + static_cast<std::uint32_t>(j));
+      if (j >= held_.size() || !(held_[j] == suffix[j]))
+        place(suffix[j], base + static_cast<std::uint32_t>(j));
     held_ = suffix;
   }
 
@@ -691,22 +696,40 @@ class Canonicalizer {
     }
     if (unreferenced != vq_) internal("the canonical layout does not cover the quad submesh");
     std::vector<std::uint8_t> used(nk, 0);  // by a committed choice
+    // Per run (at its start): whether a region or glue group touches it; no free component below.
+    std::vector<std::uint8_t> run_touched(nk, 0);
+    std::vector<std::uint32_t> first_free(nk);
+    for (std::uint32_t m = 0; m < nk; ++m) {
+      first_free[m] = m;
+      run_touched[run_start[m]] |= !touching_regions_[m].empty() || !touching_glue_[m].empty();
+    }
     std::vector<std::vector<Choice>> states(1), next;
     for (std::uint32_t k = 0; k < nk; ++k) {
       const std::uint32_t a = run_start[k], e = run_end[k];
-      bool touched = false;
-      for (std::uint32_t m = a; m < e; ++m)
-        touched = touched || !touching_regions_[m].empty() || !touching_glue_[m].empty();
+      // Past the budget every place takes its run's first free component in canonicalize's order, so a
+      // hostile run of thousands of tied components costs its size (regions.h, kRegionTieCap).
+      if (work_ >= budget_) {
+        if (states.size() > 1 || !states[0].empty()) {
+          states.resize(1);
+          commit(states, used);
+        }
+        std::uint32_t& m = first_free[a];
+        while (used[m]) ++m;
+        states[0].push_back({m, kInvalid});
+        commit(states, used);
+        continue;
+      }
       next.clear();
       TieKey best;
       for (const std::vector<Choice>& state : states) {
         std::vector<Choice> cands;
-        for (std::uint32_t m = a; m < e; ++m) {
-          if (used[m] || std::find_if(state.begin(), state.end(), [m](const Choice& c) { return c.comp == m; }) !=
-                             state.end())
+        for (std::uint32_t m = first_free[a]; m < e; ++m) {
+          work_ += 1 + state.size();
+          if (used[m] || std::find_if(state.begin(), state.end(),
+                                      [m](const Choice& c) { return c.comp == m; }) != state.end())
             continue;
           cands.push_back({m, kInvalid});
-          if (!touched || work_ >= budget_) break;
+          if (!run_touched[a] || work_ >= budget_) break;
           for (std::uint32_t t : tied_starts(m)) cands.push_back({m, t});
         }
         if (cands.size() == 1 && states.size() == 1) {
@@ -716,10 +739,10 @@ class Canonicalizer {
         }
         hold(state);
         for (const Choice& c : cands) {
+          if (!next.empty() && work_ >= budget_) break;  // the best so far: deterministic for this input
           place(c, k);
           TieKey key = tie_key(c.comp);
           unplace(c.comp);
-          work_ += cm_.components[c.comp].map.vertex.size();
           const bool less = next.empty() || key < best;
           if (less) next.clear(), best = std::move(key);
           if (less || (key == best && next.size() < kTieStates)) {
@@ -729,10 +752,8 @@ class Canonicalizer {
         }
       }
       states.swap(next);
-      if (std::getenv("QSP_DEBUG_TIES"))
-        std::fprintf(stderr, "step %u run [%u,%u) states %zu work %llu/%llu\n", k, a, e, states.size(),
-                     (unsigned long long)work_, (unsigned long long)budget_);
       if (states.size() == 1) commit(states, used);
+      while (first_free[a] < e && used[first_free[a]]) ++first_free[a];
     }
     if (states.size() > 1) {  // still tied: the whole codes decide
       std::size_t best = 0;

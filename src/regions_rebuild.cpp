@@ -52,7 +52,8 @@ Holes layout_holes(const Adjacency& adj, std::uint32_t refs) {
 class RegionReader {
  public:
   RegionReader(const RegionCode& code, std::uint32_t region, const Holes& holes, std::uint32_t& next_ref,
-               std::uint32_t end_ref, std::vector<std::uint32_t>& offsets, std::vector<std::uint32_t>& corners)
+               std::uint32_t end_ref, std::vector<std::uint32_t>& offsets,
+               std::vector<std::uint32_t>& corners)
       : code_(code),
         region_(region),
         holes_(holes),
@@ -168,7 +169,8 @@ class RegionReader {
 PolygonFaces rebuild_polygons(std::span<const std::uint32_t> layout_quads, const Adjacency& layout_adjacency,
                               const RegionCodes& codes) {
   const std::uint32_t vq = codes.layout_vertices;
-  if (layout_adjacency.vertex_count != vq || layout_quads.size() != 4 * std::size_t{layout_adjacency.face_count})
+  if (layout_adjacency.vertex_count != vq ||
+      layout_quads.size() != 4 * std::size_t{layout_adjacency.face_count})
     throw Error(ErrorCode::kInternal, "regions: the layout quads and their adjacency disagree");
   // Every new vertex is a kNew symbol or a free start: check the declared count before allocating by it.
   std::uint64_t fresh = 0;
@@ -184,7 +186,8 @@ PolygonFaces rebuild_polygons(std::span<const std::uint32_t> layout_quads, const
 
   // Glue first: the traversal compares vertices by class (their group's first ref). Groups of two or
   // more refs, increasing, groups by first ref, each ref once, every layout ref in a quad.
-  if (codes.glue_offsets.empty() || codes.glue_offsets[0] != 0 || codes.glue_offsets.back() != codes.glue.size())
+  if (codes.glue_offsets.empty() || codes.glue_offsets[0] != 0 ||
+      codes.glue_offsets.back() != codes.glue.size())
     bad("glue offsets do not cover the glue");
   const std::size_t ng = codes.glue_offsets.size() - 1;
   std::vector<std::uint32_t> head(refs, kInvalid), klass(refs);
@@ -198,7 +201,8 @@ PolygonFaces rebuild_polygons(std::span<const std::uint32_t> layout_quads, const
       if (x >= refs) bad(where + "vertex " + std::to_string(x) + " out of range");
       if (i > b && x <= codes.glue[i - 1]) bad(where + "vertices out of order");
       if (head[x] != kInvalid) bad(where + "vertex " + std::to_string(x) + " in two groups");
-      if (x < vq && layout_adjacency.valence[x] == 0) bad(where + "vertex " + std::to_string(x) + " in no face");
+      if (x < vq && layout_adjacency.valence[x] == 0)
+        bad(where + "vertex " + std::to_string(x) + " in no face");
       head[x] = codes.glue[b];
     }
   }
@@ -242,7 +246,8 @@ PolygonFaces rebuild_polygons(std::span<const std::uint32_t> layout_quads, const
     for (std::uint32_t i = out.face_offsets[f]; i < out.face_offsets[f + 1]; ++i) {
       std::uint32_t& v = out.corners[i];
       v = out.ref_vertex[v];
-      if (seen[v] == f) bad("face " + std::to_string(f) + " repeats vertex " + std::to_string(v) + " once glued");
+      if (seen[v] == f)
+        bad("face " + std::to_string(f) + " repeats vertex " + std::to_string(v) + " once glued");
       seen[v] = f;
     }
   return out;

@@ -84,7 +84,8 @@ void expect_round_trip(const Poly& p, const Coded& c) {
     const std::uint32_t g = m.face[f], d = p.degree(f);
     ASSERT_EQ(out.face_offsets[g + 1] - out.face_offsets[g], d) << "face " << f;
     for (std::uint32_t i = 0; i < d; ++i)
-      ASSERT_EQ(out.corners[out.face_offsets[g] + i], m.vertex[p.corners[p.offsets[f] + (i + m.rotation[f]) % d]])
+      ASSERT_EQ(out.corners[out.face_offsets[g] + i],
+                m.vertex[p.corners[p.offsets[f] + (i + m.rotation[f]) % d]])
           << "face " << f << " corner " << i;
   }
   std::uint32_t ref = 0;
@@ -241,7 +242,7 @@ TEST(Regions, TiedComponentsAreOrderedByTheirRegions) {
   p.nv = 2 * n + 2;
   for (int i = 0; i < 2; ++i)  // the copy
     p.face({n + a.id(i, 0), n + a.id(i + 1, 0), n + a.id(i + 1, 1), n + a.id(i, 1)});
-  p.face({a.id(0, 1), a.id(1, 1), 2 * n});          // a triangle on the first's top left
+  p.face({a.id(0, 1), a.id(1, 1), 2 * n});              // a triangle on the first's top left
   p.face({n + a.id(2, 0), n + a.id(2, 1), 2 * n + 1});  // and on the copy's right side
   p.positions.resize(3 * std::size_t{p.nv});
   for (std::uint32_t v = 0; v < n; ++v)
@@ -542,7 +543,8 @@ Cost cost(const RegionCodes& codes) {
     for (std::size_t f = 0; f < r.degrees.size(); ++f) {
       degrees.add(r.degrees[f]);
       const std::size_t coded = r.degrees[f] - (f == 0 && r.start != RegionStart::kEdge ? 1 : 2);
-      for (std::size_t i = 0; i < coded; ++i, ++ci) symbols[i + 1 == coded].add(static_cast<int>(r.corners[ci]));
+      for (std::size_t i = 0; i < coded; ++i, ++ci)
+        symbols[i + 1 == coded].add(static_cast<int>(r.corners[ci]));
     }
     for (std::size_t i = 0; i < r.values.size(); ++i) values += gamma_bits(r.values[i] + 1);
     for (std::uint8_t o : r.open) open.add(o);
@@ -556,9 +558,12 @@ Cost cost(const RegionCodes& codes) {
     }
   }
   out.symbols += codes.glue.size() + codes.glue_offsets.size();
-  out.parts = {{"degrees", degrees.bits()}, {"corners", symbols[0].bits() + symbols[1].bits()},
-               {"values", values},          {"open", open.bits()},
-               {"starts", starts + kinds.bits()}, {"glue", glue}};
+  out.parts = {{"degrees", degrees.bits()},
+               {"corners", symbols[0].bits() + symbols[1].bits()},
+               {"values", values},
+               {"open", open.bits()},
+               {"starts", starts + kinds.bits()},
+               {"glue", glue}};
   for (const auto& [k, b] : out.parts) out.bits += b;
   return out;
 }

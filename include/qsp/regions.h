@@ -68,8 +68,9 @@ struct RegionCode {
 bool operator==(const RegionCode& x, const RegionCode& y);
 
 // Everything the quad submesh's canonical form does not say. Regions come in canonical order: edge
-// starts by (loop, position), then by code; free starts after them (see canonical_regions). Glue groups: each the refs of the copies of one input vertex (at least two),
-// increasing; groups in increasing order of their first ref.
+// starts by (loop, position), then by code; free starts after them (see canonical_regions). Glue groups: each
+// the refs of the copies of one input vertex (at least two), increasing; groups in increasing order of their
+// first ref.
 struct RegionCodes {
   std::uint32_t layout_vertices = 0;    // refs below this are layout vertices
   std::uint32_t interior_vertices = 0;  // kNew symbols in all regions

@@ -140,8 +140,8 @@ inline std::vector<PolyCase> hand_polygon_cases() {
   out.push_back({"notch_with_triangles", Grid::make(5, 4, [](int i, int j) {
                                            return i == 0 && j == 3 ? '.' : j == 1 && i <= 1 ? 't' : 'q';
                                          }).p});
-  out.push_back(
-      {"triangle_hole_in_a_grid", Grid::make(3, 3, [](int i, int j) { return i == 1 && j == 1 ? 't' : 'q'; }).p});
+  out.push_back({"triangle_hole_in_a_grid",
+                 Grid::make(3, 3, [](int i, int j) { return i == 1 && j == 1 ? 't' : 'q'; }).p});
   {
     Poly p;  // a closed "UV sphere": two triangle-fan poles, two rows of quads
     const std::uint32_t n = 6, north = 18, south = 19;
@@ -168,7 +168,8 @@ inline std::vector<PolyCase> hand_polygon_cases() {
     out.push_back({"ngon_region_with_interior", p});
   }
   out.push_back({"vertex_cut_apart_by_triangles", Grid::make(4, 4, [](int i, int j) {
-                                                    return (i == 2 && j == 2) || (i == 1 && j == 1) ? 't' : 'q';
+                                                    return (i == 2 && j == 2) || (i == 1 && j == 1) ? 't'
+                                                                                                    : 'q';
                                                   }).p});
   {
     Grid g = Grid::make(2, 2, [](int, int) { return 'q'; });
@@ -233,14 +234,12 @@ inline std::vector<PolyCase> hand_polygon_cases() {
     p.face({0, 1, 8, 9});
     out.push_back({"fin_on_a_closed_surface", p});
   }
-  out.push_back(
-      {"checkerboard", Grid::make(7, 5, [](int i, int j) { return (i + j) % 2 ? 't' : 'q'; }).p});
+  out.push_back({"checkerboard", Grid::make(7, 5, [](int i, int j) { return (i + j) % 2 ? 't' : 'q'; }).p});
   for (std::uint32_t seed = 1; seed <= 8; ++seed) {
     std::mt19937 rng(seed);
     const char kinds[] = {'q', 'q', 'q', 't', '.'};
-    out.push_back({"random_mix_" + std::to_string(seed), Grid::make(9, 7, [&](int, int) {
-                                                            return kinds[rng() % 5];
-                                                          }).p});
+    out.push_back({"random_mix_" + std::to_string(seed),
+                   Grid::make(9, 7, [&](int, int) { return kinds[rng() % 5]; }).p});
   }
   return out;
 }
