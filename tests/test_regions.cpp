@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <numeric>
 #include <random>
 #include <string>
 #include <vector>
@@ -59,26 +60,65 @@ PolygonFaces rebuild(const Coded& c, const RegionCodes& codes) {
   return rebuild_polygons(c.layout_quads, c.layout_adjacency, codes);
 }
 
-// The rebuilt mesh is the input under the maps the codes define: both maps are bijections, and output
-// face map.face[f] lists input face f's corners from corner rotation[f], each through map.vertex. Layout
-// and interior vertices are the input vertices the codec takes their positions from.
+// Each face as a cyclic sequence of vertex ids, rotated to start at its smallest, sorted: two polygon
+// meshes on the same vertices have the same faces (corner order kept) exactly when these are equal.
+std::vector<std::vector<std::uint32_t>> face_multiset(const std::vector<std::uint32_t>& offsets,
+                                                      const std::vector<std::uint32_t>& corners,
+                                                      const std::vector<std::uint32_t>& vertex_name) {
+  std::vector<std::vector<std::uint32_t>> faces;
+  for (std::size_t f = 0; f + 1 < offsets.size(); ++f) {
+    std::vector<std::uint32_t> face;
+    for (std::uint32_t c = offsets[f]; c < offsets[f + 1]; ++c) face.push_back(vertex_name[corners[c]]);
+    std::rotate(face.begin(), std::min_element(face.begin(), face.end()), face.end());
+    faces.push_back(std::move(face));
+  }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+// The rebuilt mesh has exactly the input's faces on the input's vertices, checked here without the
+// maps canonical_regions returns: each ref is named by the input vertex whose position the codec stores
+// for it (layout vertices through the canonical layout, interior ones by interior_original); the refs
+// rebuild_polygons merges into one output vertex must name one input vertex, distinct output vertices
+// distinct ones, every input vertex named; then the faces, renamed, must be the input's as cyclic
+// sequences. Then the maps a --keep-order decode would use are checked against the same output.
 void expect_round_trip(const Poly& p, const Coded& c) {
   const CanonicalRegions& m = c.regions;
   const PolygonFaces out = rebuild(c, m.codes);
   ASSERT_EQ(out.vertex_count, p.nv);
   ASSERT_EQ(out.face_offsets.size(), p.offsets.size());
-  ASSERT_EQ(m.vertex.size(), p.nv);
-  ASSERT_EQ(m.face.size(), p.face_count());
-  std::vector<int> vhit(p.nv, 0), fhit(p.face_count(), 0);
-  for (std::uint32_t v = 0; v < p.nv; ++v) {
-    ASSERT_LT(m.vertex[v], p.nv);
-    ++vhit[m.vertex[v]];
+  std::vector<std::uint32_t> ref_input;
+  for (const CanonicalComponent& cc : m.quads.components)
+    for (std::uint32_t v : cc.map.vertex) ref_input.push_back(c.submesh.vertex_original[v]);
+  for (std::uint32_t v : m.quads.unreferenced) ref_input.push_back(c.submesh.vertex_original[v]);
+  ASSERT_EQ(ref_input.size(), m.codes.layout_vertices);
+  ref_input.insert(ref_input.end(), m.interior_original.begin(), m.interior_original.end());
+  ASSERT_EQ(ref_input.size(), out.ref_vertex.size());
+  std::vector<std::uint32_t> name(p.nv, kInvalid), named_by(p.nv, kInvalid);  // output -> input, reverse
+  for (std::size_t x = 0; x < ref_input.size(); ++x) {
+    const std::uint32_t o = out.ref_vertex[x], v = ref_input[x];
+    ASSERT_LT(o, p.nv);
+    ASSERT_LT(v, p.nv);
+    if (name[o] == kInvalid) name[o] = v;
+    ASSERT_EQ(name[o], v) << "output vertex " << o << " merges refs of two input vertices";
+    if (named_by[v] == kInvalid) named_by[v] = o;
+    ASSERT_EQ(named_by[v], o) << "input vertex " << v << " is two output vertices";
   }
+  ASSERT_EQ(std::count(name.begin(), name.end(), kInvalid), 0) << "an output vertex names no input vertex";
+  std::vector<std::uint32_t> identity(p.nv);
+  std::iota(identity.begin(), identity.end(), 0u);
+  EXPECT_TRUE(face_multiset(out.face_offsets, out.corners, name) ==
+              face_multiset(p.offsets, p.corners, identity))
+      << "the rebuilt faces are not the input's";
+
+  // The keep-order maps: output vertex, face and first corner of every input face.
+  ASSERT_EQ(m.vertex, named_by);
+  ASSERT_EQ(m.face.size(), p.face_count());
+  std::vector<int> fhit(p.face_count(), 0);
   for (std::uint32_t f = 0; f < p.face_count(); ++f) {
     ASSERT_LT(m.face[f], p.face_count());
     ++fhit[m.face[f]];
   }
-  EXPECT_EQ(std::count(vhit.begin(), vhit.end(), 1), p.nv);
   EXPECT_EQ(std::count(fhit.begin(), fhit.end(), 1), p.face_count());
   for (std::uint32_t f = 0; f < p.face_count(); ++f) {
     const std::uint32_t g = m.face[f], d = p.degree(f);
@@ -88,15 +128,6 @@ void expect_round_trip(const Poly& p, const Coded& c) {
                 m.vertex[p.corners[p.offsets[f] + (i + m.rotation[f]) % d]])
           << "face " << f << " corner " << i;
   }
-  std::uint32_t ref = 0;
-  for (const CanonicalComponent& cc : m.quads.components)
-    for (std::uint32_t v : cc.map.vertex)
-      EXPECT_EQ(out.ref_vertex[ref++], m.vertex[c.submesh.vertex_original[v]]) << "layout vertex " << ref - 1;
-  for (std::uint32_t v : m.quads.unreferenced)
-    EXPECT_EQ(out.ref_vertex[ref++], m.vertex[c.submesh.vertex_original[v]]);
-  ASSERT_EQ(m.interior_original.size(), m.codes.interior_vertices);
-  for (std::uint32_t i = 0; i < m.codes.interior_vertices; ++i)
-    EXPECT_EQ(out.ref_vertex[ref + i], m.vertex[m.interior_original[i]]) << "interior vertex " << i;
 }
 
 // Distinct positions on a lattice, in a shuffled order (so positions decide no tie by accident).
@@ -191,6 +222,105 @@ TEST(Regions, TriangleFanPoleNeedsNoReference) {
   }
 }
 
+Poly hand_case(const std::string& name) {
+  for (auto& [n, p] : testing::hand_polygon_cases())
+    if (n == name) return p;
+  ADD_FAILURE() << "no hand case " << name;
+  return {};
+}
+
+// Glue group sizes, sorted.
+std::vector<std::uint32_t> group_sizes(const RegionCodes& codes) {
+  std::vector<std::uint32_t> sizes;
+  for (std::size_t g = 0; g + 1 < codes.glue_offsets.size(); ++g)
+    sizes.push_back(codes.glue_offsets[g + 1] - codes.glue_offsets[g]);
+  std::sort(sizes.begin(), sizes.end());
+  return sizes;
+}
+
+std::uint32_t count_symbol(const RegionCode& r, CornerSymbol s) {
+  return static_cast<std::uint32_t>(std::count(r.corners.begin(), r.corners.end(), s));
+}
+
+// A 2x2 hole of a 4x4 quad grid filled by eight triangles, six of them around grid vertex (2, 2).
+// Entered through a hole edge; every triangle after the first through a gate, so one coded corner
+// each; the centre created once (kNew), never named again by value (it stays on top of the open
+// half-edges); no glue. The hole's 8 vertices are the grid's, so 24 layout vertices and one interior.
+TEST(Regions, TriangleRegionWithAnInteriorVertex) {
+  const Poly p = hand_case("triangle_block_with_interior_vertex");
+  const Coded c = code(p);
+  ASSERT_EQ(c.regions.codes.regions.size(), 1u);
+  const RegionCode& r = c.regions.codes.regions[0];
+  EXPECT_EQ(r.start, RegionStart::kEdge);
+  EXPECT_EQ(r.degrees, std::vector<std::uint32_t>(8, 3));
+  EXPECT_EQ(r.corners.size(), 8u);  // one coded corner per gated triangle
+  EXPECT_EQ(count_symbol(r, CornerSymbol::kNew), 1u);
+  EXPECT_EQ(count_symbol(r, CornerSymbol::kInterior), 0u);
+  EXPECT_EQ(r.values.size(), 2 * count_symbol(r, CornerSymbol::kBoundary));
+  EXPECT_EQ(c.regions.codes.interior_vertices, 1u);
+  EXPECT_EQ(c.regions.codes.layout_vertices, 24u);  // 25 grid vertices but the centre
+  ASSERT_EQ(c.regions.interior_original.size(), 1u);
+  EXPECT_EQ(c.regions.interior_original[0], 12u);  // (2, 2)
+  EXPECT_TRUE(c.regions.codes.glue.empty());
+  expect_round_trip(p, c);
+}
+
+// The n-gon region: a triangle, a pentagon and three hexagons around grid vertex (2, 2) with four more
+// interior vertices, in a 2x2 hole. Degrees in traversal order are a rotation of the ring (3 5 6 6 6 or
+// with the triangle elsewhere); five interior vertices, each created once; no glue.
+TEST(Regions, NgonRegion) {
+  const Poly p = hand_case("ngon_region_with_interior");
+  const Coded c = code(p);
+  ASSERT_EQ(c.regions.codes.regions.size(), 1u);
+  const RegionCode& r = c.regions.codes.regions[0];
+  std::vector<std::uint32_t> degrees = r.degrees;
+  std::sort(degrees.begin(), degrees.end());
+  EXPECT_EQ(degrees, (std::vector<std::uint32_t>{3, 5, 6, 6, 6}));
+  EXPECT_EQ(count_symbol(r, CornerSymbol::kNew), 5u);
+  EXPECT_EQ(c.regions.codes.interior_vertices, 5u);
+  // Corners coded: every face but the first is entered through a gate (two corners known), the first
+  // through the hole edge (two known too): 1 + 3 + 4 + 4 + 4 for degrees 3 5 6 6 6.
+  EXPECT_EQ(r.corners.size(), 16u);
+  EXPECT_TRUE(c.regions.codes.glue.empty());
+  expect_round_trip(p, c);
+}
+
+// Grid vertex (2, 2) of a 4x4 grid whose cells (1, 1) and (2, 2) are triangle pairs: its quads
+// (cells (1, 2) and (2, 1)) form two quad fans, so it has two layout copies, glued back by one group.
+TEST(Regions, VertexCutApartByTrianglesIsGlued) {
+  const Poly p = hand_case("vertex_cut_apart_by_triangles");
+  const Coded c = code(p);
+  EXPECT_EQ(c.regions.codes.regions.size(), 2u);
+  ASSERT_EQ(group_sizes(c.regions.codes), std::vector<std::uint32_t>{2});
+  EXPECT_LT(c.regions.codes.glue[1], c.regions.codes.layout_vertices);  // both copies are quad vertices
+  EXPECT_EQ(c.regions.codes.layout_vertices, p.nv + 1);
+  EXPECT_EQ(c.regions.codes.interior_vertices, 0u);
+  expect_round_trip(p, c);
+}
+
+// A fin quad on the middle edge (1, 0)-(1, 1) of a 2x2 grid: the edge has three quads and is cut. At
+// (1, 0) the three quads are three fans (three copies); at (1, 1) the grid's four quads stay one fan
+// and the fin another (two copies). No non-quad face, so no region: only glue, groups of 2 and 3.
+TEST(Regions, NonManifoldEdgeIsGlued) {
+  const Poly p = hand_case("nonmanifold_edge_three_quads");
+  const Coded c = code(p);
+  EXPECT_TRUE(c.regions.codes.regions.empty());
+  EXPECT_EQ(group_sizes(c.regions.codes), (std::vector<std::uint32_t>{2, 3}));
+  EXPECT_EQ(c.regions.codes.layout_vertices, p.nv + 3);
+  expect_round_trip(p, c);
+}
+
+// The clockwise centre quad of a 3x3 grid: its four edges run the same way as its neighbours' and are
+// cut, so it comes off whole; its four corners get two copies each, glued back by four groups of two.
+TEST(Regions, MisorientedFaceIsGlued) {
+  const Poly p = hand_case("misoriented_face");
+  const Coded c = code(p);
+  EXPECT_TRUE(c.regions.codes.regions.empty());
+  EXPECT_EQ(group_sizes(c.regions.codes), std::vector<std::uint32_t>(4, 2));
+  EXPECT_EQ(c.regions.quads.components.size(), 2u);
+  expect_round_trip(p, c);
+}
+
 // No quad at all: one free region per component, every vertex interior.
 TEST(Regions, TriangleMeshIsFreeRegions) {
   Poly p = Grid::make(4, 3, [](int, int) { return 't'; }).p;
@@ -256,12 +386,13 @@ TEST(Regions, TiedComponentsAreOrderedByTheirRegions) {
 // ---- Hostile codes: every inconsistency is a format error, found in time linear in the codes.
 
 // A mesh whose codes use every symbol kind and glue: an n-gon region with interior vertices, triangle
-// fans, a cut vertex and a triangle mesh beside.
+// fans, a block of triangles with interior vertices, a cut vertex and a triangle mesh beside.
 Poly rich_mesh() {
   Poly p;
   for (const auto& [name, q] : testing::hand_polygon_cases()) {
     if (name != "ngon_region_with_interior" && name != "vertex_cut_apart_by_triangles" &&
-        name != "checkerboard" && name != "tetrahedron" && name != "uv_sphere_poles")
+        name != "checkerboard" && name != "tetrahedron" && name != "uv_sphere_poles" &&
+        name != "triangle_block_4x4")
       continue;
     for (std::uint32_t c : q.corners) p.corners.push_back(c + p.nv);
     for (std::size_t f = 1; f < q.offsets.size(); ++f)
@@ -443,22 +574,9 @@ TEST(Regions, RandomChangesAreRefusedOrGiveAMesh) {
 // fan of alternating quads and triangles, a 50,000-gon, a 100,000-triangle strip without positions.
 TEST(Regions, HostileShapesCostTheirSize) {
   const std::uint32_t n = 50000;
-  Poly fan;
-  fan.nv = 1 + 2 * n;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const std::uint32_t a = 1 + i, z = 1 + (i + 1) % n;
-    if (i % 2)
-      fan.face({0, a, z});
-    else
-      fan.face({0, a, 1 + n + i, z});
-  }
+  const Poly fan = testing::alternating_fan(n);
   expect_round_trip(fan, code(fan));
-  Poly ngon;
-  ngon.nv = n + 2;
-  ngon.corners.resize(n);
-  std::iota(ngon.corners.begin(), ngon.corners.end(), 0u);
-  ngon.offsets.push_back(n);
-  ngon.face({1, 0, n, n + 1});
+  const Poly ngon = testing::ngon_with_a_quad(n);
   expect_round_trip(ngon, code(ngon));
   const Poly strip = Grid::make(2 * n / 2, 1, [](int, int) { return 't'; }).p;
   expect_round_trip(strip, code(strip));
@@ -466,38 +584,56 @@ TEST(Regions, HostileShapesCostTheirSize) {
 
 // ---- Shared meshes.
 
+// Whether the rules accept the mesh; a refusal must be of what is not a mesh (test_submesh checks which
+// files those are against their manifest rows).
 bool cuttable(const Poly& p) {
   try {
     (void)cut_manifold(p.offsets, p.corners, p.nv);
     return true;
-  } catch (const Error&) {
-    return false;  // not a mesh (a face repeating a vertex): test_submesh checks the refusal
+  } catch (const Error& e) {
+    EXPECT_TRUE(e.code() == ErrorCode::kDegenerateFace || e.code() == ErrorCode::kBadIndex) << e.what();
+    return false;
   }
 }
 
-TEST(Regions, EverySharedMeshRoundTrips) {
-  QSP_NEEDS_SHARED();
+// Whether a corpus file's manifest row (shared meshes only) says a face repeats a vertex: not a mesh.
+bool not_a_mesh(const fs::path& path) {
+  static std::map<fs::path, std::map<std::string, testing::ManifestRow>> manifests;
+  const fs::path tsv = path.parent_path() / "MANIFEST.tsv";
+  if (!fs::exists(tsv)) return false;
+  auto it = manifests.find(tsv);
+  if (it == manifests.end()) it = manifests.emplace(tsv, testing::read_manifest(tsv)).first;
+  const auto row = it->second.find(path.filename().string());
+  return row != it->second.end() && row->second.num("degenerate_faces") > 0;
+}
+
+// Every corpus mesh (testdata/ and the shared meshes with osd_shapes/, non-quad and non-manifold ones
+// included), with and without positions; refused exactly where its manifest says it is not a mesh.
+TEST(Regions, EveryCorpusMeshRoundTrips) {
   int meshes = 0;
-  for (const fs::path& path : testing::shared_meshes()) {
+  for (const fs::path& path : testing::corpus()) {
     SCOPED_TRACE(path.string());
     const Poly p = testing::read_faces(path);
-    if (!cuttable(p)) continue;
+    const bool cut = cuttable(p);
+    EXPECT_EQ(cut, !not_a_mesh(path));
+    if (!cut) continue;
     expect_round_trip(p, code(p));
+    const Poly q = with_positions(p, 21);
+    expect_round_trip(q, code(q));
     ++meshes;
   }
-  EXPECT_GT(meshes, 100);
+  EXPECT_GT(meshes, testing::shared_present() ? 130 : 20);
 }
 
-TEST(Regions, SharedMeshesRenumberedGiveTheSameCodes) {
-  QSP_NEEDS_SHARED();
+TEST(Regions, CorpusMeshesRenumberedGiveTheSameCodes) {
   int renumbered = 0;
-  for (const fs::path& path : testing::shared_meshes()) {
+  for (const fs::path& path : testing::corpus()) {
     const Poly p = testing::read_faces(path);
-    if (p.face_count() > 40000 || !cuttable(p)) continue;
+    if (p.face_count() > 40000 || !cuttable(p)) continue;  // the larger ones add time, not cases
     expect_canonical(p, path.filename().string(), 1);
     ++renumbered;
   }
-  EXPECT_GT(renumbered, 80);
+  EXPECT_GT(renumbered, testing::shared_present() ? 100 : 20);
 }
 
 // ---- What the codes cost: symbols per non-quad face and their empirical entropy.
@@ -582,7 +718,11 @@ TEST(Regions, SymbolCostsOfQuadDominantMeshes) {
                 k.bits / k.faces);
     for (const auto& [part, b] : k.parts) std::printf(" %s %.2f", part.c_str(), b / k.faces);
     std::printf(" )\n");
-    EXPECT_LT(k.bits / k.faces, 8.0) << name;  // Draco's -preserve_polygons: 5.5-5.8 bits per face
+    // The targets (Draco's -preserve_polygons: 5.5-5.8 bits per face); the others are reported:
+    // with 10-20 non-quad faces their cost is mostly starts and glue, and the estimate is rough.
+    if (name == "osd_catmark_bishop.obj" || name == "pmp_suzanne.obj") {
+      EXPECT_LT(k.bits / k.faces, 5.5) << name;
+    }
   }
 }
 

@@ -57,6 +57,32 @@ struct Grid {
   }
 };
 
+// Around vertex 0, n faces alternating a quad (0, r_i, x_i, r_i+1) for even i and a triangle
+// (0, r_i, r_i+1) for odd i: one vertex cut into n / 2 copies, n / 2 one-quad components.
+inline Poly alternating_fan(std::uint32_t n) {
+  Poly fan;
+  fan.nv = 1 + 2 * n;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t a = 1 + i, z = 1 + (i + 1) % n;
+    if (i % 2)
+      fan.face({0, a, z});
+    else
+      fan.face({0, a, 1 + n + i, z});
+  }
+  return fan;
+}
+
+// An n-gon (vertices 0 .. n-1) with one quad on its edge 0-1.
+inline Poly ngon_with_a_quad(std::uint32_t n) {
+  Poly ngon;
+  ngon.nv = n + 2;
+  ngon.corners.resize(n);
+  std::iota(ngon.corners.begin(), ngon.corners.end(), 0u);
+  ngon.offsets.push_back(n);
+  ngon.face({1, 0, n, n + 1});
+  return ngon;
+}
+
 // Faces of any degree from OBJ ("v", "f" lines; negative indices) or OFF.
 inline Poly read_faces(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -134,7 +160,8 @@ struct PolyCase {
   Poly p;
 };
 
-// The hand-made cases of tests/test_submesh.cpp (positions empty), in the order written there.
+// Hand-made polygon meshes by name (positions empty): the hand-checked cases of tests/test_submesh.cpp and
+// tests/test_regions.cpp, and random mixtures of quads, triangle pairs and holes.
 inline std::vector<PolyCase> hand_polygon_cases() {
   std::vector<PolyCase> out;
   out.push_back({"notch_with_triangles", Grid::make(5, 4, [](int i, int j) {
@@ -167,6 +194,14 @@ inline std::vector<PolyCase> hand_polygon_cases() {
     p.face({m, ps, g.id(2, 1), g.id(3, 1), g.id(3, 2), pe});
     out.push_back({"ngon_region_with_interior", p});
   }
+  // A 2x2 block of triangle pairs in a 4x4 quad grid: 8 triangles around the interior vertex (2, 2).
+  out.push_back(
+      {"triangle_block_with_interior_vertex",
+       Grid::make(4, 4, [](int i, int j) { return i >= 1 && i <= 2 && j >= 1 && j <= 2 ? 't' : 'q'; }).p});
+  // A 4x4 block in an 8x8 grid: 9 interior vertices, some reached again off the traversal's front.
+  out.push_back({"triangle_block_4x4", Grid::make(8, 8, [](int i, int j) {
+                                         return i >= 2 && i <= 5 && j >= 2 && j <= 5 ? 't' : 'q';
+                                       }).p});
   out.push_back({"vertex_cut_apart_by_triangles", Grid::make(4, 4, [](int i, int j) {
                                                     return (i == 2 && j == 2) || (i == 1 && j == 1) ? 't'
                                                                                                     : 'q';
