@@ -98,8 +98,10 @@ struct CanonicalRegions {
 };
 
 // Ties past which the choice is deterministic for a given input but may depend on its numbering
-// (docs/polygon_meshes.md, "Ties"): starts compared per free region, candidates compared per quad
-// component, and work spent comparing them, in units of faces and vertices, per unit of mesh size.
+// (docs/polygon_meshes.md, "Ties"): starts compared per free region or cut edge, and the tie search
+// among identical quad components and tied roots, whose work (in vertices, corners and glue refs
+// looked at) is bounded by kRegionTieCap * (corners + vertices) + kRegionTieFloor; past that, every
+// component takes canonicalize's order.
 inline constexpr std::uint32_t kRegionTieCap = 64;
 inline constexpr std::uint64_t kRegionTieFloor = std::uint64_t{1} << 20;  // work allowed on any mesh
 
@@ -109,8 +111,9 @@ inline constexpr std::uint64_t kRegionTieFloor = std::uint64_t{1} << 20;  // wor
 // submesh.mesh and submesh.adjacency under any partition). Equal for isomorphic polygon meshes with
 // the same positions (renumbered vertices and faces, rotated corner lists), up to the ties named
 // above. Throws Error(kInternal) if an invariant fails (never a wrong result); the arrays must be the
-// ones submesh was cut from (kInternal where sizes disagree). O(corners + vertices), times kRegionTieCap
-// where positions tie exactly.
+// ones submesh was cut from (kInternal where sizes disagree). Safe on any mesh quad_submesh accepted:
+// O(corners + vertices) and kRegionTieCap times that at most where positions tie exactly, never
+// quadratic (a vertex with 25,000 tied one-quad components around it included).
 CanonicalRegions canonical_regions(std::span<const std::uint32_t> face_offsets,
                                    std::span<const std::uint32_t> corners, std::uint32_t vertex_count,
                                    std::span<const float> positions, const QuadSubmesh& submesh,
@@ -131,8 +134,10 @@ struct PolygonFaces {
 // not consistent: a symbol with no candidate, a reference out of range, a face repeating a vertex
 // (after gluing too), a degree of 4 or below 3, a gate closed twice, streams too short or too long,
 // starts out of order, a glue group of one, unordered or overlapping, or naming a vertex no face uses.
-// Safe on untrusted codes: time and memory O(layout vertices + quads + symbols + glue refs), nothing
-// else is allocated from declared counts.
+// Safe on untrusted codes: time and memory O(layout vertices + quads + symbols + glue refs); the one
+// declared count allocated by, interior_vertices, is checked against the kNew symbols first, and refs
+// (layout + interior) at or beyond kPolygonSizeLimit (2^31) are refused. Throws kInternal only if
+// layout_quads and layout_adjacency disagree in size (the caller's arrays, not the codes).
 PolygonFaces rebuild_polygons(std::span<const std::uint32_t> layout_quads, const Adjacency& layout_adjacency,
                               const RegionCodes& codes);
 
