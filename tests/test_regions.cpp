@@ -560,7 +560,16 @@ TEST(Regions, RandomChangesAreRefusedOrGiveAMesh) {
     try {
       const PolygonFaces out = rebuild(c, codes);
       ++accepted;
-      for (std::uint32_t v : out.corners) ASSERT_LT(v, out.vertex_count);
+      // What rebuild_polygons promises of anything it accepts: faces of degree 3 or more, on its
+      // vertices, none repeating a vertex.
+      for (std::size_t f = 0; f + 1 < out.face_offsets.size(); ++f) {
+        ASSERT_GE(out.face_offsets[f + 1] - out.face_offsets[f], 3u);
+        std::vector<std::uint32_t> face(out.corners.begin() + out.face_offsets[f],
+                                        out.corners.begin() + out.face_offsets[f + 1]);
+        for (std::uint32_t v : face) ASSERT_LT(v, out.vertex_count);
+        std::sort(face.begin(), face.end());
+        ASSERT_TRUE(std::adjacent_find(face.begin(), face.end()) == face.end()) << "face " << f;
+      }
     } catch (const Error& e) {
       ASSERT_EQ(e.code(), ErrorCode::kFormat) << e.what();
       ++refused;
