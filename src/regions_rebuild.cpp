@@ -194,6 +194,7 @@ PolygonFaces rebuild_polygons(std::span<const std::uint32_t> layout_quads, const
   for (std::size_t g = 0; g < ng; ++g) {
     const std::uint32_t b = codes.glue_offsets[g], e = codes.glue_offsets[g + 1];
     const std::string where = "glue group " + std::to_string(g) + ": ";
+    if (e > codes.glue.size()) bad(where + "ends past the glue");
     if (e < b || e - b < 2) bad(where + "fewer than two vertices");
     if (g > 0 && codes.glue[b] <= codes.glue[codes.glue_offsets[g - 1]]) bad(where + "groups out of order");
     for (std::uint32_t i = b; i < e; ++i) {

@@ -516,6 +516,12 @@ TEST(Regions, InconsistentGlueIsRefused) {
   EXPECT_EQ(mutated([](RegionCodes& x) { x.glue[x.glue_offsets[1]] = x.glue[0]; }), ErrorCode::kFormat);
   EXPECT_EQ(mutated([](RegionCodes& x) { x.glue_offsets.back() += 1; }), ErrorCode::kFormat);
   EXPECT_EQ(mutated([](RegionCodes& x) { x.glue_offsets.assign(1, 1); }), ErrorCode::kFormat);
+  // A group ending past the glue (offsets not increasing, the last one right): read nothing past it.
+  EXPECT_EQ(mutated([](RegionCodes& x) {
+              const auto n = static_cast<std::uint32_t>(x.glue.size());
+              x.glue_offsets = {0, n + 1000, n};
+            }),
+            ErrorCode::kFormat);
   // Two vertices of one face glued into one: the face would repeat a vertex.
   EXPECT_EQ(mutated([&](RegionCodes& x) {
               x.glue.insert(x.glue.begin(), {c.layout_quads[0], c.layout_quads[1]});
