@@ -186,22 +186,25 @@ TEST(Regions, QuadMeshHasNoRegionsAndNoGlue) {
   expect_round_trip(p, c);
 }
 
-// A triangle in a triangular hole: entered through its hole edge, its third corner follows the hole.
-TEST(Regions, TriangleInAHoleCostsOneSymbol) {
+// Two triangles in a square hole: the first entered through a hole edge, the second through the
+// diagonal (the one edge the first pushes); each third corner is the hole vertex next to its known
+// corners, named by kFollow or kClose: one symbol per face, no value.
+TEST(Regions, TwoTrianglesInASquareHoleCostOneSymbolEach) {
   Grid g = Grid::make(3, 3, [](int i, int j) { return i == 1 && j == 1 ? '.' : 'q'; });
   g.p.face({g.id(1, 1), g.id(2, 1), g.id(2, 2)});
   g.p.face({g.id(1, 1), g.id(2, 2), g.id(1, 2)});
-  const Coded c = code(with_positions(g.p, 3));
+  const Poly p = with_positions(g.p, 3);
+  const Coded c = code(p);
   ASSERT_EQ(c.regions.codes.regions.size(), 1u);
   const RegionCode& r = c.regions.codes.regions[0];
   EXPECT_EQ(r.start, RegionStart::kEdge);
   EXPECT_EQ(r.degrees, (std::vector<std::uint32_t>{3, 3}));
-  // Two triangles in a square hole: each third corner is on the hole next to the gate, and the diagonal
-  // is one open edge pushed from the first face.
-  EXPECT_EQ(r.corners.size(), 2u);
+  ASSERT_EQ(r.corners.size(), 2u);
+  for (CornerSymbol x : r.corners) EXPECT_TRUE(x == CornerSymbol::kFollow || x == CornerSymbol::kClose);
   EXPECT_TRUE(r.values.empty());
   EXPECT_EQ(std::count(r.open.begin(), r.open.end(), 1), 1);
-  expect_round_trip(g.p, c);
+  EXPECT_TRUE(c.regions.codes.glue.empty());
+  expect_round_trip(p, c);
 }
 
 // A pole: n triangles around a new vertex in an n-edge hole. One kNew; every other corner is on the hole
