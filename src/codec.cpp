@@ -10,6 +10,7 @@
 #include <system_error>
 #include <vector>
 
+#include "beside.h"
 #include "bytes.h"
 #include "codec_sections.h"
 #include "container.h"
@@ -198,21 +199,10 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
   auto check = [&quads = canonical.quads, nv, offset = p.topology->payload_offset] {
     (void)rebuilt_adjacency(quads, nv, offset);
   };
-  std::future<void> checked;
-  if (nf >= kCheckBesideFrom) {
-    try {
-      checked = std::async(std::launch::async, check);
-    } catch (const std::system_error&) {
-      // no thread to be had: the check runs after the geometry, on this one
-    }
-  }
+  std::future<void> checked = beside(nf >= kCheckBesideFrom, check);  // else after the geometry
   canonical.positions = to_layout_order(
       decode_geometry(p.geometry->payload, p.geometry->payload_offset, layout.stencil, nv), layout.coding);
-  if (checked.valid()) {
-    checked.get();
-  } else {
-    check();
-  }
+  checked.get();
   if (!p.order) return canonical;
 
   const OrderMap order_map = decode_order(p.order->payload, p.order->payload_offset, nv, nf);

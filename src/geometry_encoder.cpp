@@ -71,15 +71,16 @@ class GeometryEncoder {
   bool repeat(const Coordinate& c, std::int64_t value) {
     if (!h_.has(geometry_tool::kValueRepeats)) return false;
     RepeatRanks& ranks = ranks_[static_cast<std::size_t>(c.axis)];
+    const std::size_t slot = ranks.slot(value);
     bool hit = false;
     if (!ranks.empty()) {
-      const std::uint32_t k = ranks.rank_of(c.pred, value);
+      const std::uint32_t k = ranks.rank_of(c.pred, value, slot);
       // Stricter rules (rank 0 only, rank small against the residual) were measured worse overall.
       hit = k <= Repeats::kMaxRank;
       sink_.put({k, Symbol::kRepeat, static_cast<std::uint8_t>(c.context.kind),
                  static_cast<std::uint8_t>(c.previous), static_cast<std::uint8_t>(hit)});
     }
-    ranks.insert(value);
+    ranks.insert(slot);
     return hit;
   }
   void put_residual(std::uint64_t u, const Coordinate& c) {

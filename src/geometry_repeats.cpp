@@ -98,23 +98,30 @@ std::size_t RepeatRanks::index(std::int64_t v) const {
   return static_cast<std::size_t>(std::lower_bound(sorted_.begin(), sorted_.end(), v) - sorted_.begin());
 }
 
-void RepeatRanks::insert(std::int64_t v) {
+std::size_t RepeatRanks::slot(std::int64_t v) const {
   const std::size_t i = index(v);
   if (i == sorted_.size() || sorted_[i] != v)
     throw Error(ErrorCode::kInternal, "geometry: unplanned repeat value");
-  if (in_[i]) return;
-  in_[i] = 1;
-  set_.insert(i);
+  return i;
 }
 
-std::uint32_t RepeatRanks::rank_of(std::int64_t pred, std::int64_t v) const {
+void RepeatRanks::insert(std::size_t slot) {
+  if (in_[slot]) return;
+  in_[slot] = 1;
+  set_.insert(slot);
+}
+
+std::uint32_t RepeatRanks::rank_of(std::int64_t pred, std::int64_t v, std::size_t slot) const {
   constexpr std::uint32_t kMiss = Repeats::kMaxRank + 1;
-  if (!has(index(v), v)) return kMiss;
+  if (!in_[slot]) return kMiss;
   const std::int64_t d = v >= pred ? v - pred : pred - v;
   if (d == 0) return 0;
-  // Inserted values strictly closer than d: in (pred - d, pred + d).
-  std::size_t k = set_.rank(index(pred + d)) - set_.rank(index(pred - d + 1));
-  if (v > pred && has(index(pred - d), pred - d)) ++k;  // as close and smaller: it ranks first
+  // Inserted values strictly closer than d: in (pred - d, pred + d). One end is v itself, at `slot`.
+  const std::size_t lo = v < pred ? slot : index(pred - d);  // first planned value >= pred - d
+  const std::size_t hi = v > pred ? slot : index(pred + d);
+  const bool lo_planned = lo < sorted_.size() && sorted_[lo] == pred - d;
+  std::size_t k = set_.rank(hi) - set_.rank(lo + (lo_planned ? 1 : 0));
+  if (v > pred && lo_planned && in_[lo]) ++k;  // as close and smaller: it ranks first
   return static_cast<std::uint32_t>(std::min<std::size_t>(k, kMiss));
 }
 

@@ -58,18 +58,20 @@ class RepeatRanks {
   // `values`: every value the axis will insert, in any order, repeats allowed.
   explicit RepeatRanks(std::vector<std::int64_t> values);
   bool empty() const { return set_.empty(); }
-  // Adds v, which must be one of the planned values (else Error(kInternal)).
-  void insert(std::int64_t v);
-  // The rank of `v` from `pred` (values strictly closer, and as close but smaller), or
-  // Repeats::kMaxRank + 1 if `v` is not in the set or ranks beyond that.
-  std::uint32_t rank_of(std::int64_t pred, std::int64_t v) const;
+  // Where planned value v is kept, for rank_of and insert (one search for both); Error(kInternal) if
+  // v is not one of the planned values.
+  std::size_t slot(std::int64_t v) const;
+  // Adds the value at `slot`.
+  void insert(std::size_t slot);
+  // The rank of v, the value at `slot`, from `pred` (values strictly closer, and as close but
+  // smaller), or Repeats::kMaxRank + 1 if v is not in the set or ranks beyond that.
+  std::uint32_t rank_of(std::int64_t pred, std::int64_t v, std::size_t slot) const;
 
  private:
   std::size_t index(std::int64_t v) const;  // of the first planned value >= v
-  bool has(std::size_t i, std::int64_t v) const { return i < sorted_.size() && sorted_[i] == v && in_[i]; }
-  std::vector<std::int64_t> sorted_;  // the planned values, distinct
-  std::vector<std::uint8_t> in_;      // per planned value: inserted
-  OrderSet set_;                      // indices into sorted_ of the values inserted
+  std::vector<std::int64_t> sorted_;        // the planned values, distinct
+  std::vector<std::uint8_t> in_;            // per planned value: inserted
+  OrderSet set_;                            // indices into sorted_ of the values inserted
 };
 
 }  // namespace qsp

@@ -96,7 +96,7 @@ void before_rename() {
 // linked under a hidden temporary name and renamed over the target (named only between those two
 // calls). Returns false, having left nothing, where O_TMPFILE or /proc is unavailable.
 bool write_anonymous_then_link(const std::string& path, const std::string& dir, const std::string& name,
-                               std::string_view bytes, bool overwrite) {
+                               std::string_view bytes, bool overwrite, bool sync) {
 #ifdef O_TMPFILE
   const int fd = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
   if (fd < 0) {
@@ -111,7 +111,7 @@ bool write_anonymous_then_link(const std::string& path, const std::string& dir, 
     fail_errno(path, what, e);
   };
   if (!write_all(fd, bytes, &err)) fail_closed("cannot write", err);
-  if (::fsync(fd) != 0) fail_closed("cannot flush to disk", errno);
+  if (sync && ::fsync(fd) != 0) fail_closed("cannot flush to disk", errno);
   before_rename();
   const std::string self = "/proc/self/fd/" + std::to_string(fd);
   std::string target = path;
@@ -147,10 +147,10 @@ bool write_anonymous_then_link(const std::string& path, const std::string& dir, 
     }
     ::close(fd);
   }
-  sync_dir(dir);
+  if (sync) sync_dir(dir);  // the new name itself durable
   return true;
 #else
-  (void)path, (void)dir, (void)name, (void)bytes, (void)overwrite;
+  (void)path, (void)dir, (void)name, (void)bytes, (void)overwrite, (void)sync;
   return false;
 #endif
 }
@@ -309,7 +309,7 @@ Mesh read_mesh(const std::string& path, ReadNotes* notes, MeshFormat format) {
 
 void set_before_rename_hook(void (*hook)()) { before_rename_hook = hook; }
 
-void write_file_atomic(const std::string& path, std::string_view bytes, bool overwrite) {
+void write_file_atomic(const std::string& path, std::string_view bytes, bool overwrite, bool sync) {
   int err = 0;
   if (path == "-") {
     if (!write_all(STDOUT_FILENO, bytes, &err)) fail_errno("-", "cannot write standard output", err);
@@ -335,7 +335,7 @@ void write_file_atomic(const std::string& path, std::string_view bytes, bool ove
   const std::size_t slash = path.find_last_of('/');
   const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
   const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
-  if (write_anonymous_then_link(path, dir, name, bytes, overwrite)) return;
+  if (write_anonymous_then_link(path, dir, name, bytes, overwrite, sync)) return;
   // Hidden, and short enough for NAME_MAX whatever the target's name length.
   std::string temp = (dir == "/" ? "" : dir) + "/." + name.substr(0, 200) + ".tmp.XXXXXX";
   const int fd = ::mkstemp(temp.data());
@@ -357,7 +357,7 @@ void write_file_atomic(const std::string& path, std::string_view bytes, bool ove
     ::close(fd);
     fail_and_remove("cannot write", err);
   }
-  if (::fsync(fd) != 0) {
+  if (sync && ::fsync(fd) != 0) {
     err = errno;
     ::close(fd);
     fail_and_remove("cannot flush to disk", err);
@@ -378,8 +378,7 @@ void write_file_atomic(const std::string& path, std::string_view bytes, bool ove
       if (::rename(temp.c_str(), path.c_str()) != 0) fail_and_remove("cannot rename into place", errno);
     }
   }
-  // Make the rename itself durable.
-  sync_dir(dir);
+  if (sync) sync_dir(dir);  // the rename itself durable
 }
 
 }  // namespace qsp

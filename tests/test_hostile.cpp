@@ -608,58 +608,63 @@ std::string big_qsp() {
 // The CLI's test seam (QSP_TEST_STOP_BEFORE_RENAME=1) stops the process with the output complete in
 // its temporary file, just before it gets its name: a kill there is known to land inside the window.
 // It must leave nothing (or, with -f, the old file untouched); continued instead, the run finishes.
+// With and without --sync (which only adds the flushes before the name).
 TEST_F(AtomicOutput, KilledBeforeTheRenameLeavesNoPartialOrTemporaryFile) {
   spit(p("big.qsp"), big_qsp());
   fs::create_directory(p("ref"));
   ASSERT_EQ(run_child({"decompress", p("big.qsp"), p("ref/out.obj")}).exit_code, 0);
   const std::string expected = slurp(p("ref/out.obj"));
   fs::remove_all(p("ref"));
-  for (const bool force : {false, true}) {
-    for (const bool kill : {true, false}) {
-      SCOPED_TRACE(std::string(force ? "-f" : "no -f") + (kill ? ", killed" : ", continued"));
-      if (force) spit(p("out.obj"), "old");
-      std::string exe = QSP_CLI_PATH, a1 = "decompress", a2 = p("big.qsp"), a3 = p("out.obj"), f = "-f";
-      std::vector<char*> argv = {exe.data(), a1.data()};
-      if (force) argv.push_back(f.data());
-      argv.insert(argv.end(), {a2.data(), a3.data(), nullptr});
-      std::vector<std::string> env_text = {"QSP_TEST_STOP_BEFORE_RENAME=1"};
-      for (char** e = environ; *e; ++e) env_text.emplace_back(*e);
-      std::vector<char*> env;
-      for (auto& e : env_text) env.push_back(e.data());
-      env.push_back(nullptr);
-      pid_t pid = 0;
-      ASSERT_EQ(posix_spawn(&pid, exe.c_str(), nullptr, nullptr, argv.data(), env.data()), 0);
-      int status = 0;
-      ASSERT_EQ(::waitpid(pid, &status, WUNTRACED), pid);
-      ASSERT_TRUE(WIFSTOPPED(status)) << "the seam did not stop qsp (status " << status << ")";
-      // Stopped inside the window: the temporary is open (unnamed, or hidden), the output not there yet.
-      bool temporary_open = false;
-      for (const auto& e : fs::directory_iterator("/proc/" + std::to_string(pid) + "/fd")) {
-        std::error_code ec;
-        const std::string target = fs::read_symlink(e.path(), ec).string();
-        temporary_open |=
-            target.rfind(dir_.string() + "/", 0) == 0 && target.find("big.qsp") == std::string::npos;
-      }
-      EXPECT_TRUE(temporary_open) << "no temporary file open in " << dir_;
-      const std::vector<std::string> before =
-          force ? std::vector<std::string>{"big.qsp", "out.obj"} : std::vector<std::string>{"big.qsp"};
-      EXPECT_EQ(listing(dir_), before);
-      ::kill(pid, kill ? SIGKILL : SIGCONT);
-      ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-      if (kill) {
-        EXPECT_TRUE(WIFSIGNALED(status)) << status;
-        EXPECT_EQ(listing(dir_), before) << "a kill before the rename left something behind";
-        if (force) {
-          EXPECT_EQ(slurp(p("out.obj")), "old");
+  for (const bool sync : {false, true})  // flushed to disk before the name, or not: atomic either way
+    for (const bool force : {false, true}) {
+      for (const bool kill : {true, false}) {
+        SCOPED_TRACE(std::string(force ? "-f" : "no -f") + (sync ? " --sync" : "") +
+                     (kill ? ", killed" : ", continued"));
+        if (force) spit(p("out.obj"), "old");
+        std::string exe = QSP_CLI_PATH, a1 = "decompress", a2 = p("big.qsp"), a3 = p("out.obj"), f = "-f",
+                    s = "--sync";
+        std::vector<char*> argv = {exe.data(), a1.data()};
+        if (force) argv.push_back(f.data());
+        if (sync) argv.push_back(s.data());
+        argv.insert(argv.end(), {a2.data(), a3.data(), nullptr});
+        std::vector<std::string> env_text = {"QSP_TEST_STOP_BEFORE_RENAME=1"};
+        for (char** e = environ; *e; ++e) env_text.emplace_back(*e);
+        std::vector<char*> env;
+        for (auto& e : env_text) env.push_back(e.data());
+        env.push_back(nullptr);
+        pid_t pid = 0;
+        ASSERT_EQ(posix_spawn(&pid, exe.c_str(), nullptr, nullptr, argv.data(), env.data()), 0);
+        int status = 0;
+        ASSERT_EQ(::waitpid(pid, &status, WUNTRACED), pid);
+        ASSERT_TRUE(WIFSTOPPED(status)) << "the seam did not stop qsp (status " << status << ")";
+        // Stopped inside the window: the temporary is open (unnamed, or hidden), the output not there yet.
+        bool temporary_open = false;
+        for (const auto& e : fs::directory_iterator("/proc/" + std::to_string(pid) + "/fd")) {
+          std::error_code ec;
+          const std::string target = fs::read_symlink(e.path(), ec).string();
+          temporary_open |=
+              target.rfind(dir_.string() + "/", 0) == 0 && target.find("big.qsp") == std::string::npos;
         }
-      } else {
-        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
-        EXPECT_EQ(listing(dir_), (std::vector<std::string>{"big.qsp", "out.obj"}));
-        EXPECT_TRUE(slurp(p("out.obj")) == expected) << "complete output differs";
+        EXPECT_TRUE(temporary_open) << "no temporary file open in " << dir_;
+        const std::vector<std::string> before =
+            force ? std::vector<std::string>{"big.qsp", "out.obj"} : std::vector<std::string>{"big.qsp"};
+        EXPECT_EQ(listing(dir_), before);
+        ::kill(pid, kill ? SIGKILL : SIGCONT);
+        ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+        if (kill) {
+          EXPECT_TRUE(WIFSIGNALED(status)) << status;
+          EXPECT_EQ(listing(dir_), before) << "a kill before the rename left something behind";
+          if (force) {
+            EXPECT_EQ(slurp(p("out.obj")), "old");
+          }
+        } else {
+          EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+          EXPECT_EQ(listing(dir_), (std::vector<std::string>{"big.qsp", "out.obj"}));
+          EXPECT_TRUE(slurp(p("out.obj")) == expected) << "complete output differs";
+        }
+        fs::remove(p("out.obj"));
       }
-      fs::remove(p("out.obj"));
     }
-  }
 }
 
 // A write that fails part-way (file size limit: EFBIG, as a full disk gives ENOSPC) is reported, the

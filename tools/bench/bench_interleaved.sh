@@ -1,59 +1,73 @@
 #!/usr/bin/env bash
-# Whole-process times of qsp and Draco on one mesh, the four commands run in turn ROUNDS times, so a
-# slow minute on a shared machine hits every command alike; prints min and median wall and user time
-# and the Draco/qsp ratios of both. (bench_codec.sh runs each command's hyperfine series back to back,
-# and on a noisy 2-core machine its ratios moved from 1.2x to 2.2x between runs.)
+# Whole-process wall times of qsp and Draco, the issue-18 way: per mesh, qsp compress and
+# draco_encoder run in turn ROUNDS times (A B A B ..., after a warm-up of each), the ratio taken pair by
+# pair and its median printed; the same for qsp decompress and draco_decoder. A slow minute on a shared
+# machine then hits both commands of a pair alike. Times come from bash's EPOCHREALTIME (microseconds:
+# GNU time's 10 ms steps are a quarter of a small mesh's run).
 #
-#   tools/bench/bench_interleaved.sh [MESH.obj]     default ../shared/meshes/mh_female_generic_cc2.obj
+#   tools/bench/bench_interleaved.sh [MESH.obj ...]
+#       default: ../shared/meshes/{keenan_spot_quadrangulated, quadriflow_gargoyle, mh_female_generic,
+#       mh_base, mh_female_generic_cc2}.obj, issue 18's five
 #
-# Environment: QSP (default build/qsp), ROUNDS (default 10), BITS (default 14), QSP_OTHER (optional: a
-# second qsp binary, e.g. a build of the previous format version, run in the same rounds; each
-# binary decompresses its own file).
-# Needs: draco (draco_encoder, draco_decoder), GNU time (/usr/bin/time).
+# Input: a positions-only OBJ both tools read the same way (v and f lines, vertex indices only).
+# Commands: `qsp compress -f [LEVEL] --quantize BITS` against `draco_encoder -qp BITS -cl 7
+# -preserve_polygons`; `qsp decompress -f` against `draco_decoder`, both writing OBJ.
+# Environment: QSP (default build/qsp), ROUNDS (default 15), BITS (default 14), LEVEL (default: none,
+# the default level; e.g. -9), QSP_OTHER (optional: a second qsp binary, paired against QSP instead of
+# Draco, e.g. the previous commit's build).
+# Needs: draco (draco_encoder, draco_decoder), bash 5, python3.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
-mesh=${1:-$root/../shared/meshes/mh_female_generic_cc2.obj}
+shared=$root/../shared/meshes
 QSP=${QSP:-$root/build/qsp}
 QSP_OTHER=${QSP_OTHER:-}
-ROUNDS=${ROUNDS:-10}
+ROUNDS=${ROUNDS:-15}
 BITS=${BITS:-14}
+LEVEL=${LEVEL:-}
+meshes=("$@")
+if ((${#meshes[@]} == 0)); then
+  for n in keenan_spot_quadrangulated quadriflow_gargoyle mh_female_generic mh_base mh_female_generic_cc2; do
+    meshes+=("$shared/$n.obj")
+  done
+fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-# Positions-only input both tools read the same way (v and f lines, vertex indices only).
-awk '/^v /{print $1, $2, $3, $4} /^f /{printf "f"; for (i = 2; i <= NF; ++i) {split($i, a, "/"); printf " %s", a[1]} print ""}' \
-  "$mesh" > "$work/in.obj"
-run() {  # label, command...
-  local label=$1
-  shift
-  /usr/bin/time -f "$label %e %U" "$@" > /dev/null 2>> "$work/times" || { echo "failed: $*" >&2; exit 1; }
+
+elapsed() {  # command... ; prints its wall time in seconds
+  local t0=$EPOCHREALTIME
+  "$@" > /dev/null 2>&1 || { echo "failed: $*" >&2; exit 1; }
+  local t1=$EPOCHREALTIME
+  echo "${t0/[.,]/} ${t1/[.,]/}" | awk '{printf "%.6f\n", ($2 - $1) / 1e6}'
 }
-for ((r = 0; r < ROUNDS; ++r)); do
-  run draco_encoder draco_encoder -i "$work/in.obj" -o "$work/d.drc" -qp "$BITS" -cl 7 -preserve_polygons
-  run qsp_compress "$QSP" compress -f --quantize "$BITS" "$work/in.obj" "$work/q.qsp"
-  run draco_decoder draco_decoder -i "$work/d.drc" -o "$work/d.obj"
-  run qsp_decompress "$QSP" decompress -f "$work/q.qsp" "$work/q.obj"
+
+printf '%-28s %7s | %9s %9s %7s | %9s %9s %7s\n' mesh V "compress" "vs" "ratio" "decomp." "vs" "ratio"
+for mesh in "${meshes[@]}"; do
+  name=$(basename "$mesh" .obj)
+  awk '/^v /{print $1, $2, $3, $4} /^f /{printf "f"; for (i = 2; i <= NF; ++i) {split($i, a, "/"); printf " %s", a[1]} print ""}' \
+    "$mesh" > "$work/in.obj"
+  qc=("$QSP" compress -f $LEVEL --quantize "$BITS" "$work/in.obj" "$work/q.qsp")
+  qd=("$QSP" decompress -f "$work/q.qsp" "$work/q.obj")
   if [ -n "$QSP_OTHER" ]; then
-    run other_compress "$QSP_OTHER" compress -f --quantize "$BITS" "$work/in.obj" "$work/o.qsp"
-    run other_decompress "$QSP_OTHER" decompress -f "$work/o.qsp" "$work/o.obj"
+    bc=("$QSP_OTHER" compress -f $LEVEL --quantize "$BITS" "$work/in.obj" "$work/o.qsp")
+    bd=("$QSP_OTHER" decompress -f "$work/o.qsp" "$work/o.obj")
+  else
+    bc=(draco_encoder -i "$work/in.obj" -o "$work/d.drc" -qp "$BITS" -cl 7 -preserve_polygons)
+    bd=(draco_decoder -i "$work/d.drc" -o "$work/d.obj")
   fi
-done
-grep -E '^(draco_|qsp_|other_)' "$work/times" | python3 -c '
+  : > "$work/t"
+  for ((r = -1; r < ROUNDS; ++r)); do  # round -1: the warm-up, not counted
+    a=$(elapsed "${qc[@]}"); b=$(elapsed "${bc[@]}"); c=$(elapsed "${qd[@]}"); d=$(elapsed "${bd[@]}")
+    ((r >= 0)) && echo "$a $b $c $d" >> "$work/t"
+  done
+  v=$(grep -c '^v ' "$work/in.obj")
+  python3 - "$work/t" "$name" "$v" <<'PY'
 import sys, statistics as st
-t = {}
-for line in sys.stdin:
-    k, wall, user = line.split()
-    t.setdefault(k, []).append((float(wall), float(user)))
-print("%-16s %9s %12s %9s %12s  (runs: %d)" % ("command", "min wall", "median wall", "min user", "median user", len(t["qsp_compress"])))
-for k in ("draco_encoder", "qsp_compress", "other_compress", "draco_decoder", "qsp_decompress", "other_decompress"):
-    if k not in t:
-        continue
-    w = [x[0] for x in t[k]]; u = [x[1] for x in t[k]]
-    print(f"{k:16s} {min(w):9.2f} {st.median(w):12.2f} {min(u):9.2f} {st.median(u):12.2f}")
-for a, b in (("draco_encoder", "qsp_compress"), ("draco_decoder", "qsp_decompress"),
-             ("draco_encoder", "other_compress"), ("draco_decoder", "other_decompress")):
-    if b not in t:
-        continue
-    wa = [x[0] for x in t[a]]; wb = [x[0] for x in t[b]]
-    print(f"{a} / {b}: {min(wa) / min(wb):.2f}x by min wall, {st.median(wa) / st.median(wb):.2f}x by median wall")
-'
+rows = [list(map(float, l.split())) for l in open(sys.argv[1])]
+med = lambda k: st.median(r[k] for r in rows) * 1000
+ratio = lambda a, b: st.median(r[a] / r[b] for r in rows)
+print(f"{sys.argv[2]:28s} {int(sys.argv[3]):7d} | {med(0):7.1f}ms {med(1):7.1f}ms {ratio(0, 1):6.2f}x"
+      f" | {med(2):7.1f}ms {med(3):7.1f}ms {ratio(2, 3):6.2f}x")
+PY
+done
+echo "(median wall of $ROUNDS rounds each; ratio = qsp / $([ -n "$QSP_OTHER" ] && echo "$QSP_OTHER" || echo Draco), median of the per-round ratios)"

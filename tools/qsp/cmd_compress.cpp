@@ -19,6 +19,7 @@ struct CompressOptions {
   FileArgs files;
   std::string input_format;  // obj, off, ply; "" = by name, else detected
   bool force = false;
+  bool sync = false;
   Verbosity verbosity;
   std::uint32_t quantize = 0;
   bool keep_order = false;
@@ -97,7 +98,7 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   } catch (const Error& e) {
     rethrow_located(e, in, report);  // topology errors name a face: say file:line
   }
-  write_output(job.output, bytes, {o.force, quiet, other_ways(job)});
+  write_output(job.output, bytes, {o.force, quiet, other_ways(job), o.sync});
   if (lossless_size && bytes.size() >= lossless_size)
     std::fprintf(stderr,
                  "qsp: warning: %s: at --quantize %u the file is %zu bytes, not smaller than lossless (%llu "
@@ -138,6 +139,7 @@ void register_compress(CLI::App& app, int& rc) {
   add_file_args(sub, opt->files, "Input meshes (IN.qsp is written beside each)", "ending in .qsp");
   add_format_option(sub, opt->input_format);
   sub->add_flag("-f,--force", opt->force, "Replace outputs that exist (never an input)");
+  add_sync_flag(sub, opt->sync);
   add_verbosity_flags(sub, opt->verbosity);
   sub->add_option("--partition", opt->partition,
                   "Structured partition to store (all canonical): auto (default: the level decides; "

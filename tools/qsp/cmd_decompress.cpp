@@ -18,6 +18,7 @@ namespace {
 struct DecompressOptions {
   FileArgs files;
   bool force = false;
+  bool sync = false;
   Verbosity verbosity;
   std::uint64_t max_vertices = DecodeLimits{}.max_vertices;
   std::uint64_t max_faces = DecodeLimits{}.max_faces;
@@ -56,7 +57,7 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
   limits.max_faces = o.max_faces;
   const QuadMesh mesh = decode_named(bytes, job.input, limits);
   const std::string text = format == MeshFormat::kOff ? write_off(mesh) : write_obj(mesh);
-  write_output(job.output, text, {o.force, o.verbosity.quiet, other_ways(job)});
+  write_output(job.output, text, {o.force, o.verbosity.quiet, other_ways(job), o.sync});
   if (o.verbosity.verbose && !o.verbosity.quiet) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const FileInfo info = inspect(bytes, limits);
@@ -90,6 +91,7 @@ void register_decompress(CLI::App& app, int& rc) {
                 "Input .qsp files (IN without .qsp, .obj added if needed, is written beside each)",
                 "ending in .obj or .off");
   sub->add_flag("-f,--force", opt->force, "Replace outputs that exist (never an input)");
+  add_sync_flag(sub, opt->sync);
   add_verbosity_flags(sub, opt->verbosity);
   sub->add_option("--max-vertices", opt->max_vertices, "Refuse files declaring more vertices (default 2^26)");
   sub->add_option("--max-faces", opt->max_faces, "Refuse files declaring more faces (default 2^26)");

@@ -18,6 +18,7 @@ struct LayoutOptions {
   std::string partition;  // "" = the input's default (see load_partitioned)
   std::string format;     // --format for standard input
   bool force = false;
+  bool sync = false;
 };
 
 void run(const LayoutOptions& o) {
@@ -33,7 +34,7 @@ void run(const LayoutOptions& o) {
   if (!o.patches.empty()) outputs.push_back({o.patches, "--patches"});
   check_outputs({o.input}, outputs);
   // Both outputs are checked before either is written, so a refusal leaves neither behind.
-  const WriteOptions wo{o.force, false, "name another output"};
+  const WriteOptions wo{o.force, false, "name another output", o.sync};
   refuse_existing(outputs, wo);
   const PartitionedMesh pm = load_partitioned(o.input, o.partition, parse_format_option(o.format));
   const std::string header = describe(o.input, pm);
@@ -66,6 +67,7 @@ void register_layout(CLI::App& app, int& rc) {
       ->check(CLI::IsMember({"motorcycle", "greedy", "merge", "auto", "stored"}));
   add_format_option(sub, opt->format);
   sub->add_flag("-f,--force", opt->force, "Replace outputs that exist (never the input)");
+  add_sync_flag(sub, opt->sync);
   sub->callback([opt, &rc] {
     run(*opt);
     rc = 0;

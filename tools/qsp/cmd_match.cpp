@@ -28,6 +28,7 @@ struct MatchCliOptions {
   Centering centering = Centering::kComponent;
   std::uint32_t max_evaluations = MatchOptions{}.max_full_evaluations;
   bool force = false;
+  bool sync = false;
   bool quiet = false;
   bool allow_mirror = false;  // also accept orientation-reversing isomorphisms
   bool prefer_order = false;  // MatchOptions::prefer_order
@@ -114,7 +115,7 @@ int run(const MatchCliOptions& o) {
     if (!o.quiet) std::fprintf(report, "not isomorphic: %s\n", name_meshes(r.reason, o.a, o.b).c_str());
     return exit_code(Outcome::kDiffer, Answers::kCompare);
   }
-  const WriteOptions wo{o.force, o.quiet, "name another output"};
+  const WriteOptions wo{o.force, o.quiet, "name another output", o.sync};
   refuse_existing(outputs, wo);  // both maps or neither
   if (!o.map.empty()) write_output(o.map, vertex_map_text(r), wo);
   if (!o.face_map.empty()) write_output(o.face_map, face_map_text(r), wo);
@@ -157,6 +158,7 @@ void register_match(CLI::App& app, int& rc) {
       "--faces", opt->face_map,
       "Write the face map: line f = \"G R\", A's face f is B's face G, corner c is B's corner (c+R)%4");
   cmd->add_flag("-f,--force", opt->force, "Replace MAP / FACEMAP if they exist (never an input)");
+  add_sync_flag(cmd, opt->sync);
   add_format_option(cmd, opt->format);
   add_centering_option(cmd, opt->centering);
   cmd->add_option("--max-evaluations", opt->max_evaluations,

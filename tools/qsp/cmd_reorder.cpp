@@ -22,6 +22,7 @@ struct ReorderOptions {
   std::string format;  // --format for standard input
   Centering centering = Centering::kComponent;
   bool force = false;
+  bool sync = false;
   bool positions_only = false;
   bool float32 = false;       // round coordinates float32 does not hold instead of refusing
   bool prefer_order = false;  // MatchOptions::prefer_order
@@ -74,7 +75,7 @@ int run(const ReorderOptions& o) {
   } else {
     bytes = format == MeshFormat::kOff ? write_off(out) : write_obj(out);
   }
-  write_output(o.output, bytes, {o.force, false, "name another output (-o NAME)"});
+  write_output(o.output, bytes, {o.force, false, "name another output (-o NAME)", o.sync});
   return exit_code(Outcome::kSuccess);
 }
 
@@ -90,6 +91,7 @@ void register_reorder(CLI::App& app, int& rc) {
                   "Output .obj, .off or .qsp (keeps the order) (- = OBJ on stdout)")
       ->required();
   cmd->add_flag("-f,--force", opt->force, "Replace OUT if it exists (never an input)");
+  add_sync_flag(cmd, opt->sync);
   add_format_option(cmd, opt->format);
   add_centering_option(cmd, opt->centering);
   cmd->add_flag("--allow-mirror", opt->allow_mirror,

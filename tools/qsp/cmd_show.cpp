@@ -23,6 +23,7 @@ struct ShowOptions {
   std::string format;     // --format for standard input
   bool grid = false;
   bool force = false;
+  bool sync = false;
 };
 
 bool ends_with(const std::string& s, const char* tail) {
@@ -64,7 +65,7 @@ void run(const ShowOptions& o) {
     throw CLI::ValidationError("-o must name a .png or .svg file, not '" + o.output + "'");
   const RenderOptions ro = parse_render_options(o);
   check_outputs({o.input}, {{o.output, "-o"}});
-  const WriteOptions wo{o.force, false, "name another output (-o NAME)"};
+  const WriteOptions wo{o.force, false, "name another output (-o NAME)", o.sync};
   refuse_existing({{o.output, "-o"}}, wo);  // before the work, not after
   const PartitionedMesh pm = load_partitioned(o.input, o.partition, parse_format_option(o.format));
   const std::string bytes =
@@ -88,6 +89,7 @@ void register_show(CLI::App& app, int& rc) {
   add_format_option(sub, opt->format);
   sub->add_flag("--grid", opt->grid, "Also draw the mesh edges");
   sub->add_flag("-f,--force", opt->force, "Replace the output if it exists (never the input)");
+  add_sync_flag(sub, opt->sync);
   sub->callback([opt, &rc] {
     run(*opt);
     rc = 0;

@@ -108,7 +108,7 @@ void refuse_existing(const std::vector<Output>& outputs, const WriteOptions& o) 
 }
 
 void write_output(const std::string& path, std::string_view bytes, const WriteOptions& o) {
-  if (path == "-") return write_file_atomic(path, bytes, true);
+  if (path == "-") return write_file_atomic(path, bytes, true);  // nothing to flush
   struct stat st {};
   const bool exists = check_writable(path, o, st);
   if (exists && S_ISLNK(st.st_mode)) {
@@ -117,9 +117,16 @@ void write_output(const std::string& path, std::string_view bytes, const WriteOp
     if (!o.quiet)
       std::fprintf(stderr, "qsp: %s is a symbolic link: writing through it to %s (the link stays)\n",
                    path.c_str(), target.c_str());
-    return write_file_atomic(target, bytes, true);
+    return write_file_atomic(target, bytes, true, o.sync);
   }
-  write_file_atomic(path, bytes, o.force);
+  write_file_atomic(path, bytes, o.force, o.sync);
+}
+
+void add_sync_flag(CLI::App* command, bool& sync) {
+  command->add_flag("--sync", sync,
+                    "Flush each output to disk before giving it its name, so a power cut cannot leave it "
+                    "short (slower; as gzip --synchronous). Without it an interrupted run still leaves "
+                    "no partial file");
 }
 
 MeshFormat parse_format_option(const std::string& value) {

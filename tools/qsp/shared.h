@@ -63,7 +63,11 @@ struct WriteOptions {
   bool force = false;
   bool quiet = false;
   std::string other_ways = "-o NAME";
+  bool sync = false;  // --sync: flushed to disk before it gets its name (write_file_atomic)
 };
+
+// --sync, for every command that writes files: one flag, one help text.
+void add_sync_flag(CLI::App* command, bool& sync);
 
 // Writes `bytes` to `path` atomically (qsp::write_file_atomic). An existing file is refused (kIo)
 // unless `force`, the message naming -f and `other_ways`. A symbolic link is written through (its
