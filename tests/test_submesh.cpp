@@ -22,27 +22,16 @@
 #include "qsp/partition.h"
 #include "qsp/submesh.h"
 #include "support/corpus.h"
+#include "support/polygon.h"
 #include "support/schematic_counts.h"
 
 namespace qsp {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::Grid;
+using testing::Poly;
 using Sizes = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
-
-// A polygon mesh as the plain arrays the API takes.
-struct Poly {
-  std::vector<std::uint32_t> offsets{0}, corners;
-  std::uint32_t nv = 0;
-  std::vector<float> positions;
-
-  void face(std::initializer_list<std::uint32_t> vs) {
-    corners.insert(corners.end(), vs.begin(), vs.end());
-    offsets.push_back(static_cast<std::uint32_t>(corners.size()));
-  }
-  std::uint32_t face_count() const { return static_cast<std::uint32_t>(offsets.size() - 1); }
-  std::uint32_t degree(std::uint32_t f) const { return offsets[f + 1] - offsets[f]; }
-};
 
 QuadSubmesh submesh(const Poly& p) { return quad_submesh(p.offsets, p.corners, p.nv, p.positions); }
 
@@ -56,31 +45,6 @@ QuadSubmesh checked(const Poly& p) {
   check_cut(p);
   return s;
 }
-
-// A (w x h)-cell grid; vertex (x, y) is y * (w + 1) + x. cell() adds cell (i, j) = [i,i+1]x[j,j+1] as a
-// counter-clockwise quad; split() adds it as two triangles along the diagonal (i+1,j)-(i,j+1).
-struct Grid {
-  int w, h;
-  Poly p;
-  Grid(int w_, int h_) : w(w_), h(h_) { p.nv = static_cast<std::uint32_t>((w + 1) * (h + 1)); }
-  std::uint32_t id(int x, int y) const { return static_cast<std::uint32_t>(y * (w + 1) + x); }
-  void cell(int i, int j) { p.face({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)}); }
-  void split(int i, int j) {
-    p.face({id(i, j), id(i + 1, j), id(i, j + 1)});
-    p.face({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
-  }
-  template <class Kind>  // Kind(i, j): 'q' quad, 't' two triangles, anything else: no face
-  static Grid make(int w, int h, Kind kind) {
-    Grid g(w, h);
-    for (int j = 0; j < h; ++j)
-      for (int i = 0; i < w; ++i) {
-        const char k = kind(i, j);
-        if (k == 'q') g.cell(i, j);
-        if (k == 't') g.split(i, j);
-      }
-    return g;
-  }
-};
 
 // The motorcycle partition of the quad submesh, validated, as counts (schematic vertices, edges,
 // patches, holes, sizes, kinds), and its extraordinary vertices as original vertex indices.
@@ -495,25 +459,12 @@ TEST(Submesh, HostileShapesCostTheirSize) {
   EXPECT_EQ(b.counts.cut_vertices, 2u);
   EXPECT_EQ(b.counts.extra_copies, 2 * (n - 1));
   EXPECT_EQ(b.adjacency.component_count, n);
-  Poly fan;  // around vertex 0: quad (0, r_i, x_i, r_i+1) for even i, triangle (0, r_i, r_i+1) for odd i
-  fan.nv = 1 + 2 * n;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const std::uint32_t a = 1 + i, z = 1 + (i + 1) % n;
-    if (i % 2)
-      fan.face({0, a, z});
-    else
-      fan.face({0, a, 1 + n + i, z});
-  }
+  const Poly fan = testing::alternating_fan(n);
   const QuadSubmesh f = checked(fan);
   EXPECT_EQ(f.regions.size(), n / 2);
   EXPECT_EQ(f.counts.cut_vertices, 1u);
   EXPECT_EQ(f.counts.extra_copies, n / 2 - 1);
-  Poly ngon;
-  ngon.nv = n + 2;
-  ngon.corners.resize(n);
-  std::iota(ngon.corners.begin(), ngon.corners.end(), 0u);
-  ngon.offsets.push_back(n);
-  ngon.face({1, 0, n, n + 1});
+  const Poly ngon = testing::ngon_with_a_quad(n);
   const QuadSubmesh g = checked(ngon);
   ASSERT_EQ(g.regions.size(), 1u);
   EXPECT_EQ(g.regions[0].interior.size(), n - 2);
@@ -565,29 +516,6 @@ TEST(Submesh, RefusesWhatIsNotAMesh) {
 
 // ---- Properties.
 
-// Renumbering vertices and faces and rotating corner lists changes the numbers, not the structure.
-Poly shuffled(const Poly& p, std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::vector<std::uint32_t> vperm(p.nv), order(p.face_count());
-  std::iota(vperm.begin(), vperm.end(), 0u);
-  std::iota(order.begin(), order.end(), 0u);
-  std::shuffle(vperm.begin(), vperm.end(), rng);
-  std::shuffle(order.begin(), order.end(), rng);
-  Poly out;
-  out.nv = p.nv;
-  if (!p.positions.empty()) {
-    out.positions.resize(p.positions.size());
-    for (std::uint32_t v = 0; v < p.nv; ++v)
-      for (int k = 0; k < 3; ++k) out.positions[3 * vperm[v] + k] = p.positions[3 * v + k];
-  }
-  for (std::uint32_t f : order) {
-    const std::uint32_t d = p.degree(f), r = rng() % d;
-    for (std::uint32_t i = 0; i < d; ++i) out.corners.push_back(vperm[p.corners[p.offsets[f] + (i + r) % d]]);
-    out.offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
-  }
-  return out;
-}
-
 // What must not change under renumbering: the canonical codes of the quad submesh's partition, the
 // counts, and each region's face degrees, interior size and number of loops.
 struct Shape {
@@ -619,40 +547,17 @@ Shape shape(const Poly& p, const QuadSubmesh& s) {
 void expect_invariant(const Poly& p, int rounds = 3) {
   const Shape base = shape(p, submesh(p));
   for (int round = 0; round < rounds; ++round) {
-    const Poly q = shuffled(p, 1234 + round);
+    const Poly q = testing::shuffled(p, 1234 + round);
     const QuadSubmesh s = checked(q);
     EXPECT_TRUE(shape(q, s) == base) << "round " << round;
   }
 }
 
-// Small meshes made here, including every hand-checked case above.
-std::vector<Poly> hand_meshes() {
-  std::vector<Poly> out;
-  out.push_back(Grid::make(5, 4, [](int i, int j) {
-                  return i == 0 && j == 3 ? '.' : j == 1 && i <= 1 ? 't' : 'q';
-                }).p);
-  out.push_back(
-      Grid::make(4, 4, [](int i, int j) { return (i == 2 && j == 2) || (i == 1 && j == 1) ? 't' : 'q'; }).p);
-  Grid flipped = Grid::make(3, 3, [](int i, int j) { return i == 1 && j == 1 ? '.' : 'q'; });
-  flipped.p.face({flipped.id(1, 1), flipped.id(1, 2), flipped.id(2, 2), flipped.id(2, 1)});
-  out.push_back(flipped.p);
-  Grid fin = Grid::make(2, 2, [](int, int) { return 'q'; });
-  fin.p.nv = 11;
-  fin.p.face({fin.id(1, 0), fin.id(1, 1), 10, 9});
-  out.push_back(fin.p);
-  // A checkerboard of quads and triangle pairs: many cut vertices, many small regions.
-  out.push_back(Grid::make(7, 5, [](int i, int j) { return (i + j) % 2 ? 't' : 'q'; }).p);
-  // Random mixtures of quads, triangles and holes.
-  for (std::uint32_t seed = 1; seed <= 8; ++seed) {
-    std::mt19937 rng(seed);
-    const char kinds[] = {'q', 'q', 'q', 't', '.'};
-    out.push_back(Grid::make(9, 7, [&](int, int) { return kinds[rng() % 5]; }).p);
-  }
-  return out;
-}
-
 TEST(Submesh, RenumberingGivesAnIsomorphicResult) {
-  for (const Poly& p : hand_meshes()) expect_invariant(p);
+  for (const auto& [name, p] : testing::hand_polygon_cases()) {
+    SCOPED_TRACE(name);
+    expect_invariant(p);
+  }
 }
 
 TEST(Submesh, AllQuadManifoldMeshComesOutAsItself) {
@@ -664,54 +569,7 @@ TEST(Submesh, AllQuadManifoldMeshComesOutAsItself) {
   EXPECT_EQ(s.counts.cut_vertices + s.counts.cut_edges + s.counts.extra_copies, 0u);
 }
 
-// ---- The shared meshes, read here (faces of any degree) from OBJ and OFF.
-
-Poly read_faces(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  Poly p;
-  if (path.extension() == ".off") {
-    std::stringstream text;
-    for (std::string line; std::getline(in, line);) text << line.substr(0, line.find('#')) << '\n';
-    std::string magic;
-    std::uint64_t nv = 0, nf = 0, ne = 0;
-    text >> magic >> nv >> nf >> ne;
-    p.nv = static_cast<std::uint32_t>(nv);
-    p.positions.resize(3 * nv);
-    for (auto& x : p.positions) text >> x;
-    for (std::uint64_t f = 0; f < nf; ++f) {
-      std::uint32_t d = 0;
-      text >> d;
-      for (std::uint32_t i = 0; i < d; ++i) {
-        std::uint32_t v = 0;
-        text >> v;
-        p.corners.push_back(v);
-      }
-      p.offsets.push_back(static_cast<std::uint32_t>(p.corners.size()));
-    }
-    EXPECT_FALSE(text.fail()) << path;
-    return p;
-  }
-  for (std::string line; std::getline(in, line);) {
-    std::istringstream ls(line);
-    std::string key;
-    ls >> key;
-    if (key == "v") {
-      for (int k = 0; k < 3; ++k) {
-        float x = 0;
-        ls >> x;
-        p.positions.push_back(x);
-      }
-      ++p.nv;
-    } else if (key == "f") {
-      for (std::string tok; ls >> tok;) {
-        const long i = std::stol(tok.substr(0, tok.find('/')));
-        p.corners.push_back(static_cast<std::uint32_t>(i < 0 ? p.nv + i : i - 1));
-      }
-      p.offsets.push_back(static_cast<std::uint32_t>(p.corners.size()));
-    }
-  }
-  return p;
-}
+// ---- The shared meshes, read by testing::read_faces (faces of any degree).
 
 // Independent counts of what rule 1 cuts: edges with 3+ faces, and 2-face edges traversed one way.
 std::pair<std::uint32_t, std::uint32_t> nonmanifold_and_flipped(const Poly& p) {
@@ -771,7 +629,7 @@ TEST(Submesh, EverySharedMeshGivesAValidQuadSubmesh) {
       SCOPED_TRACE(path.string());
       const auto row = manifest.find(path.filename().string());
       ASSERT_NE(row, manifest.end());
-      const Poly p = read_faces(path);
+      const Poly p = testing::read_faces(path);
       ++files;
       EXPECT_EQ(num(p.nv), num(row->second, "V"));
       EXPECT_EQ(num(p.face_count()), num(row->second, "F"));
@@ -818,7 +676,7 @@ TEST(Submesh, SharedMeshesRenumberedGiveAnIsomorphicResult) {
   int renumbered = 0;
   for (const fs::path& path : testing::shared_meshes()) {
     SCOPED_TRACE(path.string());
-    const Poly p = read_faces(path);
+    const Poly p = testing::read_faces(path);
     if (p.face_count() > 40000) continue;  // the larger ones add time, not cases
     try {
       (void)cut_manifold(p.offsets, p.corners, p.nv);

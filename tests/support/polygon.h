@@ -1,0 +1,282 @@
+// Polygon meshes for tests: plain arrays (faces of any degree), grids to carve cases from, a reader of
+// faces of any degree (qsp's OBJ reader refuses non-quads), renumbered copies, and the hand-made cases
+// of tests/test_submesh.cpp by name.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <numeric>
+#include <random>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace qsp::testing {
+
+// A polygon mesh as the plain arrays the API takes.
+struct Poly {
+  std::vector<std::uint32_t> offsets{0}, corners;
+  std::uint32_t nv = 0;
+  std::vector<float> positions;
+
+  void face(std::initializer_list<std::uint32_t> vs) {
+    corners.insert(corners.end(), vs.begin(), vs.end());
+    offsets.push_back(static_cast<std::uint32_t>(corners.size()));
+  }
+  std::uint32_t face_count() const { return static_cast<std::uint32_t>(offsets.size() - 1); }
+  std::uint32_t degree(std::uint32_t f) const { return offsets[f + 1] - offsets[f]; }
+};
+
+// A (w x h)-cell grid; vertex (x, y) is y * (w + 1) + x. cell() adds cell (i, j) = [i,i+1]x[j,j+1] as a
+// counter-clockwise quad; split() adds it as two triangles along the diagonal (i+1,j)-(i,j+1).
+struct Grid {
+  int w, h;
+  Poly p;
+  Grid(int w_, int h_) : w(w_), h(h_) { p.nv = static_cast<std::uint32_t>((w + 1) * (h + 1)); }
+  std::uint32_t id(int x, int y) const { return static_cast<std::uint32_t>(y * (w + 1) + x); }
+  void cell(int i, int j) { p.face({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)}); }
+  void split(int i, int j) {
+    p.face({id(i, j), id(i + 1, j), id(i, j + 1)});
+    p.face({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+  }
+  template <class Kind>  // Kind(i, j): 'q' quad, 't' two triangles, anything else: no face
+  static Grid make(int w, int h, Kind kind) {
+    Grid g(w, h);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        const char k = kind(i, j);
+        if (k == 'q') g.cell(i, j);
+        if (k == 't') g.split(i, j);
+      }
+    return g;
+  }
+};
+
+// Around vertex 0, n faces alternating a quad (0, r_i, x_i, r_i+1) for even i and a triangle
+// (0, r_i, r_i+1) for odd i: one vertex cut into n / 2 copies, n / 2 one-quad components.
+inline Poly alternating_fan(std::uint32_t n) {
+  Poly fan;
+  fan.nv = 1 + 2 * n;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t a = 1 + i, z = 1 + (i + 1) % n;
+    if (i % 2)
+      fan.face({0, a, z});
+    else
+      fan.face({0, a, 1 + n + i, z});
+  }
+  return fan;
+}
+
+// An n-gon (vertices 0 .. n-1) with one quad on its edge 0-1.
+inline Poly ngon_with_a_quad(std::uint32_t n) {
+  Poly ngon;
+  ngon.nv = n + 2;
+  ngon.corners.resize(n);
+  std::iota(ngon.corners.begin(), ngon.corners.end(), 0u);
+  ngon.offsets.push_back(n);
+  ngon.face({1, 0, n, n + 1});
+  return ngon;
+}
+
+// Faces of any degree from OBJ ("v", "f" lines; negative indices) or OFF.
+inline Poly read_faces(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  Poly p;
+  if (path.extension() == ".off") {
+    std::stringstream text;
+    for (std::string line; std::getline(in, line);) text << line.substr(0, line.find('#')) << '\n';
+    std::string magic;
+    std::uint64_t nv = 0, nf = 0, ne = 0;
+    text >> magic >> nv >> nf >> ne;
+    p.nv = static_cast<std::uint32_t>(nv);
+    p.positions.resize(3 * nv);
+    for (auto& x : p.positions) text >> x;
+    for (std::uint64_t f = 0; f < nf; ++f) {
+      std::uint32_t d = 0;
+      text >> d;
+      for (std::uint32_t i = 0; i < d; ++i) {
+        std::uint32_t v = 0;
+        text >> v;
+        p.corners.push_back(v);
+      }
+      p.offsets.push_back(static_cast<std::uint32_t>(p.corners.size()));
+    }
+    EXPECT_FALSE(text.fail()) << path;
+    return p;
+  }
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream ls(line);
+    std::string key;
+    ls >> key;
+    if (key == "v") {
+      for (int k = 0; k < 3; ++k) {
+        float x = 0;
+        ls >> x;
+        p.positions.push_back(x);
+      }
+      ++p.nv;
+    } else if (key == "f") {
+      for (std::string tok; ls >> tok;) {
+        const long i = std::stol(tok.substr(0, tok.find('/')));
+        p.corners.push_back(static_cast<std::uint32_t>(i < 0 ? p.nv + i : i - 1));
+      }
+      p.offsets.push_back(static_cast<std::uint32_t>(p.corners.size()));
+    }
+  }
+  return p;
+}
+
+// The same mesh with vertices and faces renumbered and every corner list rotated (positions follow).
+inline Poly shuffled(const Poly& p, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::vector<std::uint32_t> vperm(p.nv), order(p.face_count());
+  std::iota(vperm.begin(), vperm.end(), 0u);
+  std::iota(order.begin(), order.end(), 0u);
+  std::shuffle(vperm.begin(), vperm.end(), rng);
+  std::shuffle(order.begin(), order.end(), rng);
+  Poly out;
+  out.nv = p.nv;
+  if (!p.positions.empty()) {
+    out.positions.resize(p.positions.size());
+    for (std::uint32_t v = 0; v < p.nv; ++v)
+      for (int k = 0; k < 3; ++k) out.positions[3 * vperm[v] + k] = p.positions[3 * v + k];
+  }
+  for (std::uint32_t f : order) {
+    const std::uint32_t d = p.degree(f), r = rng() % d;
+    for (std::uint32_t i = 0; i < d; ++i) out.corners.push_back(vperm[p.corners[p.offsets[f] + (i + r) % d]]);
+    out.offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
+  }
+  return out;
+}
+
+// A named polygon mesh.
+struct PolyCase {
+  std::string name;
+  Poly p;
+};
+
+// Hand-made polygon meshes by name (positions empty): the hand-checked cases of tests/test_submesh.cpp and
+// tests/test_regions.cpp, and random mixtures of quads, triangle pairs and holes.
+inline std::vector<PolyCase> hand_polygon_cases() {
+  std::vector<PolyCase> out;
+  out.push_back({"notch_with_triangles", Grid::make(5, 4, [](int i, int j) {
+                                           return i == 0 && j == 3 ? '.' : j == 1 && i <= 1 ? 't' : 'q';
+                                         }).p});
+  out.push_back({"triangle_hole_in_a_grid",
+                 Grid::make(3, 3, [](int i, int j) { return i == 1 && j == 1 ? 't' : 'q'; }).p});
+  {
+    Poly p;  // a closed "UV sphere": two triangle-fan poles, two rows of quads
+    const std::uint32_t n = 6, north = 18, south = 19;
+    auto ring = [&](std::uint32_t k, std::uint32_t i) { return k * n + i % n; };
+    p.nv = 3 * n + 2;
+    for (std::uint32_t i = 0; i < n; ++i) p.face({north, ring(0, i), ring(0, i + 1)});
+    for (std::uint32_t k = 0; k < 2; ++k)
+      for (std::uint32_t i = 0; i < n; ++i)
+        p.face({ring(k, i), ring(k + 1, i), ring(k + 1, i + 1), ring(k, i + 1)});
+    for (std::uint32_t i = 0; i < n; ++i) p.face({south, ring(2, i + 1), ring(2, i)});
+    out.push_back({"uv_sphere_poles", p});
+  }
+  {
+    Grid g =
+        Grid::make(4, 4, [](int i, int j) { return (i == 1 || i == 2) && (j == 1 || j == 2) ? '.' : 'q'; });
+    Poly& p = g.p;
+    const std::uint32_t m = g.id(2, 2), pe = 25, pn = 26, pw = 27, ps = 28;
+    p.nv = 29;
+    p.face({pe, g.id(3, 2), g.id(3, 3)});
+    p.face({m, pe, g.id(3, 3), g.id(2, 3), pn});
+    p.face({m, pn, g.id(2, 3), g.id(1, 3), g.id(1, 2), pw});
+    p.face({m, pw, g.id(1, 2), g.id(1, 1), g.id(2, 1), ps});
+    p.face({m, ps, g.id(2, 1), g.id(3, 1), g.id(3, 2), pe});
+    out.push_back({"ngon_region_with_interior", p});
+  }
+  // A 2x2 block of triangle pairs in a 4x4 quad grid: 8 triangles around the interior vertex (2, 2).
+  out.push_back(
+      {"triangle_block_with_interior_vertex",
+       Grid::make(4, 4, [](int i, int j) { return i >= 1 && i <= 2 && j >= 1 && j <= 2 ? 't' : 'q'; }).p});
+  // A 4x4 block in an 8x8 grid: 9 interior vertices, some reached again off the traversal's front.
+  out.push_back({"triangle_block_4x4", Grid::make(8, 8, [](int i, int j) {
+                                         return i >= 2 && i <= 5 && j >= 2 && j <= 5 ? 't' : 'q';
+                                       }).p});
+  out.push_back({"vertex_cut_apart_by_triangles", Grid::make(4, 4, [](int i, int j) {
+                                                    return (i == 2 && j == 2) || (i == 1 && j == 1) ? 't'
+                                                                                                    : 'q';
+                                                  }).p});
+  {
+    Grid g = Grid::make(2, 2, [](int, int) { return 'q'; });
+    g.p.nv = 11;
+    g.p.face({g.id(1, 0), g.id(1, 1), 10, 9});
+    out.push_back({"nonmanifold_edge_three_quads", g.p});
+  }
+  {
+    Grid g = Grid::make(3, 3, [](int i, int j) { return i == 1 && j == 1 ? '.' : 'q'; });
+    g.p.face({g.id(1, 1), g.id(1, 2), g.id(2, 2), g.id(2, 1)});
+    out.push_back({"misoriented_face", g.p});
+  }
+  {
+    Grid a = Grid::make(2, 2, [](int, int) { return 'q'; });
+    Poly p = a.p;
+    auto b = [&](int x, int y) {
+      return x == 1 && y == 0 ? a.id(1, 2) : static_cast<std::uint32_t>(9 + y * 3 + x);
+    };
+    p.nv = 18;
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) p.face({b(i, j), b(i + 1, j), b(i + 1, j + 1), b(i, j + 1)});
+    out.push_back({"bow_tie_vertex", p});
+  }
+  {
+    Poly p;
+    p.nv = 8;
+    for (std::uint32_t i = 0; i < 3; ++i) p.face({i, i + 1, 5 + i, 4 + i});
+    p.face({3, 4, 0, 7});
+    out.push_back({"mobius_band", p});
+  }
+  {
+    Poly p;
+    p.nv = 4;
+    p.face({0, 2, 1});
+    p.face({0, 1, 3});
+    p.face({1, 2, 3});
+    p.face({2, 0, 3});
+    out.push_back({"tetrahedron", p});
+  }
+  {
+    Poly p;
+    const std::uint32_t n = 5;
+    auto v = [&](std::uint32_t k, std::uint32_t i) { return k * n + i % n; };
+    p.nv = 4 * n;
+    for (std::uint32_t k = 0; k < 3; ++k)
+      for (std::uint32_t i = 0; i < n; ++i) {
+        if (k == 1) {
+          p.face({v(k, i), v(k + 1, i), v(k + 1, i + 1)});
+          p.face({v(k, i), v(k + 1, i + 1), v(k, i + 1)});
+        } else {
+          p.face({v(k, i), v(k + 1, i), v(k + 1, i + 1), v(k, i + 1)});
+        }
+      }
+    out.push_back({"triangle_band_two_loops", p});
+  }
+  {
+    Poly p;
+    p.nv = 10;
+    const std::uint32_t cube[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                      {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+    for (const auto& q : cube) p.face({q[0], q[1], q[2], q[3]});
+    p.face({0, 1, 8, 9});
+    out.push_back({"fin_on_a_closed_surface", p});
+  }
+  out.push_back({"checkerboard", Grid::make(7, 5, [](int i, int j) { return (i + j) % 2 ? 't' : 'q'; }).p});
+  for (std::uint32_t seed = 1; seed <= 8; ++seed) {
+    std::mt19937 rng(seed);
+    const char kinds[] = {'q', 'q', 'q', 't', '.'};
+    out.push_back({"random_mix_" + std::to_string(seed),
+                   Grid::make(9, 7, [&](int, int) { return kinds[rng() % 5]; }).p});
+  }
+  return out;
+}
+
+}  // namespace qsp::testing
