@@ -160,10 +160,11 @@ const FaceLabels& labels(const Mesh& m, int k) {
   return k == 0 ? m.objects : k == 1 ? m.groups : k == 2 ? m.materials : m.smoothing;
 }
 
-// Ends a line of text kept from the file. Text ending in a backslash came from a continuation that
-// joined an empty line (or the end of the file): an empty line follows, for it to join again rather
-// than the next statement (fuzz_read_mesh).
-void end_text_line(std::string& out) { out += out.ends_with('\\') ? "\n\n" : "\n"; }
+// Ends a line of text kept from the file. Text ending in a backslash would join the next line: an
+// empty comment follows it, so the backslash no longer ends the line. (An empty line after it, as
+// before, lost a lone backslash kept from a backslash and a comment: joined to the empty line, it
+// read as a blank line; fuzz_read_mesh.)
+void end_text_line(std::string& out) { out += out.ends_with('\\') ? " #\n" : "\n"; }
 
 // "keyword text", or the keyword alone for an empty text.
 void keyword_line(std::string& out, const char* keyword, const std::string& text) {
