@@ -407,20 +407,7 @@ TEST(Submesh, TrianglesOnly) {
 
 // A tube: a band of triangles between two bands of quads touches both their loops.
 TEST(Submesh, TriangleBandTouchesTwoLoops) {
-  Poly p;
-  const std::uint32_t n = 5;
-  auto v = [&](std::uint32_t k, std::uint32_t i) { return k * n + i % n; };
-  p.nv = 4 * n;
-  for (std::uint32_t k = 0; k < 3; ++k)
-    for (std::uint32_t i = 0; i < n; ++i) {
-      if (k == 1) {
-        p.face({v(k, i), v(k + 1, i), v(k + 1, i + 1)});
-        p.face({v(k, i), v(k + 1, i + 1), v(k, i + 1)});
-      } else {
-        p.face({v(k, i), v(k + 1, i), v(k + 1, i + 1), v(k, i + 1)});
-      }
-    }
-  const QuadSubmesh s = checked(p);
+  const QuadSubmesh s = checked(testing::triangle_band(5));
   EXPECT_EQ(s.loop_halfedge.size(), 4u);
   ASSERT_EQ(s.regions.size(), 1u);
   EXPECT_EQ(s.regions[0].loops.size(), 2u);

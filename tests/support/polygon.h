@@ -84,6 +84,23 @@ inline Poly ngon_with_a_quad(std::uint32_t n) {
 }
 
 // Faces of any degree from OBJ ("v", "f" lines; negative indices) or OFF.
+// A tube of n columns: a band of triangles between two bands of quads, touching both their loops.
+inline Poly triangle_band(std::uint32_t n) {
+  Poly p;
+  auto v = [&](std::uint32_t k, std::uint32_t i) { return k * n + i % n; };
+  p.nv = 4 * n;
+  for (std::uint32_t k = 0; k < 3; ++k)
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (k == 1) {
+        p.face({v(k, i), v(k + 1, i), v(k + 1, i + 1)});
+        p.face({v(k, i), v(k + 1, i + 1), v(k, i + 1)});
+      } else {
+        p.face({v(k, i), v(k + 1, i), v(k + 1, i + 1), v(k, i + 1)});
+      }
+    }
+  return p;
+}
+
 inline Poly read_faces(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   Poly p;
@@ -244,22 +261,7 @@ inline std::vector<PolyCase> hand_polygon_cases() {
     p.face({2, 0, 3});
     out.push_back({"tetrahedron", p});
   }
-  {
-    Poly p;
-    const std::uint32_t n = 5;
-    auto v = [&](std::uint32_t k, std::uint32_t i) { return k * n + i % n; };
-    p.nv = 4 * n;
-    for (std::uint32_t k = 0; k < 3; ++k)
-      for (std::uint32_t i = 0; i < n; ++i) {
-        if (k == 1) {
-          p.face({v(k, i), v(k + 1, i), v(k + 1, i + 1)});
-          p.face({v(k, i), v(k + 1, i + 1), v(k, i + 1)});
-        } else {
-          p.face({v(k, i), v(k + 1, i), v(k + 1, i + 1), v(k, i + 1)});
-        }
-      }
-    out.push_back({"triangle_band_two_loops", p});
-  }
+  { out.push_back({"triangle_band_two_loops", triangle_band(5)}); }
   {
     Poly p;
     p.nv = 10;
