@@ -87,15 +87,37 @@ bool Repeats::nth(std::int64_t pred, std::uint32_t k, std::int64_t& v) const {
   }
 }
 
-RepeatRanks::RepeatRanks(std::vector<std::int64_t> values) : sorted_(std::move(values)) {
-  std::sort(sorted_.begin(), sorted_.end());
-  sorted_.erase(std::unique(sorted_.begin(), sorted_.end()), sorted_.end());
+RepeatRanks::RepeatRanks(std::vector<std::int64_t> values) {
+  if (!values.empty()) {
+    const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+    min_ = *lo, max_ = *hi;
+  }
+  const std::uint64_t span = static_cast<std::uint64_t>(max_) - static_cast<std::uint64_t>(min_);
+  if (values.empty() || span >= std::max<std::uint64_t>(std::uint64_t{4} * values.size(), kDenseAlways)) {
+    sorted_ = std::move(values);
+    std::sort(sorted_.begin(), sorted_.end());
+    sorted_.erase(std::unique(sorted_.begin(), sorted_.end()), sorted_.end());
+  } else {
+    // A narrow range (quantized coordinates): the values by presence, and every index by lookup.
+    dense_.assign(span + 1, 0);
+    for (std::int64_t v : values) dense_[static_cast<std::uint64_t>(v - min_)] = 1;
+    std::uint32_t count = 0;
+    for (std::uint64_t k = 0; k <= span; ++k) {
+      const bool present = dense_[k] != 0;
+      dense_[k] = count;  // planned values below min_ + k
+      if (present) sorted_.push_back(min_ + static_cast<std::int64_t>(k)), ++count;
+    }
+  }
   in_.assign(sorted_.size(), 0);
   set_ = OrderSet(sorted_.size());
 }
 
 std::size_t RepeatRanks::index(std::int64_t v) const {
-  return static_cast<std::size_t>(std::lower_bound(sorted_.begin(), sorted_.end(), v) - sorted_.begin());
+  if (dense_.empty())
+    return static_cast<std::size_t>(std::lower_bound(sorted_.begin(), sorted_.end(), v) - sorted_.begin());
+  if (v <= min_) return 0;
+  if (v > max_) return sorted_.size();
+  return dense_[static_cast<std::uint64_t>(v - min_)];
 }
 
 std::size_t RepeatRanks::slot(std::int64_t v) const {

@@ -68,7 +68,12 @@ class RepeatRanks {
   std::uint32_t rank_of(std::int64_t pred, std::int64_t v, std::size_t slot) const;
 
  private:
+  // Below this span of values a lookup table always serves index() (above it, when the span is under 4
+  // values a vertex): binary searches over the distinct values were a tenth of compressing spot.
+  static constexpr std::uint64_t kDenseAlways = std::uint64_t{1} << 16;
   std::size_t index(std::int64_t v) const;  // of the first planned value >= v
+  std::int64_t min_ = 0, max_ = 0;          // the planned values' range
+  std::vector<std::uint32_t> dense_;        // if not empty: per value min_ + k, index(min_ + k)
   std::vector<std::int64_t> sorted_;        // the planned values, distinct
   std::vector<std::uint8_t> in_;            // per planned value: inserted
   OrderSet set_;                            // indices into sorted_ of the values inserted
