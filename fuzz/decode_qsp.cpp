@@ -1,4 +1,4 @@
-// libFuzzer target: the .qsp decoder (decode and inspect) on hostile bytes.
+// libFuzzer target: the .qsp decoder (decode, inspect and file_comments) on hostile bytes.
 // Each input is tried as is (magic, version, size and checksum checks) and, when it is shaped like a
 // container, re-sealed with a correct size and checksum so mutations reach the section parsers.
 // Properties: no crash, no sanitizer report, no internal error, memory bounded by the limits below;
@@ -32,6 +32,12 @@ void check(std::string_view bytes) {
     decoded = true;
   } catch (const Error& e) {
     fuzz::check_error(e, "decode");
+  }
+  try {  // the comments section: no line break ever comes out (it would become a statement)
+    for (const std::string& line : file_comments(bytes))
+      if (line.find_first_of("\r\n") != std::string::npos) fuzz::finding("a comment line holds a line break");
+  } catch (const Error& e) {
+    fuzz::check_error(e, "file_comments");
   }
   FileInfo info;
   bool inspected = false;

@@ -127,7 +127,7 @@ std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const P
   container::put_section(body, container::kTagGeometry, geometry);
   if (options.keep_order) container::put_section(body, container::kTagOrder, encode_order(order));
   if (order_out) *order_out = std::move(order);
-  return container::seal(kFormatMajor, kFormatMinor, static_cast<std::uint8_t>(options.level), body);
+  return container::seal(kFormatMajor, kFormatMinorQuads, static_cast<std::uint8_t>(options.level), body);
 }
 
 }  // namespace qsp

@@ -20,6 +20,7 @@ inline constexpr std::size_t kChecksumBytes = 8;
 // Section tags. Bit 7 set: optional (a decoder that does not know it skips it).
 inline constexpr std::uint8_t kTagCounts = 0x01, kTagTopology = 0x02, kTagGeometry = 0x03, kTagOrder = 0x04;
 inline constexpr std::uint8_t kOptionalBit = 0x80;
+inline constexpr std::uint8_t kTagComments = 0x81;  // optional, from 3.1
 
 // The encoder byte: the compression level in bits 0-3 (0 = not said, 1-9), bits 4-7 reserved.
 inline constexpr std::uint8_t kLevelMask = 0x0F, kMaxLevelValue = 9;

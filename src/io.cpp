@@ -195,6 +195,7 @@ constexpr ReportItem kReportItems[] = {
     {&ReadReport::materials, kCategoryMaterial, "material statement", "material statements"},
     {&ReadReport::smoothing, kCategorySmoothing, "smoothing group statement", "smoothing group statements"},
     {&ReadReport::tags, kCategoryTag, "subdivision tag", "subdivision tags"},
+    {&ReadReport::comments, kCategoryComment, "leading comment line", "leading comment lines"},
     {&ReadReport::vertex_weights, kCategoryExtra, "vertex weight (v x y z w)", "vertex weights (v x y z w)"},
     {&ReadReport::kept_lines, kCategoryExtra, "line qsp keeps only as text", "lines qsp keeps only as text"},
     {&ReadReport::other_properties, kCategoryExtra, "other PLY property value", "other PLY property values"},
@@ -266,14 +267,18 @@ void ReadReport::note_rounded(std::uint64_t line, std::uint64_t vertex, std::str
 
 // The QuadMesh writers are the Mesh writers (io_write.cpp) on the same positions and quads; a
 // QuadMesh may hold a face that repeats a vertex, which they write as it is.
-std::string write_obj(const QuadMesh& mesh) {
+std::string write_obj(const QuadMesh& mesh, const std::vector<std::string>& comments) {
   check_writable(mesh, "write_obj");
-  return write_obj_mesh(from_quad_mesh(mesh));
+  Mesh m = from_quad_mesh(mesh);
+  m.comments = comments;
+  return write_obj_mesh(m);
 }
 
-std::string write_off(const QuadMesh& mesh) {
+std::string write_off(const QuadMesh& mesh, const std::vector<std::string>& comments) {
   check_writable(mesh, "write_off");
-  return write_off_mesh(from_quad_mesh(mesh));
+  Mesh m = from_quad_mesh(mesh);
+  m.comments = comments;
+  return write_off_mesh(m);
 }
 
 namespace {
@@ -320,6 +325,42 @@ FileBuffer read_file_raw(const std::string& path) {
 }
 
 }  // namespace
+
+namespace {
+
+// An OFF keyword line ("OFF", "COFF", "STCNOFF", ... with nothing but blanks after it).
+bool off_header(std::string_view line) {
+  const std::size_t end = line.find_first_of(" \t");
+  const std::string_view word = line.substr(0, end);
+  if (end != std::string_view::npos && line.find_first_not_of(" \t", end) != std::string_view::npos)
+    return false;
+  return word.size() >= 3 && word.size() <= 10 && word.ends_with("OFF") &&
+         word.find_first_not_of("STCN4nOF") == std::string_view::npos;
+}
+
+}  // namespace
+
+std::vector<std::string> leading_comments(std::string_view text) {
+  std::vector<std::string> out;
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
+  std::size_t p = 0;
+  bool header_seen = false;
+  while (p < text.size()) {
+    std::size_t e = p;  // the line's end: LF, or a CR not followed by LF (CRLF: at the CR)
+    while (e < text.size() && text[e] != '\n' && text[e] != '\r') ++e;
+    std::string_view line = text.substr(p, e - p);
+    p = e + (e + 1 < text.size() && text[e] == '\r' && text[e + 1] == '\n' ? 2 : 1);
+    const std::size_t first = line.find_first_not_of(" \t");
+    if (first == std::string_view::npos) continue;  // blank
+    if (out.empty() && !header_seen && off_header(line.substr(first))) {
+      header_seen = true;  // OFF's keyword line: the block may follow it
+      continue;
+    }
+    if (line[first] != '#') break;
+    out.emplace_back(line.substr(first + 1));
+  }
+  return out;
+}
 
 std::string read_file_bytes(const std::string& path) {
   const FileBuffer buf = read_file_raw(path);

@@ -683,6 +683,8 @@ Mesh read_ply_impl(std::string_view bytes, const std::string& path, ReadReport& 
   Mesh mesh;
   const PlyTargets targets = ply_targets(layout);
   count_extras(targets, layout, header, r);
+  r.leading_comments = header.comments;  // PLY's comments are its header's: the leading block
+  r.comments = header.comments.size();
   if constexpr (kExact) {
     mesh.comments = header.comments;
     mesh.ply.obj_info = header.obj_info;

@@ -1179,8 +1179,10 @@ class ObjReader {
 // Adds a part's counters; face lines are merged separately.
 void add_counts(ReadReport& to, const ReadReport& from) {
   // A new ReadReport member must be merged here too.
-  static_assert(sizeof(ReadReport) == 15 * sizeof(std::uint64_t) + sizeof(ReadWarning) +
-                                          sizeof(std::vector<std::uint32_t>) + sizeof(RoundedCoordinate));
+  // (The leading comments are the whole text's: read_obj sets them after the parts are merged.)
+  static_assert(sizeof(ReadReport) == 16 * sizeof(std::uint64_t) + sizeof(ReadWarning) +
+                                          sizeof(std::vector<std::uint32_t>) + sizeof(RoundedCoordinate) +
+                                          sizeof(std::vector<std::string>));
   if (to.rounded_coordinates == 0) to.first_rounded = from.first_rounded;  // parts come in file order
   to.rounded_coordinates += from.rounded_coordinates;
   if (to.kept_lines == 0) to.first_kept = from.first_kept;
@@ -1813,8 +1815,19 @@ std::vector<std::size_t> splits_for(std::string_view text) {
 }
 }  // namespace
 
+namespace {
+// The leading comment block, for a report (read_obj, read_off).
+void note_leading_comments(std::string_view text, ReadReport* report) {
+  if (report == nullptr) return;
+  report->leading_comments = leading_comments(text);
+  report->comments = report->leading_comments.size();
+}
+}  // namespace
+
 QuadMesh read_obj(std::string_view text, std::string_view source, ReadReport* report) {
-  return detail::read_obj_split(text, source, report, splits_for(text), nullptr);
+  QuadMesh m = detail::read_obj_split(text, source, report, splits_for(text), nullptr);
+  note_leading_comments(text, report);
+  return m;
 }
 
 Mesh read_obj_mesh(std::string_view text, std::string_view source, ReadNotes* notes) {
@@ -1825,7 +1838,9 @@ QuadMesh read_off(std::string_view text, std::string_view source, ReadReport* re
   ReadReport local;
   ReadReport& r = report ? *report : local;
   r = ReadReport{};
-  return quad_mesh(OffReader<false>(text, source, r).run());
+  QuadMesh m = quad_mesh(OffReader<false>(text, source, r).run());
+  note_leading_comments(text, report);
+  return m;
 }
 
 Mesh read_off_mesh(std::string_view text, std::string_view source, ReadNotes* notes) {

@@ -675,11 +675,12 @@ std::string write_off_mesh(const Mesh& m) {
   const bool uv = !m.texcoords.empty();
   std::string out;
   out.reserve(expected_size(m));
-  for (const std::string& c : m.comments) (out += '#') += c + '\n';
   if (uv) out += "ST";
   if (!m.vertex_colors.empty()) out += 'C';
   if (!m.normals.empty()) out += 'N';
   out += "OFF\n";
+  // After the header line: readers recognise OFF by its first line.
+  for (const std::string& c : m.comments) (out += '#') += c + '\n';
   append_uint(out, m.vertex_count());
   out += ' ';
   append_uint(out, m.face_count());

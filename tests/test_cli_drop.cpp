@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "qsp/codec.h"
+#include "qsp/io.h"
 #include "qsp/polymesh.h"
 #include "support/cli.h"
 
@@ -144,6 +146,9 @@ TEST_F(CliDrop, EveryKindMustBeDroppedAndTheNoteNamesEach) {
       "as "
       "text, the first at " +
       in + ":9: `vp` (parameter-space vertex) (extra)";
+  // With the leading comment dropped too: named in --drop's order, before extra.
+  std::string with_comment = described;
+  with_comment.insert(with_comment.find("1 line qsp keeps"), "1 leading comment line (comment), ");
   auto r = compress(in, "", out);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.err, "qsp: error: " + in + ": has " + described + ", which .qsp does not keep; pass --drop " +
@@ -167,13 +172,15 @@ TEST_F(CliDrop, EveryKindMustBeDroppedAndTheNoteNamesEach) {
   r = compress(in, "--drop " + all, out);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "qsp: " + in + ": dropped " + described + " (--drop " + all + ")\n");
-  EXPECT_EQ(slurp(out), bare);
+  // The leading comment is kept: the bare mesh's sections and a comments section.
+  EXPECT_EQ(file_comments(slurp(out)), std::vector<std::string>{" a comment"});
+  EXPECT_EQ(slurp(out), with_comments(bare, {" a comment"}));
   for (const std::string& flags : std::vector<std::string>{
            "--drop all", "--positions-only", "--positions-only --drop uv", "--drop " + all + ",comment"}) {
     SCOPED_TRACE(flags);
     r = compress(in, flags, out);
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_NE(r.err.find("dropped " + described), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("dropped " + with_comment), std::string::npos) << r.err;
     EXPECT_EQ(slurp(out), bare);
   }
 }
@@ -197,16 +204,35 @@ TEST_F(CliDrop, AnUnknownItemIsAUsageErrorNamingTheValidOnes) {
   EXPECT_EQ(run_qsp("compress -f --drop colour,uv " + quote(p("in.obj"))).exit_code, 0);
 }
 
-// Comments are not kept in a .qsp, and not detected: never refused, never named (README says so).
-TEST_F(CliDrop, CommentsAreNeitherCountedNorRefused) {
+// The leading comment block (licence lines) is kept in the .qsp's comments section and written back by
+// decompress; --drop comment drops it and says so. Comments after it are not kept (README says so).
+TEST_F(CliDrop, TheLeadingCommentBlockIsKeptUnlessDropped) {
   const std::string bare = bare_qsp();
-  spit(p("c.obj"), "# licence\n# more\n" + kSquare + "f 1 2 3 4 # end of line\n");
-  for (const std::string& flags : std::vector<std::string>{"", "--drop comment"}) {
-    const auto r = compress(p("c.obj"), flags, p("c.qsp"));
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_EQ(r.err, "");
-    EXPECT_EQ(slurp(p("c.qsp")), bare);
-  }
+  spit(p("c.obj"), "# licence\n\n  #more \n" + kSquare + "# later\nf 1 2 3 4 # end of line\n");
+  auto r = compress(p("c.obj"), "", p("c.qsp"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_EQ(slurp(p("c.qsp")), with_comments(bare, {" licence", "more "}));
+  r = run_qsp("decompress -c " + quote(p("c.qsp")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "# licence\n#more \n" + kSquare + "f 1 2 3 4\n");
+  r = run_qsp("stats " + quote(p("c.qsp")));
+  EXPECT_NE(r.out.find("format 3.1"), std::string::npos) << r.out;
+  r = compress(p("c.obj"), "--drop comment", p("c.qsp"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "qsp: " + p("c.obj") + ": dropped 2 leading comment lines (comment) (--drop comment)\n");
+  EXPECT_EQ(slurp(p("c.qsp")), bare);
+  // reorder keeps them too, into OBJ and into .qsp.
+  spit(p("bare.obj"), kSquare + "f 1 2 3 4\n");
+  r = run_qsp("reorder --like " + quote(p("bare.obj")) + " " + quote(p("c.obj")) + " -o " +
+              quote(p("r.obj")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(slurp(p("r.obj")), "# licence\n#more \n" + kSquare + "f 1 2 3 4\n");
+  ASSERT_EQ(compress(p("c.obj"), "", p("c.qsp")).exit_code, 0);
+  r = run_qsp("reorder --like " + quote(p("bare.obj")) + " " + quote(p("c.qsp")) + " -o " +
+              quote(p("r.obj")) + " -f");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(slurp(p("r.obj")), "# licence\n#more \n" + kSquare + "f 1 2 3 4\n");
 }
 
 // Issue 19's MakeHuman case: a stray line of prose between the licence comments and the vertices. Read
@@ -242,7 +268,11 @@ TEST_F(CliDrop, AStrayLineOfProseInAMakeHumanHeaderIsExtra) {
                  where + " (extra) (--drop uv,extra)"),
       std::string::npos)
       << r.err;
-  ASSERT_EQ(compress(plain, "--drop uv", p("plain.qsp")).exit_code, 0);
+  // The comments before the prose line are the leading block, kept.
+  EXPECT_EQ(file_comments(slurp(p("hat.qsp"))), leading_comments(slurp(plain)));
+  EXPECT_FALSE(file_comments(slurp(p("hat.qsp"))).empty());
+  ASSERT_EQ(compress(hat, "--drop uv,extra,comment", p("hat.qsp")).exit_code, 0);
+  ASSERT_EQ(compress(plain, "--drop uv,comment", p("plain.qsp")).exit_code, 0);
   EXPECT_EQ(slurp(p("hat.qsp")), slurp(p("plain.qsp")));
   ASSERT_EQ(compress(hat, "--positions-only", p("hat.qsp")).exit_code, 0);
   EXPECT_EQ(slurp(p("hat.qsp")), slurp(p("plain.qsp")));

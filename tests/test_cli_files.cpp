@@ -58,8 +58,17 @@ class CliFiles : public testing::TempDirTest {
   void expect_inputs_unchanged() const {
     for (const auto& [name, bytes] : inputs_) EXPECT_TRUE(slurp(p(name)) == bytes) << name << " was changed";
   }
-  // `in` compressed by the library with the CLI's defaults: what `compress` must have written.
-  static std::string encoded(const std::string& in) { return encode(read_mesh_file(in)); }
+  // `in` compressed by the library with the CLI's defaults: what `compress` must have written (its
+  // leading comment block kept).
+  static std::string encoded(const std::string& in) {
+    ReadReport report;
+    const std::string bytes = encode(read_mesh_file(in, &report));
+    return report.leading_comments.empty() ? bytes : with_comments(bytes, report.leading_comments);
+  }
+  // What `decompress` must write for `bytes`: the mesh after its comments.
+  static std::string decoded(const std::string& bytes) {
+    return write_obj(decode(bytes), file_comments(bytes));
+  }
 
   std::map<std::string, std::string> inputs_;
 };
@@ -131,14 +140,14 @@ TEST_F(CliFiles, OutputDirAndStandardOutput) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(listing(), (std::vector<std::string>{"a.obj", "back/a.obj", "back/b.obj", "packed/a.obj.qsp",
                                                  "packed/b.obj.qsp", "sub/b.obj"}));
-  EXPECT_TRUE(encode(read_mesh_file(p("back/b.obj"))) == encoded(b));
+  EXPECT_TRUE(encoded(p("back/b.obj")) == encoded(b));
   // -c: one input to standard output; the file holds exactly what -o would have written.
   r = run_qsp("compress -c " + quote(a));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(r.out == encoded(a));
   r = run_qsp("decompress -c " + quote(p("packed/a.obj.qsp")));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(r.out == write_obj(decode(encoded(a))));
+  EXPECT_TRUE(r.out == decoded(encoded(a)));
   // Two inputs of one name into one folder would be written twice: refused, nothing written.
   r = run_qsp("compress --output-dir " + quote(p("flat")) + " " + quote(b) + " " +
               quote(add("cube_4.obj", "b.obj")));
@@ -271,7 +280,7 @@ TEST_F(CliFiles, DecompressDoesNotSilentlyReplaceTheSourceMesh) {
   expect_inputs_unchanged();
   r = run_qsp("decompress -f " + quote(p("a.obj.qsp")));
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(slurp(p("a.obj")) == write_obj(decode(inputs_["a.obj.qsp"])));
+  EXPECT_TRUE(slurp(p("a.obj")) == decoded(inputs_["a.obj.qsp"]));
   EXPECT_EQ(listing(), (std::vector<std::string>{"a.obj", "a.obj.qsp"}));
 }
 
@@ -308,7 +317,7 @@ TEST_F(CliFiles, BatchOverAFolderOfGoodAndBadFiles) {
       << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   for (const std::string name : {"cube.obj", "l.obj", "torus.obj"})
-    EXPECT_TRUE(encode(read_mesh_file(p("out/" + name))) == encoded(p("in/" + name))) << name;
+    EXPECT_TRUE(encoded(p("out/" + name)) == encoded(p("in/" + name))) << name;
   EXPECT_FALSE(fs::exists(p("out/e_corrupt.obj")));
   expect_inputs_unchanged();
 }
@@ -355,10 +364,11 @@ TEST_F(CliFiles, StandardInputInAnyFormat) {
   ASSERT_EQ(run_qsp("compress " + quote(a) + " " + quote(p("a.qsp"))).exit_code, 0);
   ASSERT_EQ(run_qsp("decompress " + quote(p("a.qsp")) + " " + quote(p("a.off"))).exit_code, 0);
   const QuadMesh mesh = read_mesh_file(a);
-  std::string ply = "ply\nformat ascii 1.0\nelement vertex " + std::to_string(mesh.vertex_count()) +
-                    "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
-                    std::to_string(mesh.face_count()) +
-                    "\nproperty list uchar int vertex_indices\nend_header\n";
+  std::string ply = "ply\nformat ascii 1.0\n";
+  for (const std::string& c : leading_comments(slurp(a))) ply += "comment " + c + "\n";  // kept as OBJ's are
+  ply += "element vertex " + std::to_string(mesh.vertex_count()) +
+         "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+         std::to_string(mesh.face_count()) + "\nproperty list uchar int vertex_indices\nend_header\n";
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
     std::ostringstream line;
     line.precision(9);
@@ -395,7 +405,8 @@ TEST_F(CliFiles, StandardInputInAnyFormat) {
   // A .qsp on standard input: stats, fingerprint and match read it; compress says what it is.
   auto r = run_qsp("stats - < " + quote(p("a.qsp")));
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("format 3.0"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(leading_comments(slurp(a)).empty() ? "format 3.0" : "format 3.1"), std::string::npos)
+      << r.out;
   r = run_qsp("compress -c - < " + quote(p("a.qsp")));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("-: is .qsp compressed data, not a mesh (qsp decompress reads it)"), std::string::npos)

@@ -156,11 +156,13 @@ TEST(ReadObj, AttributeSyntaxNegativeIndicesAndExtras) {
   EXPECT_EQ(r.vertex_weights, 1u);
   EXPECT_EQ(r.face_line, (std::vector<std::uint32_t>{18, 19, 20}));
   EXPECT_TRUE(r.has_extra_data());
-  EXPECT_EQ(r.categories(), qsp::kCategoryAll & ~qsp::kCategoryComment);
+  EXPECT_EQ(r.categories(), qsp::kCategoryAll);
+  EXPECT_EQ(r.leading_comments, std::vector<std::string>{" header comment"});
   EXPECT_EQ(r.describe_extra_data("t.obj"),
             "3 texture coordinates, 2 faces with texture coordinate indices (uv), 1 normal, 2 faces with "
             "normal indices (normal), 1 vertex colour (color), 2 group/object statements (group), 2 material "
             "statements (material), 2 smoothing group statements (smoothing), 2 subdivision tags (tag), 1 "
+            "leading comment line (comment), 1 "
             "vertex weight (v x y z w), 1 line qsp keeps only as text, the first at t.obj:14: `vp` "
             "(parameter-space vertex) (extra)");
   EXPECT_EQ(r.describe_extra_data("t.obj", qsp::kCategoryUv | qsp::kCategoryTag),
@@ -486,7 +488,8 @@ TEST(ReadPly, AsciiKeepsFileCornerOrder) {
   const qsp::QuadMesh m = qsp::read_mesh_file(p.string(), &r);
   EXPECT_EQ(quads(m), (std::vector<std::uint32_t>{2, 3, 0, 1, 4, 5, 2, 1}));
   EXPECT_EQ(bits(m.positions[17]), bits(0.1f));
-  EXPECT_FALSE(r.has_extra_data());
+  EXPECT_EQ(r.categories(), qsp::kCategoryComment);  // the header's comment line, kept
+  EXPECT_EQ(r.leading_comments, std::vector<std::string>{"test"});
 }
 
 TEST(ReadPly, BinaryLittleEndianDoublesAndColours) {

@@ -16,11 +16,13 @@
 
 namespace qsp {
 
-// The format version this library writes: 3.0, the first release format. It reads every 3.x file (the
-// required sections a newer minor may add excepted, which it refuses with "upgrade qsp"); 1.x and 2.x
-// were development versions and are not read (format-spec/qsp_format.md, "Version").
+// The format version this library writes: 3.1 for a file with a comments section, 3.0, the first release
+// format, otherwise (the same bytes as before 3.1). It reads every 3.x file (the required sections a
+// newer minor may add excepted, which it refuses with "upgrade qsp"); 1.x and 2.x were development
+// versions and are not read (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 0;
+inline constexpr std::uint8_t kFormatMinor = 1;
+inline constexpr std::uint8_t kFormatMinorQuads = 0;
 
 // Compression levels, as gzip's and zstd's: 1 is the fastest, 9 the smallest. Every level is canonical
 // (isomorphic meshes with the same positions give the same bytes) and every file decodes with the same
@@ -86,6 +88,18 @@ struct OrderMap {
 // canonical map (what decode() numbers vertices and faces by without keep_order), whether or not it is
 // stored.
 std::string encode(const QuadMesh& mesh, const EncodeOptions& options = {}, OrderMap* order = nullptr);
+
+// `file` (a whole .qsp) with the comments section holding `lines` (the leading comment block of the
+// mesh file it was made from: io.h's leading_comments), replacing any it had; none for no lines. The
+// file then says format 3.1 (a 3.0 decoder skips the section). Throws Error(kUsage) for a line with a
+// CR or LF (it would be two lines, or a statement, when written back) and what container parsing
+// throws for a malformed `file`.
+std::string with_comments(std::string_view file, const std::vector<std::string>& lines);
+
+// The comment lines a .qsp's comments section holds (empty if it has none). Checks the container as
+// decode() does; Error(kFormat) naming the byte offset for a malformed section (a count the bytes
+// cannot hold, a line with a CR or LF, bytes left over). Safe on untrusted input.
+std::vector<std::string> file_comments(std::string_view bytes);
 
 // Decodes a whole .qsp. Returns the mesh in canonical order (or the original order when the file has
 // an order section). Throws Error with kFormat (malformed, truncated, trailing bytes), kVersion

@@ -56,7 +56,9 @@ struct ReadReport {
   std::uint64_t materials = 0;             // material: `usemtl` and `mtllib` lines
   std::uint64_t smoothing = 0;             // smoothing: `s` lines
   std::uint64_t tags = 0;                  // tag: OpenSubdiv `t` lines (creases, corners, ...) that parse
-  std::uint64_t vertex_weights = 0;        // extra: `v x y z w`
+  std::uint64_t comments = 0;  // comment: lines of the leading comment block (PLY: header comments)
+  std::vector<std::string> leading_comments;  // comment: their text (leading_comments())
+  std::uint64_t vertex_weights = 0;           // extra: `v x y z w`
   // extra: OBJ lines that carry no geometry and that qsp does not understand (`vp`, `cstype` and the
   // other free-form attributes, `usemap`, a malformed tag, a stray line of prose), which the Mesh
   // readers keep as text; `first_kept` is the first one's line and what it is.
@@ -72,7 +74,7 @@ struct ReadReport {
   std::uint64_t rounded_coordinates = 0;
   RoundedCoordinate first_rounded;  // the first such coordinate in the file
 
-  // The categories of everything counted above (never kCategoryComment); 0 for positions and quads only.
+  // The categories of everything counted above; 0 for positions and quads only.
   unsigned categories() const;
   bool has_extra_data() const { return categories() != 0; }
   // What was seen in `categories`, each category's counts followed by its name: "8 texture coordinates,
@@ -121,10 +123,11 @@ QuadMesh read_ply(std::string_view bytes, const std::string& source, ReadReport*
 QuadMesh read_mesh_file(const std::string& path, ReadReport* report = nullptr,
                         MeshFormat format = MeshFormat::kUnknown);
 
-// Write OBJ/OFF text. Floats use the shortest text that reads back to the same float
+// Write OBJ/OFF text, `comments` first (a '#' line each: the leading comment block, as
+// leading_comments() reads it back). Floats use the shortest text that reads back to the same float
 // (std::to_chars), so read(write(m)) == m bit for bit.
-std::string write_obj(const QuadMesh& mesh);
-std::string write_off(const QuadMesh& mesh);
+std::string write_obj(const QuadMesh& mesh, const std::vector<std::string>& comments = {});
+std::string write_off(const QuadMesh& mesh, const std::vector<std::string>& comments = {});
 
 // ---------------------------------------------------------------------------------------------
 // Exact reading into a Mesh
@@ -205,6 +208,14 @@ std::string write_ply_mesh(const Mesh& mesh, const WriteOptions& options = {});
 
 // The writer for `format` (kObj, kOff, kPly); kUsage for others.
 std::string write_mesh(const Mesh& mesh, MeshFormat format, const WriteOptions& options = {});
+
+// The leading comment block of OBJ or OFF text (licence and copyright lines, as MakeHuman and
+// OpenSubdiv files carry them): the text after the '#' of each comment line from the start (after a
+// UTF-8 byte order mark, and after an OFF keyword line, where OFF writers put it) up to the first line
+// that is neither blank nor a comment, without its line
+// end (LF, CRLF or a lone CR: so no text holds a CR or LF). Blank lines between them are not kept.
+// Safe on untrusted input; reads only the block.
+std::vector<std::string> leading_comments(std::string_view text);
 
 // Read a whole file (or stdin for "-") into memory. Throws Error(kIo) with the path and reason.
 std::string read_file_bytes(const std::string& path);

@@ -79,7 +79,7 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   ReadReport report;
   const QuadMesh mesh = read_input_mesh(in, format, &report);
   const bool quiet = o.verbosity.quiet;
-  refuse_extra_data(in, report, ".qsp", o.drop, quiet);
+  const std::string dropped = refuse_extra_data(in, report, ".qsp", o.drop, quiet);
   if (!o.quantize) refuse_rounding(in, report, "a lossless .qsp", o.float32, quiet, "--quantize BITS");
   if (mesh.face_count() == 0 && !quiet)
     std::fprintf(stderr, "qsp: warning: %s: has no faces (%zu vertices); writing an empty mesh\n", in.c_str(),
@@ -98,12 +98,16 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   } catch (const Error& e) {
     rethrow_located(e, in, report);  // topology errors name a face: say file:line
   }
-  write_output(job.output, bytes, {o.force, quiet, other_ways(job), o.sync});
-  if (lossless_size && bytes.size() >= lossless_size)
+  const std::vector<std::string> comments = kept_comments(report, o.drop);
+  const std::string file = comments.empty() ? bytes : with_comments(bytes, comments);
+  if (lossless_size) lossless_size += file.size() - bytes.size();  // both with the comments
+  write_output(job.output, file, {o.force, quiet, other_ways(job), o.sync});
+  std::fputs(dropped.c_str(), stderr);
+  if (lossless_size && file.size() >= lossless_size)
     std::fprintf(stderr,
                  "qsp: warning: %s: at --quantize %u the file is %zu bytes, not smaller than lossless (%llu "
                  "bytes): positions are probably on a coarser grid already; drop --quantize\n",
-                 in.c_str(), o.quantize, bytes.size(), (unsigned long long)lossless_size);
+                 in.c_str(), o.quantize, file.size(), (unsigned long long)lossless_size);
   if (o.verbosity.verbose && !quiet) {
     std::error_code ec;
     const auto in_size = in == "-" ? 0 : std::filesystem::file_size(in, ec);
@@ -112,9 +116,9 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
     std::string kind = o.quantize ? "quantized " + std::to_string(o.quantize) + " bits" : "lossless";
     if (lossless_size) kind += " (lossless " + std::to_string(lossless_size) + ")";
     std::fprintf(stderr, "qsp: %s -> %s: %llu -> %zu bytes", in.c_str(), job.output.c_str(),
-                 (unsigned long long)(ec ? 0 : in_size), bytes.size());
-    if (!ec && in_size) std::fprintf(stderr, " (%.2fx smaller)", double(in_size) / double(bytes.size()));
-    std::fprintf(stderr, ", %.2f bits/vertex, %s%s, level %d, partition %s, %.3f s\n", 8.0 * bytes.size() / v,
+                 (unsigned long long)(ec ? 0 : in_size), file.size());
+    if (!ec && in_size) std::fprintf(stderr, " (%.2fx smaller)", double(in_size) / double(file.size()));
+    std::fprintf(stderr, ", %.2f bits/vertex, %s%s, level %d, partition %s, %.3f s\n", 8.0 * file.size() / v,
                  kind.c_str(), o.keep_order ? ", order kept" : "", o.level,
                  stored_partition(mesh, eo, bytes, o.partition).c_str(), seconds);
   }

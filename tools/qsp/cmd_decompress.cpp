@@ -56,7 +56,8 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
   limits.max_vertices = o.max_vertices;
   limits.max_faces = o.max_faces;
   const QuadMesh mesh = decode_named(bytes, job.input, limits);
-  const std::string text = format == MeshFormat::kOff ? write_off(mesh) : write_obj(mesh);
+  const std::vector<std::string> comments = comments_named(bytes, job.input);
+  const std::string text = format == MeshFormat::kOff ? write_off(mesh, comments) : write_obj(mesh, comments);
   write_output(job.output, text, {o.force, o.verbosity.quiet, other_ways(job), o.sync});
   if (o.verbosity.verbose && !o.verbosity.quiet) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

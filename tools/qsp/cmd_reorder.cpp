@@ -42,7 +42,7 @@ int run(const ReorderOptions& o) {
   ref.mesh = read_mesh_or_qsp(o.ref, ref.report, in_format);
   in.mesh = read_mesh_or_qsp(o.input, in.report, in_format);
   // Only IN's data reaches OUT; REF contributes its order alone.
-  refuse_extra_data(o.input, in.report, "reorder", o.drop, false);
+  const std::string dropped = refuse_extra_data(o.input, in.report, "reorder", o.drop, false);
   refuse_rounding(o.input, in.report, "reorder", o.float32, false);
   MatchOptions mo;
   mo.centering = o.centering;
@@ -66,16 +66,19 @@ int run(const ReorderOptions& o) {
   const QuadMesh out = reorder_like(in.mesh, r);
   if (out.quads != ref.mesh.quads)
     throw Error(ErrorCode::kInternal, "reorder: faces do not come out in REF's order");
+  const std::vector<std::string> comments = kept_comments(in.report, o.drop);
   std::string bytes;
   if (format == MeshFormat::kQsp) {
     // Keep the order in the file, so decompressing gives REF's order.
     EncodeOptions eo;
     eo.keep_order = true;
     bytes = encode(out, eo);
+    if (!comments.empty()) bytes = with_comments(bytes, comments);
   } else {
-    bytes = format == MeshFormat::kOff ? write_off(out) : write_obj(out);
+    bytes = format == MeshFormat::kOff ? write_off(out, comments) : write_obj(out, comments);
   }
   write_output(o.output, bytes, {o.force, false, "name another output (-o NAME)", o.sync});
+  std::fputs(dropped.c_str(), stderr);
   return exit_code(Outcome::kSuccess);
 }
 

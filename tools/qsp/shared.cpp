@@ -236,7 +236,19 @@ Input read_input(const std::string& path, MeshFormat format) {
 QuadMesh read_mesh_or_qsp(const std::string& path, ReadReport& report, MeshFormat format) {
   Input in = read_input(path, format);
   report = std::move(in.report);
-  return in.qsp ? decode_named(in.bytes, path) : std::move(in.mesh);
+  if (!in.qsp) return std::move(in.mesh);
+  QuadMesh mesh = decode_named(in.bytes, path);
+  report.leading_comments = comments_named(in.bytes, path);
+  report.comments = report.leading_comments.size();
+  return mesh;
+}
+
+std::vector<std::string> comments_named(std::string_view bytes, const std::string& path) {
+  try {
+    return file_comments(bytes);
+  } catch (const Error& e) {
+    throw Error(e.code(), path + ": " + e.what());
+  }
 }
 
 QuadMesh decode_named(std::string_view bytes, const std::string& path, const DecodeLimits& limits) {
@@ -274,8 +286,8 @@ void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose
                   "Drop " + whose + "data of these kinds instead of refusing the file (comma-separated: " +
                       category_list(kCategoryAll, ", ") +
                       "). extra: lines qsp keeps only as text (vp, cstype, a stray line of prose), vertex "
-                      "weights, other PLY properties. comment: accepted, but comments are never kept nor "
-                      "counted yet (always dropped)")
+                      "weights, other PLY properties. comment: the leading comment block (licence lines), "
+                      "which is kept unless dropped; later comments are never kept")
       ->type_name("LIST")
       ->check(CLI::Validator(
           [](std::string& value) {
@@ -292,18 +304,21 @@ void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose
       "Drop all of them (--drop " + category_list(kCategoryAll) + "): keep positions and faces only");
 }
 
-void refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
-                       const DropOptions& drop, bool quiet) {
+std::string refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
+                              const DropOptions& drop, bool quiet) {
   const unsigned has = report.categories(), dropped = drop.categories() & has;
-  if (has == 0) return;
-  if (dropped != has)
-    throw Error(ErrorCode::kUnsupported, path + ": has " + report.describe_extra_data(path, has & ~dropped) +
-                                             ", which " + what + " does not keep; pass --drop " +
-                                             category_list(has) + " (or --positions-only) to drop them");
-  if (!quiet)
-    std::fprintf(stderr, "qsp: %s: dropped %s (%s)\n", path.c_str(),
-                 report.describe_extra_data(path, dropped).c_str(),
-                 drop.positions_only ? "--positions-only" : ("--drop " + drop.list).c_str());
+  if ((dropped | kKeptCategories) != (has | kKeptCategories))
+    throw Error(ErrorCode::kUnsupported,
+                path + ": has " + report.describe_extra_data(path, has & ~dropped & ~kKeptCategories) +
+                    ", which " + what + " does not keep; pass --drop " +
+                    category_list(has & ~kKeptCategories) + " (or --positions-only) to drop them");
+  if (quiet || !dropped) return {};
+  return "qsp: " + path + ": dropped " + report.describe_extra_data(path, dropped) + " (" +
+         (drop.positions_only ? "--positions-only" : "--drop " + drop.list) + ")\n";
+}
+
+std::vector<std::string> kept_comments(const ReadReport& report, const DropOptions& drop) {
+  return drop.categories() & kCategoryComment ? std::vector<std::string>{} : report.leading_comments;
 }
 
 void refuse_rounding(const std::string& path, const ReadReport& report, const std::string& what, bool float32,

@@ -113,6 +113,8 @@ Input read_input(const std::string& path, MeshFormat format = MeshFormat::kUnkno
 
 // decode(bytes, limits) (codec.h) with an error's message starting "path: ".
 QuadMesh decode_named(std::string_view bytes, const std::string& path, const DecodeLimits& limits = {});
+// file_comments(bytes) (codec.h) with an error's message starting "path: ".
+std::vector<std::string> comments_named(std::string_view bytes, const std::string& path);
 
 // read_input, with a .qsp decoded in full (vertices numbered as `qsp decompress` writes them; a decode
 // error names the file). `report` gets a mesh file's face lines (none for a .qsp).
@@ -151,9 +153,15 @@ void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose
 // Data a mesh file had beside positions and faces (texture coordinates, normals, groups, ...), which
 // `what` (".qsp", "reorder") cannot keep: refused (kUnsupported, naming each kind not dropped with its
 // counts, and the --drop that drops everything the file has) unless `drop` drops every kind the file
-// has, then a note on stderr naming what was dropped, unless `quiet`.
-void refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
-                       const DropOptions& drop, bool quiet);
+// has; then returns the note naming what was dropped ("" if nothing was, or `quiet`), for the caller to
+// print once its output is written. The leading comment block is kept by both (kKeptCategories):
+// never refused, dropped only when `drop` names it.
+inline constexpr unsigned kKeptCategories = kCategoryComment;
+std::string refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
+                              const DropOptions& drop, bool quiet);
+
+// The leading comment lines to write with the mesh: the report's, unless `drop` drops comments.
+std::vector<std::string> kept_comments(const ReadReport& report, const DropOptions& drop);
 
 // Coordinates the reader rounded to float32 (ReadReport::rounded_coordinates), which `what` would
 // write rounded: refused (kUnsupported, naming the first and --float32, plus `other_way` when not
