@@ -181,8 +181,10 @@ std::vector<float> to_layout_order(std::vector<float> coded, const std::vector<s
 
 }  // namespace
 
-QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
-  Parsed p = parse(bytes, limits);
+namespace {
+
+// The layout's quads and positions (layout order), the quads checked as rebuilt_adjacency does.
+QuadMesh decode_layout(Parsed& p) {
   decode_components(p);
   const auto nv = static_cast<std::uint32_t>(p.counts.vertices);
   const auto nf = static_cast<std::uint32_t>(p.counts.faces);
@@ -203,8 +205,15 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
   canonical.positions = to_layout_order(
       decode_geometry(p.geometry->payload, p.geometry->payload_offset, layout.stencil, nv), layout.coding);
   checked.get();
-  if (!p.order) return canonical;
+  return canonical;
+}
 
+// decode() after the parse.
+QuadMesh decode_quads(Parsed& p) {
+  QuadMesh canonical = decode_layout(p);
+  if (!p.order) return canonical;
+  const auto nv = static_cast<std::uint32_t>(p.counts.vertices);
+  const auto nf = static_cast<std::uint32_t>(p.counts.faces);
   const OrderMap order_map = decode_order(p.order->payload, p.order->payload_offset, nv, nf);
   QuadMesh out;
   out.positions.resize(canonical.positions.size());
@@ -220,6 +229,46 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
     for (std::uint32_t c = 0; c < 4; ++c)
       out.quads[4 * f + (c + r) % 4] = canonical_to_input[canonical.quads[4 * cf + c]];
   }
+  return out;
+}
+
+}  // namespace
+
+QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
+  Parsed p = parse(bytes, limits);
+  if (const Section* s = p.file.find(container::kTagPolygons))
+    throw Error(ErrorCode::kNotQuad,
+                "the file holds a polygon mesh (faces that are not quads, or a non-manifold or mis-oriented "
+                "mesh: section 0x05 at byte offset " +
+                    std::to_string(s->offset) + "), which this reader of quad meshes does not take");
+  return decode_quads(p);
+}
+
+PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) {
+  Parsed p = parse(bytes, limits);
+  const Section* poly = p.file.find(container::kTagPolygons);
+  PolygonMesh out;
+  if (!poly) {
+    QuadMesh q = decode_quads(p);
+    out.positions = std::move(q.positions);
+    out.face_offsets.resize(q.quads.size() / 4 + 1);
+    for (std::size_t f = 0; f < out.face_offsets.size(); ++f)
+      out.face_offsets[f] = static_cast<std::uint32_t>(4 * f);
+    out.corners = std::move(q.quads);
+    return out;
+  }
+  if (p.order)
+    format_error(
+        "an order section beside the polygons section (format 3.1 stores no order for polygon meshes)",
+        p.order->offset);
+  const QuadMesh layout = decode_layout(p);
+  const Adjacency adj = rebuilt_adjacency(layout.quads, static_cast<std::uint32_t>(p.counts.vertices),
+                                          p.topology->payload_offset);
+  DecodedPolygons d = decode_polygons_section(poly->payload, poly->payload_offset, layout.quads, adj,
+                                              layout.positions, limits);
+  out.positions = std::move(d.positions);
+  out.face_offsets = std::move(d.faces.face_offsets);
+  out.corners = std::move(d.faces.corners);
   return out;
 }
 
@@ -263,6 +312,8 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       info.geometry_bytes += size;
     else if (s.tag == container::kTagOrder)
       info.order_bytes += size;
+    else if (s.tag == container::kTagPolygons)
+      info.connectivity_bytes += size;
     else
       info.other_bytes += size;
   }

@@ -296,7 +296,7 @@ std::map<std::string, Crafted> crafted() {
   newer.major = kFormatMajor + 1;
   out["qsp_newer_major"] = {assemble(newer), "version",
                             "file is .qsp format " + std::to_string(kFormatMajor + 1) + "." +
-                                std::to_string(kFormatMinor) + "; this qsp reads format " +
+                                std::to_string(p.minor) + "; this qsp reads format " +
                                 std::to_string(kFormatMajor) + ".x (upgrade qsp)"};
   Parts development = p;
   development.major = 2, development.minor = 2;
@@ -352,15 +352,19 @@ std::map<std::string, Crafted> crafted() {
     // A required section of a newer minor version: "upgrade qsp". The same tag in a file of this
     // version cannot come from a correct encoder.
     const std::string sections =
-        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(5, "x");
+        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(6, "x");
     Parts newer_minor = p;
     newer_minor.minor = kFormatMinor + 1;
     out["qsp_unknown_required_section_newer_minor"] = {
         seal(newer_minor, sections), "version",
-        "section 0x05 is required but unknown to this qsp, which reads "
-        "format 3.0 (upgrade qsp)"};
+        "section 0x06 is required but unknown to this qsp, which reads "
+        "format 3.1 (upgrade qsp)"};
     out["qsp_unknown_required_section"] = {seal(p, sections), "format",
-                                           "section 0x05 is required but unknown to this qsp"};
+                                           "section 0x06 is required but unknown to this qsp"};
+    // Format 3.1's polygons section in a file that says it is 3.0.
+    out["qsp_polygons_section_in_3_0"] = {
+        seal(p, section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(5, "x")),
+        "format", "section 0x05 (polygons) is format 3.1's, and the file says it is 3.0"};
   }
   out["qsp_missing_geometry"] = {seal(p, section(1, p.counts) + section(2, p.topology)), "format",
                                  "required section 3 (geometry) is missing"};
