@@ -247,16 +247,7 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
 PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) {
   Parsed p = parse(bytes, limits);
   const Section* poly = p.file.find(container::kTagPolygons);
-  PolygonMesh out;
-  if (!poly) {
-    QuadMesh q = decode_quads(p);
-    out.positions = std::move(q.positions);
-    out.face_offsets.resize(q.quads.size() / 4 + 1);
-    for (std::size_t f = 0; f < out.face_offsets.size(); ++f)
-      out.face_offsets[f] = static_cast<std::uint32_t>(4 * f);
-    out.corners = std::move(q.quads);
-    return out;
-  }
+  if (!poly) return polygon_mesh(decode_quads(p));
   if (p.order)
     format_error(
         "an order section beside the polygons section (format 3.1 stores no order for polygon meshes)",
@@ -264,6 +255,7 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   const QuadMesh layout = decode_layout(p);
   const Adjacency adj = rebuilt_adjacency(layout.quads, static_cast<std::uint32_t>(p.counts.vertices),
                                           p.topology->payload_offset);
+  PolygonMesh out;
   DecodedPolygons d = decode_polygons_section(poly->payload, poly->payload_offset, layout.quads, adj,
                                               layout.positions, limits);
   out.positions = std::move(d.positions);

@@ -108,6 +108,9 @@ struct PolygonMesh {
   std::size_t face_count() const { return face_offsets.empty() ? 0 : face_offsets.size() - 1; }
 };
 
+// The same mesh as a PolygonMesh (every face of degree 4). Never throws but for memory.
+PolygonMesh polygon_mesh(QuadMesh mesh);
+
 // Encodes any polygon mesh. A manifold, consistently oriented all-quad mesh gives exactly encode()'s
 // bytes (format 3.0); any other gets the quad submesh (qsp/submesh.h) stored as a 3.0 file stores a quad
 // mesh, plus the polygons section (format 3.1) with the non-quad faces and the vertex glue
