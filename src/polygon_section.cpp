@@ -319,6 +319,8 @@ DecodedPolygons decode_polygons_section(std::string_view payload, std::uint64_t 
   } else {
     if (interior_owned > kMaxSymbolsPerByte * (rest.size() + 8))
       fail("more interior positions than the geometry after the stream can hold", rest_at);
+    if (coding_order(geometry_tools(rest, rest_at)) != CodingOrder::kLayout)
+      fail("the interior positions are not in layout order (tools bit 1 clear)", rest_at);
     positions = decode_geometry(rest, rest_at, chain_stencils(interior_owned), interior_owned);
   }
   out.positions.resize(3 * std::size_t{out.faces.vertex_count});
