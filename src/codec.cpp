@@ -248,19 +248,42 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   Parsed p = parse(bytes, limits);
   const Section* poly = p.file.find(container::kTagPolygons);
   if (!poly) return polygon_mesh(decode_quads(p));
-  if (p.order)
-    format_error(
-        "an order section beside the polygons section (format 3.1 stores no order for polygon meshes)",
-        p.order->offset);
   const QuadMesh layout = decode_layout(p);
   const Adjacency adj = rebuilt_adjacency(layout.quads, static_cast<std::uint32_t>(p.counts.vertices),
                                           p.topology->payload_offset);
   PolygonMesh out;
   DecodedPolygons d = decode_polygons_section(poly->payload, poly->payload_offset, layout.quads, adj,
                                               layout.positions, limits);
-  out.positions = std::move(d.positions);
-  out.face_offsets = std::move(d.faces.face_offsets);
-  out.corners = std::move(d.faces.corners);
+  if (!p.order) {
+    out.positions = std::move(d.positions);
+    out.face_offsets = std::move(d.faces.face_offsets);
+    out.corners = std::move(d.faces.corners);
+    return out;
+  }
+  // The input's numbering: vertex j is output vertex vertex[j]; face f is output face face[f], its corner
+  // (i + rotation[f]) mod d output corner i.
+  const std::vector<std::uint32_t>& fo = d.faces.face_offsets;
+  const auto nf = static_cast<std::uint32_t>(fo.size() - 1);
+  std::vector<std::uint32_t> degree(nf);
+  for (std::uint32_t f = 0; f < nf; ++f) degree[f] = fo[f + 1] - fo[f];
+  const PolygonOrder order =
+      decode_polygon_order(p.order->payload, p.order->payload_offset, d.faces.vertex_count, degree);
+  std::vector<std::uint32_t> output_to_input(d.faces.vertex_count);
+  out.positions.resize(d.positions.size());
+  for (std::uint32_t j = 0; j < d.faces.vertex_count; ++j) {
+    output_to_input[order.vertex[j]] = j;
+    std::copy_n(&d.positions[3 * std::size_t{order.vertex[j]}], 3, &out.positions[3 * std::size_t{j}]);
+  }
+  out.face_offsets.assign(1, 0);
+  for (std::uint32_t f = 0; f < nf; ++f)
+    out.face_offsets.push_back(out.face_offsets.back() + degree[order.face[f]]);
+  out.corners.resize(d.faces.corners.size());
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    const std::uint32_t g = order.face[f], dg = degree[g];
+    for (std::uint32_t i = 0; i < dg; ++i)
+      out.corners[out.face_offsets[f] + (i + order.rotation[f]) % dg] =
+          output_to_input[d.faces.corners[fo[g] + i]];
+  }
   return out;
 }
 
@@ -273,6 +296,9 @@ FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits) {
 OrderMap file_order(std::string_view bytes, const DecodeLimits& limits) {
   const Parsed p = parse(bytes, limits);
   if (!p.order) return {};
+  if (p.file.find(container::kTagPolygons))
+    throw Error(ErrorCode::kNotQuad,
+                "the file holds a polygon mesh, whose order section is not a quad mesh's");
   return decode_order(p.order->payload, p.order->payload_offset,
                       static_cast<std::uint32_t>(p.counts.vertices),
                       static_cast<std::uint32_t>(p.counts.faces));

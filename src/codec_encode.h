@@ -50,10 +50,12 @@ std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const P
                              OrderMap* order_out, ChoiceRole role = {});
 
 // encode_partition's file from `cm`, a canonical form of `mesh` (canonicalize's, or canonical_regions'
-// re-rooted one). A non-empty `polygons` is stored as the polygons section (a 3.1 file); without it the
-// file is 3.0. Throws as encode() does.
+// re-rooted one). A non-empty `polygons` is stored as the polygons section (a 3.1 file), with
+// `polygon_order` as its order section when that is not empty; without it the file is 3.0. Throws as
+// encode() does.
 std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, const EncodeOptions& options,
                              const Effort& effort, const EncodeTuning& tuning, OrderMap* order_out,
-                             ChoiceRole role = {}, std::string_view polygons = {});
+                             ChoiceRole role = {}, std::string_view polygons = {},
+                             std::string_view polygon_order = {});
 
 }  // namespace qsp

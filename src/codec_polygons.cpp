@@ -54,9 +54,15 @@ std::string encode_cut(const PolygonMesh& mesh, const QuadSubmesh& s, PartitionM
       if (rebuilt.corners[ob + i] != r.vertex[mesh.corners[b + (i + r.rotation[f]) % d]])
         internal("face " + std::to_string(f) + " is rebuilt on other vertices");
   }
+  std::string order;
+  if (options.keep_order) {
+    std::vector<std::uint32_t> degree(nf);
+    for (std::size_t f = 0; f < nf; ++f) degree[f] = rebuilt.face_offsets[f + 1] - rebuilt.face_offsets[f];
+    order = encode_polygon_order(r.vertex, r.face, r.rotation, degree);
+  }
   EncodeOptions quads = options;
   quads.keep_order = false;
-  return encode_canonical(s.mesh, r.quads, quads, effort, {}, nullptr, {}, polygons);
+  return encode_canonical(s.mesh, r.quads, quads, effort, {}, nullptr, {}, polygons, order);
 }
 
 }  // namespace
@@ -98,10 +104,6 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
   if (options.quantize_bits > 30)
     throw Error(ErrorCode::kUsage, "encode: quantize_bits " + std::to_string(options.quantize_bits) +
                                        " is not 0 (lossless) to 30");
-  if (options.keep_order)
-    throw Error(ErrorCode::kUsage,
-                "keeping the order (--keep-order) is not yet supported for meshes with faces that are not "
-                "quads or that are not manifold and consistently oriented");
   const auto nv = static_cast<std::uint32_t>(mesh.vertex_count());
   const QuadSubmesh s = quad_submesh(mesh.face_offsets, mesh.corners, nv, mesh.positions);
   const Effort effort = level_effort(options.level, s.mesh.vertex_count());

@@ -35,6 +35,21 @@ std::string encode_order(const OrderMap& order);
 OrderMap decode_order(std::string_view payload, std::uint64_t base_offset, std::uint32_t vertex_count,
                       std::uint32_t face_count);
 
+// The order section of a polygon file (beside the polygons section): per input vertex its output vertex,
+// per input face its output face and rotation r (output corner i is input corner (i + r) mod d), the
+// degree d per output face. Throws Error(kInternal) where a rotation is not below its degree.
+std::string encode_polygon_order(std::span<const std::uint32_t> vertex, std::span<const std::uint32_t> face,
+                                 std::span<const std::uint32_t> rotation,
+                                 std::span<const std::uint32_t> degree);
+struct PolygonOrder {
+  std::vector<std::uint32_t> vertex, face, rotation;
+};
+// Inverse of encode_polygon_order for `vertex_count` output vertices and the output faces' degrees.
+// Throws Error(kFormat) unless the payload holds exactly two permutations and rotations below their
+// faces' degrees. Safe on untrusted input.
+PolygonOrder decode_polygon_order(std::string_view payload, std::uint64_t base_offset,
+                                  std::uint32_t vertex_count, std::span<const std::uint32_t> degree);
+
 // The polygons section's payload (format 3.1) for `codes` over the layout quads `layout_quads` (their
 // adjacency `layout_adjacency`): the stream, then the positions of the interior vertices that are no
 // glue group's later member, from `interior_positions` (3 per interior ref), coded with `geometry`'s

@@ -1,7 +1,6 @@
 // qsp compress and decompress on polygon meshes (format 3.1): triangles, n-gons, non-manifold and
 // mis-oriented pieces round-trip through the command line, compared by the test's own parse of both
-// files; what is not a mesh keeps its message; --keep-order is refused clearly where it is not yet
-// supported.
+// files; what is not a mesh keeps its message; --keep-order gives back the file's own order.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -89,15 +88,15 @@ TEST_F(CliPolygons, StandardStreamsAndQuantizedPositions) {
   EXPECT_EQ(degrees, (std::vector<std::size_t>{3, 3, 4, 4, 4, 4, 4, 4, 5}));
 }
 
-TEST_F(CliPolygons, KeepOrderIsRefusedClearly) {
+TEST_F(CliPolygons, KeepOrderGivesBackTheFileOrder) {
   testing::spit(p("m.obj"), kPolygonObj);
   const auto c = run_qsp("compress --keep-order " + quote(p("m.obj")));
-  EXPECT_NE(c.exit_code, 0);
-  EXPECT_NE(c.err.find("--keep-order is not yet supported"), std::string::npos) << c.err;
-  EXPECT_FALSE(std::filesystem::exists(p("m.obj.qsp")));
-  // A quad mesh keeps its order as before.
-  testing::spit(p("q.obj"), "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
-  EXPECT_EQ(run_qsp("compress --keep-order " + quote(p("q.obj"))).exit_code, 0);
+  ASSERT_EQ(c.exit_code, 0) << c.err;
+  const auto d = run_qsp("decompress -c " + quote(p("m.obj.qsp")));
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  const testing::TextMesh in = testing::parse_obj_text(kPolygonObj), back = testing::parse_obj_text(d.out);
+  EXPECT_EQ(back.faces, in.faces);
+  EXPECT_EQ(back.vertices, in.vertices);
 }
 
 TEST_F(CliPolygons, WhatIsNotAMeshKeepsItsMessage) {

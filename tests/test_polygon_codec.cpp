@@ -185,17 +185,30 @@ TEST(PolygonCodec, NonManifoldAndMisorientedQuadMeshesRoundTrip) {
   EXPECT_TRUE(needs_polygons(bytes));
 }
 
-TEST(PolygonCodec, KeepOrderIsRefusedForPolygonMeshes) {
+// --keep-order: the order section over all faces (rotations modulo each face's degree) gives back the
+// input arrays exactly.
+void expect_order_kept(const Poly& p, const std::string& what) {
   EncodeOptions o;
   o.keep_order = true;
-  const Poly p = with_positions(Grid::make(2, 2, [](int, int) { return 't'; }).p);
-  try {
-    (void)encode_polygons(to_mesh(p), o);
-    ADD_FAILURE() << "accepted";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::kUsage);
-    EXPECT_NE(std::string(e.what()).find("not yet supported"), std::string::npos) << e.what();
+  const PolygonMesh in = to_mesh(p);
+  const std::string bytes = encode_polygons(in, o);
+  const PolygonMesh out = decode_polygons(bytes);
+  EXPECT_EQ(out.face_offsets, in.face_offsets) << what;
+  EXPECT_EQ(out.corners, in.corners) << what;
+  EXPECT_TRUE(out.positions == in.positions) << what;
+}
+
+TEST(PolygonCodec, KeepOrderRestoresTheInputNumbering) {
+  for (const testing::PolyCase& c : testing::hand_polygon_cases()) {
+    expect_order_kept(with_positions(c.p), c.name);
+    expect_order_kept(with_positions(testing::shuffled(c.p, 9)), c.name + " shuffled");
   }
+  expect_order_kept(with_positions(testing::ngon_with_a_quad(300)), "300-gon");
+  // The order section of a polygon file is not a quad file's.
+  EncodeOptions o;
+  o.keep_order = true;
+  const std::string bytes = encode_polygons(to_mesh(with_positions(testing::ngon_with_a_quad(7))), o);
+  EXPECT_THROW((void)file_order(bytes), Error);
 }
 
 TEST(PolygonCodec, QuadReaderRefusesPolygonFiles) {
@@ -240,8 +253,11 @@ TEST(PolygonCodec, EveryResealedBitFlipAndCutIsRefusedOrValid) {
       cases.emplace_back(c.name, with_positions(c.p));
   cases.emplace_back("triangles", with_positions(Grid::make(2, 2, [](int, int) { return 't'; }).p));
   ASSERT_GE(cases.size(), 3u);
-  for (const auto& [name, p] : cases) {
-    const std::string file = encode_polygons(to_mesh(p));
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const auto& [name, p] = cases[k];
+    EncodeOptions o;
+    o.keep_order = k % 2 == 1;  // half of them with the order section over all faces
+    const std::string file = encode_polygons(to_mesh(p), o);
     const std::string body = body_of(file);
     int refused = 0;
     for (std::size_t i = 0; i < body.size(); ++i) {
@@ -275,6 +291,7 @@ TEST(PolygonCodec, EveryCorpusMeshRoundTripsAndIsCanonical) {
     ++meshes;
     if (p.face_count() <= 20000) {
       EXPECT_EQ(encode_polygons(to_mesh(testing::shuffled(p, 3))), bytes) << "renumbered copy";
+      expect_order_kept(p, path.filename().string());
       ++renumbered;
     }
   }

@@ -96,13 +96,6 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
       lossless_size = encode_polygons(mesh, exact).size();
     }
   } catch (const Error& e) {
-    // Not yet: the order of a mesh that needs the polygons section (format 3.1 stores none).
-    if (e.code() == ErrorCode::kUsage && o.keep_order)
-      throw Error(
-          ErrorCode::kUnsupported,
-          in + ": --keep-order is not yet supported for meshes with faces that are not quads, or that "
-               "are not manifold and consistently oriented; compress without it (the faces and vertices "
-               "are then stored in canonical order)");
     rethrow_located(e, in, report);  // topology errors name a face: say file:line
   }
   write_output(job.output, bytes, {o.force, quiet, other_ways(job), o.sync});
