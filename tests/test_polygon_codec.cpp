@@ -276,6 +276,45 @@ TEST(PolygonCodec, EveryResealedBitFlipAndCutIsRefusedOrValid) {
   }
 }
 
+// The decoder's limits: refs (interior vertices included) against max_vertices before anything is
+// allocated by them, all faces against max_faces.
+TEST(PolygonCodec, LimitsAreCheckedOnRefsAndAllFaces) {
+  Grid g = Grid::make(3, 3, [](int i, int j) { return i == 1 && j == 1 ? '.' : 'q'; });
+  const std::uint32_t c = g.p.nv++;
+  for (auto [a, b] : {std::pair{g.id(1, 1), g.id(2, 1)},
+                      {g.id(2, 1), g.id(2, 2)},
+                      {g.id(2, 2), g.id(1, 2)},
+                      {g.id(1, 2), g.id(1, 1)}})
+    g.p.face({a, b, c});
+  const std::string bytes = encode_polygons(to_mesh(with_positions(g.p)));  // 17 vertices, 12 faces
+  DecodeLimits l;
+  l.max_vertices = 16;  // the quads' 16 vertices fit, the interior one does not
+  try {
+    (void)decode_polygons(bytes, l);
+    ADD_FAILURE() << "accepted past max_vertices";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kLimit) << e.what();
+  }
+  l = {};
+  l.max_faces = 11;  // the 8 quads fit, not the 4 triangles
+  try {
+    (void)decode_polygons(bytes, l);
+    ADD_FAILURE() << "accepted past max_faces";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kLimit) << e.what();
+  }
+  l.max_faces = 12;
+  l.max_vertices = 17;
+  EXPECT_EQ(decode_polygons(bytes, l).face_count(), 12u);
+}
+
+// Large hostile shapes cost their size through the codec too (ctest's timeout would catch a quadratic
+// coder): a 20,000-valence fan of alternating quads and triangles, a 50,000-gon on a quad.
+TEST(PolygonCodec, HostileShapesCostTheirSize) {
+  expect_round_trip(with_positions(testing::alternating_fan(20000)), "alternating fan");
+  expect_round_trip(with_positions(testing::ngon_with_a_quad(50000)), "50,000-gon");
+}
+
 // ---- Corpus.
 
 // Every corpus mesh (testdata/, ../shared/meshes and osd_shapes/: non-quad and non-manifold ones
