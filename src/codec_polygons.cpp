@@ -2,6 +2,8 @@
 // polygons section for the rest (docs/polygon_meshes.md, "The codec stage").
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,31 @@ namespace qsp {
 namespace {
 
 [[noreturn]] void internal(const std::string& what) { throw Error(ErrorCode::kInternal, "encode: " + what); }
+
+// The largest extent of the bounding box of `positions` (3 per vertex), 0 for none.
+double max_extent(std::span<const float> positions) {
+  double extent = 0;
+  for (std::size_t a = 0; a < 3 && a < positions.size(); ++a) {
+    double lo = positions[a], hi = positions[a];
+    for (std::size_t i = a; i < positions.size(); i += 3) {
+      lo = std::min<double>(lo, positions[i]);
+      hi = std::max<double>(hi, positions[i]);
+    }
+    extent = std::max(extent, hi - lo);
+  }
+  return extent;
+}
+
+// Quantized interior positions get the fewest bits whose grid over their own bounding box is no coarser
+// than the geometry section's over the quads' (`bits` over `layout_extent`): as precise as the rest of
+// the mesh, and not finer (a few vertices in a small box would otherwise get a far finer grid).
+std::uint32_t interior_bits(std::uint32_t bits, double layout_extent, double interior_extent) {
+  if (bits == 0 || layout_extent <= 0) return bits;
+  const double step = layout_extent / (std::ldexp(1.0, static_cast<int>(bits)) - 1);
+  for (std::uint32_t b = 1; b < bits; ++b)
+    if (interior_extent / (std::ldexp(1.0, static_cast<int>(b)) - 1) <= step) return b;
+  return bits;
+}
 
 // One partition's 3.1 file of the mesh cut into `s`.
 std::string encode_cut(const PolygonMesh& mesh, const QuadSubmesh& s, PartitionMode mode,
@@ -35,7 +62,8 @@ std::string encode_cut(const PolygonMesh& mesh, const QuadSubmesh& s, PartitionM
   for (std::size_t i = 0; i < r.interior_original.size(); ++i)
     std::copy_n(&mesh.positions[3 * std::size_t{r.interior_original[i]}], 3, &interior[3 * i]);
   GeometryOptions gopt;
-  gopt.quantize_bits = options.quantize_bits;
+  gopt.quantize_bits =
+      interior_bits(options.quantize_bits, max_extent(s.mesh.positions), max_extent(interior));
   gopt.header_sample = effort.header_sample;
   gopt.try_chaining = effort.try_chaining;
   PolygonFaces rebuilt;

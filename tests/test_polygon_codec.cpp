@@ -350,29 +350,32 @@ TEST(PolygonCodec, SectionBitsPerNonQuadFace) {
     std::size_t non_quads = 0;
     for (std::uint32_t f = 0; f < p.face_count(); ++f) non_quads += p.degree(f) != 4;
     ASSERT_GT(non_quads, 0u) << name;
-    EncodeOptions o;
-    o.quantize_bits = 14;
-    const std::string bytes = encode_polygons(to_mesh(p), o);
-    const container::File f = container::parse(bytes);
-    const container::Section* s = f.find(container::kTagPolygons);
-    ASSERT_NE(s, nullptr) << name;
-    // The connectivity part: the four counts and the stream (the interior positions follow it).
-    std::size_t at = 0;
-    std::uint64_t length = 0;
-    for (int k = 0; k < 4; ++k) {
-      length = 0;
-      for (int shift = 0;; shift += 7) {
-        const auto b = static_cast<std::uint8_t>(s->payload[at++]);
-        length |= std::uint64_t{b & 0x7Fu} << shift;
-        if (!(b & 0x80)) break;
+    for (const std::uint32_t bits : {14u, 0u}) {
+      EncodeOptions o;
+      o.quantize_bits = bits;
+      const std::string bytes = encode_polygons(to_mesh(p), o);
+      const container::File f = container::parse(bytes);
+      const container::Section* s = f.find(container::kTagPolygons);
+      ASSERT_NE(s, nullptr) << name;
+      // The connectivity part: the four counts and the stream (the interior positions follow it).
+      std::size_t at = 0;
+      std::uint64_t length = 0;
+      for (int k = 0; k < 4; ++k) {
+        length = 0;
+        for (int shift = 0;; shift += 7) {
+          const auto b = static_cast<std::uint8_t>(s->payload[at++]);
+          length |= std::uint64_t{b & 0x7Fu} << shift;
+          if (!(b & 0x80)) break;
+        }
       }
+      const std::size_t connectivity = at + length;
+      std::printf(
+          "%-30s %-8s %5zu non-quad faces  section %5zu bytes (connectivity %5zu)  %6.2f bits per non-quad "
+          "face "
+          "(connectivity %5.2f)  file %zu bytes\n",
+          name.c_str(), bits ? "14 bits" : "lossless", non_quads, s->payload.size(), connectivity,
+          8.0 * s->payload.size() / non_quads, 8.0 * connectivity / non_quads, bytes.size());
     }
-    const std::size_t connectivity = at + length;
-    std::printf(
-        "%-30s %5zu non-quad faces  section %5zu bytes (connectivity %5zu)  %6.2f bits per non-quad face "
-        "(connectivity %5.2f)  file %zu bytes\n",
-        name.c_str(), non_quads, s->payload.size(), connectivity, 8.0 * s->payload.size() / non_quads,
-        8.0 * connectivity / non_quads, bytes.size());
   }
 }
 
