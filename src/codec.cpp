@@ -183,8 +183,9 @@ std::vector<float> to_layout_order(std::vector<float> coded, const std::vector<s
 
 namespace {
 
-// The layout's quads and positions (layout order), the quads checked as rebuilt_adjacency does.
-QuadMesh decode_layout(Parsed& p) {
+// The layout's quads and positions (layout order), the quads checked as rebuilt_adjacency does (their
+// adjacency kept in `adjacency` if given).
+QuadMesh decode_layout(Parsed& p, Adjacency* adjacency = nullptr) {
   decode_components(p);
   const auto nv = static_cast<std::uint32_t>(p.counts.vertices);
   const auto nf = static_cast<std::uint32_t>(p.counts.faces);
@@ -198,8 +199,9 @@ QuadMesh decode_layout(Parsed& p) {
   canonical.quads = std::move(layout.quads);
   // The check of the rebuilt quads (rebuilt_adjacency) needs no positions, so it runs beside the
   // geometry decoder (from kCheckBesideFrom faces).
-  auto check = [&quads = canonical.quads, nv, offset = p.topology->payload_offset] {
-    (void)rebuilt_adjacency(quads, nv, offset);
+  auto check = [&quads = canonical.quads, nv, offset = p.topology->payload_offset, adjacency] {
+    Adjacency adj = rebuilt_adjacency(quads, nv, offset);
+    if (adjacency) *adjacency = std::move(adj);
   };
   std::future<void> checked = beside(nf >= kCheckBesideFrom, check);  // else after the geometry
   canonical.positions = to_layout_order(
@@ -248,9 +250,8 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   Parsed p = parse(bytes, limits);
   const Section* poly = p.file.find(container::kTagPolygons);
   if (!poly) return polygon_mesh(decode_quads(p));
-  const QuadMesh layout = decode_layout(p);
-  const Adjacency adj = rebuilt_adjacency(layout.quads, static_cast<std::uint32_t>(p.counts.vertices),
-                                          p.topology->payload_offset);
+  Adjacency adj;
+  const QuadMesh layout = decode_layout(p, &adj);
   PolygonMesh out;
   DecodedPolygons d = decode_polygons_section(poly->payload, poly->payload_offset, layout.quads, adj,
                                               layout.positions, limits);
