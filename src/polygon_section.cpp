@@ -253,12 +253,12 @@ DecodedPolygons decode_polygons_section(std::string_view payload, std::uint64_t 
   const std::uint64_t vq = layout_adjacency.vertex_count;
   std::uint64_t at = r.offset();
   const std::uint64_t interior = r.varint("interior vertex count");
+  if (vq + interior >= kPolygonSizeLimit) fail("more vertices than the format's 2^31 - 1", at);
   if (vq + interior > limits.max_vertices)
     throw Error(ErrorCode::kLimit, "polygons section: " + std::to_string(vq + interior) +
                                        " vertices (with the interior ones) exceed the limit " +
                                        std::to_string(limits.max_vertices) + " (at byte offset " +
                                        std::to_string(at) + ")");
-  if (vq + interior >= kPolygonSizeLimit) fail("more vertices than the format's 2^31 - 1", at);
   const std::uint64_t regions_at = r.offset();
   const std::uint64_t regions = r.varint("region count");
   const std::uint64_t glue_at = r.offset();
