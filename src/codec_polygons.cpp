@@ -1,7 +1,6 @@
 // Writing a .qsp of any polygon mesh (format 3.1): the quad submesh coded as a quad mesh's file, and the
-// polygons section for the rest (docs/polygon_meshes.md, "The codec stage").
+// polygons section for the rest (docs/polygon_meshes.md, "Stage B-2").
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <span>
 #include <string>
