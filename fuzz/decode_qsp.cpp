@@ -1,4 +1,4 @@
-// libFuzzer target: the .qsp decoder (decode, inspect and file_comments) on hostile bytes.
+// libFuzzer target: the .qsp decoder (decode, decode_polygons, inspect and file_comments) on hostile bytes.
 // Each input is tried as is (magic, version, size and checksum checks) and, when it is shaped like a
 // container, re-sealed with a correct size and checksum so mutations reach the section parsers.
 // Properties: no crash, no sanitizer report, no internal error, memory bounded by the limits below;
@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "fuzz_check.h"
 #include "qsp_craft.h"
@@ -22,9 +23,38 @@ qsp::DecodeLimits fuzz_limits() {
   return l;
 }
 
+// decode_polygons on the same bytes (any 3.x file, the 3.1 polygons section included): a file it
+// accepts gives faces of degree >= 3 on its vertices, none repeating a vertex, within the limits.
+void check_polygons(std::string_view bytes, const qsp::DecodeLimits& limits) {
+  using namespace qsp;
+  PolygonMesh m;
+  try {
+    m = decode_polygons(bytes, limits);
+  } catch (const Error& e) {
+    fuzz::check_error(e, "decode_polygons");
+    return;
+  }
+  if (m.vertex_count() > limits.max_vertices || m.face_count() > limits.max_faces)
+    fuzz::finding("decoded polygon mesh exceeds the limits");
+  if (m.face_offsets.empty() || m.face_offsets.back() != m.corners.size())
+    fuzz::finding("decoded polygon mesh has inconsistent face offsets");
+  std::vector<std::uint32_t> seen(m.vertex_count(), ~0u);
+  for (std::size_t f = 0; f < m.face_count(); ++f) {
+    if (m.face_offsets[f + 1] < m.face_offsets[f] + 3)
+      fuzz::finding("decoded a face of fewer than 3 corners");
+    for (std::uint32_t c = m.face_offsets[f]; c < m.face_offsets[f + 1]; ++c) {
+      const std::uint32_t v = m.corners[c];
+      if (v >= m.vertex_count()) fuzz::finding("decoded a corner out of range");
+      if (seen[v] == f) fuzz::finding("decoded a face repeating a vertex");
+      seen[v] = static_cast<std::uint32_t>(f);
+    }
+  }
+}
+
 void check(std::string_view bytes) {
   using namespace qsp;
   const DecodeLimits limits = fuzz_limits();
+  check_polygons(bytes, limits);
   QuadMesh mesh;
   bool decoded = false;
   try {

@@ -1,7 +1,7 @@
 // Writes the fuzzers' seed corpora from testdata/ (and ../shared/meshes when present) at run time, so
 // no corpus is committed: OUT/read_obj, OUT/read_off, OUT/read_ply, OUT/roundtrip (meshes) and
-// OUT/decode_qsp (.qsp files the current encoder writes, in every mode), OUT/submesh (polygon arrays in
-// fuzz/submesh.cpp's bytes). Usage: qsp_fuzz_seeds OUT TESTDATA [SHARED]
+// OUT/decode_qsp (.qsp files the current encoder writes, in every mode, polygon files included), OUT/submesh
+// (polygon arrays in fuzz/submesh.cpp's bytes). Usage: qsp_fuzz_seeds OUT TESTDATA [SHARED]
 #include <algorithm>
 #include <bit>
 #include <cstdint>
@@ -16,6 +16,7 @@
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
+#include "qsp/polymesh.h"
 
 namespace fs = std::filesystem;
 
@@ -187,6 +188,23 @@ int main(int argc, char** argv) {
       (void)qsp::build_adjacency(m);
       valid.push_back(std::move(m));
     } catch (const qsp::Error&) {
+      // A polygon mesh (faces not quads, non-manifold, mis-oriented): format 3.1 files with the polygons
+      // section, with and without the order section.
+      try {
+        const qsp::Mesh pm =
+            ext == ".obj" ? qsp::read_obj_mesh(bytes, p.string()) : qsp::read_off_mesh(bytes, p.string());
+        qsp::PolygonMesh poly;
+        poly.positions = pm.positions.f32;
+        poly.face_offsets = pm.face_offsets;
+        poly.corners = pm.corner_vertices;
+        for (int keep = 0; keep < 2; ++keep) {
+          qsp::EncodeOptions o;
+          o.keep_order = keep == 1;
+          put(qspdir, "poly_" + name + "_" + std::to_string(keep) + ".qsp", qsp::encode_polygons(poly, o),
+              2 * kMaxSeed);
+        }
+      } catch (const qsp::Error&) {
+      }
     }
   }
   n = 0;

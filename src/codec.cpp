@@ -181,8 +181,11 @@ std::vector<float> to_layout_order(std::vector<float> coded, const std::vector<s
 
 }  // namespace
 
-QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
-  Parsed p = parse(bytes, limits);
+namespace {
+
+// The layout's quads and positions (layout order), the quads checked as rebuilt_adjacency does (their
+// adjacency kept in `adjacency` if given).
+QuadMesh decode_layout(Parsed& p, Adjacency* adjacency = nullptr) {
   decode_components(p);
   const auto nv = static_cast<std::uint32_t>(p.counts.vertices);
   const auto nf = static_cast<std::uint32_t>(p.counts.faces);
@@ -196,15 +199,23 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
   canonical.quads = std::move(layout.quads);
   // The check of the rebuilt quads (rebuilt_adjacency) needs no positions, so it runs beside the
   // geometry decoder (from kCheckBesideFrom faces).
-  auto check = [&quads = canonical.quads, nv, offset = p.topology->payload_offset] {
-    (void)rebuilt_adjacency(quads, nv, offset);
+  auto check = [&quads = canonical.quads, nv, offset = p.topology->payload_offset, adjacency] {
+    Adjacency adj = rebuilt_adjacency(quads, nv, offset);
+    if (adjacency) *adjacency = std::move(adj);
   };
   std::future<void> checked = beside(nf >= kCheckBesideFrom, check);  // else after the geometry
   canonical.positions = to_layout_order(
       decode_geometry(p.geometry->payload, p.geometry->payload_offset, layout.stencil, nv), layout.coding);
   checked.get();
-  if (!p.order) return canonical;
+  return canonical;
+}
 
+// decode() after the parse.
+QuadMesh decode_quads(Parsed& p) {
+  QuadMesh canonical = decode_layout(p);
+  if (!p.order) return canonical;
+  const auto nv = static_cast<std::uint32_t>(p.counts.vertices);
+  const auto nf = static_cast<std::uint32_t>(p.counts.faces);
   const OrderMap order_map = decode_order(p.order->payload, p.order->payload_offset, nv, nf);
   QuadMesh out;
   out.positions.resize(canonical.positions.size());
@@ -223,6 +234,60 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
   return out;
 }
 
+}  // namespace
+
+QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
+  Parsed p = parse(bytes, limits);
+  if (const Section* s = p.file.find(container::kTagPolygons))
+    throw Error(ErrorCode::kNotQuad,
+                "the file holds a polygon mesh (faces that are not quads, or a non-manifold or mis-oriented "
+                "mesh: section 0x05 at byte offset " +
+                    std::to_string(s->offset) + "), which this reader of quad meshes does not take");
+  return decode_quads(p);
+}
+
+PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) {
+  Parsed p = parse(bytes, limits);
+  const Section* poly = p.file.find(container::kTagPolygons);
+  if (!poly) return polygon_mesh(decode_quads(p));
+  Adjacency adj;
+  const QuadMesh layout = decode_layout(p, &adj);
+  PolygonMesh out;
+  DecodedPolygons d = decode_polygons_section(poly->payload, poly->payload_offset, layout.quads, adj,
+                                              layout.positions, limits);
+  if (!p.order) {
+    out.positions = std::move(d.positions);
+    out.face_offsets = std::move(d.faces.face_offsets);
+    out.corners = std::move(d.faces.corners);
+    return out;
+  }
+  // The input's numbering: vertex j is output vertex vertex[j]; face f is output face face[f], its corner
+  // (i + rotation[f]) mod d output corner i.
+  const std::vector<std::uint32_t>& fo = d.faces.face_offsets;
+  const auto nf = static_cast<std::uint32_t>(fo.size() - 1);
+  std::vector<std::uint32_t> degree(nf);
+  for (std::uint32_t f = 0; f < nf; ++f) degree[f] = fo[f + 1] - fo[f];
+  const PolygonOrder order =
+      decode_polygon_order(p.order->payload, p.order->payload_offset, d.faces.vertex_count, degree);
+  std::vector<std::uint32_t> output_to_input(d.faces.vertex_count);
+  out.positions.resize(d.positions.size());
+  for (std::uint32_t j = 0; j < d.faces.vertex_count; ++j) {
+    output_to_input[order.vertex[j]] = j;
+    std::copy_n(&d.positions[3 * std::size_t{order.vertex[j]}], 3, &out.positions[3 * std::size_t{j}]);
+  }
+  out.face_offsets.assign(1, 0);
+  for (std::uint32_t f = 0; f < nf; ++f)
+    out.face_offsets.push_back(out.face_offsets.back() + degree[order.face[f]]);
+  out.corners.resize(d.faces.corners.size());
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    const std::uint32_t g = order.face[f], dg = degree[g];
+    for (std::uint32_t i = 0; i < dg; ++i)
+      out.corners[out.face_offsets[f] + (i + order.rotation[f]) % dg] =
+          output_to_input[d.faces.corners[fo[g] + i]];
+  }
+  return out;
+}
+
 FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits) {
   Parsed p = parse(bytes, limits);
   decode_components(p);
@@ -232,6 +297,9 @@ FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits) {
 OrderMap file_order(std::string_view bytes, const DecodeLimits& limits) {
   const Parsed p = parse(bytes, limits);
   if (!p.order) return {};
+  if (p.file.find(container::kTagPolygons))
+    throw Error(ErrorCode::kNotQuad,
+                "the file holds a polygon mesh, whose order section is not a quad mesh's");
   return decode_order(p.order->payload, p.order->payload_offset,
                       static_cast<std::uint32_t>(p.counts.vertices),
                       static_cast<std::uint32_t>(p.counts.faces));
@@ -263,6 +331,8 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       info.geometry_bytes += size;
     else if (s.tag == container::kTagOrder)
       info.order_bytes += size;
+    else if (s.tag == container::kTagPolygons)
+      info.connectivity_bytes += size;
     else
       info.other_bytes += size;
   }

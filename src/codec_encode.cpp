@@ -17,8 +17,14 @@ namespace qsp {
 std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition,
                              const EncodeOptions& options, const Effort& effort, const EncodeTuning& tuning,
                              OrderMap* order_out, ChoiceRole role) {
+  return encode_canonical(mesh, canonicalize(mesh, adj, partition), options, effort, tuning, order_out,
+                          std::move(role));
+}
+
+std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, const EncodeOptions& options,
+                             const Effort& effort, const EncodeTuning& tuning, OrderMap* order_out,
+                             ChoiceRole role, std::string_view polygons, std::string_view polygon_order) {
   const std::uint64_t nv = mesh.vertex_count(), nf = mesh.face_count();
-  CanonicalMesh cm = canonicalize(mesh, adj, partition);
 
   // Canonical numbering of the input, checked to be a bijection that maps every layout quad onto an
   // input quad (rotated): the decoder rebuilds exactly these quads, so the file cannot lie.
@@ -126,8 +132,11 @@ std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const P
   container::put_section(body, container::kTagTopology, encode_topology(codes));
   container::put_section(body, container::kTagGeometry, geometry);
   if (options.keep_order) container::put_section(body, container::kTagOrder, encode_order(order));
+  if (!polygon_order.empty()) container::put_section(body, container::kTagOrder, polygon_order);
+  if (!polygons.empty()) container::put_section(body, container::kTagPolygons, polygons);
   if (order_out) *order_out = std::move(order);
-  return container::seal(kFormatMajor, kFormatMinorQuads, static_cast<std::uint8_t>(options.level), body);
+  return container::seal(kFormatMajor, polygons.empty() ? kFormatMinorQuads : kFormatMinor,
+                         static_cast<std::uint8_t>(options.level), body);
 }
 
 }  // namespace qsp

@@ -7,6 +7,7 @@
 #include <future>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "geometry_coder.h"
 #include "qsp/codec.h"
@@ -47,5 +48,14 @@ struct ChoiceRole {
 std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition,
                              const EncodeOptions& options, const Effort& effort, const EncodeTuning& tuning,
                              OrderMap* order_out, ChoiceRole role = {});
+
+// encode_partition's file from `cm`, a canonical form of `mesh` (canonicalize's, or canonical_regions'
+// re-rooted one). A non-empty `polygons` is stored as the polygons section (a 3.1 file), with
+// `polygon_order` as its order section when that is not empty; without it the file is 3.0. Throws as
+// encode() does.
+std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, const EncodeOptions& options,
+                             const Effort& effort, const EncodeTuning& tuning, OrderMap* order_out,
+                             ChoiceRole role = {}, std::string_view polygons = {},
+                             std::string_view polygon_order = {});
 
 }  // namespace qsp

@@ -9,8 +9,10 @@
 #include <string_view>
 #include <vector>
 
+#include "geometry_coder.h"
 #include "qsp/canonical.h"
 #include "qsp/codec.h"
+#include "qsp/regions.h"
 
 namespace qsp {
 
@@ -32,5 +34,44 @@ std::string encode_order(const OrderMap& order);
 // rotations); `base_offset` as for decode_topology. Safe on untrusted input.
 OrderMap decode_order(std::string_view payload, std::uint64_t base_offset, std::uint32_t vertex_count,
                       std::uint32_t face_count);
+
+// The order section of a polygon file (beside the polygons section): per input vertex its output vertex,
+// per input face its output face and rotation r (output corner i is input corner (i + r) mod d), the
+// degree d per output face. Throws Error(kInternal) where a rotation is not below its degree.
+std::string encode_polygon_order(std::span<const std::uint32_t> vertex, std::span<const std::uint32_t> face,
+                                 std::span<const std::uint32_t> rotation,
+                                 std::span<const std::uint32_t> degree);
+struct PolygonOrder {
+  std::vector<std::uint32_t> vertex, face, rotation;
+};
+// Inverse of encode_polygon_order for `vertex_count` output vertices and the output faces' degrees.
+// Throws Error(kFormat) unless the payload holds exactly two permutations and rotations below their
+// faces' degrees. Safe on untrusted input.
+PolygonOrder decode_polygon_order(std::string_view payload, std::uint64_t base_offset,
+                                  std::uint32_t vertex_count, std::span<const std::uint32_t> degree);
+
+// The polygons section's payload (format 3.1) for `codes` over the layout quads `layout_quads` (their
+// adjacency `layout_adjacency`): the stream, then the positions of the interior vertices that are no
+// glue group's later member, from `interior_positions` (3 per interior ref), coded with `geometry`'s
+// quantization. `rebuilt` receives the faces the decoder will rebuild (for the encoder's check). Throws
+// Error(kInternal) if the codes are not canonical_regions' (never writes a wrong file).
+std::string encode_polygons_section(std::span<const std::uint32_t> layout_quads,
+                                    const Adjacency& layout_adjacency, const RegionCodes& codes,
+                                    std::span<const float> interior_positions,
+                                    const GeometryOptions& geometry, PolygonFaces* rebuilt = nullptr);
+
+// The polygon mesh a polygons section describes over the decoded layout: faces as rebuild_polygons
+// gives them, positions per output vertex (a layout ref's from `layout_positions`, per layout vertex).
+struct DecodedPolygons {
+  PolygonFaces faces;
+  std::vector<float> positions;
+};
+// Inverse of encode_polygons_section. Throws Error(kFormat) naming what and the byte offset (or the
+// region, face and corner), kLimit past `limits`. Safe on untrusted input: the declared counts are
+// checked against the bytes and `limits` before anything is allocated by them.
+DecodedPolygons decode_polygons_section(std::string_view payload, std::uint64_t base_offset,
+                                        std::span<const std::uint32_t> layout_quads,
+                                        const Adjacency& layout_adjacency,
+                                        std::span<const float> layout_positions, const DecodeLimits& limits);
 
 }  // namespace qsp

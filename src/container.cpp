@@ -119,8 +119,12 @@ File parse(std::string_view file) {
                        " (sections come in increasing tag order, each once)",
                    sec.offset);
     }
+    if (sec.tag == kTagPolygons && f.minor < 1)
+      format_error(
+          "section 0x05 (polygons) is format 3.1's, and the file says it is " + version(f.major, f.minor),
+          sec.offset);
     const bool known = sec.tag == kTagCounts || sec.tag == kTagTopology || sec.tag == kTagGeometry ||
-                       sec.tag == kTagOrder || (sec.tag & kOptionalBit);
+                       sec.tag == kTagOrder || sec.tag == kTagPolygons || (sec.tag & kOptionalBit);
     if (!known) {
       const std::string what = "section " + tag_name(sec.tag) +
                                " is required but unknown to this qsp, which reads format " +

@@ -19,6 +19,8 @@ inline constexpr std::size_t kChecksumBytes = 8;
 
 // Section tags. Bit 7 set: optional (a decoder that does not know it skips it).
 inline constexpr std::uint8_t kTagCounts = 0x01, kTagTopology = 0x02, kTagGeometry = 0x03, kTagOrder = 0x04;
+// Format 3.1: required where the mesh is not a manifold, consistently oriented all-quad one.
+inline constexpr std::uint8_t kTagPolygons = 0x05;
 inline constexpr std::uint8_t kOptionalBit = 0x80;
 inline constexpr std::uint8_t kTagComments = 0x81;  // optional, from 3.1
 

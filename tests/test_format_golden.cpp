@@ -296,7 +296,7 @@ std::map<std::string, Crafted> crafted() {
   newer.major = kFormatMajor + 1;
   out["qsp_newer_major"] = {assemble(newer), "version",
                             "file is .qsp format " + std::to_string(kFormatMajor + 1) + "." +
-                                std::to_string(kFormatMinor) + "; this qsp reads format " +
+                                std::to_string(p.minor) + "; this qsp reads format " +
                                 std::to_string(kFormatMajor) + ".x (upgrade qsp)"};
   Parts development = p;
   development.major = 2, development.minor = 2;
@@ -352,15 +352,48 @@ std::map<std::string, Crafted> crafted() {
     // A required section of a newer minor version: "upgrade qsp". The same tag in a file of this
     // version cannot come from a correct encoder.
     const std::string sections =
-        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(5, "x");
+        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(6, "x");
     Parts newer_minor = p;
     newer_minor.minor = kFormatMinor + 1;
     out["qsp_unknown_required_section_newer_minor"] = {
         seal(newer_minor, sections), "version",
-        "section 0x05 is required but unknown to this qsp, which reads "
-        "format 3.0 (upgrade qsp)"};
+        "section 0x06 is required but unknown to this qsp, which reads "
+        "format 3.1 (upgrade qsp)"};
     out["qsp_unknown_required_section"] = {seal(p, sections), "format",
-                                           "section 0x05 is required but unknown to this qsp"};
+                                           "section 0x06 is required but unknown to this qsp"};
+    // Format 3.1's polygons section in a file that says it is 3.0.
+    out["qsp_polygons_section_in_3_0"] = {
+        seal(p, section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(5, "x")),
+        "format", "section 0x05 (polygons) is format 3.1's, and the file says it is 3.0"};
+  }
+  {
+    // A polygon file (format 3.1): a 2x1 grid whose right cell is two triangles, its polygons section
+    // replaced by what no encoder writes.
+    PolygonMesh m;
+    m.positions = {0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0, 1, 1, 0, 2, 1, 0};
+    m.face_offsets = {0, 4, 7, 10};
+    m.corners = {0, 1, 4, 3, 1, 2, 5, 1, 5, 4};
+    const std::string poly_file = encode_polygons(m);
+    const container::File poly = container::parse(poly_file);
+    std::string quads;
+    for (std::uint8_t tag : {container::kTagCounts, container::kTagTopology, container::kTagGeometry})
+      quads += section(tag, poly.find(tag)->payload);
+    Parts v31 = p;
+    v31.minor = 1;
+    auto with = [&](std::uint64_t interior, std::uint64_t regions, std::uint64_t groups,
+                    const std::string& stream) {
+      std::string payload;
+      for (std::uint64_t x : {interior, regions, groups, std::uint64_t{stream.size()}})
+        put_varint(payload, x);
+      return seal(v31, quads + section(5, payload + stream));
+    };
+    out["qsp_polygons_interior_past_the_format"] = {
+        with(std::uint64_t{1} << 31, 1, 0, "x"), "format",
+        "polygons section: more vertices than the format's 2^31 - 1"};
+    out["qsp_polygons_regions_past_the_stream"] = {with(0, 1u << 20, 0, "x"), "format",
+                                                   "polygons section: more regions than the stream can hold"};
+    out["qsp_polygons_empty_stream"] = {with(0, 1, 0, ""), "format",
+                                        "polygons section: regions: region 0, face 0: a face of degree"};
   }
   out["qsp_missing_geometry"] = {seal(p, section(1, p.counts) + section(2, p.topology)), "format",
                                  "required section 3 (geometry) is missing"};
@@ -419,7 +452,7 @@ TEST(Invalid, EveryQspIsRefusedWithItsExpectedError) {
     auto expect = testing::read_expect(fs::path(e.path()).replace_extension(".expect"));
     ASSERT_TRUE(expect.count("code") && expect.count("message"));
     try {
-      decode(slurp(e.path().string()));
+      (void)decode_polygons(slurp(e.path().string()));  // reads every 3.x file, polygon files included
       ADD_FAILURE() << "accepted";
     } catch (const Error& err) {
       EXPECT_EQ(error_name(err.code()), expect["code"]) << err.what();

@@ -630,18 +630,6 @@ TEST(Regions, HostileShapesCostTheirSize) {
 
 // ---- Shared meshes.
 
-// Whether the rules accept the mesh; a refusal must be of what is not a mesh (test_submesh checks which
-// files those are against their manifest rows).
-bool cuttable(const Poly& p) {
-  try {
-    (void)cut_manifold(p.offsets, p.corners, p.nv);
-    return true;
-  } catch (const Error& e) {
-    EXPECT_TRUE(e.code() == ErrorCode::kDegenerateFace || e.code() == ErrorCode::kBadIndex) << e.what();
-    return false;
-  }
-}
-
 // Whether a corpus file's manifest row (shared meshes only) says a face repeats a vertex: not a mesh.
 bool not_a_mesh(const fs::path& path) {
   static std::map<fs::path, std::map<std::string, testing::ManifestRow>> manifests;
@@ -660,7 +648,7 @@ TEST(Regions, EveryCorpusMeshRoundTrips) {
   for (const fs::path& path : testing::corpus()) {
     SCOPED_TRACE(path.string());
     const Poly p = testing::read_faces(path);
-    const bool cut = cuttable(p);
+    const bool cut = testing::cuttable(p);
     EXPECT_EQ(cut, !not_a_mesh(path));
     if (!cut) continue;
     expect_round_trip(p, code(p));
@@ -675,7 +663,7 @@ TEST(Regions, CorpusMeshesRenumberedGiveTheSameCodes) {
   int renumbered = 0;
   for (const fs::path& path : testing::corpus()) {
     const Poly p = testing::read_faces(path);
-    if (p.face_count() > 40000 || !cuttable(p)) continue;  // the larger ones add time, not cases
+    if (p.face_count() > 40000 || !testing::cuttable(p)) continue;  // the larger ones add time, not cases
     expect_canonical(p, path.filename().string(), 1);
     ++renumbered;
   }

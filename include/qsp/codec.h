@@ -16,10 +16,12 @@
 
 namespace qsp {
 
-// The format version this library writes: 3.1 for a file with a comments section, 3.0, the first release
-// format, otherwise (the same bytes as before 3.1). It reads every 3.x file (the required sections a
-// newer minor may add excepted, which it refuses with "upgrade qsp"); 1.x and 2.x were development
-// versions and are not read (format-spec/qsp_format.md, "Version").
+// The format version this library writes: 3.1 for a polygon mesh (its polygons section) or a file with a
+// comments section, 3.0, the first release format, for a manifold, consistently oriented all-quad mesh
+// otherwise (the same bytes as before 3.1).
+// It reads every 3.x file (the required sections a newer minor may add excepted, which it refuses with
+// "upgrade qsp"); 1.x and 2.x were development versions and are not read (format-spec/qsp_format.md,
+// "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
 inline constexpr std::uint8_t kFormatMinor = 1;
 inline constexpr std::uint8_t kFormatMinorQuads = 0;
@@ -101,11 +103,45 @@ std::string with_comments(std::string_view file, const std::vector<std::string>&
 // cannot hold, a line with a CR or LF, bytes left over). Safe on untrusted input.
 std::vector<std::string> file_comments(std::string_view bytes);
 
-// Decodes a whole .qsp. Returns the mesh in canonical order (or the original order when the file has
-// an order section). Throws Error with kFormat (malformed, truncated, trailing bytes), kVersion
+// Decodes a whole .qsp of a quad mesh. Returns the mesh in canonical order (or the original order when
+// the file has an order section). A file with a polygons section (3.1) is refused with Error(kNotQuad):
+// decode_polygons reads it. Throws Error with kFormat (malformed, truncated, trailing bytes), kVersion
 // (newer major), kChecksum, kLimit (past `limits`); the message says what and at which byte offset.
 // The checksum is verified before anything is decoded. Safe on untrusted input.
 QuadMesh decode(std::string_view bytes, const DecodeLimits& limits = {});
+
+// A polygon mesh as plain arrays: faces of any degree >= 3, face f with corners
+// corners[face_offsets[f] .. face_offsets[f+1]) counter-clockwise; it may be non-manifold and have
+// pieces of either orientation (docs/polygon_meshes.md).
+struct PolygonMesh {
+  std::vector<float> positions;                // 3 per vertex
+  std::vector<std::uint32_t> face_offsets{0};  // per face and one more: its first corner
+  std::vector<std::uint32_t> corners;          // per corner: its vertex
+  std::size_t vertex_count() const { return positions.size() / 3; }
+  std::size_t face_count() const { return face_offsets.empty() ? 0 : face_offsets.size() - 1; }
+};
+
+// The same mesh as a PolygonMesh (every face of degree 4). Never throws but for memory.
+PolygonMesh polygon_mesh(QuadMesh mesh);
+
+// Encodes any polygon mesh. A manifold, consistently oriented all-quad mesh gives exactly encode()'s
+// bytes (format 3.0); any other gets the quad submesh (qsp/submesh.h) stored as a 3.0 file stores a quad
+// mesh, plus the polygons section (format 3.1) with the non-quad faces and the vertex glue
+// (qsp/regions.h) and the interior vertices' positions. Canonical as encode(): renumbering vertices,
+// reordering faces and rotating corner lists gives the same bytes (up to regions.h's ties). Throws what
+// quad_submesh and build_adjacency throw for what is not a mesh (kBadIndex, kDegenerateFace naming the
+// face, as for a quad mesh), Error(kUsage) for keep_order on a mesh
+// that needs the polygons section (not supported yet), for a partial element or quantize_bits past 30,
+// Error(kLimit) past the format's limits, Error(kInternal) if a stage broke an invariant (never writes a
+// wrong file).
+std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& options = {});
+
+// Decodes any .qsp, 3.0 or 3.1: a 3.0 file gives its quads (as decode()), a 3.1 file the polygon mesh:
+// the same faces, each with its corner cycle (rotated), on the same vertices up to renumbering; positions
+// as stored (exact, or quantized). Same errors as decode(), kLimit also for more vertices (interior ones
+// included) or faces than `limits`. Safe on untrusted input: every count is checked against the bytes
+// left and `limits` before anything is allocated by it; time and memory linear in the file and limits.
+PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits = {});
 
 struct SectionInfo {
   std::uint8_t tag = 0;
@@ -126,7 +162,7 @@ struct FileInfo {
   std::uint8_t level = 0;  // the compression level that wrote the file, 1-9; 0 if it does not say
   std::uint64_t total_bytes = 0;
   std::uint64_t header_bytes = 0;        // magic, version, flags, size, checksum
-  std::uint64_t connectivity_bytes = 0;  // counts + topology sections
+  std::uint64_t connectivity_bytes = 0;  // counts + topology sections (+ the polygons section)
   std::uint64_t geometry_bytes = 0;
   std::uint64_t order_bytes = 0;    // keep-order permutations (0 if absent)
   std::uint64_t other_bytes = 0;    // optional sections this decoder skipped

@@ -132,9 +132,9 @@ struct PolygonFaces {
 // smallest, in increasing order; faces: the quads, then each region's faces in code order, corners as
 // coded. Throws Error(kFormat) naming the region, face and corner (or glue group) where the codes are
 // not consistent: a symbol with no candidate, a reference out of range, a face repeating a vertex
-// (after gluing too), a degree of 4 or below 3, a gate closed twice, streams too short or too long,
-// starts out of order, a glue group of one, unordered or overlapping, or naming a vertex no face uses.
-// Safe on untrusted codes: time and memory O(layout vertices + quads + symbols + glue refs); the one
+// (after gluing too), a degree of 4 or below 3 or above the refs, a gate closed twice, streams too short or
+// too long, starts out of order, a glue group of one, unordered or overlapping, or naming a vertex no face
+// uses. Safe on untrusted codes: time and memory O(layout vertices + quads + symbols + glue refs); the one
 // declared count allocated by, interior_vertices, is checked against the kNew symbols first, and refs
 // (layout + interior) at or beyond kPolygonSizeLimit (2^31) are refused. Throws kInternal only if
 // layout_quads and layout_adjacency disagree in size (the caller's arrays, not the codes).

@@ -58,6 +58,8 @@ struct ManifestRow {
     return col.at("all_quad") == "True" && num("nonmanifold_edges") == 0 &&
            num("nonmanifold_vertices") == 0 && num("flipped_edges") == 0 && num("degenerate_faces") == 0;
   }
+  // A polygon mesh, as qsp compress must store it (format 3.1): no face repeats a vertex.
+  bool mesh() const { return num("degenerate_faces") == 0; }
 };
 
 // File name -> row; empty if the manifest is missing.
@@ -89,9 +91,9 @@ inline std::vector<std::filesystem::path> shared_mesh_dirs() {
   return {shared_dir() / "meshes", shared_dir() / "meshes" / "osd_shapes"};
 }
 
-// Whether `path` must be read as a valid quad mesh: a shared file as its manifest row says; every
-// mesh in testdata/ (outside invalid/) is valid. A shared file without a row fails the test.
-inline bool expected_valid(const std::filesystem::path& path) {
+// What `path`'s manifest row says by `says` (a ManifestRow member: valid or mesh); true for every mesh in
+// testdata/ (outside invalid/). A shared file without a row fails the test.
+inline bool manifest_says(const std::filesystem::path& path, bool (ManifestRow::*says)() const) {
   namespace fs = std::filesystem;
   static std::map<fs::path, std::map<std::string, ManifestRow>> manifests;
   const fs::path dir = path.parent_path();
@@ -101,10 +103,20 @@ inline bool expected_valid(const std::filesystem::path& path) {
       if (it == manifests.end()) it = manifests.emplace(d, read_manifest(d / "MANIFEST.tsv")).first;
       const auto row = it->second.find(path.filename().string());
       EXPECT_NE(row, it->second.end()) << path << " has no row in " << d / "MANIFEST.tsv";
-      return row != it->second.end() && row->second.valid();
+      return row != it->second.end() && (row->second.*says)();
     }
   }
   return true;
+}
+
+// Whether `path` must be read as a valid quad mesh (the manifest's all_quad, manifold, oriented).
+inline bool expected_valid(const std::filesystem::path& path) {
+  return manifest_says(path, &ManifestRow::valid);
+}
+
+// Whether `path` must be stored by qsp compress as a polygon mesh (no face repeats a vertex).
+inline bool expected_mesh(const std::filesystem::path& path) {
+  return manifest_says(path, &ManifestRow::mesh);
 }
 
 // How many of `files` must be read as valid quad meshes (see expected_valid).

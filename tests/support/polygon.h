@@ -16,6 +16,9 @@
 #include <utility>
 #include <vector>
 
+#include "qsp/error.h"
+#include "qsp/submesh.h"
+
 namespace qsp::testing {
 
 // A polygon mesh as the plain arrays the API takes.
@@ -169,6 +172,18 @@ inline Poly shuffled(const Poly& p, std::uint32_t seed) {
     out.offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
   }
   return out;
+}
+
+// Whether the rules of qsp/submesh.h accept the mesh; a refusal must be of what is not a mesh (a vertex
+// out of range, a face repeating one; test_submesh checks which files those are against their manifest).
+inline bool cuttable(const Poly& p) {
+  try {
+    (void)cut_manifold(p.offsets, p.corners, p.nv);
+    return true;
+  } catch (const Error& e) {
+    EXPECT_TRUE(e.code() == ErrorCode::kDegenerateFace || e.code() == ErrorCode::kBadIndex) << e.what();
+    return false;
+  }
 }
 
 // A named polygon mesh.

@@ -38,14 +38,14 @@ constexpr int kSizeCheckLevel = 5;
 
 // The partition `bytes` stores, for --verbose: the option, or for auto the mode whose file is the
 // same bytes (the codec keeps the smallest; up to three more encodes, only when asked).
-std::string stored_partition(const QuadMesh& mesh, const EncodeOptions& eo, const std::string& bytes,
+std::string stored_partition(const PolygonMesh& mesh, const EncodeOptions& eo, const std::string& bytes,
                              const std::string& option) {
   if (option != "auto") return option;
   if (!level_effort(eo.level, mesh.vertex_count()).all_partitions) return "motorcycle (auto)";
   for (PartitionMode m : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
     EncodeOptions one = eo;
     one.partition = m;
-    if (encode(mesh, one) == bytes) return std::string(partition_mode_name(m)) + " (auto)";
+    if (encode_polygons(mesh, one) == bytes) return std::string(partition_mode_name(m)) + " (auto)";
   }
   return "auto";
 }
@@ -77,7 +77,7 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
                 "-: refusing to write compressed data to a terminal (redirect it, or give OUT)");
 
   ReadReport report;
-  const QuadMesh mesh = read_input_mesh(in, format, &report);
+  const PolygonMesh mesh = read_input_polygons(in, format, &report);
   const bool quiet = o.verbosity.quiet;
   const std::string dropped = refuse_extra_data(in, report, ".qsp", o.drop, quiet);
   if (!o.quantize) refuse_rounding(in, report, "a lossless .qsp", o.float32, quiet, "--quantize BITS");
@@ -88,12 +88,12 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   std::string bytes;
   std::uint64_t lossless_size = 0;
   try {
-    bytes = encode(mesh, eo);
+    bytes = encode_polygons(mesh, eo);
     if (o.quantize && !quiet &&
         (mesh.vertex_count() <= kSizeCheckVertices || o.level >= kSizeCheckLevel || o.verbosity.verbose)) {
       EncodeOptions exact = eo;
       exact.quantize_bits = 0;
-      lossless_size = encode(mesh, exact).size();
+      lossless_size = encode_polygons(mesh, exact).size();
     }
   } catch (const Error& e) {
     rethrow_located(e, in, report);  // topology errors name a face: say file:line
@@ -139,7 +139,8 @@ void run(const CompressOptions& o, int& rc) {
 
 void register_compress(CLI::App& app, int& rc) {
   auto opt = std::make_shared<CompressOptions>();
-  CLI::App* sub = app.add_subcommand("compress", "Compress quad meshes (.obj, .off, .ply) into .qsp files");
+  CLI::App* sub = app.add_subcommand(
+      "compress", "Compress meshes (.obj, .off, .ply; quad-dominant or any polygon mesh) into .qsp files");
   add_file_args(sub, opt->files, "Input meshes (IN.qsp is written beside each)", "ending in .qsp");
   add_format_option(sub, opt->input_format);
   sub->add_flag("-f,--force", opt->force, "Replace outputs that exist (never an input)");

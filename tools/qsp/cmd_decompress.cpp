@@ -10,6 +10,7 @@
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
+#include "qsp/polymesh.h"
 #include "shared.h"
 
 namespace qsp::cli {
@@ -30,6 +31,24 @@ std::string beside(const std::string& in) {
   std::string base = in.substr(0, in.size() - 4);
   MeshFormat f = format_from_path(base);
   return f == MeshFormat::kObj || f == MeshFormat::kOff ? base : base + ".obj";
+}
+
+// OBJ or OFF text of a decoded mesh: a quad mesh's as it always was, any other through the Mesh writers.
+// The decoded mesh as text, `comments` (the file's leading comment block) first.
+std::string mesh_text(PolygonMesh m, MeshFormat format, const std::vector<std::string>& comments) {
+  bool quads = true;
+  for (std::size_t f = 0; f < m.face_count(); ++f)
+    quads = quads && m.face_offsets[f + 1] - m.face_offsets[f] == 4;
+  if (quads) {
+    const QuadMesh q{std::move(m.positions), std::move(m.corners)};
+    return format == MeshFormat::kOff ? write_off(q, comments) : write_obj(q, comments);
+  }
+  Mesh out;
+  out.positions = numbers_from_float32(std::move(m.positions));
+  out.face_offsets = std::move(m.face_offsets);
+  out.corner_vertices = std::move(m.corners);
+  out.comments = comments;
+  return format == MeshFormat::kOff ? write_off_mesh(out) : write_obj_mesh(out);
 }
 
 void decompress_one(const Job& job, const DecompressOptions& o) {
@@ -55,9 +74,14 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
   DecodeLimits limits;
   limits.max_vertices = o.max_vertices;
   limits.max_faces = o.max_faces;
-  const QuadMesh mesh = decode_named(bytes, job.input, limits);
-  const std::vector<std::string> comments = comments_named(bytes, job.input);
-  const std::string text = format == MeshFormat::kOff ? write_off(mesh, comments) : write_obj(mesh, comments);
+  PolygonMesh mesh;
+  try {
+    mesh = decode_polygons(bytes, limits);
+  } catch (const Error& e) {
+    throw Error(e.code(), job.input + ": " + e.what());
+  }
+  const std::size_t vertices = mesh.vertex_count(), faces = mesh.face_count();
+  const std::string text = mesh_text(std::move(mesh), format, comments_named(bytes, job.input));
   write_output(job.output, text, {o.force, o.verbosity.quiet, other_ways(job), o.sync});
   if (o.verbosity.verbose && !o.verbosity.quiet) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -65,8 +89,8 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
     const int bits = info.quantize_bits;
     const std::string kind = bits > 0 ? "quantized " + std::to_string(bits) + " bits" : "lossless";
     std::fprintf(stderr, "qsp: %s -> %s: %zu -> %zu bytes, %zu vertices, %zu faces, %s, %s order, %.3f s\n",
-                 job.input.c_str(), job.output.c_str(), bytes.size(), text.size(), mesh.vertex_count(),
-                 mesh.face_count(), kind.c_str(), info.keep_order ? "original" : "canonical", seconds);
+                 job.input.c_str(), job.output.c_str(), bytes.size(), text.size(), vertices, faces,
+                 kind.c_str(), info.keep_order ? "original" : "canonical", seconds);
   }
 }
 

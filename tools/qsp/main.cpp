@@ -123,10 +123,11 @@ int main(int argc, char** argv) {
 #endif
   CLI::App app{"qsp: quad mesh compression by canonical motorcycle-graph partition"};
   // The file format too: users keeping .qsp archives need to know what this build writes and reads.
-  const std::string writes = std::to_string(qsp::kFormatMajor) + "." + std::to_string(qsp::kFormatMinor);
+  const std::string major = std::to_string(qsp::kFormatMajor) + ".";
+  const std::string writes = major + std::to_string(qsp::kFormatMinor);
   app.set_version_flag("--version", std::string("qsp ") + qsp::version() + " (writes .qsp format " + writes +
-                                        ", reads " + std::to_string(qsp::kFormatMajor) + ".0 to " + writes +
-                                        ")");
+                                        ", " + major + std::to_string(qsp::kFormatMinorQuads) +
+                                        " for manifold quad meshes; reads " + major + "0 to " + writes + ")");
   app.require_subcommand(1);
   // Test seam (tests/test_hostile.cpp, AtomicOutput): stop just before an output file gets its name, so
   // a test knows its kill lands while only the temporary file exists.

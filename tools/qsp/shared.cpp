@@ -3,6 +3,8 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -201,6 +203,82 @@ QuadMesh read_input_mesh(const std::string& path, MeshFormat format, ReadReport*
   // Standard input, or a name that says nothing: the bytes say it (OBJ has no magic: the default on
   // standard input; a file of unknown name must be OFF or PLY by its magic, or be named).
   return read_mesh_bytes(read_file_bytes(path), path, report);
+}
+
+namespace {
+
+// What the quad reader's report would say of a mesh the exact reader read: its extra data by category,
+// its face lines, and the coordinates float32 does not hold.
+ReadReport report_of(const Mesh& m, ReadNotes&& notes, const std::string& path) {
+  ReadReport r;
+  const Extras x = extras(m);
+  r.texcoords = x.texcoords;
+  r.normals = x.normals;
+  r.vertex_colors = x.vertex_colors;
+  r.face_colors = x.face_colors;
+  r.groups = x.objects + x.groups;
+  r.materials = x.materials + x.material_libraries;
+  r.smoothing = x.smoothing;
+  r.tags = x.tags;
+  r.vertex_weights = x.vertex_weights;
+  r.kept_lines = x.verbatim;
+  if (!notes.warnings.empty()) r.first_kept = notes.warnings.front();
+  r.other_properties = x.properties;
+  r.face_line = std::move(notes.face_line);
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    const float f = m.positions.f32[i];
+    const double exact = m.positions.approx(i);
+    if (!std::isfinite(f) || (f == 0.0f && exact != 0.0))
+      throw Error(ErrorCode::kBadNumber, path + ": vertex " + std::to_string(i / 3) +
+                                             " has a coordinate outside the float32 range (it does not round "
+                                             "to a finite nonzero float)");
+    if (static_cast<double>(f) == exact) continue;
+    if (r.rounded_coordinates++ == 0) {
+      char text[32];
+      const auto end = std::to_chars(text, text + sizeof text, exact).ptr;
+      r.first_rounded = {0, i / 3, std::string(text, end), f};  // line: the exact reader does not say
+    }
+  }
+  return r;
+}
+
+}  // namespace
+
+PolygonMesh read_input_polygons(const std::string& path, MeshFormat format, ReadReport* report) {
+  refuse_folder(path);
+  format = format_for(path, format);
+  if (format == MeshFormat::kUnknown && path != "-") format = format_from_path(path);
+  // Standard input, or a name that says nothing: read once, so that the exact reader can read it again.
+  std::string bytes;
+  const bool from_bytes = format == MeshFormat::kUnknown;
+  if (from_bytes) bytes = read_file_bytes(path);
+  try {
+    return polygon_mesh(from_bytes ? read_mesh_bytes(bytes, path, report)
+                                   : read_mesh_file(path, report, format));
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::kNotQuad) throw;
+  }
+  ReadNotes notes;
+  Mesh m;
+  if (from_bytes) {
+    const MeshFormat detected = detect_format(bytes);
+    m = detected == MeshFormat::kOff   ? read_off_mesh(bytes, path, &notes)
+        : detected == MeshFormat::kPly ? read_ply_mesh(bytes, path, &notes)
+                                       : read_obj_mesh(bytes, path, &notes);
+  } else {
+    m = read_mesh(path, &notes, format);
+  }
+  ReadReport r = report_of(m, std::move(notes), path);
+  // The leading comment block, as the quad readers report it (PLY: the header's comments).
+  const bool ply = (from_bytes ? detect_format(bytes) : format) == MeshFormat::kPly;
+  r.leading_comments = ply ? m.comments : leading_comments(from_bytes ? bytes : read_file_bytes(path));
+  r.comments = r.leading_comments.size();
+  if (report) *report = std::move(r);
+  PolygonMesh out;
+  out.positions = std::move(m.positions.f32);
+  out.face_offsets = std::move(m.face_offsets);
+  out.corners = std::move(m.corner_vertices);
+  return out;
 }
 
 void rethrow_located(const Error& e, const std::string& path, const ReadReport& report) {

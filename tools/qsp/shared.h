@@ -97,6 +97,14 @@ void add_format_option(CLI::App* cmd, std::string& value);
 // untrusted input.
 QuadMesh read_input_mesh(const std::string& path, MeshFormat format, ReadReport* report);
 
+// read_input_mesh for `qsp compress`, which stores any polygon mesh: the same reading (and the same
+// errors, a vertex out of range or a face repeating one included) where the faces are all quads; where
+// they are not, the file is read again with the exact Mesh reader (qsp/io.h), its data besides positions
+// and faces counted into `report` as the quad reader counts them, and coordinates float32 does not hold
+// counted as rounded (refused when they round to infinity or a nonzero one to zero, as by the quad
+// reader). Throws qsp::Error as the readers do. Safe on untrusted input.
+PolygonMesh read_input_polygons(const std::string& path, MeshFormat format, ReadReport* report);
+
 // A file named on the command line, read as what it is: a .qsp (by its name, or by its magic on standard
 // input or under a name that says nothing) kept as bytes, or a mesh with the reader's report (face
 // lines, data dropped).

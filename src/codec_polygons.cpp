@@ -1,0 +1,155 @@
+// Writing a .qsp of any polygon mesh (format 3.1): the quad submesh coded as a quad mesh's file, and the
+// polygons section for the rest (docs/polygon_meshes.md, "Stage B-2").
+#include <algorithm>
+#include <cmath>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "codec_encode.h"
+#include "codec_sections.h"
+#include "qsp/codec.h"
+#include "qsp/error.h"
+#include "qsp/regions.h"
+#include "qsp/submesh.h"
+
+namespace qsp {
+namespace {
+
+[[noreturn]] void internal(const std::string& what) { throw Error(ErrorCode::kInternal, "encode: " + what); }
+
+// The largest extent of the bounding box of `positions` (3 per vertex), 0 for none.
+double max_extent(std::span<const float> positions) {
+  double extent = 0;
+  for (std::size_t a = 0; a < 3 && a < positions.size(); ++a) {
+    double lo = positions[a], hi = positions[a];
+    for (std::size_t i = a; i < positions.size(); i += 3) {
+      lo = std::min<double>(lo, positions[i]);
+      hi = std::max<double>(hi, positions[i]);
+    }
+    extent = std::max(extent, hi - lo);
+  }
+  return extent;
+}
+
+// Quantized interior positions get the fewest bits whose grid over their own bounding box is no coarser
+// than the geometry section's over the quads' (`bits` over `layout_extent`): as precise as the rest of
+// the mesh, and not finer (a few vertices in a small box would otherwise get a far finer grid).
+std::uint32_t interior_bits(std::uint32_t bits, double layout_extent, double interior_extent) {
+  if (bits == 0 || layout_extent <= 0) return bits;
+  const double step = layout_extent / (std::ldexp(1.0, static_cast<int>(bits)) - 1);
+  for (std::uint32_t b = 1; b < bits; ++b)
+    if (interior_extent / (std::ldexp(1.0, static_cast<int>(b)) - 1) <= step) return b;
+  return bits;
+}
+
+// One partition's 3.1 file of the mesh cut into `s`.
+std::string encode_cut(const PolygonMesh& mesh, const QuadSubmesh& s, PartitionMode mode,
+                       const EncodeOptions& options, const Effort& effort) {
+  const auto nv = static_cast<std::uint32_t>(mesh.vertex_count());
+  const Partition part = qsp::partition(s.adjacency, mode, s.mesh.positions);
+  CanonicalRegions r = canonical_regions(mesh.face_offsets, mesh.corners, nv, mesh.positions, s,
+                                         canonicalize(s.mesh, s.adjacency, part));
+
+  // The layout as the decoder rebuilds it, and the polygons section over it.
+  std::vector<ComponentPartition> parts;
+  for (const CanonicalComponent& cc : r.quads.components) parts.push_back(cc.part);
+  const MeshLayout layout =
+      assemble(parts, static_cast<std::uint32_t>(r.quads.unreferenced.size()), std::nullopt);
+  const Adjacency adj = build_adjacency(layout.quads, layout.vertex_count);
+  std::vector<float> interior(3 * r.interior_original.size());
+  for (std::size_t i = 0; i < r.interior_original.size(); ++i)
+    std::copy_n(&mesh.positions[3 * std::size_t{r.interior_original[i]}], 3, &interior[3 * i]);
+  GeometryOptions gopt;
+  gopt.quantize_bits =
+      interior_bits(options.quantize_bits, max_extent(s.mesh.positions), max_extent(interior));
+  gopt.header_sample = effort.header_sample;
+  gopt.try_chaining = effort.try_chaining;
+  PolygonFaces rebuilt;
+  const std::string polygons = encode_polygons_section(layout.quads, adj, r.codes, interior, gopt, &rebuilt);
+
+  // The decoder's faces are the input's under the maps: the file cannot lie.
+  if (rebuilt.vertex_count != nv)
+    internal("the rebuilt mesh has " + std::to_string(rebuilt.vertex_count) + " vertices");
+  const std::size_t nf = mesh.face_count();
+  if (rebuilt.face_offsets.size() != nf + 1) internal("the rebuilt mesh has another face count");
+  for (std::size_t f = 0; f < nf; ++f) {
+    const std::uint32_t b = mesh.face_offsets[f], d = mesh.face_offsets[f + 1] - b;
+    const std::uint32_t of = r.face[f], ob = rebuilt.face_offsets[of];
+    if (rebuilt.face_offsets[of + 1] - ob != d) internal("face " + std::to_string(f) + " changes degree");
+    for (std::uint32_t i = 0; i < d; ++i)
+      if (rebuilt.corners[ob + i] != r.vertex[mesh.corners[b + (i + r.rotation[f]) % d]])
+        internal("face " + std::to_string(f) + " is rebuilt on other vertices");
+  }
+  std::string order;
+  if (options.keep_order) {
+    std::vector<std::uint32_t> degree(nf);
+    for (std::size_t f = 0; f < nf; ++f) degree[f] = rebuilt.face_offsets[f + 1] - rebuilt.face_offsets[f];
+    order = encode_polygon_order(r.vertex, r.face, r.rotation, degree);
+  }
+  EncodeOptions quads = options;
+  quads.keep_order = false;
+  return encode_canonical(s.mesh, r.quads, quads, effort, {}, nullptr, {}, polygons, order);
+}
+
+}  // namespace
+
+PolygonMesh polygon_mesh(QuadMesh mesh) {
+  PolygonMesh out;
+  out.positions = std::move(mesh.positions);
+  out.face_offsets.resize(mesh.quads.size() / 4 + 1);
+  for (std::size_t f = 0; f < out.face_offsets.size(); ++f)
+    out.face_offsets[f] = static_cast<std::uint32_t>(4 * f);
+  out.corners = std::move(mesh.quads);
+  return out;
+}
+
+std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& options) {
+  if (mesh.positions.size() % 3 != 0)
+    throw Error(ErrorCode::kUsage, "encode: positions array has a partial element");
+  if (mesh.face_offsets.empty() || mesh.face_offsets.front() != 0 ||
+      mesh.face_offsets.back() != mesh.corners.size())
+    throw Error(ErrorCode::kUsage, "encode: face offsets do not cover the corners");
+  if (mesh.vertex_count() > kMaxVertices)
+    throw Error(ErrorCode::kLimit, "mesh has more than 2^31 - 1 vertices");
+  if (mesh.face_count() > kMaxFaces) throw Error(ErrorCode::kLimit, "mesh has more than 2^29 - 1 faces");
+  bool all_quads = true;
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    if (mesh.face_offsets[f + 1] < mesh.face_offsets[f])
+      throw Error(ErrorCode::kUsage, "encode: face offsets decrease at face " + std::to_string(f));
+    all_quads = all_quads && mesh.face_offsets[f + 1] - mesh.face_offsets[f] == 4;
+  }
+  // A manifold, oriented all-quad mesh is a 3.0 file, byte for byte; what build_adjacency refuses as
+  // non-manifold or mis-oriented goes through the quad submesh.
+  if (all_quads) {
+    try {
+      return encode(QuadMesh{mesh.positions, mesh.corners}, options);
+    } catch (const Error& e) {
+      if (e.code() != ErrorCode::kNonManifold && e.code() != ErrorCode::kOrientation) throw;
+    }
+  }
+  if (options.quantize_bits > 30)
+    throw Error(ErrorCode::kUsage, "encode: quantize_bits " + std::to_string(options.quantize_bits) +
+                                       " is not 0 (lossless) to 30");
+  const auto nv = static_cast<std::uint32_t>(mesh.vertex_count());
+  const QuadSubmesh s = quad_submesh(mesh.face_offsets, mesh.corners, nv, mesh.positions);
+  const Effort effort = level_effort(options.level, s.mesh.vertex_count());
+  if (options.partition || !effort.all_partitions)
+    return encode_cut(mesh, s, options.partition.value_or(PartitionMode::kMotorcycle), options, effort);
+  // The highest levels keep the smallest of the three partitions' files (the first on a tie), as for
+  // quad meshes.
+  std::string best;
+  for (PartitionMode m : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
+    std::string bytes;
+    try {
+      bytes = encode_cut(mesh, s, m, options, effort);
+    } catch (const Error& e) {
+      if (e.code() != ErrorCode::kInternal || m == PartitionMode::kMotorcycle) throw;
+      continue;
+    }
+    if (best.empty() || bytes.size() < best.size()) best = std::move(bytes);
+  }
+  return best;
+}
+
+}  // namespace qsp
