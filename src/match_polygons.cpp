@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <memory>
 #include <numeric>
 #include <string>
 #include <utility>
@@ -190,6 +192,17 @@ Vec3 relative(const PolygonMatchInput& p, std::uint32_t v, bool centered) {
   return x;
 }
 
+// Sum over A's vertices of the squared distance to their images.
+double cost(const PolygonMatchInput& a, const PolygonMatchInput& b, const std::vector<std::uint32_t>& vertex,
+            bool centered) {
+  double sum = 0;
+  for (std::uint32_t v = 0; v < vertex.size(); ++v) {
+    const Vec3 p = relative(a, v, centered), q = relative(b, vertex[v], centered);
+    sum += (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+  }
+  return sum;
+}
+
 std::vector<std::uint32_t> unreferenced(const PolygonMesh& m) {
   std::vector<std::uint8_t> used(m.vertex_count(), 0);
   for (std::uint32_t v : m.corners) used[v] = 1;
@@ -242,6 +255,27 @@ bool identity_match(const PolygonMesh& a, const PolygonMesh& b, PolygonMatchResu
   return true;
 }
 
+// A's and B's canonical forms rebuild the same mesh (equal codes): the isomorphism A -> canonical -> B.
+void compose(const PolygonMesh& a, const PolygonMesh& b, const CanonicalRegions& x, const CanonicalRegions& y,
+             PolygonMatchResult& r) {
+  const std::size_t nv = a.vertex_count(), nf = a.face_count();
+  if (b.vertex_count() != nv || b.face_count() != nf || x.vertex.size() != nv || y.vertex.size() != nv ||
+      x.face.size() != nf || y.face.size() != nf)
+    throw Error(ErrorCode::kInternal, "match_polygons: equal codes for meshes of different sizes");
+  std::vector<std::uint32_t> vb(nv, kInvalid), fb(nf, kInvalid);
+  for (std::uint32_t v = 0; v < nv; ++v) vb[y.vertex[v]] = v;
+  for (std::uint32_t f = 0; f < nf; ++f) fb[y.face[f]] = f;
+  r.vertex.resize(nv);
+  r.face.resize(nf);
+  r.rotation.resize(nf);
+  for (std::uint32_t v = 0; v < nv; ++v) r.vertex[v] = vb[x.vertex[v]];
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    const std::uint32_t g = fb[x.face[f]], d = a.degree(f);
+    r.face[f] = g;
+    r.rotation[f] = g == kInvalid ? 0 : (y.rotation[g] + d - x.rotation[f] % d) % d;
+  }
+}
+
 PolygonMesh reversed(const PolygonMesh& m) {
   PolygonMesh out = m;
   for (std::size_t f = 0; f < m.face_count(); ++f)
@@ -277,25 +311,8 @@ PolygonMatchResult match_oriented(const PolygonMatchInput& a, const PolygonMatch
     return differ(level, why);
   }
 
-  // Both canonical forms rebuild the same mesh: compose A -> canonical -> B.
-  const CanonicalRegions &x = a.regions, &y = b.regions;
-  const std::size_t nv = a.mesh.vertex_count(), nf = a.mesh.face_count();
-  if (b.mesh.vertex_count() != nv || b.mesh.face_count() != nf || x.vertex.size() != nv ||
-      y.vertex.size() != nv)
-    throw Error(ErrorCode::kInternal, "match_polygons: equal codes for meshes of different sizes");
-  std::vector<std::uint32_t> vb(nv, kInvalid), fb(nf, kInvalid);
-  for (std::uint32_t v = 0; v < nv; ++v) vb[y.vertex[v]] = v;
-  for (std::uint32_t f = 0; f < nf; ++f) fb[y.face[f]] = f;
   r.isomorphic = true;
-  r.vertex.resize(nv);
-  r.face.resize(nf);
-  r.rotation.resize(nf);
-  for (std::uint32_t v = 0; v < nv; ++v) r.vertex[v] = vb[x.vertex[v]];
-  for (std::uint32_t f = 0; f < nf; ++f) {
-    const std::uint32_t g = fb[x.face[f]], d = a.mesh.degree(f);
-    r.face[f] = g;
-    r.rotation[f] = g == kInvalid ? 0 : (y.rotation[g] + d - x.rotation[f] % d) % d;
-  }
+  compose(a.mesh, b.mesh, a.regions, b.regions, r);
   r.unique = a.rigid;
   if (options.prefer_order && !a.rigid) {
     PolygonMatchResult same = r;
@@ -321,9 +338,14 @@ PolygonMatchResult match_oriented(const PolygonMatchInput& a, const PolygonMatch
         detail::pair_nearest(xs, ys, options.tie_tolerance, r.ambiguous, exhaustive);
     for (std::size_t k = 0; k < ua.size(); ++k) r.vertex[ua[k]] = ub[to[k]];
   }
-  for (std::uint32_t v = 0; v < nv; ++v) {
-    const Vec3 p = relative(a, v, centered), q = relative(b, r.vertex[v], centered);
-    r.cost += (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+  r.cost = cost(a, b, r.vertex, centered);
+  // A symmetric mesh: the canonical forms made with positions in the colours, where both have one and
+  // they agree, give the isomorphism keeping positions (a renumbered copy's own); take it if nearer.
+  if (!r.unique && a.positional && b.positional && a.positional->codes == b.positional->codes) {
+    PolygonMatchResult p = r;
+    compose(a.mesh, b.mesh, *a.positional, *b.positional, p);
+    p.cost = cost(a, b, p.vertex, centered);
+    if (p.cost < r.cost) r = std::move(p);
   }
   return r;
 }
@@ -373,6 +395,21 @@ PolygonMatchInput prepare_polygon_match(PolygonMesh mesh) {
     if (!seen[v]) seen[v] = 1, used.push_back(colour[v]);
   in.rigid = distinct(used) == used.size();
   in.centroid = centroid(m);
+  if (!in.rigid) {
+    // The same canonical forms with each colour refined by the vertex's position bits.
+    std::vector<std::uint64_t> placed(colour);
+    for (std::size_t v = 0; v < nv; ++v) {
+      std::uint32_t bits[3];
+      std::memcpy(bits, &m.positions[3 * v], sizeof bits);
+      placed[v] = mix(mix(mix(placed[v] ^ bits[0]) ^ bits[1]) ^ bits[2]);
+    }
+    const std::vector<float> at = colour_positions(placed);
+    QuadSubmesh ps = quad_submesh(m.face_offsets, m.corners, nv, at);
+    CanonicalMesh pq = canonicalize(ps.mesh, ps.adjacency, partition_motorcycle(ps.adjacency));
+    CanonicalRegions positional = canonical_regions(m.face_offsets, m.corners, nv, at, ps, std::move(pq));
+    positional.quads = {};  // only its codes and maps are compared and composed
+    in.positional = std::make_shared<const CanonicalRegions>(std::move(positional));
+  }
   return in;
 }
 
@@ -437,6 +474,41 @@ bool verify_polygon_match(const PolygonMesh& a, const PolygonMesh& b, const Poly
     }
   }
   return true;
+}
+
+PolygonMesh reorder_polygons_like(const PolygonMesh& in, const PolygonMatchResult& m) {
+  auto refuse = [](const std::string& why) {
+    return Error(ErrorCode::kUsage, "reorder_polygons_like: " + why);
+  };
+  if (!m.isomorphic) throw refuse("the meshes are not isomorphic: " + m.reason);
+  const std::size_t nv = in.vertex_count(), nf = in.face_count();
+  if (m.vertex.size() != nv || m.face.size() != nf || m.rotation.size() != nf)
+    throw refuse("the maps do not have in's sizes");
+  std::vector<std::uint32_t> inverse(nv, kInvalid);
+  for (std::uint32_t i = 0; i < nv; ++i) {
+    if (m.vertex[i] >= nv || inverse[m.vertex[i]] != kInvalid) throw refuse("the vertex map is no bijection");
+    inverse[m.vertex[i]] = i;
+  }
+  PolygonMesh out;
+  out.positions.resize(in.positions.size());
+  for (std::uint32_t i = 0; i < nv; ++i)
+    for (int k = 0; k < 3; ++k)
+      out.positions[3 * std::size_t{i} + k] = in.positions[3 * std::size_t{m.vertex[i]} + k];
+  std::vector<std::uint8_t> used(nf, 0);
+  out.corners.reserve(in.corners.size());
+  out.face_offsets.reserve(nf + 1);
+  for (std::size_t f = 0; f < nf; ++f) {
+    const std::uint32_t g = m.face[f];
+    if (g >= nf || used[g]) throw refuse("the face map is no bijection");
+    used[g] = 1;
+    const std::uint32_t d = in.degree(g), r = m.rotation[f];
+    if (r >= d) throw refuse("a rotation is out of its face's range");
+    for (std::uint32_t c = 0; c < d; ++c)
+      out.corners.push_back(
+          inverse[in.corners[in.face_offsets[g] + (m.mirrored ? (r + d - c) % d : (c + r) % d)]]);
+    out.face_offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
+  }
+  return out;
 }
 
 }  // namespace qsp

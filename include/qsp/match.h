@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -214,12 +215,16 @@ struct PolygonMatchInput {
   // depend on the numbering (match refuses rather than answer "not isomorphic" on it).
   bool capped = false;
   std::array<double, 3> centroid{};  // of all vertices
+  // When not rigid: the canonical regions made with each colour refined by the vertex's position (its
+  // float bits). Two meshes with equal ones here (a renumbered copy with the same positions) are matched
+  // by the isomorphism keeping positions where that is nearer than the topological one.
+  std::shared_ptr<const CanonicalRegions> positional;
 };
 
 // Prepares `mesh`. Throws what quad_submesh throws (kBadIndex, kDegenerateFace naming the face, kLimit),
 // kUsage when face_offsets is not 0, increasing, ..., corners.size() or positions are not 3 per vertex
 // referenced. Safe on untrusted input. Time O((corners + vertices) log) for the colours (at most 64
-// rounds), then what quad_submesh, canonicalize and canonical_regions cost.
+// rounds), then what quad_submesh, canonicalize and canonical_regions cost (twice when not rigid).
 PolygonMatchInput prepare_polygon_match(PolygonMesh mesh);
 
 // What match_polygons finds. As MatchResult, with rotations modulo each face's degree.
@@ -260,5 +265,12 @@ PolygonMatchResult match_polygons(const PolygonMatchInput& a, const PolygonMatch
 // `why` (when given) says where it fails.
 bool verify_polygon_match(const PolygonMesh& a, const PolygonMesh& b, const PolygonMatchResult& m,
                           std::string* why = nullptr);
+
+// `in` renumbered like `ref`, given m = match_polygons(ref, in): vertex i of the result is in's vertex
+// m.vertex[i] (its position), face f is in's face m.face[f] listed from the corner ref's face f starts at
+// (in reverse when m.mirrored). So the result's faces are ref's exactly and its positions are in's.
+// Throws Error(kUsage) when `m` is not isomorphic or its maps are not bijections onto in's vertices and
+// faces of the right degrees. O(V + corners).
+PolygonMesh reorder_polygons_like(const PolygonMesh& in, const PolygonMatchResult& m);
 
 }  // namespace qsp

@@ -387,6 +387,22 @@ void refuse_extra_data(const std::string& path, const ReadReport& report, const 
                  drop.positions_only ? "--positions-only" : ("--drop " + drop.list).c_str());
 }
 
+void refuse_polygon_extra_data(const std::string& path, const Mesh& mesh, const std::string& what,
+                               const DropOptions& drop, bool quiet) {
+  unsigned has = 0;
+  for (const CategoryName& c : kCategoryNames)
+    if (c.category != kCategoryComment && extras(mesh, c.category).any()) has |= c.category;
+  const unsigned dropped = drop.categories() & has;
+  if (has == 0) return;
+  if (dropped != has)
+    throw Error(ErrorCode::kUnsupported, path + ": has " + extras(mesh, has & ~dropped).describe() +
+                                             ", which " + what + " does not keep; pass --drop " +
+                                             category_list(has) + " (or --positions-only) to drop them");
+  if (!quiet)
+    std::fprintf(stderr, "qsp: %s: dropped %s (%s)\n", path.c_str(), extras(mesh, dropped).describe().c_str(),
+                 drop.positions_only ? "--positions-only" : ("--drop " + drop.list).c_str());
+}
+
 void refuse_rounding(const std::string& path, const ReadReport& report, const std::string& what, bool float32,
                      bool quiet, const std::string& other_way) {
   if (report.rounded_coordinates == 0) return;

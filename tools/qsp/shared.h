@@ -189,6 +189,12 @@ void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose
 void refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
                        const DropOptions& drop, bool quiet);
 
+// refuse_extra_data for a polygon mesh read into a qsp::Mesh (read_polygon_input): the kinds of data it
+// carries besides positions and faces (comments not counted, as the quad readers do not), refused
+// unless dropped, with the same message and note.
+void refuse_polygon_extra_data(const std::string& path, const Mesh& mesh, const std::string& what,
+                               const DropOptions& drop, bool quiet);
+
 // Coordinates the reader rounded to float32 (ReadReport::rounded_coordinates), which `what` would
 // write rounded: refused (kUnsupported, naming the first and --float32, plus `other_way` when not
 // empty) unless `float32`, then a note on stderr unless `quiet`. A lossless file must not change a
