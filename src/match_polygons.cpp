@@ -57,7 +57,7 @@ std::vector<std::uint64_t> vertex_colours(const PolygonMesh& m) {
     for (std::size_t v = 0; v < nv; ++v) next[v] = mix(next[v]);
     colour.swap(next);
     const std::size_t now = distinct(colour);
-    if (now <= classes) break;
+    if (now <= classes || now == nv) break;  // stable, or every vertex told apart
     classes = now;
   }
   return colour;
@@ -347,6 +347,7 @@ PolygonMatchResult match_oriented(const PolygonMatchInput& a, const PolygonMatch
     p.cost = cost(a, b, p.vertex, centered);
     if (p.cost < r.cost) r = std::move(p);
   }
+  r.same_positions = cost(a, b, r.vertex, false) == 0;
   return r;
 }
 

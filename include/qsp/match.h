@@ -241,9 +241,10 @@ struct PolygonMatchResult {
   // The only isomorphism (A rigid, see PolygonMatchInput), or, with prefer_order, the identity of
   // indices; else one of possibly several, not searched for the nearest.
   bool unique = false;
-  bool identity = false;   // prefer_order found the identity of indices to be an isomorphism
-  double cost = 0;         // sum over vertices of squared distances (Centering: kComponent as kMesh)
-  bool ambiguous = false;  // unreferenced vertices paired with an equally near alternative
+  bool identity = false;        // prefer_order found the identity of indices to be an isomorphism
+  bool same_positions = false;  // every vertex of A maps to a vertex of B at exactly its position
+  double cost = 0;              // sum over vertices of squared distances (Centering: kComponent as kMesh)
+  bool ambiguous = false;       // unreferenced vertices paired with an equally near alternative
 };
 
 // Isomorphism of polygon meshes, orientation-preserving (a face maps to a face of the same degree,
