@@ -354,5 +354,38 @@ TEST(MatchPolygons, NotAMeshIsRefused) {
   EXPECT_THROW(prepare_polygon_match(m), Error);
 }
 
+// A regular triangulated torus (every vertex of valence 6, all alike): its one region has no quad and
+// 6n^2 tied starts, more than canonical_regions compares. It is flagged, and a renumbered copy is
+// either matched (map checked face by face) or refused as undecidable: never "not isomorphic".
+TEST(MatchPolygons, TooSymmetricTriangleMeshesAreNeverCalledDifferent) {
+  const std::uint32_t n = 6;
+  Poly p;
+  p.nv = n * n;
+  auto v = [&](std::uint32_t i, std::uint32_t j) { return (j % n) * n + i % n; };
+  for (std::uint32_t j = 0; j < n; ++j)
+    for (std::uint32_t i = 0; i < n; ++i) {
+      p.face({v(i, j), v(i + 1, j), v(i, j + 1)});
+      p.face({v(i + 1, j), v(i + 1, j + 1), v(i, j + 1)});
+    }
+  const PolygonMesh m = to_mesh(p);
+  const PolygonMatchInput a = prepare_polygon_match(m);
+  EXPECT_TRUE(a.capped);
+  EXPECT_FALSE(a.rigid);
+  int matched = 0, refused = 0;
+  for (std::uint32_t seed = 1; seed <= 6; ++seed) {
+    const Shuffled s = shuffle(m, seed);
+    try {
+      const PolygonMatchResult r = match_polygons(a, prepare_polygon_match(s.mesh));
+      expect_face_by_face(m, s.mesh, r);
+      ++matched;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kUnsupported) << e.what();
+      EXPECT_NE(std::string(e.what()).find("cannot decide"), std::string::npos) << e.what();
+      ++refused;
+    }
+  }
+  EXPECT_EQ(matched + refused, 6);
+}
+
 }  // namespace
 }  // namespace qsp
