@@ -1,5 +1,7 @@
 // qsp/match.h: seed-free isomorphism between two quad meshes through their canonical partitions (§6).
 // Isomorphism work happens on the schematic partitions; only the final maps touch every vertex.
+// Polygon meshes (faces of any degree, non-manifold and mis-oriented pieces) are matched through their
+// quad submesh's canonical form and their canonical region codes and glue (match_polygons, below).
 #pragma once
 
 #include <array>
