@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <numeric>
 #include <string>
@@ -283,6 +284,84 @@ PolygonMesh reversed(const PolygonMesh& m) {
   return out;
 }
 
+// How many vertices have each colour; a class of kSnapClass vertices at most is "small": its vertices
+// are told apart one by one when a nearer isomorphism is looked for.
+inline constexpr std::size_t kSnapClass = 64;
+
+struct ClassSizes {
+  std::vector<std::uint64_t> sorted;
+  explicit ClassSizes(std::vector<std::uint64_t> colours) : sorted(std::move(colours)) {
+    std::sort(sorted.begin(), sorted.end());
+  }
+  std::size_t size(std::uint64_t c) const {
+    const auto [lo, hi] = std::equal_range(sorted.begin(), sorted.end(), c);
+    return static_cast<std::size_t>(hi - lo);
+  }
+  bool small(std::uint64_t c) const {
+    const std::size_t n = size(c);
+    return n > 1 && n <= kSnapClass;
+  }
+};
+
+std::uint64_t individual(std::uint64_t colour, std::uint32_t id) { return mix(colour ^ mix(id + 1ull)); }
+
+// The canonical regions (codes and maps; no quads) of `m` with these vertex colours.
+CanonicalRegions regions_with(const PolygonMesh& m, const std::vector<std::uint64_t>& colours) {
+  const auto nv = static_cast<std::uint32_t>(m.vertex_count());
+  const std::vector<float> at = colour_positions(colours);
+  QuadSubmesh s = quad_submesh(m.face_offsets, m.corners, nv, at);
+  CanonicalMesh q = canonicalize(s.mesh, s.adjacency, partition_motorcycle(s.adjacency));
+  CanonicalRegions r = canonical_regions(m.face_offsets, m.corners, nv, at, s, std::move(q));
+  r.quads = {};  // only its codes and maps are compared and composed
+  return r;
+}
+
+// B's colours with each vertex of a small class told apart by the index of the nearest A vertex of its
+// class (positions relative to the centroids unless `centered` is false), and each vertex of a larger
+// class by the A vertex of its class at exactly its position, if any: where B is A moved a little (or
+// renumbered), B's canonical form then agrees with A's `individual` one through the nearest
+// isomorphism. O(V log V + kSnapClass V).
+std::vector<std::uint64_t> snapped_colours(const PolygonMatchInput& a, const PolygonMatchInput& b,
+                                           bool centered) {
+  const ClassSizes sizes_a(a.colours);
+  std::vector<std::uint32_t> order(a.colours.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
+    return std::pair(a.colours[x], x) < std::pair(a.colours[y], y);
+  });
+  auto at = [](const PolygonMatchInput& m, std::uint32_t v) {
+    std::array<std::uint32_t, 3> bits;
+    std::memcpy(bits.data(), &m.mesh.positions[3 * std::size_t{v}], sizeof bits);
+    return bits;
+  };
+  std::map<std::pair<std::uint64_t, std::array<std::uint32_t, 3>>, std::uint32_t> exact;  // large classes
+  for (std::uint32_t v = 0; v < a.colours.size(); ++v)
+    if (sizes_a.size(a.colours[v]) > kSnapClass) exact.emplace(std::pair(a.colours[v], at(a, v)), v);
+  std::vector<std::uint64_t> out(b.colours);
+  for (std::uint32_t w = 0; w < out.size(); ++w) {
+    const std::uint64_t c = b.colours[w];
+    if (sizes_a.size(c) > kSnapClass) {
+      const auto it = exact.find(std::pair(c, at(b, w)));
+      if (it != exact.end()) out[w] = individual(c, it->second);
+      continue;
+    }
+    if (!sizes_a.small(c)) continue;
+    const auto first = std::lower_bound(order.begin(), order.end(), c,
+                                        [&](std::uint32_t v, std::uint64_t k) { return a.colours[v] < k; });
+    const Vec3 q = relative(b, w, centered);
+    double best = HUGE_VAL;
+    std::uint32_t arg = *first;
+    for (auto it = first; it != order.end() && a.colours[*it] == c; ++it) {
+      const Vec3 p = relative(a, *it, centered);
+      const double d =
+          (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
+      if (d < best) best = d, arg = *it;
+    }
+    out[w] = individual(c, arg);
+  }
+  return out;
+}
+
 PolygonMatchResult match_oriented(const PolygonMatchInput& a, const PolygonMatchInput& b,
                                   const MatchOptions& options, bool& could_mirror) {
   PolygonMatchResult r;
@@ -339,13 +418,18 @@ PolygonMatchResult match_oriented(const PolygonMatchInput& a, const PolygonMatch
     for (std::size_t k = 0; k < ua.size(); ++k) r.vertex[ua[k]] = ub[to[k]];
   }
   r.cost = cost(a, b, r.vertex, centered);
-  // A symmetric mesh: the canonical forms made with positions in the colours, where both have one and
-  // they agree, give the isomorphism keeping positions (a renumbered copy's own); take it if nearer.
-  if (!r.unique && a.positional && b.positional && a.positional->codes == b.positional->codes) {
-    PolygonMatchResult p = r;
-    compose(a.mesh, b.mesh, *a.positional, *b.positional, p);
-    p.cost = cost(a, b, p.vertex, centered);
-    if (p.cost < r.cost) r = std::move(p);
+  // A symmetric mesh: B's canonical form with its vertices told apart by their nearest A vertices
+  // agrees with A's own-index one through the nearest isomorphism when B is A moved a little (a
+  // renumbered copy, a morph); that map is valid whenever the codes agree, and taken if nearer.
+  if (!r.unique && a.individual && !b.colours.empty()) {
+    const CanonicalRegions snapped = regions_with(b.mesh, snapped_colours(a, b, centered));
+    if (snapped.codes == a.individual->codes) {
+      PolygonMatchResult p = r;
+      compose(a.mesh, b.mesh, *a.individual, snapped, p);
+      p.cost = cost(a, b, p.vertex, centered);
+      p.snapped = true;
+      if (p.cost < r.cost) r = std::move(p);
+    }
   }
   r.same_positions = cost(a, b, r.vertex, false) == 0;
   return r;
@@ -396,20 +480,15 @@ PolygonMatchInput prepare_polygon_match(PolygonMesh mesh) {
     if (!seen[v]) seen[v] = 1, used.push_back(colour[v]);
   in.rigid = distinct(used) == used.size();
   in.centroid = centroid(m);
+  in.colours = colour;
   if (!in.rigid) {
-    // The same canonical forms with each colour refined by the vertex's position bits.
-    std::vector<std::uint64_t> placed(colour);
-    for (std::size_t v = 0; v < nv; ++v) {
-      std::uint32_t bits[3];
-      std::memcpy(bits, &m.positions[3 * v], sizeof bits);
-      placed[v] = mix(mix(mix(placed[v] ^ bits[0]) ^ bits[1]) ^ bits[2]);
-    }
-    const std::vector<float> at = colour_positions(placed);
-    QuadSubmesh ps = quad_submesh(m.face_offsets, m.corners, nv, at);
-    CanonicalMesh pq = canonicalize(ps.mesh, ps.adjacency, partition_motorcycle(ps.adjacency));
-    CanonicalRegions positional = canonical_regions(m.face_offsets, m.corners, nv, at, ps, std::move(pq));
-    positional.quads = {};  // only its codes and maps are compared and composed
-    in.positional = std::make_shared<const CanonicalRegions>(std::move(positional));
+    // The same canonical form with every vertex of a small colour class told apart by its own index:
+    // the side a nearer isomorphism is looked for against (match_oriented).
+    std::vector<std::uint64_t> own(colour);
+    const ClassSizes sizes(colour);
+    for (std::uint32_t v = 0; v < nv; ++v)
+      if (sizes.size(colour[v]) > 1) own[v] = individual(colour[v], v);
+    in.individual = std::make_shared<const CanonicalRegions>(regions_with(m, own));
   }
   return in;
 }

@@ -387,5 +387,30 @@ TEST(MatchPolygons, TooSymmetricTriangleMeshesAreNeverCalledDifferent) {
   EXPECT_EQ(matched + refused, 6);
 }
 
+// Symmetric hand cases moved a little (and renumbered): each vertex goes to the vertex it was, not to a
+// symmetric one, because B's vertices are told apart by their nearest A vertices (`snapped`).
+TEST(MatchPolygons, SymmetricMeshesMovedALittleMatchTheirOwnVertices) {
+  int snapped = 0;
+  for (const auto& [name, p] : testing::hand_polygon_cases()) {
+    SCOPED_TRACE(name);
+    const PolygonMesh m = to_mesh(p);  // vertex v at (v, 0, 0): symmetric vertices lie far apart
+    Shuffled s = shuffle(m, 4);
+    std::mt19937 rng(8);
+    for (float& x : s.mesh.positions) x += std::uniform_real_distribution<float>(-0.05f, 0.05f)(rng);
+    const PolygonMatchInput a = prepare_polygon_match(m);
+    if (a.capped) continue;
+    const PolygonMatchResult r = match_polygons(a, prepare_polygon_match(s.mesh));
+    expect_face_by_face(m, s.mesh, r);
+    std::vector<std::uint8_t> used(m.vertex_count(), 0);
+    for (std::uint32_t v : m.corners) used[v] = 1;
+    for (std::uint32_t v = 0; v < m.vertex_count(); ++v)
+      if (used[v]) {
+        EXPECT_EQ(r.vertex[v], s.vperm[v]) << "vertex " << v;
+      }
+    snapped += r.snapped;
+  }
+  EXPECT_GE(snapped, 5);
+}
+
 }  // namespace
 }  // namespace qsp

@@ -216,11 +216,14 @@ struct PolygonMatchInput {
   // kRegionTieCap times: canonical_regions compares only the first kRegionTieCap starts, so its code may
   // depend on the numbering (match refuses rather than answer "not isomorphic" on it).
   bool capped = false;
-  std::array<double, 3> centroid{};  // of all vertices
-  // When not rigid: the canonical regions made with each colour refined by the vertex's position (its
-  // float bits). Two meshes with equal ones here (a renumbered copy with the same positions) are matched
-  // by the isomorphism keeping positions where that is nearer than the topological one.
-  std::shared_ptr<const CanonicalRegions> positional;
+  std::array<double, 3> centroid{};    // of all vertices
+  std::vector<std::uint64_t> colours;  // per vertex: its colour
+  // When not rigid: the canonical regions made with every vertex that shares its colour told apart by
+  // its own index. match_polygons makes B's with each such vertex told apart by the index of the nearest
+  // A vertex of its colour (classes of 64 at most; larger ones: the A vertex at exactly its position):
+  // where the two agree (B a renumbered copy, or A moved a little) they give the nearest isomorphism,
+  // taken where nearer than the topological one.
+  std::shared_ptr<const CanonicalRegions> individual;
 };
 
 // Prepares `mesh`. Throws what quad_submesh throws (kBadIndex, kDegenerateFace naming the face, kLimit),
@@ -245,8 +248,11 @@ struct PolygonMatchResult {
   bool unique = false;
   bool identity = false;        // prefer_order found the identity of indices to be an isomorphism
   bool same_positions = false;  // every vertex of A maps to a vertex of B at exactly its position
-  double cost = 0;              // sum over vertices of squared distances (Centering: kComponent as kMesh)
-  bool ambiguous = false;       // unreferenced vertices paired with an equally near alternative
+  // Not unique, but B's canonical form with its vertices told apart by their nearest A vertices agreed
+  // with A's (PolygonMatchInput::individual): symmetric vertices go to their nearest candidates.
+  bool snapped = false;
+  double cost = 0;         // sum over vertices of squared distances (Centering: kComponent as kMesh)
+  bool ambiguous = false;  // unreferenced vertices paired with an equally near alternative
 };
 
 // Isomorphism of polygon meshes, orientation-preserving (a face maps to a face of the same degree,
@@ -255,8 +261,9 @@ struct PolygonMatchResult {
 // differ, else kRegions), then the glue (kGlue). options.mirror as for match(); options.prefer_order:
 // when A is not rigid, the identity of indices is taken where it is an isomorphism, and otherwise
 // Error(kUnsupported) says the order-keeping search is for all-quad meshes only; centering decides the
-// reported cost and the pairing of unreferenced vertices only (the nearest isomorphism of a symmetric
-// polygon mesh is not searched: the result is then one of them, `unique` false). Throws
+// reported cost, the pairing of unreferenced vertices and the nearest A vertex each symmetric B vertex is
+// told apart by (PolygonMatchInput::individual; `snapped`): the nearest isomorphism of a symmetric polygon
+// mesh is not searched exhaustively, as it is for quad meshes. Throws
 // Error(kUnsupported) when either mesh is `capped` and the codes differ (the answer could be wrong),
 // kInternal if the maps fail verify_polygon_match (a bug: never a wrong map).
 PolygonMatchResult match_polygons(const PolygonMatchInput& a, const PolygonMatchInput& b,

@@ -153,12 +153,13 @@ int run_polygons(const MatchCliOptions& o, const Side& a, const Side& b, const s
   if (!o.quiet) {
     const double rms = r.vertex.empty() ? 0.0 : std::sqrt(r.cost / double(r.vertex.size()));
     const char* which =
-        r.identity ? "the identity of indices (--prefer-order)"
-        : r.unique ? "the only isomorphism (every vertex told apart by its neighbourhood)"
-        : r.same_positions
-            ? "an isomorphism keeping every position (the mesh may have others)"
-            : "one isomorphism (the mesh may be symmetric: the nearest is searched on all-quad "
-              "meshes only)";
+        r.identity         ? "the identity of indices (--prefer-order)"
+        : r.unique         ? "the only isomorphism (every vertex told apart by its neighbourhood)"
+        : r.same_positions ? "an isomorphism keeping every position (the mesh may have others)"
+        : r.snapped ? "each symmetric vertex to the nearest of its candidates (the mesh may have other "
+                      "isomorphisms; nearest not proven)"
+                    : "one isomorphism (the mesh may be symmetric: the nearest is searched exhaustively "
+                      "on all-quad meshes only)";
     std::fprintf(report, "isomorphic%s: polygon meshes; %s, rms distance %.6g%s\n",
                  r.mirrored ? " (orientation-reversing: every face of B reversed; FACEMAP corner c is B's "
                               "corner (R-c)%d)"

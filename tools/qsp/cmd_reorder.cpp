@@ -82,7 +82,7 @@ int run_polygons(const ReorderOptions& o, MeshFormat format, const PolygonInput&
                      prepare_polygon_located(in_mesh, o.input, face_lines(in)), match_options(o));
   if (!r.isomorphic) return not_isomorphic(o, r.reason, r.mirror_would_match);
   if (r.mirrored) say_mirrored(o);
-  if (!r.unique && !r.same_positions)
+  if (!r.unique && !r.same_positions && !r.snapped)
     std::fprintf(
         stderr,
         "qsp: warning: %s: the mesh may be symmetric: OUT follows one of its isomorphisms (the nearest "
