@@ -179,6 +179,11 @@ TEST(CliStats, PolygonCountsBesideTheQuadSubmeshRow) {
   r = run_qsp("stats --sizes " + quote(grid));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("--sizes"), std::string::npos) << r.err;
+  // --partition all: the three partitions' rows, each with the counts, and a note for the auto row.
+  r = run_qsp("stats --partition all " + quote(grid));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  for (const char* mode : {"[greedy]", "[merge]"}) EXPECT_NE(r.out.find(mode), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("no auto row"), std::string::npos) << r.err;
   r = run_qsp("stats --json " + quote(std::string(QSP_TESTDATA_DIR) + "/cube_4.obj"));
   EXPECT_EQ(r.out.find("polygons"), std::string::npos) << r.out;
   fs::remove_all(dir);

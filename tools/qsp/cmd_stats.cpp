@@ -315,10 +315,12 @@ void register_stats(CLI::App& app, int& rc) {
     // auto) is not available here.
     const auto add_polygon_rows = [&](const std::string& f, const PolygonMesh& mesh,
                                       const std::vector<std::uint32_t>& face_line) {
-      if (opt->sizes || opt->partition == "auto" || opt->partition == "all")
+      if (opt->sizes || opt->partition == "auto")
         throw Error(ErrorCode::kUnsupported,
                     f + ": has faces that are not quads, or non-manifold or mis-oriented pieces: --sizes and "
-                        "--partition auto|all compress it, which qsp does not do yet for such meshes");
+                        "--partition auto compress it, which qsp does not do yet for such meshes");
+      if (opt->partition == "all")
+        std::fprintf(stderr, "qsp: %s: no auto row: compress does not take polygon meshes yet\n", f.c_str());
       QuadSubmesh s;
       try {
         s = quad_submesh(mesh.face_offsets, mesh.corners, static_cast<std::uint32_t>(mesh.vertex_count()),
