@@ -94,16 +94,6 @@ std::string encode_cut(const PolygonMesh& mesh, const QuadSubmesh& s, PartitionM
 
 }  // namespace
 
-PolygonMesh polygon_mesh(QuadMesh mesh) {
-  PolygonMesh out;
-  out.positions = std::move(mesh.positions);
-  out.face_offsets.resize(mesh.quads.size() / 4 + 1);
-  for (std::size_t f = 0; f < out.face_offsets.size(); ++f)
-    out.face_offsets[f] = static_cast<std::uint32_t>(4 * f);
-  out.corners = std::move(mesh.quads);
-  return out;
-}
-
 std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& options) {
   if (mesh.positions.size() % 3 != 0)
     throw Error(ErrorCode::kUsage, "encode: positions array has a partial element");

@@ -3,16 +3,43 @@
 #include "qsp/fingerprint.h"
 
 #include <utility>
+#include <vector>
 
 #include "qsp/canonical.h"
 #include "qsp/error.h"
 #include "qsp/match.h"
 #include "qsp/partition.h"
+#include "qsp/regions.h"
+
+// Header-only (XXH_INLINE_ALL): the installed library needs no xxhash to link against.
+#define XXH_INLINE_ALL
+#include <xxhash.h>
 
 namespace qsp {
 
 std::uint64_t mesh_fingerprint(QuadMesh mesh) {
   return topology_fingerprint(prepare_match(std::move(mesh)).canonical);
+}
+
+std::uint64_t polygon_fingerprint(const PolygonMatchInput& mesh) {
+  const std::uint64_t quads = topology_fingerprint(mesh.quads.canonical);
+  const PolygonCounts& n = mesh.counts;
+  if (n.triangles == 0 && n.ngons == 0 && n.cut_edges == 0 && n.cut_vertices == 0 && n.extra_copies == 0)
+    return quads;  // an all-quad, manifold, oriented mesh: its quad submesh is itself
+  const RegionCodes& c = mesh.regions.codes;
+  std::vector<std::uint64_t> words = {quads, c.layout_vertices, c.interior_vertices, c.regions.size()};
+  for (const RegionCode& r : c.regions) {
+    words.insert(words.end(), {static_cast<std::uint64_t>(r.start), r.loop, r.position, r.degrees.size(),
+                               r.corners.size(), r.values.size(), r.open.size()});
+    words.insert(words.end(), r.degrees.begin(), r.degrees.end());
+    for (CornerSymbol s : r.corners) words.push_back(static_cast<std::uint64_t>(s));
+    words.insert(words.end(), r.values.begin(), r.values.end());
+    words.insert(words.end(), r.open.begin(), r.open.end());
+  }
+  words.push_back(c.glue_offsets.size());
+  words.insert(words.end(), c.glue_offsets.begin(), c.glue_offsets.end());
+  words.insert(words.end(), c.glue.begin(), c.glue.end());
+  return XXH3_64bits(words.data(), words.size() * sizeof(std::uint64_t));
 }
 
 QuadMesh file_connectivity(const FileTopology& topology) {

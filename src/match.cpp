@@ -14,6 +14,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "match_levels.h"
 #include "qsp/canonical.h"
 #include "qsp/error.h"
 #include "qsp/partition.h"
@@ -554,6 +555,67 @@ PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepar
 
 }  // namespace
 
+namespace detail {
+
+MatchLevel quad_difference(const MatchInput& pa, const MatchInput& pb, std::string& why_out) {
+  auto say = [&](MatchLevel level, std::string why) {
+    why_out = std::move(why);
+    return level;
+  };
+  if (pa.adjacency.component_count != pb.adjacency.component_count)
+    return say(MatchLevel::kComponentCount, "A has " + std::to_string(pa.adjacency.component_count) +
+                                                ", B has " + std::to_string(pb.adjacency.component_count));
+  const auto& ca = pa.canonical.components;
+  const auto& cb = pb.canonical.components;
+
+  // Codes: both lists are in canonical order, so isomorphic ⇔ equal element by element. Equal codes
+  // imply equal keys, so the per-component counts are only needed to say why codes differ.
+  bool same = true;
+  for (std::size_t i = 0; i < ca.size() && same; ++i) same = ca[i].code == cb[i].code;
+  if (!same) {
+    const auto info_a = component_info(pa.adjacency), info_b = component_info(pb.adjacency);
+    std::vector<Key> ka, kb;
+    for (const auto& c : ca) ka.push_back(component_key(info_a, c));
+    for (const auto& c : cb) kb.push_back(component_key(info_b, c));
+    for (MatchLevel level :
+         {MatchLevel::kComponentSizes, MatchLevel::kExtraordinary, MatchLevel::kSchematic}) {
+      std::string why = compare_keys(ka, kb, kKeyFields[static_cast<int>(level)]);
+      if (!why.empty()) return say(level, why);
+    }
+    // Name the first A component (in code order) with no equal code in B, and how it differs from a B
+    // component of the same sizes.
+    std::size_t i = 0, j = 0;
+    while (i < ca.size() && j < cb.size() && !(ca[i].code < cb[j].code)) {
+      if (ca[i].code == cb[j].code) ++i;
+      ++j;
+    }
+    if (i < ca.size())
+      for (std::size_t y = 0; y < cb.size(); ++y)
+        if (kb[y] == ka[i])
+          return say(MatchLevel::kCode,
+                     describe(ka[i], 9, false) + " of A: " + code_difference(ca[i].code, cb[y].code));
+    return say(MatchLevel::kCode, "canonical codes differ");
+  }
+  const auto& ua = pa.canonical.unreferenced;
+  const auto& ub = pb.canonical.unreferenced;
+  if (ua.size() != ub.size())
+    return say(MatchLevel::kUnreferenced,
+               "A has " + std::to_string(ua.size()) + ", B has " + std::to_string(ub.size()));
+
+  return MatchLevel::kNone;
+}
+
+std::vector<std::uint32_t> pair_nearest(const std::vector<std::array<double, 3>>& xs,
+                                        const std::vector<std::array<double, 3>>& ys, double tie_tolerance,
+                                        bool& ambiguous, bool& exhaustive) {
+  Assignment a = assign(xs, ys, tie_tolerance);
+  ambiguous |= a.ambiguous;
+  exhaustive &= a.exhaustive;
+  return std::move(a.to);
+}
+
+}  // namespace detail
+
 const char* match_level_name(MatchLevel level) noexcept {
   switch (level) {
     case MatchLevel::kNone:
@@ -570,6 +632,12 @@ const char* match_level_name(MatchLevel level) noexcept {
       return "canonical code";
     case MatchLevel::kUnreferenced:
       return "unreferenced vertices";
+    case MatchLevel::kFaceDegrees:
+      return "face degrees";
+    case MatchLevel::kRegions:
+      return "non-quad regions";
+    case MatchLevel::kGlue:
+      return "cut vertices";
   }
   return "?";
 }
@@ -679,45 +747,15 @@ MatchResult match_oriented(const MatchInput& pa, const MatchInput& pb, const Mat
   };
   const QuadMesh& a = pa.mesh;
   const QuadMesh& b = pb.mesh;
-  if (pa.adjacency.component_count != pb.adjacency.component_count)
-    return differ(MatchLevel::kComponentCount, "A has " + std::to_string(pa.adjacency.component_count) +
-                                                   ", B has " + std::to_string(pb.adjacency.component_count));
+  {
+    std::string why;
+    const MatchLevel level = detail::quad_difference(pa, pb, why);
+    if (level != MatchLevel::kNone) return differ(level, why);
+  }
   const auto& ca = pa.canonical.components;
   const auto& cb = pb.canonical.components;
-
-  // Codes: both lists are in canonical order, so isomorphic ⇔ equal element by element. Equal codes
-  // imply equal keys, so the per-component counts are only needed to say why codes differ.
-  bool same = true;
-  for (std::size_t i = 0; i < ca.size() && same; ++i) same = ca[i].code == cb[i].code;
-  if (!same) {
-    const auto info_a = component_info(pa.adjacency), info_b = component_info(pb.adjacency);
-    std::vector<Key> ka, kb;
-    for (const auto& c : ca) ka.push_back(component_key(info_a, c));
-    for (const auto& c : cb) kb.push_back(component_key(info_b, c));
-    for (MatchLevel level :
-         {MatchLevel::kComponentSizes, MatchLevel::kExtraordinary, MatchLevel::kSchematic}) {
-      std::string why = compare_keys(ka, kb, kKeyFields[static_cast<int>(level)]);
-      if (!why.empty()) return differ(level, why);
-    }
-    // Name the first A component (in code order) with no equal code in B, and how it differs from a B
-    // component of the same sizes.
-    std::size_t i = 0, j = 0;
-    while (i < ca.size() && j < cb.size() && !(ca[i].code < cb[j].code)) {
-      if (ca[i].code == cb[j].code) ++i;
-      ++j;
-    }
-    if (i < ca.size())
-      for (std::size_t y = 0; y < cb.size(); ++y)
-        if (kb[y] == ka[i])
-          return differ(MatchLevel::kCode,
-                        describe(ka[i], 9, false) + " of A: " + code_difference(ca[i].code, cb[y].code));
-    return differ(MatchLevel::kCode, "canonical codes differ");
-  }
   const auto& ua = pa.canonical.unreferenced;
   const auto& ub = pb.canonical.unreferenced;
-  if (ua.size() != ub.size())
-    return differ(MatchLevel::kUnreferenced,
-                  "A has " + std::to_string(ua.size()) + ", B has " + std::to_string(ub.size()));
 
   r.isomorphic = true;
   r.vertex.assign(a.vertex_count(), kInvalid);
@@ -835,32 +873,14 @@ QuadMesh reorder_like(const QuadMesh& in, const MatchResult& m) {
 }
 
 bool verify_match(const QuadMesh& a, const QuadMesh& b, const MatchResult& m, std::string* why) {
-  auto fail = [&](std::string s) {
-    if (why) *why = std::move(s);
-    return false;
-  };
-  if (!m.isomorphic) return fail("not isomorphic");
-  if (a.vertex_count() != b.vertex_count() || a.face_count() != b.face_count()) return fail("sizes differ");
-  if (m.vertex.size() != a.vertex_count() || m.face.size() != a.face_count() ||
-      m.rotation.size() != a.face_count())
-    return fail("map sizes differ from A's");
-  std::vector<std::uint8_t> seen(b.vertex_count(), 0);
-  for (std::size_t v = 0; v < m.vertex.size(); ++v) {
-    if (m.vertex[v] >= b.vertex_count() || seen[m.vertex[v]])
-      return fail("vertex map not a bijection at " + std::to_string(v));
-    seen[m.vertex[v]] = 1;
-  }
-  std::vector<std::uint8_t> fseen(b.face_count(), 0);
-  for (std::size_t f = 0; f < m.face.size(); ++f) {
-    const std::uint32_t g = m.face[f];
-    if (g >= b.face_count() || fseen[g]) return fail("face map not a bijection at " + std::to_string(f));
-    fseen[g] = 1;
-    for (std::uint32_t c = 0; c < 4; ++c)
-      if (m.vertex[a.quads[4 * f + c]] !=
-          b.quads[4 * std::size_t(g) + ((m.mirrored ? m.rotation[f] - c : c + m.rotation[f]) & 3u)])
-        return fail("face " + std::to_string(f) + " corner " + std::to_string(c) + " does not map");
-  }
-  return true;
+  // The polygon meshes' check, every face a quad: one definition of a verified map.
+  PolygonMatchResult p;
+  p.isomorphic = m.isomorphic;
+  p.mirrored = m.mirrored;
+  p.vertex = m.vertex;
+  p.face = m.face;
+  p.rotation.assign(m.rotation.begin(), m.rotation.end());
+  return verify_polygon_match(polygon_mesh(a), polygon_mesh(b), p, why);
 }
 
 }  // namespace qsp

@@ -195,4 +195,14 @@ QuadSubmesh quad_submesh(std::span<const std::uint32_t> face_offsets, std::span<
   return out;
 }
 
+PolygonMesh polygon_mesh(QuadMesh mesh) {
+  PolygonMesh out;
+  out.positions = std::move(mesh.positions);
+  out.face_offsets.resize(mesh.quads.size() / 4 + 1);
+  for (std::size_t f = 0; f < out.face_offsets.size(); ++f)
+    out.face_offsets[f] = static_cast<std::uint32_t>(4 * f);
+  out.corners = std::move(mesh.quads);
+  return out;
+}
+
 }  // namespace qsp

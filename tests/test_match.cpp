@@ -712,9 +712,15 @@ TEST_F(MatchCli, MatchWritesTheMapAndExitsByResult) {
   r = run_qsp("match " + quote(pc) + " " + quote(pd));
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.out.find("not isomorphic"), std::string::npos) << r.out;
-  // Errors are 2 or more: invalid mesh 2, usage 2, missing file 3.
+  // A triangle is a polygon mesh (issue 20): not isomorphic to quads, by its face degrees.
+  const std::string tri = p("tri.obj");
+  testing::spit(tri, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  r = run_qsp("match " + quote(pa) + " " + quote(tri));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.out.find("not isomorphic: face degrees: "), std::string::npos) << r.out;
+  // Errors are 2 or more: invalid mesh (a face repeating a vertex) 2, usage 2, missing file 3.
   const std::string bad = p("bad.obj");
-  testing::spit(bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  testing::spit(bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 2\n");
   EXPECT_EQ(run_qsp("match " + quote(pa) + " " + quote(bad)).exit_code, 2);
   EXPECT_EQ(run_qsp("match " + quote(pa)).exit_code, 2);
   EXPECT_EQ(run_qsp("match " + quote(pa) + " " + quote(p("missing.obj"))).exit_code, 3);

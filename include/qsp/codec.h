@@ -13,6 +13,7 @@
 #include "qsp/geometry.h"
 #include "qsp/mesh.h"
 #include "qsp/partition.h"
+#include "qsp/submesh.h"
 
 namespace qsp {
 
@@ -109,20 +110,6 @@ std::vector<std::string> file_comments(std::string_view bytes);
 // (newer major), kChecksum, kLimit (past `limits`); the message says what and at which byte offset.
 // The checksum is verified before anything is decoded. Safe on untrusted input.
 QuadMesh decode(std::string_view bytes, const DecodeLimits& limits = {});
-
-// A polygon mesh as plain arrays: faces of any degree >= 3, face f with corners
-// corners[face_offsets[f] .. face_offsets[f+1]) counter-clockwise; it may be non-manifold and have
-// pieces of either orientation (docs/polygon_meshes.md).
-struct PolygonMesh {
-  std::vector<float> positions;                // 3 per vertex
-  std::vector<std::uint32_t> face_offsets{0};  // per face and one more: its first corner
-  std::vector<std::uint32_t> corners;          // per corner: its vertex
-  std::size_t vertex_count() const { return positions.size() / 3; }
-  std::size_t face_count() const { return face_offsets.empty() ? 0 : face_offsets.size() - 1; }
-};
-
-// The same mesh as a PolygonMesh (every face of degree 4). Never throws but for memory.
-PolygonMesh polygon_mesh(QuadMesh mesh);
 
 // Encodes any polygon mesh. A manifold, consistently oriented all-quad mesh gives exactly encode()'s
 // bytes (format 3.0); any other gets the quad submesh (qsp/submesh.h) stored as a 3.0 file stores a quad

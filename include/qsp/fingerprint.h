@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "qsp/codec.h"
+#include "qsp/match.h"
 #include "qsp/mesh.h"
 
 namespace qsp {
@@ -16,6 +17,13 @@ namespace qsp {
 // (prepare_match, match.h). Throws what build_adjacency throws for an invalid mesh. Pass by std::move to
 // avoid a copy.
 std::uint64_t mesh_fingerprint(QuadMesh mesh);
+
+// The fingerprint of a polygon mesh (prepare_polygon_match, match.h): equal for two polygon meshes
+// exactly when they are isomorphic with orientation (a face to a face of its degree, corners in cyclic
+// order), up to hash collisions and, where `mesh.capped`, to the ties regions.h names. It hashes the
+// quad submesh's canonical codes (as topology_fingerprint), then the region codes, then the glue; an
+// all-quad, manifold, oriented mesh gets exactly mesh_fingerprint's value. Never throws.
+std::uint64_t polygon_fingerprint(const PolygonMatchInput& mesh);
 
 // The fingerprint of the mesh a .qsp holds: mesh_fingerprint of the mesh it was compressed from,
 // whichever partition the file stores (a greedy or merged one is canonicalized again on the

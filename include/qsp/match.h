@@ -1,14 +1,20 @@
 // qsp/match.h: seed-free isomorphism between two quad meshes through their canonical partitions (§6).
 // Isomorphism work happens on the schematic partitions; only the final maps touch every vertex.
+// Polygon meshes (faces of any degree, non-manifold and mis-oriented pieces) are matched through their
+// quad submesh's canonical form and their canonical region codes and glue (match_polygons, below).
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "qsp/canonical.h"
 #include "qsp/mesh.h"
+#include "qsp/regions.h"
+#include "qsp/submesh.h"
 
 namespace qsp {
 
@@ -62,6 +68,10 @@ enum class MatchLevel : std::uint8_t {
   kSchematic,       // ... and schematic vertices / edges / patches (torus: canonical a x b)
   kCode,            // same sizes, different canonical connectivity (lengths, corners, links, twist)
   kUnreferenced,    // number of vertices in no face
+  // Polygon meshes (match_polygons) only:
+  kFaceDegrees,  // faces by degree, or the degrees of a non-quad region's faces in canonical order
+  kRegions,      // non-quad regions: how many, or how their faces connect to each other and the quads
+  kGlue,         // which vertex copies (cut apart at non-manifold or mis-oriented places) are one vertex
 };
 const char* match_level_name(MatchLevel level) noexcept;
 
@@ -168,5 +178,94 @@ QuadMesh reorder_like(const QuadMesh& in, const MatchResult& m);
 // ((rotation - c) when m.mirrored). O(V + F).
 // If not, `why` (when given) says where it fails.
 bool verify_match(const QuadMesh& a, const QuadMesh& b, const MatchResult& m, std::string* why = nullptr);
+
+// ---- Polygon meshes: faces of any degree, non-manifold and mis-oriented pieces (docs/matching.md) ----
+
+// One polygon mesh made ready for matching and fingerprinting: its quad submesh (submesh.h), the
+// motorcycle partition's canonical form of it and the canonical region codes and glue (regions.h),
+// all computed on the topology alone. The positions canonical_regions breaks ties by are replaced by
+// vertex colours (colour refinement: a vertex's colour, then its corners' face degrees and the colours
+// of their neighbouring corners, until the classes stop splitting), which no renumbering changes; so
+// the codes are equal for isomorphic meshes whatever their positions, up to the ties regions.h names.
+struct PolygonMatchInput {
+  PolygonMesh mesh;
+  CanonicalRegions regions;  // its `quads` moved into quads.canonical
+  MatchInput quads;          // the quad submesh, its adjacency and canonical form (positions: the colours)
+  // Faces by degree, increasing: (degree, count).
+  std::vector<std::pair<std::uint32_t, std::uint64_t>> degrees;
+  PolygonCounts counts;  // the quad submesh's (submesh.h)
+  // Every vertex in a face has a colour of its own: an isomorphism onto another mesh maps each vertex
+  // to the one of the same colour, so there is at most one (up to faces with equal corner lists).
+  bool rigid = false;
+  // A region with no quad vertex (a triangle mesh, a fin) whose corners tie on colours more than
+  // kRegionTieCap times: canonical_regions compares only the first kRegionTieCap starts, so its code may
+  // depend on the numbering (match refuses rather than answer "not isomorphic" on it).
+  bool capped = false;
+  std::array<double, 3> centroid{};    // of all vertices
+  std::vector<std::uint64_t> colours;  // per vertex: its colour
+  // When not rigid: the canonical regions made with every vertex that shares its colour told apart by
+  // its own index. match_polygons makes B's with each such vertex told apart by the index of the nearest
+  // A vertex of its colour (classes of 64 at most; larger ones: the A vertex at exactly its position):
+  // where the two agree (B a renumbered copy, or A moved a little) they give the nearest isomorphism,
+  // taken where nearer than the topological one.
+  std::shared_ptr<const CanonicalRegions> individual;
+};
+
+// Prepares `mesh`. Throws what quad_submesh throws (kBadIndex, kDegenerateFace naming the face, kLimit),
+// kUsage when face_offsets is not 0, increasing, ..., corners.size() or positions are not 3 per vertex
+// referenced. Safe on untrusted input. Time O((corners + vertices) log) for the colours (at most 64
+// rounds), then what quad_submesh, canonicalize and canonical_regions cost (twice when not rigid).
+PolygonMatchInput prepare_polygon_match(PolygonMesh mesh);
+
+// What match_polygons finds. As MatchResult, with rotations modulo each face's degree.
+struct PolygonMatchResult {
+  bool isomorphic = false;
+  MatchLevel level = MatchLevel::kNone;  // first level that differs
+  std::string reason;                    // "level: what differs" ("" when isomorphic)
+  bool mirrored = false;                 // Mirror::kAccept took an orientation-reversing isomorphism
+  bool mirror_would_match = false;       // Mirror::kHint: B with every face reversed would match
+  // A -> B when isomorphic: B's vertex per A vertex, B's face per A face, and r such that corner c of A's
+  // face is corner (c + r) % d of B's face (mirrored: (r - c) % d), d its degree. Unreferenced vertices
+  // are paired by nearest position.
+  std::vector<std::uint32_t> vertex, face, rotation;
+  // The only isomorphism (A rigid, see PolygonMatchInput), or, with prefer_order, the identity of
+  // indices; else one of possibly several, not searched for the nearest.
+  bool unique = false;
+  bool identity = false;        // prefer_order found the identity of indices to be an isomorphism
+  bool same_positions = false;  // every vertex of A maps to a vertex of B at exactly its position
+  // Not unique, but B's canonical form with its vertices told apart by their nearest A vertices agreed
+  // with A's (PolygonMatchInput::individual): symmetric vertices go to their nearest candidates.
+  bool snapped = false;
+  double cost = 0;         // sum over vertices of squared distances (Centering: kComponent as kMesh)
+  bool ambiguous = false;  // unreferenced vertices paired with an equally near alternative
+};
+
+// Isomorphism of polygon meshes, orientation-preserving (a face maps to a face of the same degree,
+// corners in the same cyclic order), through the canonical forms: the face degrees first, then the quad
+// submeshes' levels as match() names them, then the regions (kFaceDegrees where a region's degrees
+// differ, else kRegions), then the glue (kGlue). options.mirror as for match(); options.prefer_order:
+// when A is not rigid, the identity of indices is taken where it is an isomorphism, and otherwise
+// Error(kUnsupported) says the order-keeping search is for all-quad meshes only; centering decides the
+// reported cost, the pairing of unreferenced vertices and the nearest A vertex each symmetric B vertex is
+// told apart by (PolygonMatchInput::individual; `snapped`): the nearest isomorphism of a symmetric polygon
+// mesh is not searched exhaustively, as it is for quad meshes. Throws
+// Error(kUnsupported) when either mesh is `capped` and the codes differ (the answer could be wrong),
+// kInternal if the maps fail verify_polygon_match (a bug: never a wrong map).
+PolygonMatchResult match_polygons(const PolygonMatchInput& a, const PolygonMatchInput& b,
+                                  const MatchOptions& options = {});
+
+// True when `m` (from match_polygons(a, b)) is a valid isomorphism: vertex and face maps bijections, and
+// every face f of `a` has the degree of face face[f] of `b` and corner c equal to its corner
+// (c + rotation) % d ((rotation - c) % d when mirrored) under the vertex map. O(V + corners). If not,
+// `why` (when given) says where it fails.
+bool verify_polygon_match(const PolygonMesh& a, const PolygonMesh& b, const PolygonMatchResult& m,
+                          std::string* why = nullptr);
+
+// `in` renumbered like `ref`, given m = match_polygons(ref, in): vertex i of the result is in's vertex
+// m.vertex[i] (its position), face f is in's face m.face[f] listed from the corner ref's face f starts at
+// (in reverse when m.mirrored). So the result's faces are ref's exactly and its positions are in's.
+// Throws Error(kUsage) when `m` is not isomorphic or its maps are not bijections onto in's vertices and
+// faces of the right degrees. O(V + corners).
+PolygonMesh reorder_polygons_like(const PolygonMesh& in, const PolygonMatchResult& m);
 
 }  // namespace qsp

@@ -24,6 +24,7 @@
 // result depends only on the mesh up to renumbering vertices and faces and rotating corner lists.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -31,6 +32,22 @@
 #include "qsp/mesh.h"
 
 namespace qsp {
+
+// A polygon mesh as plain arrays: faces of any degree >= 3, face f with corners
+// corners[face_offsets[f] .. face_offsets[f+1]) counter-clockwise seen from outside; it may be
+// non-manifold and have pieces of either orientation. What the codec (encode_polygons) and matching
+// (prepare_polygon_match) take.
+struct PolygonMesh {
+  std::vector<float> positions;                // 3 per vertex
+  std::vector<std::uint32_t> face_offsets{0};  // per face and one more: its first corner
+  std::vector<std::uint32_t> corners;          // per corner: its vertex
+  std::size_t vertex_count() const { return positions.size() / 3; }
+  std::size_t face_count() const { return face_offsets.empty() ? 0 : face_offsets.size() - 1; }
+  std::uint32_t degree(std::size_t f) const { return face_offsets[f + 1] - face_offsets[f]; }
+};
+
+// The same mesh as a PolygonMesh (every face of degree 4). Never throws but for memory.
+PolygonMesh polygon_mesh(QuadMesh mesh);
 
 // corners + vertex_count must stay below this: every copy, half-edge and corner index fits in 31 bits,
 // and the quad submesh stays inside build_adjacency's limits. Time and memory are O(corners + vertices)

@@ -1,7 +1,8 @@
 // `qsp fingerprint FILE...`: one line per file, "HHHHHHHHHHHHHHHH  FILE", the 64-bit hash of the
 // canonical connectivity (equal exactly when the meshes are isomorphic with orientation, up to
-// hash collisions ~2^-64). `--group` lists files with equal fingerprints together. A .qsp gives the
-// same fingerprint as the mesh it was compressed from.
+// hash collisions ~2^-64). Polygon meshes (any face degree, non-manifold pieces) hash their quad
+// submesh's codes, region codes and glue (polygon_fingerprint). `--group` lists files with equal fingerprints
+// together. A .qsp gives the same fingerprint as the mesh it was compressed from.
 #include <algorithm>
 #include <cinttypes>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include "qsp/error.h"
 #include "qsp/fingerprint.h"
 #include "qsp/io.h"
+#include "qsp/match.h"
 #include "shared.h"
 
 namespace qsp::cli {
@@ -33,14 +35,31 @@ std::uint64_t qsp_fingerprint(const std::string& path, const std::string& bytes)
   }
 }
 
+// A polygon mesh's (match.h, fingerprint.h); a warning where a symmetric piece without quads may make
+// it depend on the numbering.
+std::uint64_t polygon_fingerprint_of(const std::string& path, PolygonMesh mesh,
+                                     const std::vector<std::uint32_t>& face_line) {
+  const PolygonMatchInput in = prepare_polygon_located(std::move(mesh), path, face_line);
+  if (in.capped)
+    std::fprintf(
+        stderr,
+        "qsp: warning: %s: a piece of non-quad faces with no quad is too symmetric for its canonical "
+        "code to be certain: a renumbered copy may get another fingerprint\n",
+        path.c_str());
+  return polygon_fingerprint(in);
+}
+
 std::uint64_t fingerprint_of(const std::string& path, MeshFormat format) {
-  Input in = read_input(path, format);
+  PolygonInput in = read_polygon_input(path, format);
   if (in.qsp) return qsp_fingerprint(path, in.bytes);
+  if (!in.quads) return polygon_fingerprint_of(path, polygon_mesh_of(in.polygons), in.notes.face_line);
   try {
-    return mesh_fingerprint(std::move(in.mesh));
+    return mesh_fingerprint(in.mesh);
   } catch (const Error& e) {
-    rethrow_located(e, path, in.report);
+    // Quads only, but non-manifold or mis-oriented: cut apart as any polygon mesh is.
+    if (!polygon_path_takes(e)) rethrow_located(e, path, in.report);
   }
+  return polygon_fingerprint_of(path, polygon_mesh(in.mesh), in.report.face_line);
 }
 
 // Goes on after a file that cannot be read (its error on stderr); returns the first failure's exit code.

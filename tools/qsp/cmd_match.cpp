@@ -1,4 +1,5 @@
-// `qsp match A B [-o MAP] [--faces FACEMAP]`: seed-free isomorphism between two quad meshes.
+// `qsp match A B [-o MAP] [--faces FACEMAP]`: seed-free isomorphism between two quad meshes, or two
+// polygon meshes (any face degree, non-manifold and mis-oriented pieces: match_polygons).
 // Exit codes differ from the other subcommands on purpose (like cmp/diff): 0 isomorphic, 1 not
 // isomorphic, 2 usage or invalid input mesh, 3 I/O, 4 internal; so "1" never means "broken input"
 // (Answers::kCompare in main.cpp's table).
@@ -41,40 +42,72 @@ void append_number(std::string& out, std::uint64_t v) {
 }
 
 // MAP: line i = B's vertex for A's vertex i.
-std::string vertex_map_text(const MatchResult& r) {
+std::string vertex_map_text(const std::vector<std::uint32_t>& vertex) {
   std::string out;
-  out.reserve(r.vertex.size() * 8);
-  for (std::uint32_t v : r.vertex) {
+  out.reserve(vertex.size() * 8);
+  for (std::uint32_t v : vertex) {
     append_number(out, v);
     out += '\n';
   }
   return out;
 }
 
-// FACEMAP: line f = "G R": A's face f is B's face G, A's corner c being B's corner (c + R) % 4.
-std::string face_map_text(const MatchResult& r) {
+// FACEMAP: line f = "G R": A's face f is B's face G, A's corner c being B's corner (c + R) % d.
+template <class Rotation>
+std::string face_map_text(const std::vector<std::uint32_t>& face, const std::vector<Rotation>& rotation) {
   std::string out;
-  out.reserve(r.face.size() * 10);
-  for (std::size_t f = 0; f < r.face.size(); ++f) {
-    append_number(out, r.face[f]);
+  out.reserve(face.size() * 10);
+  for (std::size_t f = 0; f < face.size(); ++f) {
+    append_number(out, face[f]);
     out += ' ';
-    append_number(out, r.rotation[f]);
+    append_number(out, rotation[f]);
     out += '\n';
   }
   return out;
 }
 
+// One side of a match: a quad mesh prepared as today, or a polygon mesh (any face degree, non-manifold or
+// mis-oriented pieces; qsp/match.h's polygon matching).
+struct Side {
+  bool polygon = false;
+  QuadMesh quads;       // a quad mesh as read (kept: the other side may be a polygon mesh)
+  MatchInput prepared;  // !polygon
+  PolygonMesh mesh;     // polygon: the mesh, and the line of each face for messages
+  std::vector<std::uint32_t> face_line;
+  PolygonMatchInput polygons;  // prepared once both sides are read
+};
+
 // Reads a mesh file, or a .qsp decoded in full (vertices numbered as `qsp decompress` writes them),
 // and prepares it for matching. Topology errors name the file and line, as everywhere (prepare_located).
-MatchInput read_and_prepare(const std::string& path, MeshFormat format) {
-  ReadReport report;
-  QuadMesh mesh = read_mesh_or_qsp(path, report, format);
-  return prepare_located(std::move(mesh), path, report);
+// A quad mesh that build_adjacency refuses as non-manifold or mis-oriented goes the polygon way.
+Side read_and_prepare(const std::string& path, MeshFormat format) {
+  PolygonInput in = read_polygon_input(path, format);
+  Side side;
+  if (in.qsp) {
+    in.mesh = decode_named(in.bytes, path);
+    in.quads = true;
+  }
+  if (in.quads) {
+    side.quads = std::move(in.mesh);
+    try {
+      side.prepared = prepare_located(side.quads, path, in.report);
+      return side;
+    } catch (const Error& e) {
+      if (!polygon_path_takes(e)) throw;
+    }
+    side.mesh = polygon_mesh(side.quads);
+    side.face_line = std::move(in.report.face_line);
+  } else {
+    side.mesh = polygon_mesh_of(in.polygons);
+    side.face_line = std::move(in.notes.face_line);
+  }
+  side.polygon = true;
+  side.polygons = prepare_polygon_located(side.mesh, path, side.face_line);
+  return side;
 }
 
 // A and B side by side: reading and preparing are nearly all of a match's time. A's error wins.
-void prepare_both(const std::string& pa, const std::string& pb, MeshFormat format, MatchInput& a,
-                  MatchInput& b) {
+void prepare_both(const std::string& pa, const std::string& pb, MeshFormat format, Side& a, Side& b) {
   std::exception_ptr failed;
   std::thread worker([&] {
     try {
@@ -91,6 +124,50 @@ void prepare_both(const std::string& pa, const std::string& pb, MeshFormat forma
   }
   worker.join();
   if (failed) std::rethrow_exception(failed);
+  // A quad mesh against a polygon mesh: both the polygon way.
+  for (Side* s : {&a, &b})
+    if (!s->polygon && (a.polygon || b.polygon)) {
+      s->polygon = true;
+      s->mesh = polygon_mesh(s->quads);
+      s->polygons = prepare_polygon_match(s->mesh);
+    }
+}
+
+// The polygon way: the same exit codes, maps and report lines, with rotations modulo each face's degree.
+int run_polygons(const MatchCliOptions& o, const Side& a, const Side& b, const std::vector<Output>& outputs) {
+  MatchOptions mo;
+  mo.centering = o.centering;
+  mo.prefer_order = o.prefer_order;
+  mo.mirror = o.allow_mirror ? Mirror::kAccept : o.quiet ? Mirror::kNo : Mirror::kHint;
+  PolygonMatchResult r = match_polygons(a.polygons, b.polygons, mo);
+  if (r.mirror_would_match) r.reason += mirror_hint(o.a, o.b);
+  std::FILE* report = (o.map == "-" || o.face_map == "-") ? stderr : stdout;
+  if (!r.isomorphic) {
+    if (!o.quiet) std::fprintf(report, "not isomorphic: %s\n", name_meshes(r.reason, o.a, o.b).c_str());
+    return exit_code(Outcome::kDiffer, Answers::kCompare);
+  }
+  const WriteOptions wo{o.force, o.quiet, "name another output", o.sync};
+  refuse_existing(outputs, wo);
+  if (!o.map.empty()) write_output(o.map, vertex_map_text(r.vertex), wo);
+  if (!o.face_map.empty()) write_output(o.face_map, face_map_text(r.face, r.rotation), wo);
+  if (!o.quiet) {
+    const double rms = r.vertex.empty() ? 0.0 : std::sqrt(r.cost / double(r.vertex.size()));
+    const char* which =
+        r.identity         ? "the identity of indices (--prefer-order)"
+        : r.unique         ? "the only isomorphism (every vertex told apart by its neighbourhood)"
+        : r.same_positions ? "an isomorphism keeping every position (the mesh may have others)"
+        : r.snapped ? "each symmetric vertex to the nearest of its candidates (the mesh may have other "
+                      "isomorphisms; nearest not proven)"
+                    : "one isomorphism (the mesh may be symmetric: the nearest is searched exhaustively "
+                      "on all-quad meshes only)";
+    std::fprintf(report, "isomorphic%s: polygon meshes; %s, rms distance %.6g%s\n",
+                 r.mirrored ? " (orientation-reversing: every face of B reversed; FACEMAP corner c is B's "
+                              "corner (R-c)%d)"
+                            : "",
+                 which, rms,
+                 r.ambiguous ? "; ambiguous: unreferenced vertices as near in another pairing" : "");
+  }
+  return exit_code(Outcome::kSuccess, Answers::kCompare);
 }
 
 int run(const MatchCliOptions& o) {
@@ -99,8 +176,11 @@ int run(const MatchCliOptions& o) {
   if (!o.map.empty()) outputs.push_back({o.map, "-o"});
   if (!o.face_map.empty()) outputs.push_back({o.face_map, "--faces"});
   check_outputs({o.a, o.b}, outputs);
-  MatchInput a, b;
-  prepare_both(o.a, o.b, parse_format_option(o.format), a, b);
+  Side sa, sb;
+  prepare_both(o.a, o.b, parse_format_option(o.format), sa, sb);
+  if (sa.polygon) return run_polygons(o, sa, sb, outputs);
+  const MatchInput& a = sa.prepared;
+  const MatchInput& b = sb.prepared;
   MatchOptions mo;
   mo.centering = o.centering;
   mo.max_full_evaluations = o.max_evaluations;
@@ -117,8 +197,8 @@ int run(const MatchCliOptions& o) {
   }
   const WriteOptions wo{o.force, o.quiet, "name another output", o.sync};
   refuse_existing(outputs, wo);  // both maps or neither
-  if (!o.map.empty()) write_output(o.map, vertex_map_text(r), wo);
-  if (!o.face_map.empty()) write_output(o.face_map, face_map_text(r), wo);
+  if (!o.map.empty()) write_output(o.map, vertex_map_text(r.vertex), wo);
+  if (!o.face_map.empty()) write_output(o.face_map, face_map_text(r.face, r.rotation), wo);
   if (!o.quiet) {
     const double rms = r.vertex.empty() ? 0.0 : std::sqrt(r.cost / double(r.vertex.size()));
     std::string chose = "the nearest";
@@ -147,16 +227,18 @@ int run(const MatchCliOptions& o) {
 
 void register_match(CLI::App& app, int& rc) {
   auto opt = std::make_shared<MatchCliOptions>();
-  CLI::App* cmd = app.add_subcommand("match",
-                                     "Find the vertex correspondence between two isomorphic quad meshes "
-                                     "(exit 0 isomorphic, 1 not, 2+ error)");
+  CLI::App* cmd = app.add_subcommand(
+      "match",
+      "Find the vertex correspondence between two isomorphic meshes (quads, or any polygons) "
+      "(exit 0 isomorphic, 1 not, 2+ error)");
   cmd->add_option("A", opt->a, "First mesh (.obj .off .ply .qsp)")->required();
   cmd->add_option("B", opt->b, "Second mesh")->required();
   cmd->add_option("-o,--output", opt->map,
                   "Write the vertex map: line i = B's vertex for A's vertex i (- = stdout)");
   cmd->add_option(
       "--faces", opt->face_map,
-      "Write the face map: line f = \"G R\", A's face f is B's face G, corner c is B's corner (c+R)%4");
+      "Write the face map: line f = \"G R\", A's face f is B's face G, corner c is B's corner (c+R)%d, d "
+      "its degree");
   cmd->add_flag("-f,--force", opt->force, "Replace MAP / FACEMAP if they exist (never an input)");
   add_sync_flag(cmd, opt->sync);
   add_format_option(cmd, opt->format);

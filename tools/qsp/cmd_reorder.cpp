@@ -1,7 +1,8 @@
 // `qsp reorder --like REF IN -o OUT`: IN's positions in REF's vertex order, with REF's face order and
 // first corners, so data made per vertex / face / corner of REF applies to OUT unchanged.
 // Exit codes as the other subcommands: 1 when IN is not isomorphic to REF (or is invalid). The work is
-// the library's: match() and reorder_like() (qsp/match.h).
+// the library's: match() and reorder_like() (qsp/match.h), or for polygon meshes (faces of any degree,
+// non-manifold pieces) match_polygons() and reorder_polygons_like(), written as OBJ or OFF.
 #include <sys/stat.h>
 
 #include <cstdio>
@@ -29,6 +30,102 @@ struct ReorderOptions {
   bool allow_mirror = false;  // MatchOptions::mirror: kAccept, else kHint
 };
 
+MatchOptions match_options(const ReorderOptions& o) {
+  MatchOptions mo;
+  mo.centering = o.centering;
+  mo.prefer_order = o.prefer_order;
+  mo.mirror = o.allow_mirror ? Mirror::kAccept : Mirror::kHint;
+  return mo;
+}
+
+// What reorder says when IN is not REF's topology (exit 1), or warns about when it is.
+int not_isomorphic(const ReorderOptions& o, const std::string& reason, bool mirror_would_match) {
+  const std::string hint = mirror_would_match ? mirror_hint(o.ref, o.input) : "";
+  std::fprintf(stderr, "qsp: %s is not isomorphic to %s: %s%s\n", o.input.c_str(), o.ref.c_str(),
+               name_meshes(reason, o.ref, o.input).c_str(), hint.c_str());
+  return exit_code(Outcome::kDiffer);
+}
+
+void say_mirrored(const ReorderOptions& o) {
+  std::fprintf(stderr, "qsp: %s is %s with every face reversed (--allow-mirror): OUT takes %s's faces\n",
+               o.input.c_str(), o.ref.c_str(), o.ref.c_str());
+}
+
+// A file read for reorder: a .qsp decoded, a quad mesh, or a polygon mesh.
+PolygonInput load(const std::string& path, MeshFormat format) {
+  PolygonInput in = read_polygon_input(path, format);
+  if (!in.qsp) return in;
+  in.report.leading_comments = comments_named(in.bytes, path);
+  in.report.comments = in.report.leading_comments.size();
+  try {
+    in.mesh = decode_named(in.bytes, path);
+    in.quads = true;
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::kNotQuad) throw;
+    const PolygonMesh m = decode_polygons(in.bytes);  // a polygon mesh (format 3.1)
+    in.polygons.positions = numbers_from_float32(m.positions);
+    in.polygons.face_offsets = m.face_offsets;
+    in.polygons.corner_vertices = m.corners;
+    in.polygons.comments = in.report.leading_comments;
+  }
+  return in;
+}
+
+PolygonMesh polygons_of(const PolygonInput& in) {
+  return in.quads ? polygon_mesh(in.mesh) : polygon_mesh_of(in.polygons);
+}
+
+const std::vector<std::uint32_t>& face_lines(const PolygonInput& in) {
+  return in.quads ? in.report.face_line : in.notes.face_line;
+}
+
+// The leading comment block of IN, to write with OUT (none if --drop comment).
+std::vector<std::string> comments_of(const ReorderOptions& o, const PolygonInput& in) {
+  if (in.quads || in.qsp) return kept_comments(in.report, o.drop);
+  if (o.drop.categories() & kCategoryComment) return {};
+  const Mesh& m = in.polygons;  // OBJ: the comments before the first statement; PLY, OFF: all of them
+  if (m.statements.empty()) return m.comments;
+  if (m.statements[0].kind != ObjStatement::kComment) return {};
+  return {m.comments.begin(), m.comments.begin() + m.statements[0].value};
+}
+
+// REF or IN is a polygon mesh (or non-manifold quads): match_polygons and reorder_polygons_like.
+int run_polygons(const ReorderOptions& o, MeshFormat format, const PolygonInput& ref,
+                 const PolygonInput& in) {
+  const PolygonMesh in_mesh = polygons_of(in);
+  const PolygonMatchResult r =
+      match_polygons(prepare_polygon_located(polygons_of(ref), o.ref, face_lines(ref)),
+                     prepare_polygon_located(in_mesh, o.input, face_lines(in)), match_options(o));
+  if (!r.isomorphic) return not_isomorphic(o, r.reason, r.mirror_would_match);
+  if (r.mirrored) say_mirrored(o);
+  if (!r.unique && !r.same_positions && !r.snapped)
+    std::fprintf(
+        stderr,
+        "qsp: warning: %s: the mesh may be symmetric: OUT follows one of its isomorphisms (the nearest "
+        "is searched on all-quad meshes only)\n",
+        o.input.c_str());
+  const PolygonMesh out = reorder_polygons_like(in_mesh, r);
+  if (out.face_offsets != polygons_of(ref).face_offsets || out.corners != polygons_of(ref).corners)
+    throw Error(ErrorCode::kInternal, "reorder: faces do not come out in REF's order");
+  const std::vector<std::string> comments = comments_of(o, in);
+  std::string bytes;
+  if (format == MeshFormat::kQsp) {  // the order kept, so decompressing gives REF's
+    EncodeOptions eo;
+    eo.keep_order = true;
+    bytes = encode_polygons(out, eo);
+    if (!comments.empty()) bytes = with_comments(bytes, comments);
+  } else {
+    Mesh mesh;
+    mesh.positions = numbers_from_float32(out.positions);
+    mesh.face_offsets = out.face_offsets;
+    mesh.corner_vertices = out.corners;
+    mesh.comments = comments;
+    bytes = write_mesh(mesh, format);
+  }
+  write_output(o.output, bytes, {o.force, false, "name another output (-o NAME)", o.sync});
+  return exit_code(Outcome::kSuccess);
+}
+
 int run(const ReorderOptions& o) {
   const MeshFormat format = o.output == "-" ? MeshFormat::kObj : format_from_path(o.output);
   if (format != MeshFormat::kObj && format != MeshFormat::kOff && format != MeshFormat::kQsp)
@@ -38,27 +135,39 @@ int run(const ReorderOptions& o) {
   check_outputs({o.ref, o.input}, {{o.output, "-o"}});
 
   const MeshFormat in_format = parse_format_option(o.format);
-  Input ref, in;
-  ref.mesh = read_mesh_or_qsp(o.ref, ref.report, in_format);
-  in.mesh = read_mesh_or_qsp(o.input, in.report, in_format);
+  const PolygonInput ref = load(o.ref, in_format), in = load(o.input, in_format);
   // Only IN's data reaches OUT; REF contributes its order alone.
-  const std::string dropped = refuse_extra_data(o.input, in.report, "reorder", o.drop, false);
-  refuse_rounding(o.input, in.report, "reorder", o.float32, false);
-  MatchOptions mo;
-  mo.centering = o.centering;
-  mo.prefer_order = o.prefer_order;
-  mo.mirror = o.allow_mirror ? Mirror::kAccept : Mirror::kHint;
-  const MatchResult r =
-      match(prepare_located(ref.mesh, o.ref, ref.report), prepare_located(in.mesh, o.input, in.report), mo);
-  if (!r.isomorphic) {
-    const std::string hint = r.mirror_would_match ? mirror_hint(o.ref, o.input) : "";
-    std::fprintf(stderr, "qsp: %s is not isomorphic to %s: %s%s\n", o.input.c_str(), o.ref.c_str(),
-                 name_meshes(r.reason, o.ref, o.input).c_str(), hint.c_str());
-    return exit_code(Outcome::kDiffer);
+  std::string dropped;
+  if (in.quads || in.qsp) {
+    dropped = refuse_extra_data(o.input, in.report, "reorder", o.drop, false);
+    refuse_rounding(o.input, in.report, "reorder", o.float32, false);
+  } else {
+    refuse_polygon_extra_data(o.input, in.polygons, "reorder", o.drop, false);
+    if (in.polygons.positions.precision != Precision::kFloat32 && !o.float32)
+      throw Error(ErrorCode::kUnsupported,
+                  o.input +
+                      ": has coordinates float32 does not hold; reorder keeps float32 "
+                      "coordinates: pass --float32 to round them");
   }
-  if (r.mirrored)
-    std::fprintf(stderr, "qsp: %s is %s with every face reversed (--allow-mirror): OUT takes %s's faces\n",
-                 o.input.c_str(), o.ref.c_str(), o.ref.c_str());
+  if (!ref.quads || !in.quads) {
+    const int rc = run_polygons(o, format, ref, in);
+    std::fputs(dropped.c_str(), stderr);
+    return rc;
+  }
+  MatchInput pref, pin;
+  try {
+    pref = prepare_located(ref.mesh, o.ref, ref.report);
+    pin = prepare_located(in.mesh, o.input, in.report);
+  } catch (const Error& e) {
+    // Quads only, but non-manifold or mis-oriented: cut apart as any polygon mesh is.
+    if (!polygon_path_takes(e)) throw;
+    const int rc = run_polygons(o, format, ref, in);
+    std::fputs(dropped.c_str(), stderr);
+    return rc;
+  }
+  const MatchResult r = match(pref, pin, match_options(o));
+  if (!r.isomorphic) return not_isomorphic(o, r.reason, r.mirror_would_match);
+  if (r.mirrored) say_mirrored(o);
   if (r.ambiguous)
     std::fprintf(stderr, "qsp: warning: %s: the correspondence is ambiguous (symmetric mesh, %s)\n",
                  o.input.c_str(), r.exhaustive ? "equally near isomorphisms" : "search capped");
@@ -66,7 +175,7 @@ int run(const ReorderOptions& o) {
   const QuadMesh out = reorder_like(in.mesh, r);
   if (out.quads != ref.mesh.quads)
     throw Error(ErrorCode::kInternal, "reorder: faces do not come out in REF's order");
-  const std::vector<std::string> comments = kept_comments(in.report, o.drop);
+  const std::vector<std::string> comments = comments_of(o, in);
   std::string bytes;
   if (format == MeshFormat::kQsp) {
     // Keep the order in the file, so decompressing gives REF's order.

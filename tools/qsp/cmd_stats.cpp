@@ -1,4 +1,5 @@
-// `qsp stats FILE...`: the paper's Table-1 row per file (mesh counts, schematic counts, ratios).
+// `qsp stats FILE...`: the paper's Table-1 row per file (mesh counts, schematic counts, ratios). A
+// polygon mesh's row is its quad submesh's, followed by its faces by degree and cut vertices.
 #include <algorithm>
 #include <cstdio>
 #include <string>
@@ -8,9 +9,11 @@
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
+#include "qsp/match.h"
 #include "qsp/mesh.h"
 #include "qsp/partition.h"
 #include "qsp/smaller.h"
+#include "qsp/submesh.h"
 #include "shared.h"
 
 namespace qsp::cli {
@@ -47,6 +50,10 @@ struct Row {
     std::int64_t euler;
   };
   std::vector<Comp> comps;
+  // A polygon mesh (any face degree, non-manifold pieces): the row is its quad submesh's, and these
+  // are its faces by degree and what was cut apart (PolygonCounts, qsp/submesh.h).
+  bool polygon = false;
+  PolygonCounts polygons;
 };
 
 void add_sizes(Row& r, const FileInfo& info) {
@@ -178,6 +185,13 @@ void print_json(const std::vector<Row>& rows, bool verbose, bool lines) {
         (unsigned long long)r.edges, (unsigned long long)r.faces, (unsigned long long)r.components,
         (unsigned long long)r.extraordinary, (unsigned long long)r.unreferenced, (unsigned long long)r.sx,
         (unsigned long long)r.se, (unsigned long long)r.patches, pct(r.sx, r.vertices), pct(r.se, r.edges));
+    if (r.polygon) {
+      const PolygonCounts& n = r.polygons;
+      std::printf(
+          ", \"polygons\": {\"quads\": %u, \"triangles\": %u, \"ngons\": %u, \"cut_vertices\": %u, "
+          "\"cut_edges\": %u, \"extra_copies\": %u}",
+          n.quads, n.triangles, n.ngons, n.cut_vertices, n.cut_edges, n.extra_copies);
+    }
     if (r.has_bytes) {
       const double v = r.vertices ? double(r.vertices) : 1.0;
       std::printf(
@@ -229,6 +243,13 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
                 (unsigned long long)r.vertices, (unsigned long long)r.edges, (unsigned long long)r.faces,
                 (unsigned long long)r.extraordinary, (unsigned long long)r.sx, (unsigned long long)r.se,
                 (unsigned long long)r.patches, pct(r.sx, r.vertices), pct(r.se, r.edges));
+    if (r.polygon) {
+      const PolygonCounts& n = r.polygons;
+      std::printf(
+          "  polygons: %u quads, %u triangles, %u n-gons; %u cut vertices (%u cut edges, %u extra "
+          "copies); the row is the quad submesh's\n",
+          n.quads, n.triangles, n.ngons, n.cut_vertices, n.cut_edges, n.extra_copies);
+    }
     if (r.has_bytes) {
       const double v = r.vertices ? double(r.vertices) : 1.0;
       std::printf(
@@ -290,12 +311,50 @@ void register_stats(CLI::App& app, int& rc) {
       if (opt->partition == "auto" || opt->partition == "all")
         rows.push_back(info_row(f, encode(loaded.mesh), "auto"));
     };
+    // A polygon mesh: the rows of its quad submesh, with its PolygonCounts. Compressing it (--sizes,
+    // auto) is not available here.
+    const auto add_polygon_rows = [&](const std::string& f, const PolygonMesh& mesh,
+                                      const std::vector<std::uint32_t>& face_line) {
+      if (opt->sizes || opt->partition == "auto")
+        throw Error(ErrorCode::kUnsupported,
+                    f + ": has faces that are not quads, or non-manifold or mis-oriented pieces: --sizes and "
+                        "--partition auto compress it, which qsp does not do yet for such meshes");
+      if (opt->partition == "all")
+        std::fprintf(stderr, "qsp: %s: no auto row: compress does not take polygon meshes yet\n", f.c_str());
+      QuadSubmesh s;
+      try {
+        s = quad_submesh(mesh.face_offsets, mesh.corners, static_cast<std::uint32_t>(mesh.vertex_count()),
+                         mesh.positions);
+      } catch (const Error& e) {
+        ReadReport lines;
+        lines.face_line = face_line;
+        rethrow_located(e, f, lines);
+      }
+      const PolygonCounts counts = s.counts;
+      const LoadedMesh loaded{std::move(s.mesh), std::move(s.adjacency), {}};
+      for (PartitionMode m : modes) {
+        rows.push_back(mesh_row(f, loaded, m, false));
+        rows.back().polygon = true;
+        rows.back().polygons = counts;
+      }
+    };
     std::size_t file_start = 0;  // rows of the file being read: dropped if it fails part-way
     const auto one = [&](std::size_t i) {
       file_start = rows.size();
       const std::string& f = opt->files[i];
-      Input in = read_input(f, format);
-      if (!in.qsp) return add_mesh_rows(f, with_adjacency(std::move(in.mesh), std::move(in.report), f));
+      PolygonInput in = read_polygon_input(f, format);
+      if (!in.qsp && !in.quads) return add_polygon_rows(f, polygon_mesh_of(in.polygons), in.notes.face_line);
+      if (!in.qsp) {
+        Adjacency adjacency;
+        try {
+          adjacency = build_adjacency(in.mesh);
+        } catch (const Error& e) {
+          // Quads only, but non-manifold or mis-oriented: cut apart as any polygon mesh is.
+          if (!polygon_path_takes(e)) rethrow_located(e, f, in.report);
+          return add_polygon_rows(f, polygon_mesh(in.mesh), in.report.face_line);
+        }
+        return add_mesh_rows(f, LoadedMesh{std::move(in.mesh), std::move(adjacency), std::move(in.report)});
+      }
       rows.push_back(info_row(f, in.bytes, "stored"));
       if (!partition_given) return;
       // --partition asks for partitions the file does not store: decode it and compute them.

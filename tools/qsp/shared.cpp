@@ -355,6 +355,87 @@ MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadRep
   }
 }
 
+namespace {
+
+QuadMesh parse_quads(std::string_view bytes, const std::string& path, MeshFormat format, ReadReport* report) {
+  if (format == MeshFormat::kOff) return read_off(bytes, path, report);
+  if (format == MeshFormat::kPly) return read_ply(bytes, path, report);
+  return read_obj(bytes, path, report);
+}
+
+Mesh parse_polygons(std::string_view bytes, const std::string& path, MeshFormat format, ReadNotes* notes) {
+  if (format == MeshFormat::kOff) return read_off_mesh(bytes, path, notes);
+  if (format == MeshFormat::kPly) return read_ply_mesh(bytes, path, notes);
+  return read_obj_mesh(bytes, path, notes);
+}
+
+}  // namespace
+
+PolygonInput read_polygon_input(const std::string& path, MeshFormat format) {
+  PolygonInput out;
+  if (path != "-" && format_from_path(path) != MeshFormat::kUnknown) {
+    // A named file: read as every subcommand reads it, and again as polygons only where that refuses.
+    try {
+      Input in = read_input(path, format);
+      out.qsp = in.qsp;
+      out.quads = !in.qsp;
+      out.bytes = std::move(in.bytes);
+      out.mesh = std::move(in.mesh);
+      out.report = std::move(in.report);
+      return out;
+    } catch (const Error& e) {
+      if (e.code() != ErrorCode::kNotQuad) throw;
+    }
+    out.polygons = read_mesh(path, &out.notes);
+    return out;
+  }
+  // Standard input or a name that says nothing: the bytes are read once and parsed as above.
+  refuse_folder(path);
+  std::string bytes = read_file_bytes(path);
+  MeshFormat f = format_for(path, format);
+  if (f == MeshFormat::kUnknown) {
+    f = detect_format(bytes);
+    if (f == MeshFormat::kQsp) {
+      out.qsp = true;
+      out.bytes = std::move(bytes);
+      return out;
+    }
+    if (f == MeshFormat::kObj && path != "-") (void)read_mesh_bytes(bytes, path, nullptr);  // says why not
+  }
+  try {
+    out.mesh = parse_quads(bytes, path, f, &out.report);
+    out.quads = true;
+    return out;
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::kNotQuad) throw;
+  }
+  out.polygons = parse_polygons(bytes, path, f, &out.notes);
+  return out;
+}
+
+PolygonMesh polygon_mesh_of(const Mesh& mesh) {
+  PolygonMesh out;
+  out.positions = mesh.positions.f32;
+  out.face_offsets = mesh.face_offsets.empty() ? std::vector<std::uint32_t>{0} : mesh.face_offsets;
+  out.corners = mesh.corner_vertices;
+  return out;
+}
+
+bool polygon_path_takes(const Error& e) {
+  return e.code() == ErrorCode::kNonManifold || e.code() == ErrorCode::kOrientation;
+}
+
+PolygonMatchInput prepare_polygon_located(PolygonMesh mesh, const std::string& path,
+                                          const std::vector<std::uint32_t>& face_line) {
+  try {
+    return prepare_polygon_match(std::move(mesh));
+  } catch (const Error& e) {
+    ReadReport lines;
+    lines.face_line = face_line;
+    rethrow_located(e, path, lines);
+  }
+}
+
 unsigned DropOptions::categories() const {
   return (positions_only ? unsigned{kCategoryAll} : 0u) | (list.empty() ? 0u : parse_categories(list));
 }
@@ -397,6 +478,22 @@ std::string refuse_extra_data(const std::string& path, const ReadReport& report,
 
 std::vector<std::string> kept_comments(const ReadReport& report, const DropOptions& drop) {
   return drop.categories() & kCategoryComment ? std::vector<std::string>{} : report.leading_comments;
+}
+
+void refuse_polygon_extra_data(const std::string& path, const Mesh& mesh, const std::string& what,
+                               const DropOptions& drop, bool quiet) {
+  unsigned has = 0;
+  for (const CategoryName& c : kCategoryNames)
+    if (c.category != kCategoryComment && extras(mesh, c.category).any()) has |= c.category;
+  const unsigned dropped = drop.categories() & has;
+  if (has == 0) return;
+  if (dropped != has)
+    throw Error(ErrorCode::kUnsupported, path + ": has " + extras(mesh, has & ~dropped).describe() +
+                                             ", which " + what + " does not keep; pass --drop " +
+                                             category_list(has) + " (or --positions-only) to drop them");
+  if (!quiet)
+    std::fprintf(stderr, "qsp: %s: dropped %s (%s)\n", path.c_str(), extras(mesh, dropped).describe().c_str(),
+                 drop.positions_only ? "--positions-only" : ("--drop " + drop.list).c_str());
 }
 
 void refuse_rounding(const std::string& path, const ReadReport& report, const std::string& what, bool float32,

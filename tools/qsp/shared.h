@@ -146,6 +146,40 @@ LoadedMesh with_adjacency(QuadMesh mesh, ReadReport report, const std::string& p
 // prepare_match(mesh) (match.h) with topology errors located as "path:LINE: ..." (rethrow_located).
 MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadReport& report);
 
+// ---- Polygon meshes (match, fingerprint, stats, reorder: faces of any degree, non-manifold pieces) ----
+
+// A file read for the subcommands that take any polygon mesh: a .qsp kept as bytes; a quad mesh as
+// read_input reads it (`quads`); else, where the quad reader refuses a face that is not a quad, the same
+// file read as a polygon mesh (qsp::Mesh, faces as the file has them, `notes.face_line` per face).
+struct PolygonInput {
+  bool qsp = false;
+  std::string bytes;  // the .qsp's bytes, unchecked
+  bool quads = false;
+  QuadMesh mesh;  // quads: the mesh, and the reader's report
+  ReadReport report;
+  Mesh polygons;  // otherwise: the polygon mesh and the reader's notes
+  ReadNotes notes;
+};
+
+// Reads `path` ("-" = standard input, read once) as read_input does, then, if the quad reader refuses
+// a face that is not a quad (kNotQuad), as a polygon mesh (read_obj_mesh, read_off_mesh, read_ply_mesh;
+// their errors). `format` (--format) as for read_input. Throws qsp::Error as the readers do. Safe on
+// untrusted input.
+PolygonInput read_polygon_input(const std::string& path, MeshFormat format = MeshFormat::kUnknown);
+
+// The polygon mesh (float32 positions, faces and corners as read) of a read polygon file.
+PolygonMesh polygon_mesh_of(const Mesh& mesh);
+
+// Whether an error preparing a quad mesh (build_adjacency's) means the mesh is a polygon mesh's
+// business: an edge with three or more faces, a vertex with several fans, neighbours of opposite
+// orientation (kNonManifold, kOrientation), which the polygon path cuts apart.
+bool polygon_path_takes(const Error& e);
+
+// prepare_polygon_match (match.h) with an error at a face located as "path:LINE: ..." by `face_line`
+// (per face its 1-based line, ReadNotes::face_line or ReadReport::face_line).
+PolygonMatchInput prepare_polygon_located(PolygonMesh mesh, const std::string& path,
+                                          const std::vector<std::uint32_t>& face_line);
+
 // --drop LIST and --positions-only (compress, reorder): the kinds of data (qsp/polymesh.h's categories)
 // a call drops instead of refusing a file that has them.
 struct DropOptions {
@@ -170,6 +204,12 @@ std::string refuse_extra_data(const std::string& path, const ReadReport& report,
 
 // The leading comment lines to write with the mesh: the report's, unless `drop` drops comments.
 std::vector<std::string> kept_comments(const ReadReport& report, const DropOptions& drop);
+
+// refuse_extra_data for a polygon mesh read into a qsp::Mesh (read_polygon_input): the kinds of data it
+// carries besides positions and faces (comments not counted, as the quad readers do not), refused
+// unless dropped, with the same message and note.
+void refuse_polygon_extra_data(const std::string& path, const Mesh& mesh, const std::string& what,
+                               const DropOptions& drop, bool quiet);
 
 // Coordinates the reader rounded to float32 (ReadReport::rounded_coordinates), which `what` would
 // write rounded: refused (kUnsupported, naming the first and --float32, plus `other_way` when not
