@@ -317,6 +317,7 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
   info.faces = p.counts.faces;
   info.unreferenced = p.counts.unreferenced;
   info.keep_order = p.order != nullptr;
+  info.polygons = p.file.find(container::kTagPolygons) != nullptr;
   info.geometry_tools = geometry_tools(p.geometry->payload, p.geometry->payload_offset);
   info.geometry_order = coding_order(info.geometry_tools);
   info.quantize_bits = geometry_quantize_bits(p.geometry->payload, p.geometry->payload_offset);

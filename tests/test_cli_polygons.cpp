@@ -118,16 +118,23 @@ TEST_F(CliPolygons, WhatIsNotAMeshKeepsItsMessage) {
   EXPECT_EQ(run_qsp("compress -q --drop uv " + quote(p("uv.obj"))).exit_code, 0);
 }
 
-TEST_F(CliPolygons, MatchRefusesPolygonQspFilesButReadsTheMeshFiles) {
+// A polygon .qsp is the mesh it was compressed from for every subcommand that reads polygon meshes:
+// the same fingerprint, isomorphic to it, the same counts.
+TEST_F(CliPolygons, APolygonQspIsItsMeshForMatchFingerprintStats) {
   testing::spit(p("m.obj"), kPolygonObj);
   ASSERT_EQ(run_qsp("compress " + quote(p("m.obj"))).exit_code, 0);
-  const auto m = run_qsp("match " + quote(p("m.obj.qsp")) + " " + quote(p("m.obj.qsp")));
-  EXPECT_NE(m.exit_code, 0);
-  EXPECT_NE(m.err.find("polygon mesh"), std::string::npos) << m.err;
-  // The mesh file itself is matched and counted (the polygon path of stats and match).
+  const auto m = run_qsp("match " + quote(p("m.obj.qsp")) + " " + quote(p("m.obj")));
+  EXPECT_EQ(m.exit_code, 0) << m.err;
+  const auto f = run_qsp("fingerprint " + quote(p("m.obj.qsp")) + " " + quote(p("m.obj")));
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  EXPECT_EQ(f.out.substr(0, 16), f.out.substr(f.out.find('\n') + 1, 16)) << f.out;
   const auto s = run_qsp("stats " + quote(p("m.obj")));
   EXPECT_EQ(s.exit_code, 0) << s.err;
-  EXPECT_NE(s.out.find("polygons: "), std::string::npos) << s.out;
+  const std::size_t at = s.out.find("polygons: ");
+  ASSERT_NE(at, std::string::npos) << s.out;
+  const auto q = run_qsp("stats " + quote(p("m.obj.qsp")));
+  EXPECT_EQ(q.exit_code, 0) << q.err;
+  EXPECT_NE(q.out.find(s.out.substr(at, s.out.find('\n', at) - at)), std::string::npos) << q.out;
 }
 
 }  // namespace

@@ -159,6 +159,9 @@ struct FileInfo {
   std::uint64_t vertices = 0, edges = 0, faces = 0, unreferenced = 0, extraordinary = 0;
   std::uint64_t schematic_vertices = 0, schematic_edges = 0, patches = 0;
   std::array<std::uint32_t, 4> kind_counts{};  // by ComponentKind
+  // A polygon mesh (its polygons section, 3.1): the counts and components above are its quad
+  // submesh's; decode_polygons gives the mesh.
+  bool polygons = false;
   bool keep_order = false;
   std::vector<ComponentSummary> components;  // canonical order
   std::vector<SectionInfo> sections;

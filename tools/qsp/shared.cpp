@@ -371,7 +371,35 @@ Mesh parse_polygons(std::string_view bytes, const std::string& path, MeshFormat 
 
 }  // namespace
 
+namespace {
+
+// A .qsp of a polygon mesh (its polygons section, 3.1) is read as the polygon mesh it holds, so that
+// every subcommand taking polygon meshes treats it as the mesh it was compressed from; a quad .qsp
+// stays bytes (read without decoding positions where a subcommand can).
+PolygonInput opened(PolygonInput in, const std::string& path) {
+  if (!in.qsp) return in;
+  try {
+    if (!inspect(in.bytes).polygons) return in;
+    const PolygonMesh m = decode_polygons(in.bytes);
+    in.polygons.positions = numbers_from_float32(m.positions);
+    in.polygons.face_offsets = m.face_offsets;
+    in.polygons.corner_vertices = m.corners;
+    in.polygons.comments = file_comments(in.bytes);
+  } catch (const Error& e) {
+    throw Error(e.code(), path + ": " + e.what());
+  }
+  in.qsp = false;
+  in.quads = false;
+  return in;
+}
+
+}  // namespace
+
 PolygonInput read_polygon_input(const std::string& path, MeshFormat format) {
+  return opened(read_polygon_bytes_or_mesh(path, format), path);
+}
+
+PolygonInput read_polygon_bytes_or_mesh(const std::string& path, MeshFormat format) {
   PolygonInput out;
   if (path != "-" && format_from_path(path) != MeshFormat::kUnknown) {
     // A named file: read as every subcommand reads it, and again as polygons only where that refuses.

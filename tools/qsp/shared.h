@@ -163,9 +163,12 @@ struct PolygonInput {
 
 // Reads `path` ("-" = standard input, read once) as read_input does, then, if the quad reader refuses
 // a face that is not a quad (kNotQuad), as a polygon mesh (read_obj_mesh, read_off_mesh, read_ply_mesh;
-// their errors). `format` (--format) as for read_input. Throws qsp::Error as the readers do. Safe on
-// untrusted input.
+// their errors). A .qsp holding a polygon mesh (3.1) is decoded into `polygons` (qsp false); a quad
+// .qsp is left as bytes. `format` (--format) as for read_input. Throws qsp::Error as the readers and
+// the decoder do, naming `path`. Safe on untrusted input.
 PolygonInput read_polygon_input(const std::string& path, MeshFormat format = MeshFormat::kUnknown);
+// read_polygon_input before a polygon .qsp is decoded (its bytes, as for a quad .qsp).
+PolygonInput read_polygon_bytes_or_mesh(const std::string& path, MeshFormat format = MeshFormat::kUnknown);
 
 // The polygon mesh (float32 positions, faces and corners as read) of a read polygon file.
 PolygonMesh polygon_mesh_of(const Mesh& mesh);
