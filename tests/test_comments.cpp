@@ -90,7 +90,8 @@ TEST(Comments, CountsAndLengthsAreCheckedAgainstTheBytesLeft) {
 // whole file is refused.
 TEST(Comments, EveryFlipAndCutIsRefusedOrClean) {
   const std::string file = with_comments(encode(square()), {" licence", "more", ""});
-  const container::Section* s = container::parse(file).find(container::kTagComments);
+  const container::File parsed = container::parse(file);  // its sections point into `file`
+  const container::Section* s = parsed.find(container::kTagComments);
   ASSERT_NE(s, nullptr);
   const std::string payload(s->payload);
   auto check = [](const std::string& bytes) {
