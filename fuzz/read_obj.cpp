@@ -9,6 +9,6 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   qsp::fuzz::check_text_reader(std::string_view(reinterpret_cast<const char*>(data), size), "obj",
-                               &qsp::read_obj, &qsp::write_obj);
+                               &qsp::read_obj, [](const qsp::QuadMesh& m) { return qsp::write_obj(m); });
   return 0;
 }

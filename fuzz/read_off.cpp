@@ -9,6 +9,6 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   qsp::fuzz::check_text_reader(std::string_view(reinterpret_cast<const char*>(data), size), "off",
-                               &qsp::read_off, &qsp::write_off);
+                               &qsp::read_off, [](const qsp::QuadMesh& m) { return qsp::write_off(m); });
   return 0;
 }
