@@ -402,21 +402,6 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-// A kept statement's text: trimmed, without a final backslash continuation that joined it to an empty
-// line (written back, that backslash would be a token of its own; fuzz_read_mesh).
-std::string_view kept_text(std::string_view s) {
-  while (!s.empty() && (is_blank(s.front()) || s.front() == '\n')) s.remove_prefix(1);
-  for (bool line_end = false;;) {
-    while (!s.empty() && (is_blank(s.back()) || s.back() == '\n')) {
-      line_end = line_end || s.back() == '\n';
-      s.remove_suffix(1);
-    }
-    if (!line_end || !s.ends_with('\\')) return s;
-    s.remove_suffix(1);
-    line_end = false;
-  }
-}
-
 // The blank-separated words of `s` (a backslash continuation counts as a blank).
 std::vector<std::string_view> words(std::string_view s) {
   std::vector<std::string_view> out;
@@ -708,8 +693,7 @@ class ObjReader {
       in_.fail(ErrorCode::kParse, line, "binary data (a NUL byte) where a statement should be: not OBJ text");
     report_.note_kept(line, what);
     if constexpr (kExact) {
-      mesh_.verbatim.emplace_back(
-          kept_text(std::string_view(start, static_cast<std::size_t>(in_.pos() - start))));
+      mesh_.verbatim.emplace_back(trim(std::string_view(start, static_cast<std::size_t>(in_.pos() - start))));
       run(ObjStatement::kVerbatim);
       add_warning(out_.warnings, out_.warning_count, line,
                   "kept as text and written back unchanged: " + what);
