@@ -265,6 +265,24 @@ class Scanner {
   [[noreturn, gnu::noinline, gnu::cold]] void malformed_integer(const char* context) const {
     fail(ErrorCode::kParse, "malformed integer " + quote_token(token_at(token_start_)) + " in " + context);
   }
+  // The statement's text from `start` to here, each continuation joined into one blank: written back on
+  // one line it reads as the same statement (kept with its line ends, a continuation that joined an
+  // empty line would leave a backslash the writer must end with " #", which makes it a token).
+  std::string joined_text(const char* start) const {
+    std::string out;
+    for (const char* s = start; s < p_; ++s) {
+      if (*s != '\\' || !continuation_at(s)) {
+        out += *s;
+        continue;
+      }
+      out += ' ';
+      ++s;
+      while (s < p_ && blank_at(s)) ++s;
+      if (s == p_) break;  // a continuation at the very end of the text: no line end follows
+      // `s` is at the line end (LF or a lone CR); the loop's ++s steps over it
+    }
+    return out;
+  }
   void mark_token() { token_start_ = p_; }
   const char* token_start() const { return token_start_; }
   void advance() { ++p_; }
@@ -693,7 +711,7 @@ class ObjReader {
       in_.fail(ErrorCode::kParse, line, "binary data (a NUL byte) where a statement should be: not OBJ text");
     report_.note_kept(line, what);
     if constexpr (kExact) {
-      mesh_.verbatim.emplace_back(trim(std::string_view(start, static_cast<std::size_t>(in_.pos() - start))));
+      mesh_.verbatim.emplace_back(trim(in_.joined_text(start)));
       run(ObjStatement::kVerbatim);
       add_warning(out_.warnings, out_.warning_count, line,
                   "kept as text and written back unchanged: " + what);
