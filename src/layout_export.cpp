@@ -2,8 +2,10 @@
 // the layout and patch exports as OBJ/PLY text.
 #include "qsp/layout_export.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <span>
 #include <string>
 #include <utility>
 
@@ -28,13 +30,13 @@ void append_uint(std::string& out, std::uint64_t x) {
   out.append(buf, r.ptr);
 }
 
-void append_vertex(std::string& out, const QuadMesh& mesh, std::uint32_t v) {
+void append_vertex(std::string& out, std::span<const float> positions, std::uint32_t v) {
   out += "v ";
-  append_float(out, mesh.positions[3 * std::size_t{v}]);
+  append_float(out, positions[3 * std::size_t{v}]);
   out += ' ';
-  append_float(out, mesh.positions[3 * std::size_t{v} + 1]);
+  append_float(out, positions[3 * std::size_t{v} + 1]);
   out += ' ';
-  append_float(out, mesh.positions[3 * std::size_t{v} + 2]);
+  append_float(out, positions[3 * std::size_t{v} + 2]);
   out += '\n';
 }
 
@@ -214,7 +216,7 @@ std::string layout_obj(const QuadMesh& mesh, const CanonicalMesh& canonical, con
   for (const CanonicalComponent& comp : canonical.components) {
     if (structured_closed(comp.part)) continue;
     for (std::uint32_t x = 0; x < comp.part.schematic.vertex_count; ++x)
-      append_vertex(out, mesh, comp.map.vertex[x]);
+      append_vertex(out, mesh.positions, comp.map.vertex[x]);
   }
   std::uint64_t offset = 1, patch = 0;  // OBJ indices are 1-based
   char line[160];
@@ -250,37 +252,60 @@ std::string layout_obj(const QuadMesh& mesh, const CanonicalMesh& canonical, con
   return out;
 }
 
+PatchView polygon_view(const QuadSubmesh& sub, const PatchView& quad_view, std::size_t face_count) {
+  PatchView v = quad_view;
+  v.face_patch.assign(face_count, kInvalid);
+  for (std::size_t q = 0; q < sub.quad_face.size(); ++q)
+    v.face_patch[sub.quad_face[q]] = quad_view.face_patch[q];
+  for (auto* list : {&v.edge_path, &v.extraordinary, &v.t_junctions})
+    for (std::uint32_t& x : *list) x = sub.vertex_original[x];
+  return v;
+}
+
 namespace {
 
-// Faces in patch order (input order within a patch): a counting sort by face_patch.
+// Faces in patch order (input order within a patch), then the faces in no patch: a counting sort by
+// face_patch, kInvalid counted as patch_count.
 std::vector<std::uint32_t> faces_by_patch(const PatchView& view, std::vector<std::uint32_t>& first) {
-  first.assign(view.patch_count + 1, 0);
-  for (std::uint32_t p : view.face_patch) ++first[p + 1];
-  for (std::uint32_t p = 0; p < view.patch_count; ++p) first[p + 1] += first[p];
+  const auto key = [&view](std::uint32_t p) { return p == kInvalid ? view.patch_count : p; };
+  first.assign(view.patch_count + 2, 0);
+  for (std::uint32_t p : view.face_patch) ++first[key(p) + 1];
+  for (std::uint32_t p = 0; p <= view.patch_count; ++p) first[p + 1] += first[p];
   std::vector<std::uint32_t> fill(first.begin(), first.end() - 1), order(view.face_patch.size());
-  for (std::uint32_t f = 0; f < view.face_patch.size(); ++f) order[fill[view.face_patch[f]]++] = f;
+  for (std::uint32_t f = 0; f < view.face_patch.size(); ++f) order[fill[key(view.face_patch[f])]++] = f;
   return order;
+}
+
+void append_face(std::string& out, const PolygonMesh& mesh, std::uint32_t f, std::uint32_t base) {
+  for (std::uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c) {
+    out += ' ';
+    append_uint(out, std::uint64_t{mesh.corners[c]} + base);
+  }
 }
 
 }  // namespace
 
-std::string patches_obj(const QuadMesh& mesh, const PatchView& view, const std::string& header) {
+std::string patches_obj(const PolygonMesh& mesh, const PatchView& view, const std::string& header) {
+  std::vector<std::uint32_t> first;
+  const std::vector<std::uint32_t> order = faces_by_patch(view, first);
+  const std::uint32_t others = first[view.patch_count + 1] - first[view.patch_count];
   std::string out = "# " + header + "\n# " + std::to_string(view.patch_count) +
                     " patches as groups patch_N; the " + std::to_string(view.edge_count()) +
                     " schematic edges as l polylines\n";
-  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) append_vertex(out, mesh, v);
-  std::vector<std::uint32_t> first;
-  const std::vector<std::uint32_t> order = faces_by_patch(view, first);
-  for (std::uint32_t p = 0; p < view.patch_count; ++p) {
-    out += "g patch_";
-    append_uint(out, p);
+  if (others) out += "# " + std::to_string(others) + " faces that are not quads as group non_quads\n";
+  for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) append_vertex(out, mesh.positions, v);
+  for (std::uint32_t p = 0; p <= view.patch_count; ++p) {
+    if (first[p] == first[p + 1]) continue;
+    if (p < view.patch_count) {
+      out += "g patch_";
+      append_uint(out, p);
+    } else {
+      out += "g non_quads";
+    }
     out += '\n';
     for (std::uint32_t k = first[p]; k < first[p + 1]; ++k) {
       out += 'f';
-      for (int c = 0; c < 4; ++c) {
-        out += ' ';
-        append_uint(out, std::uint64_t{mesh.quads[4 * std::size_t{order[k]} + c]} + 1);
-      }
+      append_face(out, mesh, order[k], 1);
       out += '\n';
     }
   }
@@ -295,13 +320,17 @@ std::string patches_obj(const QuadMesh& mesh, const PatchView& view, const std::
   return out;
 }
 
-std::string patches_ply(const QuadMesh& mesh, const PatchView& view, const std::string& header) {
-  std::string out = "ply\nformat ascii 1.0\ncomment " + header + "\nelement vertex " +
-                    std::to_string(mesh.vertex_count()) +
-                    "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
-                    std::to_string(mesh.face_count()) +
-                    "\nproperty list uchar int vertex_indices\nproperty int patch\nproperty uchar red\n"
-                    "property uchar green\nproperty uchar blue\nend_header\n";
+std::string patches_ply(const PolygonMesh& mesh, const PatchView& view, const std::string& header) {
+  std::string out = "ply\nformat ascii 1.0\ncomment " + header + "\n";
+  if (std::find(view.face_patch.begin(), view.face_patch.end(), kInvalid) != view.face_patch.end())
+    out += "comment faces that are not quads have patch -1 and a grey colour\n";
+  std::uint32_t max_degree = 0;
+  for (std::uint32_t f = 0; f < mesh.face_count(); ++f) max_degree = std::max(max_degree, mesh.degree(f));
+  out += "element vertex " + std::to_string(mesh.vertex_count()) +
+         "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+         std::to_string(mesh.face_count()) + "\nproperty list " + (max_degree > 255 ? "uint" : "uchar") +
+         " int vertex_indices\nproperty int patch\nproperty uchar red\n"
+         "property uchar green\nproperty uchar blue\nend_header\n";
   for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
     for (int c = 0; c < 3; ++c) {
       if (c) out += ' ';
@@ -310,15 +339,12 @@ std::string patches_ply(const QuadMesh& mesh, const PatchView& view, const std::
     out += '\n';
   }
   for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
-    out += '4';
-    for (int c = 0; c < 4; ++c) {
-      out += ' ';
-      append_uint(out, mesh.quads[4 * std::size_t{f} + c]);
-    }
+    append_uint(out, mesh.degree(f));
+    append_face(out, mesh, f, 0);
     const std::uint32_t p = view.face_patch[f];
-    const auto rgb = patch_palette(view.patch_colour[p]);
+    const auto rgb = p == kInvalid ? kNonQuadColour : patch_palette(view.patch_colour[p]);
     out += ' ';
-    append_uint(out, p);
+    out += p == kInvalid ? std::string("-1") : std::to_string(p);
     for (std::uint8_t c : rgb) {
       out += ' ';
       append_uint(out, c);

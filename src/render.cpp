@@ -11,6 +11,7 @@
 #include <limits>
 #include <numeric>
 #include <string>
+#include <unordered_map>
 
 #include "qsp/error.h"
 
@@ -44,7 +45,7 @@ double dot3(const std::array<double, 3>& a, const float* p) {
   return a[0] * p[0] + a[1] * p[1] + a[2] * p[2];
 }
 
-Projection project(const QuadMesh& mesh, const RenderOptions& o, int super) {
+Projection project(const PolygonMesh& mesh, const RenderOptions& o, int super) {
   constexpr double kDeg = 3.14159265358979323846 / 180.0;
   const double az = o.azimuth * kDeg, el = o.elevation * kDeg;
   Projection p;
@@ -55,7 +56,7 @@ Projection project(const QuadMesh& mesh, const RenderOptions& o, int super) {
   p.x.resize(n), p.y.resize(n), p.z.resize(n);
   // Fitted to the vertices faces use (an unreferenced vertex far away should not shrink the picture).
   std::vector<std::uint8_t> used(n, 0);
-  for (std::uint32_t v : mesh.quads) used[v] = 1;
+  for (std::uint32_t v : mesh.corners) used[v] = 1;
   double x0 = std::numeric_limits<double>::max(), x1 = -x0, y0 = x0, y1 = -x0;
   for (std::size_t v = 0; v < n; ++v) {
     const float* q = &mesh.positions[3 * v];
@@ -78,26 +79,43 @@ Projection project(const QuadMesh& mesh, const RenderOptions& o, int super) {
   return p;
 }
 
-// Flat shading: each face its patch colour, lit from the upper left front (both sides lit alike, so
-// open meshes and either orientation read the same).
-std::vector<std::array<std::uint8_t, 3>> face_colours(const QuadMesh& mesh, const PatchView& view,
+// A face's normal (unnormalised): a quad's by its diagonals, other faces' by Newell's method.
+std::array<double, 3> face_normal(const PolygonMesh& mesh, std::uint32_t f) {
+  const std::uint32_t* q = &mesh.corners[mesh.face_offsets[f]];
+  const auto at = [&mesh](std::uint32_t v) { return &mesh.positions[3 * std::size_t{v}]; };
+  if (mesh.degree(f) == 4) {
+    const float *p0 = at(q[0]), *p1 = at(q[1]), *p2 = at(q[2]), *p3 = at(q[3]);
+    const double a[3] = {double{p2[0]} - p0[0], double{p2[1]} - p0[1], double{p2[2]} - p0[2]};
+    const double b[3] = {double{p3[0]} - p1[0], double{p3[1]} - p1[1], double{p3[2]} - p1[2]};
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  }
+  std::array<double, 3> n{};
+  const std::uint32_t d = mesh.degree(f);
+  for (std::uint32_t i = 0; i < d; ++i) {
+    const float *a = at(q[i]), *b = at(q[(i + 1) % d]);
+    n[0] += (double{a[1]} - b[1]) * (double{a[2]} + b[2]);
+    n[1] += (double{a[2]} - b[2]) * (double{a[0]} + b[0]);
+    n[2] += (double{a[0]} - b[0]) * (double{a[1]} + b[1]);
+  }
+  return n;
+}
+
+// Flat shading: each face its patch colour (kNonQuadColour in no patch), lit from the upper left front
+// (both sides lit alike, so open meshes and either orientation read the same).
+std::vector<std::array<std::uint8_t, 3>> face_colours(const PolygonMesh& mesh, const PatchView& view,
                                                       const Projection& p) {
   std::array<double, 3> light{};
   for (int k = 0; k < 3; ++k) light[k] = -0.35 * p.right[k] + 0.55 * p.up[k] + 0.76 * p.toward[k];
   const double ln = std::sqrt(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
   std::vector<std::array<std::uint8_t, 3>> out(mesh.face_count());
   for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-    const std::uint32_t* q = &mesh.quads[4 * f];
-    const float *p0 = &mesh.positions[3 * std::size_t{q[0]}], *p1 = &mesh.positions[3 * std::size_t{q[1]}],
-                *p2 = &mesh.positions[3 * std::size_t{q[2]}], *p3 = &mesh.positions[3 * std::size_t{q[3]}];
-    const double a[3] = {double{p2[0]} - p0[0], double{p2[1]} - p0[1], double{p2[2]} - p0[2]};
-    const double b[3] = {double{p3[0]} - p1[0], double{p3[1]} - p1[1], double{p3[2]} - p1[2]};
-    const double nrm[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    const std::array<double, 3> nrm = face_normal(mesh, static_cast<std::uint32_t>(f));
     const double len = std::sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
     const double lambert =
         len > 0 ? std::fabs(nrm[0] * light[0] + nrm[1] * light[1] + nrm[2] * light[2]) / (len * ln) : 0.5;
     const double shade = 0.32 + 0.68 * lambert;
-    const auto base = patch_palette(view.patch_colour[view.face_patch[f]]);
+    const std::uint32_t patch = view.face_patch[f];
+    const auto base = patch == kInvalid ? kNonQuadColour : patch_palette(view.patch_colour[patch]);
     for (int c = 0; c < 3; ++c) out[f][c] = static_cast<std::uint8_t>(std::lround(base[c] * shade));
   }
   return out;
@@ -205,7 +223,7 @@ Sizes sizes_for(const RenderOptions& o) {
 
 }  // namespace
 
-Image render_image(const QuadMesh& mesh, const PatchView& view, const RenderOptions& o) {
+Image render_image(const PolygonMesh& mesh, const PatchView& view, const RenderOptions& o) {
   check_size(o);
   const int kSuper = std::uint64_t{o.width} * o.height <= kSuperPixels ? 2 : 1;
   const Projection p = project(mesh, o, kSuper);
@@ -216,10 +234,9 @@ Image render_image(const QuadMesh& mesh, const PatchView& view, const RenderOpti
   const std::size_t samples = static_cast<std::size_t>(r.w) * r.h;
   r.depth.assign(samples, -std::numeric_limits<float>::infinity());
   r.face.assign(samples, kInvalid);
-  for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
-    const std::uint32_t* q = &mesh.quads[4 * std::size_t{f}];
-    r.triangle(p, q[0], q[1], q[2], f);
-    r.triangle(p, q[0], q[2], q[3], f);
+  for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {  // a fan from the first corner
+    const std::uint32_t* q = &mesh.corners[mesh.face_offsets[f]];
+    for (std::uint32_t i = 2; i < mesh.degree(f); ++i) r.triangle(p, q[0], q[i - 1], q[i], f);
   }
   r.rgb.resize(3 * samples);
   for (std::size_t i = 0; i < samples; ++i) {
@@ -230,10 +247,11 @@ Image render_image(const QuadMesh& mesh, const PatchView& view, const RenderOpti
   if (o.grid) {
     std::vector<std::array<std::uint8_t, 3>> dark(colour.size());
     for (std::size_t f = 0; f < colour.size(); ++f) dark[f] = darker(colour[f]);
-    for (std::uint32_t f = 0; f < mesh.face_count(); ++f)
-      for (int c = 0; c < 4; ++c)
-        r.segment(p, mesh.quads[4 * std::size_t{f} + c], mesh.quads[4 * std::size_t{f} + (c + 1) % 4], 0.5f,
-                  tol, nullptr, &dark);
+    for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
+      const std::uint32_t* q = &mesh.corners[mesh.face_offsets[f]];
+      const std::uint32_t d = mesh.degree(f);
+      for (std::uint32_t c = 0; c < d; ++c) r.segment(p, q[c], q[(c + 1) % d], 0.5f, tol, nullptr, &dark);
+    }
   }
   const Sizes sz = sizes_for(o);
   for (std::uint32_t e = 0; e < view.edge_count(); ++e)
@@ -308,8 +326,7 @@ std::string encode_png(const Image& img) {
   return out;
 }
 
-std::string render_svg(const QuadMesh& mesh, const Adjacency& adj, const PatchView& view,
-                       const RenderOptions& o) {
+std::string render_svg(const PolygonMesh& mesh, const PatchView& view, const RenderOptions& o) {
   check_size(o);
   if (mesh.face_count() > kMaxSvgFaces)
     throw Error(ErrorCode::kLimit, "SVG output holds at most " + std::to_string(kMaxSvgFaces) +
@@ -322,8 +339,8 @@ std::string render_svg(const QuadMesh& mesh, const Adjacency& adj, const PatchVi
   std::vector<float> depth(nf);
   for (std::uint32_t f = 0; f < nf; ++f) {
     float z = 0;
-    for (int c = 0; c < 4; ++c) z += p.z[mesh.quads[4 * std::size_t{f} + c]];
-    depth[f] = z;
+    for (std::uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c) z += p.z[mesh.corners[c]];
+    depth[f] = z / static_cast<float>(mesh.degree(f));
   }
   std::vector<std::uint32_t> order(nf);
   std::iota(order.begin(), order.end(), 0u);
@@ -337,33 +354,29 @@ std::string render_svg(const QuadMesh& mesh, const Adjacency& adj, const PatchVi
     std::uint32_t after, kind, a, b;
   };
   std::vector<Item> items;
-  auto last_face_at = [&](std::uint32_t v) {
-    std::uint32_t best = 0;
-    const std::uint32_t h0 = adj.vertex_halfedge[v];
-    std::uint32_t h = h0;
-    do {
-      if (!adj.is_exterior(h)) best = std::max(best, rank[adj.face(h)]);
-      h = adj.rotate(h);
-    } while (h != h0);
-    return best;
+  // The last-drawn face at each vertex and on each schematic edge's mesh edges, from the corners.
+  std::vector<std::uint32_t> last_at(mesh.vertex_count(), 0);
+  std::unordered_map<std::uint64_t, std::uint32_t> last_on;
+  const auto edge_key = [](std::uint32_t u, std::uint32_t v) {
+    return std::uint64_t{std::min(u, v)} << 32 | std::max(u, v);
   };
-  auto last_face_on = [&](std::uint32_t u, std::uint32_t v) {
-    std::uint32_t best = 0;
-    const std::uint32_t h0 = adj.vertex_halfedge[u];
-    std::uint32_t h = h0;
-    do {
-      if (adj.dest(h) == v) {
-        if (!adj.is_exterior(h)) best = std::max(best, rank[adj.face(h)]);
-        if (!adj.is_exterior(adj.twin[h])) best = std::max(best, rank[adj.face(adj.twin[h])]);
-      }
-      h = adj.rotate(h);
-    } while (h != h0);
-    return best;
-  };
+  for (std::uint32_t e = 0; e < view.edge_count(); ++e)
+    for (std::uint32_t k = view.edge_first[e]; k + 1 < view.edge_first[e + 1]; ++k)
+      last_on.emplace(edge_key(view.edge_path[k], view.edge_path[k + 1]), 0);
+  for (std::uint32_t f = 0; f < nf; ++f) {
+    const std::uint32_t* q = &mesh.corners[mesh.face_offsets[f]];
+    const std::uint32_t d = mesh.degree(f);
+    for (std::uint32_t c = 0; c < d; ++c) {
+      last_at[q[c]] = std::max(last_at[q[c]], rank[f]);
+      if (const auto it = last_on.find(edge_key(q[c], q[(c + 1) % d])); it != last_on.end())
+        it->second = std::max(it->second, rank[f]);
+    }
+  }
+  const auto last_face_at = [&last_at](std::uint32_t v) { return last_at[v]; };
   for (std::uint32_t e = 0; e < view.edge_count(); ++e)
     for (std::uint32_t k = view.edge_first[e]; k + 1 < view.edge_first[e + 1]; ++k) {
       const std::uint32_t u = view.edge_path[k], v = view.edge_path[k + 1];
-      items.push_back({last_face_on(u, v), 0, u, v});
+      items.push_back({last_on.at(edge_key(u, v)), 0, u, v});
     }
   for (std::uint32_t v : view.t_junctions) items.push_back({last_face_at(v), 2, v, 0});
   for (std::uint32_t v : view.extraordinary) items.push_back({last_face_at(v), 1, v, 0});
@@ -391,16 +404,19 @@ std::string render_svg(const QuadMesh& mesh, const Adjacency& adj, const PatchVi
   };
   for (std::uint32_t k = 0; k < nf; ++k) {
     const std::uint32_t f = order[k];
-    const std::uint32_t* q = &mesh.quads[4 * std::size_t{f}];
+    const std::uint32_t* q = &mesh.corners[mesh.face_offsets[f]];
     char fill[8], stroke[8];
     hex(colour[f], fill);
     hex(o.grid ? darker(colour[f]) : colour[f], stroke);
     // The stroke in the fill's colour closes the hairline seams renderers leave between polygons.
-    std::snprintf(buf, sizeof buf,
-                  "<path d=\"M%.1f %.1fL%.1f %.1f %.1f %.1f %.1f %.1fZ\" fill=\"%s\" stroke=\"%s\" "
-                  "stroke-width=\"%s\"/>\n",
-                  p.x[q[0]], p.y[q[0]], p.x[q[1]], p.y[q[1]], p.x[q[2]], p.y[q[2]], p.x[q[3]], p.y[q[3]],
-                  fill, stroke, o.grid ? "0.6" : "0.4");
+    std::snprintf(buf, sizeof buf, "<path d=\"M%.1f %.1fL", p.x[q[0]], p.y[q[0]]);
+    out += buf;
+    for (std::uint32_t c = 1; c < mesh.degree(f); ++c) {
+      std::snprintf(buf, sizeof buf, c > 1 ? " %.1f %.1f" : "%.1f %.1f", p.x[q[c]], p.y[q[c]]);
+      out += buf;
+    }
+    std::snprintf(buf, sizeof buf, "Z\" fill=\"%s\" stroke=\"%s\" stroke-width=\"%s\"/>\n", fill, stroke,
+                  o.grid ? "0.6" : "0.4");
     out += buf;
     for (; next_item < items.size() && items[next_item].after == k; ++next_item) {
       const Item& it = items[next_item];

@@ -18,6 +18,7 @@
 #include "support/cli.h"
 #include "support/mesh_gen.h"
 #include "support/png.h"
+#include "support/polygon.h"
 
 namespace qsp {
 namespace {
@@ -479,6 +480,116 @@ TEST_F(CliShow, PatchesTagEveryFaceAndLinesAreTheSchematicEdges) {
       }
     }
   }
+}
+
+// A polygon mesh (triangles, n-gons; qsp/submesh.h): show draws it with its non-quads grey, layout
+// exports its quad submesh's partition, and --patches holds every face of the file as it was, the
+// quads in patch groups and the rest in `non_quads`, read back here by a parser of our own.
+TEST_F(CliShow, PolygonMeshesAreDrawnAndExported) {
+  testing::Grid g = testing::Grid::make(5, 4, [](int i, int j) {
+    return i == 1 && j == 1 ? 't' : i == 3 && j == 2 ? '.' : 'q';
+  });
+  {
+    std::ofstream out(p("poly.obj"));
+    for (int y = 0; y <= 4; ++y)
+      for (int x = 0; x <= 5; ++x) out << "v " << x << ' ' << y << " 0\n";
+    for (std::uint32_t f = 0; f < g.p.face_count(); ++f) {
+      out << 'f';
+      for (std::uint32_t k = g.p.offsets[f]; k < g.p.offsets[f + 1]; ++k) out << ' ' << g.p.corners[k] + 1;
+      out << '\n';
+    }
+    out << "f " << g.id(3, 2) + 1 << ' ' << g.id(4, 2) + 1 << ' ' << g.id(4, 3) + 1 << ' ' << g.id(3, 3) + 1
+        << "\n";  // the hole closed again, as a quad of its own (orientation kept)
+  }
+  std::vector<std::string> inputs = {p("poly.obj")};
+  for (const char* name : {"pmp_suzanne.obj", "osd_catmark_bishop.obj"})
+    if (fs::exists(fs::path(QSP_SHARED_DIR) / "meshes" / name))
+      inputs.push_back((fs::path(QSP_SHARED_DIR) / "meshes" / name).string());
+  for (const std::string& in : inputs) {
+    SCOPED_TRACE(in);
+    const testing::Poly want = testing::read_faces(in);
+    std::size_t non_quads = 0;
+    for (std::uint32_t f = 0; f < want.face_count(); ++f) non_quads += want.degree(f) != 4;
+    ASSERT_GT(non_quads, 0u);
+    const auto d = testing::decode_png(show(in, p("a.png"), "--size 200x200 --view 20,15"));
+    ASSERT_EQ(d.error, "");
+    std::size_t grey = 0;
+    for (std::size_t i = 0; i < d.rgb.size(); i += 3)
+      grey += d.rgb[i] == d.rgb[i + 1] && d.rgb[i] == d.rgb[i + 2] && d.rgb[i] > 60 && d.rgb[i] < 200;
+    EXPECT_GT(grey, 30u) << "the non-quads are drawn grey";
+    EXPECT_NE(show(in, p("a.svg")).find("</svg>"), std::string::npos);
+
+    const auto r =
+        run_qsp("layout -f " + quote(in) + " -o " + quote(p("l.obj")) + " --patches " + quote(p("p.obj")));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::string group;
+    std::vector<std::vector<std::uint32_t>> faces, lines;
+    std::size_t vertices = 0, in_non_quads = 0;
+    each_statement(slurp(p("p.obj")), [&](const std::string& kw, std::istringstream& ls, const std::string&) {
+      if (kw == "v") ++vertices;
+      if (kw == "g") ls >> group;
+      if (kw == "l") lines.push_back(indices(ls));
+      if (kw != "f") return;
+      faces.push_back(indices(ls));
+      if (group == "non_quads") {
+        ++in_non_quads;
+        EXPECT_NE(faces.back().size(), 4u) << "a quad outside the patches";
+      } else {
+        EXPECT_EQ(group.rfind("patch_", 0), 0u) << group;
+        EXPECT_EQ(faces.back().size(), 4u) << "a non-quad in " << group;
+      }
+    });
+    EXPECT_EQ(vertices, want.nv);
+    EXPECT_EQ(in_non_quads, non_quads);
+    // The same faces, each with its corners in the file's order (the groups reorder faces only).
+    std::multiset<std::vector<std::uint32_t>> a(faces.begin(), faces.end()), b;
+    for (std::uint32_t f = 0; f < want.face_count(); ++f)
+      b.insert(std::vector<std::uint32_t>(want.corners.begin() + want.offsets[f],
+                                          want.corners.begin() + want.offsets[f + 1]));
+    EXPECT_TRUE(a == b) << "--patches holds other faces than the file";
+    std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
+    for (const auto& f : faces)
+      for (std::size_t k = 0; k < f.size(); ++k) edges.insert(std::minmax(f[k], f[(k + 1) % f.size()]));
+    EXPECT_FALSE(lines.empty());
+    for (const auto& l : lines)
+      for (std::size_t k = 0; k + 1 < l.size(); ++k)
+        EXPECT_TRUE(edges.count(std::minmax(l[k], l[k + 1]))) << "an l step that is no mesh edge";
+
+    // The PLY export: patch -1 exactly on the non-quads.
+    ASSERT_EQ(run_qsp("layout -f " + quote(in) + " --patches " + quote(p("p.ply"))).exit_code, 0);
+    std::istringstream ply(slurp(p("p.ply")));
+    std::size_t minus_one = 0, face_lines = 0;
+    bool body = false;
+    std::size_t skip = want.nv;
+    for (std::string line; std::getline(ply, line);) {
+      if (!body) {
+        body = line == "end_header";
+        continue;
+      }
+      if (skip) {
+        --skip;
+        continue;
+      }
+      std::istringstream ls(line);
+      std::uint32_t n = 0, v = 0;
+      long patch = 0;
+      ls >> n;
+      for (std::uint32_t k = 0; k < n; ++k) ls >> v;
+      ls >> patch;
+      ++face_lines;
+      minus_one += patch == -1;
+      EXPECT_EQ(patch == -1, n != 4);
+    }
+    EXPECT_EQ(face_lines, want.face_count());
+    EXPECT_EQ(minus_one, non_quads);
+  }
+  // A polygon .qsp: drawn as its decoded mesh; its stored partition is not read yet, and says so.
+  ASSERT_EQ(run_qsp("compress -f " + quote(p("poly.obj")) + " " + quote(p("poly.qsp"))).exit_code, 0);
+  EXPECT_FALSE(show(p("poly.qsp"), p("q.png")).empty());
+  const auto stored =
+      run_qsp("show -f " + quote(p("poly.qsp")) + " -o " + quote(p("q.png")) + " --partition stored");
+  EXPECT_EQ(stored.exit_code, 2);
+  EXPECT_NE(stored.err.find("polygon mesh"), std::string::npos) << stored.err;
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "qsp/canonical.h"
@@ -15,6 +16,7 @@
 #include "support/corpus.h"
 #include "support/mesh_gen.h"
 #include "support/png.h"
+#include "support/polygon.h"
 
 namespace qsp {
 namespace {
@@ -95,7 +97,7 @@ TEST(Render, ViewAndPngOnEveryCorpusMesh) {
       check_view(m, adj, mode);
     }
     const PatchView v = view_of(m, adj, PartitionMode::kMotorcycle);
-    const Image img = render_image(m, v, o);
+    const Image img = render_image(polygon_mesh(m), v, o);
     ASSERT_EQ(img.rgb.size(), 3u * 96 * 64);
     const std::string png = encode_png(img);
     const testing::DecodedPng d = testing::decode_png(png);
@@ -112,7 +114,7 @@ TEST(Render, ViewAndPngOnEveryCorpusMesh) {
     }
     EXPECT_GT(drawn, 96u * 64 / 20);
     EXPECT_GT(colours.size(), 4u);
-    EXPECT_EQ(encode_png(render_image(m, v, o)), png) << "the same input gives the same bytes";
+    EXPECT_EQ(encode_png(render_image(polygon_mesh(m), v, o)), png) << "the same input gives the same bytes";
   }
 }
 
@@ -139,18 +141,85 @@ TEST(Render, SizesAndFaceLimitAreChecked) {
   const PatchView v = view_of(m, adj, PartitionMode::kMotorcycle);
   RenderOptions o;
   o.width = 0;
-  EXPECT_THROW(render_image(m, v, o), Error);
+  EXPECT_THROW(render_image(polygon_mesh(m), v, o), Error);
   o.width = kMaxRenderSide + 1;
-  EXPECT_THROW(render_svg(m, adj, v, o), Error);
+  EXPECT_THROW(render_svg(polygon_mesh(m), v, o), Error);
   const QuadMesh big = testing::grid(320, 320);  // 102400 faces
   const Adjacency big_adj = build_adjacency(big);
   try {
-    render_svg(big, big_adj, view_of(big, big_adj, PartitionMode::kMotorcycle), {});
+    render_svg(polygon_mesh(big), view_of(big, big_adj, PartitionMode::kMotorcycle), {});
     ADD_FAILURE() << "SVG of 102400 faces";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kLimit);
     EXPECT_NE(std::string(e.what()).find("png"), std::string::npos) << e.what();
   }
+}
+
+// A polygon mesh's view (polygon_view): every quad in a patch, every other face in none; its paths and
+// marks on the mesh's own vertices along its own edges; drawn with the non-quads grey.
+TEST(Render, PolygonMeshesShowTheirNonQuadsGrey) {
+  const testing::Grid g = testing::Grid::make(6, 5, [](int i, int j) {
+    return i == 2 && j == 2 ? 't' : i == 4 && j == 1 ? '.' : 'q';
+  });
+  std::vector<testing::PolyCase> cases = testing::hand_polygon_cases();
+  cases.insert(cases.begin(), {"grid_with_a_triangle_pair", g.p});
+  for (std::uint32_t x = 0; x <= 6; ++x)  // the first case drawn flat, the others on a sphere-ish cloud
+    for (std::uint32_t y = 0; y <= 5; ++y)
+      for (float c : {static_cast<float>(x), static_cast<float>(y), 0.0f}) cases[0].p.positions.push_back(c);
+  int grey_seen = 0;
+  for (testing::PolyCase& c : cases) {
+    SCOPED_TRACE(c.name);
+    if (!testing::cuttable(c.p)) continue;
+    if (c.p.positions.empty())
+      for (std::uint32_t v = 0; v < c.p.nv; ++v)
+        for (int k = 0; k < 3; ++k) c.p.positions.push_back(std::cos(static_cast<float>(v * 3 + k) * 1.7f));
+    PolygonMesh m;
+    m.positions = c.p.positions;
+    m.face_offsets = c.p.offsets;
+    m.corners = c.p.corners;
+    const QuadSubmesh sub = quad_submesh(m.face_offsets, m.corners, c.p.nv, m.positions);
+    const PatchView qv = view_of(sub.mesh, sub.adjacency, PartitionMode::kMotorcycle);
+    const PatchView v = polygon_view(sub, qv, m.face_count());
+    ASSERT_EQ(v.face_patch.size(), m.face_count());
+    std::vector<std::uint32_t> faces_in(v.patch_count, 0);
+    for (std::uint32_t f = 0; f < m.face_count(); ++f) {
+      EXPECT_EQ(v.face_patch[f] == kInvalid, m.degree(f) != 4) << "face " << f;
+      if (v.face_patch[f] != kInvalid) ++faces_in[v.face_patch[f]];
+    }
+    for (std::uint32_t p = 0; p < v.patch_count; ++p) EXPECT_GT(faces_in[p], 0u) << "patch " << p;
+    std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
+    for (std::uint32_t f = 0; f < m.face_count(); ++f)
+      for (std::uint32_t k = m.face_offsets[f]; k < m.face_offsets[f + 1]; ++k) {
+        const std::uint32_t a = m.corners[k],
+                            b = m.corners[k + 1 < m.face_offsets[f + 1] ? k + 1 : m.face_offsets[f]];
+        edges.insert({std::min(a, b), std::max(a, b)});
+      }
+    for (std::uint32_t e = 0; e < v.edge_count(); ++e)
+      for (std::uint32_t k = v.edge_first[e]; k + 1 < v.edge_first[e + 1]; ++k) {
+        const std::uint32_t a = v.edge_path[k], b = v.edge_path[k + 1];
+        EXPECT_TRUE(edges.count({std::min(a, b), std::max(a, b)})) << "path step " << a << "-" << b;
+      }
+    for (std::uint32_t x : v.extraordinary) EXPECT_LT(x, c.p.nv);
+    for (std::uint32_t x : v.t_junctions) EXPECT_LT(x, c.p.nv);
+    RenderOptions o;
+    o.width = o.height = 128;
+    const Image img = render_image(m, v, o);
+    std::size_t grey_pixels = 0;  // a shaded kNonQuadColour: the three channels equal, between dark and white
+    for (std::size_t i = 0; i + 2 < img.rgb.size(); i += 3)
+      grey_pixels +=
+          img.rgb[i] == img.rgb[i + 1] && img.rgb[i] == img.rgb[i + 2] && img.rgb[i] > 60 && img.rgb[i] < 200;
+    const bool grey = grey_pixels > 100;  // more than the anti-aliased rims of a few dots
+    grey_seen += grey;
+    if (c.name == "grid_with_a_triangle_pair") {
+      EXPECT_TRUE(grey) << "the triangle pair is drawn grey";
+    }
+    const std::string svg = render_svg(m, v, o);
+    std::size_t paths = 0;
+    for (std::size_t at = svg.find("<path d="); at != std::string::npos; at = svg.find("<path d=", at + 1))
+      ++paths;
+    EXPECT_EQ(paths, m.face_count()) << "one path per face";
+  }
+  EXPECT_GT(grey_seen, 2);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "qsp/canonical.h"
 #include "qsp/mesh.h"
 #include "qsp/partition.h"
+#include "qsp/submesh.h"
 
 namespace qsp {
 
@@ -21,7 +22,7 @@ namespace qsp {
 // vertices from the origin of dart 2e to the origin of dart 2e+1.
 struct PatchView {
   std::uint32_t patch_count = 0;
-  std::vector<std::uint32_t> face_patch;    // per mesh face: its patch
+  std::vector<std::uint32_t> face_patch;    // per mesh face: its patch (kInvalid: a face in no patch)
   std::vector<std::uint32_t> patch_colour;  // per patch: a colour class, never a neighbour's (palette index)
   std::vector<std::uint32_t> edge_first;  // per schematic edge e: its path is edge_path[first[e], first[e+1])
   std::vector<std::uint32_t> edge_path;   // mesh vertices of all paths
@@ -36,6 +37,15 @@ struct PatchView {
 // kPatchPalette's classes, so neighbours differ unless a patch has that many neighbours. Deterministic;
 // O(mesh faces + schematic).
 PatchView view_partition(const Adjacency& adj, const CanonicalMesh& canonical);
+
+// The view of a quad submesh's partition (view_partition of sub.adjacency) carried to the polygon mesh
+// of `face_count` faces it was cut from (quad_submesh, qsp/submesh.h): face_patch per polygon face,
+// kInvalid for a face that is not a quad; paths and marks on the original vertices (a vertex cut apart
+// is one vertex again). Never fails on a matching `sub` and view.
+PatchView polygon_view(const QuadSubmesh& sub, const PatchView& quad_view, std::size_t face_count);
+
+// The colour of the faces in no patch (a polygon mesh's triangles and n-gons): a neutral grey.
+inline constexpr std::array<std::uint8_t, 3> kNonQuadColour = {178, 178, 178};
 
 // The fixed colours patch classes map to (sRGB), distinct hues that dark lines and dots show on.
 inline constexpr std::uint32_t kPatchPaletteSize = 9;
@@ -60,9 +70,11 @@ std::string layout_obj(const QuadMesh& mesh, const CanonicalMesh& canonical, con
 
 // The input mesh with its faces grouped by patch: vertices in input order, exact (shortest text that
 // reads back to the same float); OBJ: a `g patch_N` group per patch holding its faces (input order
-// within it), then the schematic edges as `l` polylines; PLY (ascii): each face with an int property
-// `patch` and its patch's colour (uchar red, green, blue). Never fails.
-std::string patches_obj(const QuadMesh& mesh, const PatchView& view, const std::string& header);
-std::string patches_ply(const QuadMesh& mesh, const PatchView& view, const std::string& header);
+// within it), a `g non_quads` group with the faces in no patch, then the schematic edges as `l`
+// polylines; PLY (ascii): each face with an int property `patch` (-1: in no patch) and its patch's
+// colour (uchar red, green, blue; kNonQuadColour for no patch). `view` is view_partition() of the mesh,
+// or polygon_view() for a polygon mesh. Never fails.
+std::string patches_obj(const PolygonMesh& mesh, const PatchView& view, const std::string& header);
+std::string patches_ply(const PolygonMesh& mesh, const PatchView& view, const std::string& header);
 
 }  // namespace qsp

@@ -9,6 +9,7 @@
 
 #include "qsp/layout_export.h"
 #include "qsp/mesh.h"
+#include "qsp/submesh.h"
 
 namespace qsp {
 
@@ -31,12 +32,13 @@ struct Image {
 };
 
 // The mesh flat-shaded with each face in its patch's colour (view.patch_colour through
-// patch_palette), the schematic edges as dark lines, extraordinary vertices as dark dots, T-junctions
-// as red squares, hidden parts hidden (drawn at twice the size and averaged down, up to 2^24
-// pixels). `view` must be
-// view_partition() of this mesh. Throws Error(kLimit) for a size of 0 or beyond kMaxRenderSide.
-// Deterministic (one thread, integer-exact resolve). Safe on any mesh build_adjacency accepted.
-Image render_image(const QuadMesh& mesh, const PatchView& view, const RenderOptions& options);
+// patch_palette; kNonQuadColour for a face in no patch, a polygon mesh's triangles and n-gons, drawn as
+// fans from their first corner), the schematic edges as dark lines, extraordinary vertices as dark dots,
+// T-junctions as red squares, hidden parts hidden (drawn at twice the size and averaged down, up to 2^24
+// pixels). `view` must be view_partition() of this mesh (a quad mesh as polygon_mesh()), or
+// polygon_view() of its quad submesh. Throws Error(kLimit) for a size of 0 or beyond kMaxRenderSide.
+// Deterministic (one thread, integer-exact resolve). Safe on any mesh quad_submesh accepted.
+Image render_image(const PolygonMesh& mesh, const PatchView& view, const RenderOptions& options);
 
 // PNG bytes of `image` (8-bit RGB, zlib-compressed, one filter per row). Never fails on a valid Image.
 std::string encode_png(const Image& image);
@@ -44,7 +46,6 @@ std::string encode_png(const Image& image);
 // The same picture as SVG: faces sorted back to front (ties by face index), each line, dot and mark
 // drawn right after the frontmost face it touches, so nearer faces hide it. Throws Error(kLimit) when
 // the mesh has more than kMaxSvgFaces faces (the message suggests PNG) or the size is out of range.
-std::string render_svg(const QuadMesh& mesh, const Adjacency& adj, const PatchView& view,
-                       const RenderOptions& options);
+std::string render_svg(const PolygonMesh& mesh, const PatchView& view, const RenderOptions& options);
 
 }  // namespace qsp

@@ -44,8 +44,8 @@ void run(const LayoutOptions& o) {
   if (!o.output.empty()) write_output(o.output, layout_obj(pm.mesh, pm.canonical, header), wo);
   if (!o.patches.empty()) {
     write_output(o.patches,
-                 pf == MeshFormat::kPly ? patches_ply(pm.mesh, pm.view, header)
-                                        : patches_obj(pm.mesh, pm.view, header),
+                 pf == MeshFormat::kPly ? patches_ply(pm.drawn, pm.view, header)
+                                        : patches_obj(pm.drawn, pm.view, header),
                  wo);
   }
 }

@@ -69,7 +69,7 @@ void run(const ShowOptions& o) {
   refuse_existing({{o.output, "-o"}}, wo);  // before the work, not after
   const PartitionedMesh pm = load_partitioned(o.input, o.partition, parse_format_option(o.format));
   const std::string bytes =
-      svg ? render_svg(pm.mesh, pm.adjacency, pm.view, ro) : encode_png(render_image(pm.mesh, pm.view, ro));
+      svg ? render_svg(pm.drawn, pm.view, ro) : encode_png(render_image(pm.drawn, pm.view, ro));
   write_output(o.output, bytes, wo);
 }
 

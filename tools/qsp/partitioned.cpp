@@ -19,16 +19,61 @@ std::vector<std::uint32_t> canonical_to_mesh(const OrderMap& order) {
   return out;
 }
 
+PartitionMode mode_of(const std::string& partition) {
+  PartitionMode mode = PartitionMode::kMotorcycle;
+  if (!partition.empty() && !parse_partition_mode(partition, mode))
+    throw CLI::ValidationError("--partition: unknown partition " + partition);
+  return mode;
+}
+
+// A polygon mesh (faces of any degree, non-manifold or mis-oriented pieces): the partition of its quad
+// submesh (qsp/submesh.h), drawn on the mesh itself. `from_qsp`: decoded from a 3.1 file.
+PartitionedMesh polygon_partitioned(PolygonMesh mesh, const std::string& path, const std::string& partition,
+                                    bool from_qsp) {
+  if (partition == "stored")
+    throw CLI::ValidationError("--partition stored: " + path +
+                               " holds a polygon mesh, whose stored partition is not read yet; its quad "
+                               "submesh's partitions are: motorcycle, greedy, merge, auto");
+  PartitionedMesh pm;
+  QuadSubmesh sub = quad_submesh(mesh.face_offsets, mesh.corners,
+                                 static_cast<std::uint32_t>(mesh.vertex_count()), mesh.positions);
+  PartitionMode mode = mode_of(partition == "auto" ? "" : partition);
+  if (partition == "auto") {
+    // What compress stores at its default level: the motorcycle graph unless the level searches.
+    if (level_effort(kDefaultLevel, sub.mesh.vertex_count()).all_partitions)
+      throw CLI::ValidationError("--partition auto on a polygon mesh: name the partition");
+    pm.label = "auto (motorcycle)";
+  } else {
+    pm.label = partition_mode_name(mode);
+  }
+  if (from_qsp && partition.empty()) pm.label += " (of the decoded polygon mesh's quads)";
+  const Partition part = qsp::partition(sub.adjacency, mode, sub.mesh.positions);
+  pm.canonical = canonicalize(sub.mesh, sub.adjacency, part);
+  pm.view = polygon_view(sub, view_partition(sub.adjacency, pm.canonical), mesh.face_count());
+  pm.mesh = std::move(sub.mesh);
+  pm.adjacency = std::move(sub.adjacency);
+  pm.drawn = std::move(mesh);
+  return pm;
+}
+
 }  // namespace
 
 PartitionedMesh load_partitioned(const std::string& path, const std::string& partition, MeshFormat format) {
-  PartitionedMesh pm;
-  Partition part;
-  Input in = read_input(path, format);
+  PolygonInput in = read_polygon_bytes_or_mesh(path, format);
+  if (!in.qsp && !in.quads) {
+    PartitionedMesh pm = polygon_partitioned(polygon_mesh_of(in.polygons), path, partition, false);
+    if (in.polygons.positions.precision != Precision::kFloat32)
+      pm.rounding = path + ": some coordinates are not float32 values and are drawn rounded to float32";
+    return pm;
+  }
   if (partition == "stored" && !in.qsp)
     throw CLI::ValidationError("--partition stored needs a .qsp input; " + path + " is a mesh");
+  PartitionedMesh pm;
+  Partition part;
   if (in.qsp) {
     try {
+      if (inspect(in.bytes).polygons)
+        return polygon_partitioned(decode_polygons(in.bytes), path, partition, true);
       pm.mesh = decode(in.bytes);
       pm.adjacency = build_adjacency(pm.mesh);
       if (partition.empty() || partition == "stored") {
@@ -41,9 +86,17 @@ PartitionedMesh load_partitioned(const std::string& path, const std::string& par
     }
   } else {
     pm.rounding = in.report.describe_rounding(path);
-    LoadedMesh loaded = with_adjacency(std::move(in.mesh), std::move(in.report), path);
-    pm.mesh = std::move(loaded.mesh);
-    pm.adjacency = std::move(loaded.adjacency);
+    try {
+      pm.adjacency = build_adjacency(in.mesh);
+    } catch (const Error& e) {
+      // Quads only, but non-manifold or mis-oriented: cut apart as any polygon mesh is.
+      if (!polygon_path_takes(e)) rethrow_located(e, path, in.report);
+      std::string rounding = std::move(pm.rounding);
+      pm = polygon_partitioned(polygon_mesh(std::move(in.mesh)), path, partition, false);
+      pm.rounding = std::move(rounding);
+      return pm;
+    }
+    pm.mesh = std::move(in.mesh);
   }
   if (pm.label.empty()) {
     if (partition == "auto") {
@@ -53,15 +106,14 @@ PartitionedMesh load_partitioned(const std::string& path, const std::string& par
       part = stored_partition(pm.adjacency, file_topology(bytes).codes, canonical_to_mesh(order));
       pm.label = "auto";
     } else {
-      PartitionMode mode = PartitionMode::kMotorcycle;
-      if (!partition.empty() && !parse_partition_mode(partition, mode))
-        throw CLI::ValidationError("--partition: unknown partition " + partition);
+      const PartitionMode mode = mode_of(partition);
       part = qsp::partition(pm.adjacency, mode, pm.mesh.positions);
       pm.label = partition_mode_name(mode);
     }
   }
   pm.canonical = canonicalize(pm.mesh, pm.adjacency, part);
   pm.view = view_partition(pm.adjacency, pm.canonical);
+  pm.drawn = polygon_mesh(pm.mesh);
   return pm;
 }
 
