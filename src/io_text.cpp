@@ -265,21 +265,23 @@ class Scanner {
   [[noreturn, gnu::noinline, gnu::cold]] void malformed_integer(const char* context) const {
     fail(ErrorCode::kParse, "malformed integer " + quote_token(token_at(token_start_)) + " in " + context);
   }
-  // The statement's text from `start` to here, each continuation joined into one blank: written back on
-  // one line it reads as the same statement (kept with its line ends, a continuation that joined an
-  // empty line would leave a backslash the writer must end with " #", which makes it a token).
+  // The statement's text from `start` to here, each continuation it went on over joined into one
+  // blank: written back on one line it reads as the same statement (kept with its line ends, a
+  // continuation that joined an empty line would leave a backslash the writer must end with " #", which
+  // makes it a token). A backslash before the line end that ended the statement (a keyword's last
+  // character, `word` does not look for continuations) stays, as the reader took it.
   std::string joined_text(const char* start) const {
     std::string out;
     for (const char* s = start; s < p_; ++s) {
-      if (*s != '\\' || !continuation_at(s)) {
+      const char* t = s + 1;
+      while (t < p_ && blank_at(t)) ++t;
+      const bool joined = *s == '\\' && continuation_at(s) && (t < p_ || t == end_);
+      if (!joined) {
         out += *s;
         continue;
       }
       out += ' ';
-      ++s;
-      while (s < p_ && blank_at(s)) ++s;
-      if (s == p_) break;  // a continuation at the very end of the text: no line end follows
-      // `s` is at the line end (LF or a lone CR); the loop's ++s steps over it
+      s = t;  // at the line end, stepped over by ++s; or at the end of the text
     }
     return out;
   }
