@@ -305,6 +305,22 @@ OrderMap file_order(std::string_view bytes, const DecodeLimits& limits) {
                       static_cast<std::uint32_t>(p.counts.faces));
 }
 
+namespace {
+
+// The polygons section's bytes: its counts and region stream are connectivity, the interior positions
+// after them geometry (the spec, "Polygons section"; the section was checked by parse()).
+void split_polygons_section(const Section& s, FileInfo& info) {
+  ByteReader r(s.payload, s.payload_offset, "polygons section");
+  for (const char* what : {"interior vertex count", "region count", "glue group count"}) (void)r.varint(what);
+  (void)r.take(r.varint("stream length"), "region stream");
+  info.polygon_positions_bytes = r.left();
+  info.polygon_connectivity_bytes = s.size() - r.left();
+  info.connectivity_bytes += info.polygon_connectivity_bytes;
+  info.geometry_bytes += info.polygon_positions_bytes;
+}
+
+}  // namespace
+
 FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
   Parsed p = parse(bytes, limits);
   decode_components(p);
@@ -333,7 +349,7 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
     else if (s.tag == container::kTagOrder)
       info.order_bytes += size;
     else if (s.tag == container::kTagPolygons)
-      info.connectivity_bytes += size;
+      split_polygons_section(s, info);
     else
       info.other_bytes += size;
   }

@@ -172,6 +172,35 @@ TEST(PolygonCodec, NgonWithInteriorVerticesAndQuantizedPositions) {
     EXPECT_NEAR(coarse.positions[i], exact.positions[i], 6.0 / 1024) << i;
 }
 
+// inspect() splits the polygons section: its counts and region stream are connectivity, the positions
+// of vertices no quad has geometry; the two parts make the section, found here by its own tag and length.
+TEST(PolygonCodec, InspectSplitsThePolygonsSection) {
+  Grid holed = Grid::make(3, 3, [](int i, int j) { return i == 1 && j == 1 ? '.' : 'q'; });
+  const Poly pairs =
+      with_positions(Grid::make(4, 3, [](int i, int j) { return i == 2 && j == 1 ? 't' : 'q'; }).p);
+  const std::uint32_t c = holed.p.nv++;
+  for (auto [a, b] : {std::pair{holed.id(1, 1), holed.id(2, 1)},
+                      {holed.id(2, 1), holed.id(2, 2)},
+                      {holed.id(2, 2), holed.id(1, 2)},
+                      {holed.id(1, 2), holed.id(1, 1)}})
+    holed.p.face({a, b, c});
+  const Poly fan = with_positions(holed.p);
+  for (const auto& [poly, interior] : {std::pair{pairs, false}, {fan, true}}) {
+    const std::string bytes = encode_polygons(to_mesh(poly));
+    const FileInfo info = inspect(bytes);
+    ASSERT_TRUE(info.polygons);
+    std::uint64_t section = 0;
+    for (const SectionInfo& si : info.sections)
+      if (si.tag == 0x05) section = si.size;
+    ASSERT_GT(section, 0u);
+    EXPECT_EQ(info.polygon_connectivity_bytes + info.polygon_positions_bytes, section);
+    EXPECT_EQ(info.polygon_positions_bytes > 0, interior) << "positions only where a vertex has no quad";
+    EXPECT_EQ(info.header_bytes + info.connectivity_bytes + info.geometry_bytes + info.order_bytes +
+                  info.other_bytes,
+              bytes.size());
+  }
+}
+
 TEST(PolygonCodec, NonManifoldAndMisorientedQuadMeshesRoundTrip) {
   // A fin: three quads on one edge.
   Poly fin = Grid::make(2, 1, [](int, int) { return 'q'; }).p;

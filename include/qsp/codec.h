@@ -149,8 +149,11 @@ struct FileInfo {
   std::uint8_t level = 0;  // the compression level that wrote the file, 1-9; 0 if it does not say
   std::uint64_t total_bytes = 0;
   std::uint64_t header_bytes = 0;        // magic, version, flags, size, checksum
-  std::uint64_t connectivity_bytes = 0;  // counts + topology sections (+ the polygons section)
-  std::uint64_t geometry_bytes = 0;
+  std::uint64_t connectivity_bytes = 0;  // counts + topology sections (+ polygon_connectivity_bytes)
+  std::uint64_t geometry_bytes = 0;      // the geometry section (+ polygon_positions_bytes)
+  // A polygon file's polygons section: its counts and region codes (the non-quad faces, the glue of
+  // cut vertices) and the positions of the vertices no quad has.
+  std::uint64_t polygon_connectivity_bytes = 0, polygon_positions_bytes = 0;
   std::uint64_t order_bytes = 0;    // keep-order permutations (0 if absent)
   std::uint64_t other_bytes = 0;    // optional sections this decoder skipped
   std::uint8_t geometry_tools = 0;  // qsp/geometry.h's geometry_tool bits (geometry_tool_names() says them)
