@@ -268,8 +268,8 @@ class Scanner {
   // The statement's text from `start` to here, each continuation it went on over joined into one
   // blank: written back on one line it reads as the same statement (kept with its line ends, a
   // continuation that joined an empty line would leave a backslash the writer must end with " #", which
-  // makes it a token). A backslash before the line end that ended the statement (a keyword's last
-  // character, `word` does not look for continuations) stays, as the reader took it.
+  // makes it a token). A backslash before the line end that ended the statement stays, as the reader
+  // took it. `start` is after the keyword: word() does not look for continuations.
   std::string joined_text(const char* start) const {
     std::string out;
     for (const char* s = start; s < p_; ++s) {
@@ -713,7 +713,8 @@ class ObjReader {
       in_.fail(ErrorCode::kParse, line, "binary data (a NUL byte) where a statement should be: not OBJ text");
     report_.note_kept(line, what);
     if constexpr (kExact) {
-      mesh_.verbatim.emplace_back(trim(in_.joined_text(start)));
+      // The keyword as word() took it (a backslash in it is never a continuation), then the rest joined.
+      mesh_.verbatim.emplace_back(trim(std::string(keyword_) + in_.joined_text(start + keyword_.size())));
       run(ObjStatement::kVerbatim);
       add_warning(out_.warnings, out_.warning_count, line,
                   "kept as text and written back unchanged: " + what);
