@@ -64,9 +64,7 @@ size() { stat -c %s "$1"; }
 positions_only() {
   case "$1" in
     *.obj)
-      awk '$1 == "v" { print "v", $2, $3, $4; next }
-           $1 == "f" { printf "f"; for (i = 2; i <= NF; i++) { split($i, a, "/"); printf " %s", a[1] }
-                       printf "\n" }' "$1" > "$2" ;;
+      awk -f "$here/positions_only.awk" "$1" > "$2" ;;
     *)
       "$QSP" compress -f --positions-only --float32 --keep-order "$1" "$work/conv.qsp"
       "$QSP" decompress -f "$work/conv.qsp" "$2" ;;

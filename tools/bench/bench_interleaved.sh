@@ -44,7 +44,7 @@ elapsed() {  # command... ; prints its wall time in seconds
 printf '%-28s %7s | %9s %9s %7s | %9s %9s %7s\n' mesh V "compress" "vs" "ratio" "decomp." "vs" "ratio"
 for mesh in "${meshes[@]}"; do
   name=$(basename "$mesh" .obj)
-  awk '/^v /{print $1, $2, $3, $4} /^f /{printf "f"; for (i = 2; i <= NF; ++i) {split($i, a, "/"); printf " %s", a[1]} print ""}' \
+  awk -f "$here/positions_only.awk" \
     "$mesh" > "$work/in.obj"
   qc=("$QSP" compress -f $LEVEL --quantize "$BITS" "$work/in.obj" "$work/q.qsp")
   qd=("$QSP" decompress -f "$work/q.qsp" "$work/q.obj")

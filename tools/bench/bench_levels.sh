@@ -28,7 +28,7 @@ awk -F'\t' 'NR > 1 && $11 == "True" {print $1}' "$shared/MANIFEST.tsv" | while r
   [[ -f $src ]] || continue
   ext=${name##*.}
   if [[ $ext == obj ]]; then  # positions only: v and f lines, vertex indices only
-    awk '/^v /{print $1, $2, $3, $4} /^f /{printf "f"; for (i = 2; i <= NF; ++i) {split($i, a, "/"); printf " %s", a[1]} print ""}' \
+    awk -f "$here/positions_only.awk" \
       "$src" > "$work/in.obj"
   else  # OFF: Draco reads OBJ; qsp's --keep-order round trip writes the same mesh as OBJ (float32)
     rm -f "$work/in.obj"  # a refused conversion must not leave the previous mesh to be measured
