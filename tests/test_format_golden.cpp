@@ -50,10 +50,14 @@ void dump(const std::string& path, std::string_view bytes) {
   std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
+// The goldens' names: testdata/golden/NAME.obj, and polygons/NAME.obj for polygon meshes (kept out of
+// testdata/golden itself, whose meshes the test corpus reads as valid quad meshes).
 std::vector<std::string> golden_names() {
   std::vector<std::string> out;
-  for (const auto& e : fs::directory_iterator(kGolden)) {
-    if (e.path().extension() == ".obj") out.push_back(e.path().stem().string());
+  for (const char* dir : {"", "polygons/"}) {
+    for (const auto& e : fs::directory_iterator(kGolden + "/" + dir)) {
+      if (e.path().extension() == ".obj") out.push_back(std::string(dir) + e.path().stem().string());
+    }
   }
   std::sort(out.begin(), out.end());
   return out;

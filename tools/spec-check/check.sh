@@ -6,10 +6,11 @@
 # of the geometry tools), and fresh encodes of testdata meshes, of a generated grid with float-bits
 # axes (all three, or beside a decimal axis) and, when ../shared/meshes is there, of meshes that
 # exercise chaining, repeats, shape transfers, layout order and trailing-zero coding; and two of them
-# recoded under all 32 tools bytes. Each file of testdata/golden, and fresh encodes of polygon meshes
-# from polygen.py, are also decoded whole by qsppoly.py (format 3.1's polygons and comments sections
-# too, from qsp_format.md alone) and compared with their .obj (faces, corner cycles, positions bit for
-# bit when lossless, the leading comment block) and exactly with the reference decoder's output.
+# recoded under all 32 tools bytes. Each file of testdata/golden and golden/polygons, and fresh encodes
+# of polygon meshes from polygen.py, are also decoded whole by qsppoly.py (format 3.1's polygons and
+# comments sections too, from qsp_format.md alone) and compared with their .obj (faces, corner cycles,
+# positions bit for bit when lossless, the leading comment block) and exactly with the reference
+# decoder's output.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -17,9 +18,9 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-files=("$root"/testdata/golden/*.qsp "$root"/testdata/golden/tools/*.qsp)
+files=("$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp "$root"/testdata/golden/tools/*.qsp)
 declare -A obj_of=()  # the files qsppoly.py decodes whole, and the mesh each was made from
-for f in "$root"/testdata/golden/*.qsp; do obj_of[$f]=${f%.qsp}.obj; done
+for f in "$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp; do obj_of[$f]=${f%.qsp}.obj; done
 encode() {  # encode NAME MESH [OPTIONS...]: a fresh file to check
   local name=$1 mesh=$2
   shift 2
