@@ -1,4 +1,5 @@
-// Pins the .qsp bytes (testdata/golden: the natural files of the highest level, and in
+// Pins the .qsp bytes (testdata/golden: the natural files of the highest level, polygon meshes (format
+// 3.1's polygons section) and "_comments" files (its comments section) among them, and in
 // testdata/golden/tools/ one file per combination of the geometry tools), the refusal of every damaged
 // or crafted file (testdata/invalid/*.qsp + .expect), and the spec's own worked example.
 // QSP_UPDATE_GOLDEN=1 rewrites the golden .qsp files and the crafted invalid files: only for a
@@ -25,6 +26,8 @@
 #include "qsp/error.h"
 #include "qsp/geometry.h"
 #include "qsp/io.h"
+#include "qsp/polymesh.h"
+#include "qsp/submesh.h"
 #include "support/corpus.h"
 #include "support/quantized.h"
 
@@ -47,10 +50,14 @@ void dump(const std::string& path, std::string_view bytes) {
   std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
+// The goldens' names: testdata/golden/NAME.obj, and polygons/NAME.obj for polygon meshes (kept out of
+// testdata/golden itself, whose meshes the test corpus reads as valid quad meshes).
 std::vector<std::string> golden_names() {
   std::vector<std::string> out;
-  for (const auto& e : fs::directory_iterator(kGolden)) {
-    if (e.path().extension() == ".obj") out.push_back(e.path().stem().string());
+  for (const char* dir : {"", "polygons/"}) {
+    for (const auto& e : fs::directory_iterator(kGolden + "/" + dir)) {
+      if (e.path().extension() == ".obj") out.push_back(std::string(dir) + e.path().stem().string());
+    }
   }
   std::sort(out.begin(), out.end());
   return out;
@@ -151,18 +158,99 @@ std::vector<std::string> golden_paths() {
   return paths;
 }
 
+// A golden's .obj as any polygon mesh (float32 positions, faces as read).
+PolygonMesh read_polygons(const std::string& path) {
+  Mesh m = read_obj_mesh(slurp(path), path);
+  PolygonMesh out;
+  out.positions = std::move(m.positions.f32);
+  out.face_offsets = std::move(m.face_offsets);
+  out.corners = std::move(m.corner_vertices);
+  return out;
+}
+
+bool is_quad_mesh(const PolygonMesh& m) {
+  for (std::size_t f = 0; f < m.face_count(); ++f)
+    if (m.degree(f) != 4) return false;
+  return true;
+}
+
+// What `qsp compress` writes for a golden: its mesh at the golden's options, and for a "_comments"
+// golden the .obj's leading comment block in the comments section (the other goldens' descriptive
+// headers are left out, as `--drop comment` leaves them out).
+std::string encode_golden(const std::string& name) {
+  const std::string path = kGolden + "/" + name + ".obj";
+  const PolygonMesh poly = read_polygons(path);
+  std::string bytes = is_quad_mesh(poly) ? encode(read_mesh_file(path), options_for(name))
+                                         : encode_polygons(poly, options_for(name));
+  if (name.find("_comments") != std::string::npos)
+    bytes = with_comments(bytes, leading_comments(slurp(path)));
+  return bytes;
+}
+
+// `decoded` is the polygon mesh `mesh` renumbered (positions bit for bit): the same vertices, and the
+// same faces with the same corner cycles, each up to its first corner, in any order.
+void expect_same_polygons(const PolygonMesh& mesh, const PolygonMesh& decoded) {
+  ASSERT_EQ(decoded.vertex_count(), mesh.vertex_count());
+  ASSERT_EQ(decoded.face_count(), mesh.face_count());
+  using Bits = std::array<std::uint32_t, 3>;
+  const auto bits = [](const PolygonMesh& m, std::size_t v) {
+    Bits b;
+    std::memcpy(b.data(), &m.positions[3 * v], 12);
+    return b;
+  };
+  std::map<Bits, std::uint32_t> at;
+  for (std::size_t v = 0; v < decoded.vertex_count(); ++v)
+    ASSERT_TRUE(at.emplace(bits(decoded, v), static_cast<std::uint32_t>(v)).second)
+        << "two vertices at one place";
+  std::vector<std::uint32_t> to(mesh.vertex_count());
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    const auto it = at.find(bits(mesh, v));
+    ASSERT_NE(it, at.end()) << "vertex " << v << " has no decoded vertex at its position";
+    to[v] = it->second;
+  }
+  const auto faces = [](const PolygonMesh& m, const std::vector<std::uint32_t>* map) {
+    std::vector<std::vector<std::uint32_t>> out;
+    for (std::size_t f = 0; f < m.face_count(); ++f) {
+      std::vector<std::uint32_t> c(m.corners.begin() + m.face_offsets[f],
+                                   m.corners.begin() + m.face_offsets[f + 1]);
+      if (map)
+        for (auto& v : c) v = (*map)[v];
+      std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+      out.push_back(c);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  EXPECT_EQ(faces(mesh, &to), faces(decoded, nullptr));
+}
+
 TEST(Golden, BytesArePinned) {
   auto names = golden_names();
   ASSERT_GE(names.size(), 5u);
+  int polygons = 0, comments = 0;
   for (const auto& name : names) {
     SCOPED_TRACE(name);
-    QuadMesh mesh = read_mesh_file(kGolden + "/" + name + ".obj");
-    std::string bytes = encode(mesh, options_for(name));
+    const std::string obj = kGolden + "/" + name + ".obj";
+    std::string bytes = encode_golden(name);
     std::string path = kGolden + "/" + name + ".qsp";
     if (updating()) dump(path, bytes);
     ASSERT_TRUE(fs::exists(path));
     EXPECT_EQ(bytes, slurp(path)) << "the encoder's output changed: a format change needs a version bump";
+    const std::vector<std::string> lines = file_comments(slurp(path));
+    EXPECT_EQ(lines, name.find("_comments") != std::string::npos ? leading_comments(slurp(obj))
+                                                                 : std::vector<std::string>{});
+    comments += !lines.empty();
+    const PolygonMesh poly = read_polygons(obj);
+    if (!is_quad_mesh(poly)) {
+      // A polygon mesh: a 3.1 file with a polygons section, decoded to the .obj's faces and vertices.
+      ++polygons;
+      EXPECT_TRUE(inspect(slurp(path)).polygons);
+      EXPECT_EQ(slurp(path)[9], 1) << "a polygon file says format 3.1";
+      expect_same_polygons(poly, decode_polygons(slurp(path)));
+      continue;
+    }
     // The pinned file decodes to its .obj: exactly when lossless, within half a grid step when not.
+    QuadMesh mesh = read_mesh_file(obj);
     QuadMesh back = decode(slurp(path));
     const std::uint32_t bits = options_for(name).quantize_bits;
     expect_same_mesh(mesh, back, bits ? testing::quantization_bound(mesh.positions, bits) : 0.0);
@@ -173,6 +261,9 @@ TEST(Golden, BytesArePinned) {
       }
     }
   }
+  // Format 3.1's two sections each have a golden.
+  EXPECT_GE(polygons, 1);
+  EXPECT_GE(comments, 1);
 }
 
 // One golden per combination of the geometry tools, each decoding to the mesh its natural golden gives
@@ -217,7 +308,7 @@ TEST(Golden, EveryPrefixAndBitFlipIsRefused) {
     const std::string good = slurp(path);
     for (std::size_t n = 0; n < good.size(); ++n) {
       try {
-        decode(std::string_view(good).substr(0, n));
+        decode_polygons(std::string_view(good).substr(0, n));
         ADD_FAILURE() << "prefix of " << n << " bytes accepted";
       } catch (const Error& e) {
         EXPECT_EQ(e.code(), ErrorCode::kFormat) << n << ": " << e.what();
@@ -227,7 +318,7 @@ TEST(Golden, EveryPrefixAndBitFlipIsRefused) {
       std::string bad = good;
       bad[bit / 8] = static_cast<char>(bad[bit / 8] ^ (1 << (bit % 8)));
       try {
-        decode(bad);
+        decode_polygons(bad);
         ADD_FAILURE() << "flip of bit " << bit << " accepted";
       } catch (const Error& e) {
         EXPECT_TRUE(e.code() == ErrorCode::kFormat || e.code() == ErrorCode::kVersion ||

@@ -6,7 +6,11 @@
 # of the geometry tools), and fresh encodes of testdata meshes, of a generated grid with float-bits
 # axes (all three, or beside a decimal axis) and, when ../shared/meshes is there, of meshes that
 # exercise chaining, repeats, shape transfers, layout order and trailing-zero coding; and two of them
-# recoded under all 32 tools bytes.
+# recoded under all 32 tools bytes. Each file of testdata/golden and golden/polygons, and fresh encodes
+# of polygon meshes from polygen.py, are also decoded whole by qsppoly.py (format 3.1's polygons and
+# comments sections too, from qsp_format.md alone) and compared with their .obj (faces, corner cycles,
+# positions bit for bit when lossless, the leading comment block) and exactly with the reference
+# decoder's output.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -14,7 +18,9 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-files=("$root"/testdata/golden/*.qsp "$root"/testdata/golden/tools/*.qsp)
+files=("$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp "$root"/testdata/golden/tools/*.qsp)
+declare -A obj_of=()  # the files qsppoly.py decodes whole, and the mesh each was made from
+for f in "$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp; do obj_of[$f]=${f%.qsp}.obj; done
 encode() {  # encode NAME MESH [OPTIONS...]: a fresh file to check
   local name=$1 mesh=$2
   shift 2
@@ -43,6 +49,13 @@ with open(out, 'w') as o:
             o.write('f %d %d %d %d\n' % (a, a + 1, a + n + 1, a + n))
 PY
 }
+for seed in 1 2 3; do  # polygon meshes (3.1 files), lossless and quantized
+  "$python" "$here/polygen.py" "$work/polygons_$seed.obj" $seed
+  encode polygons_$seed "$work/polygons_$seed.obj"
+  obj_of[$work/polygons_$seed.qsp]=$work/polygons_$seed.obj
+done
+encode polygons_1_q12 "$work/polygons_1.obj" --quantize 12
+obj_of[$work/polygons_1_q12.qsp]=$work/polygons_1.obj
 encode fedora "$root/testdata/mh_fedora.obj"                     # decimal grid, lossless
 encode fedora_q14 "$root/testdata/mh_fedora.obj" --quantize 14
 encode spot_q14 "$root/testdata/keenan_spot_quadrangulated.obj" --quantize 14
@@ -88,6 +101,9 @@ check() {  # check FILE: the text's decoder against the reference's dump (prints
   if ! "$dump" "$f" "$prefix" || ! "$python" "$here/qspgeo.py" "$f" "$prefix"; then
     echo "spec decoder disagrees: $f" >&2
     return 1
+  elif [[ -n ${obj_of[$f]:-} ]] && ! "$python" "$here/qsppoly.py" "$f" --obj "${obj_of[$f]}" --reference "$prefix"; then
+    echo "spec decoder's whole mesh disagrees: $f" >&2
+    return 1
   elif [[ -n ${original[$f]:-} ]] && ! cmp -s "$prefix.pos" "${original[$f]}"; then
     echo "the reference decodes a recoded file to other positions than its original: $f" >&2
     return 1
@@ -108,5 +124,5 @@ while ((running)); do
   wait -n || failed=1
   running=$((running - 1))
 done
-echo "spec decoder: ${#files[@]} files checked"
+echo "spec decoder: ${#files[@]} files checked, ${#obj_of[@]} of them decoded whole against their mesh"
 exit $failed

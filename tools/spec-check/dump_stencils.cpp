@@ -1,15 +1,21 @@
 // dump_stencils IN.qsp PREFIX: what qspgeo.py needs besides the spec. The stencils come from the
 // library (the topology and grid layout are checked by other tests; qspgeo.py checks the geometry
 // text), written per coding position to PREFIX.stencil; the reference decoder's positions, as float
-// bits in canonical vertex order, to PREFIX.pos. Exit 0, else 1 with a message.
+// bits in canonical vertex order, to PREFIX.pos (of a polygon file: its quad submesh's layout). For
+// qsppoly.py, the reference decoder's whole output, decode_polygons' (without an order section, which
+// qsppoly.py does not read): PREFIX.mesh ("V F", per vertex three float bits in hex, per face its
+// degree and corners) and PREFIX.comments (per comment line "x" and its bytes in hex). Exit 0, else 1
+// with a message.
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "container.h"
 #include "qsp/canonical.h"
 #include "qsp/codec.h"
 #include "qsp/partition.h"
@@ -24,7 +30,18 @@ int main(int argc, char** argv) {
     std::ifstream in(argv[1], std::ios::binary);
     std::stringstream text;
     text << in.rdbuf();
-    const std::string bytes = text.str();
+    const std::string file = text.str();
+    const qsp::container::File parsed = qsp::container::parse(file);
+    // A polygon file's counts, topology and geometry are a 3.0 file of its quad submesh (the spec's
+    // "Sections"): that file, for the layout's stencils and positions.
+    std::string bytes = file;
+    if (parsed.find(qsp::container::kTagPolygons)) {
+      std::string sections;
+      for (std::uint8_t tag :
+           {qsp::container::kTagCounts, qsp::container::kTagTopology, qsp::container::kTagGeometry})
+        qsp::container::put_section(sections, tag, parsed.find(tag)->payload);
+      bytes = qsp::container::seal(parsed.major, 0, parsed.level, sections);
+    }
     const qsp::QuadMesh mesh = qsp::decode(bytes);
     const qsp::FileInfo info = qsp::inspect(bytes);  // the coding order
 
@@ -50,6 +67,31 @@ int main(int argc, char** argv) {
       for (int a = 0; a < 3; ++a) pos[3 * std::size_t{om.vertex[j]} + a] = mesh.positions[3 * j + a];
     std::ofstream(std::string(argv[2]) + ".pos", std::ios::binary)
         .write(reinterpret_cast<const char*>(pos.data()), static_cast<std::streamsize>(pos.size() * 4));
+
+    // The whole output as the reference decodes it.
+    if (!parsed.find(qsp::container::kTagOrder)) {
+      const qsp::PolygonMesh out = qsp::decode_polygons(file);
+      std::ofstream ms(std::string(argv[2]) + ".mesh");
+      ms << out.vertex_count() << ' ' << out.face_count() << '\n' << std::hex;
+      for (float x : out.positions) {
+        std::uint32_t u;
+        std::memcpy(&u, &x, 4);
+        ms << u << (&x == &out.positions.back() || (&x - out.positions.data()) % 3 == 2 ? '\n' : ' ');
+      }
+      ms << std::dec;
+      for (std::size_t f = 0; f < out.face_count(); ++f) {
+        ms << out.degree(f);
+        for (std::uint32_t k = out.face_offsets[f]; k < out.face_offsets[f + 1]; ++k)
+          ms << ' ' << out.corners[k];
+        ms << '\n';
+      }
+    }
+    std::ofstream cs(std::string(argv[2]) + ".comments");
+    for (const std::string& line : qsp::file_comments(file)) {
+      cs << 'x';
+      for (unsigned char ch : line) cs << "0123456789abcdef"[ch >> 4] << "0123456789abcdef"[ch & 15];
+      cs << '\n';
+    }
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dump_stencils: %s: %s\n", argv[1], e.what());
