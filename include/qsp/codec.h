@@ -117,8 +117,8 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits = {});
 // (qsp/regions.h) and the interior vertices' positions. Canonical as encode(): renumbering vertices,
 // reordering faces and rotating corner lists gives the same bytes (up to regions.h's ties). Throws what
 // quad_submesh and build_adjacency throw for what is not a mesh (kBadIndex, kDegenerateFace naming the
-// face, as for a quad mesh), Error(kUsage) for keep_order on a mesh
-// that needs the polygons section (not supported yet), for a partial element or quantize_bits past 30,
+// face, as for a quad mesh), Error(kUsage) for a partial element, face offsets that do not cover the
+// corners or quantize_bits past 30 (keep_order stores the polygon mesh's own numbering),
 // Error(kLimit) past the format's limits, Error(kInternal) if a stage broke an invariant (never writes a
 // wrong file).
 std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& options = {});
