@@ -28,17 +28,8 @@ namespace fs = std::filesystem;
 using testing::Grid;
 using testing::Poly;
 
-PolygonMesh to_mesh(const Poly& p) {
-  PolygonMesh m;
-  m.face_offsets = p.offsets;
-  m.corners = p.corners;
-  m.positions = p.positions;
-  if (m.positions.empty()) {  // distinct positions on a line, so the cost is meaningful
-    m.positions.resize(3 * std::size_t{p.nv});
-    for (std::uint32_t v = 0; v < p.nv; ++v) m.positions[3 * v] = static_cast<float>(v);
-  }
-  return m;
-}
+// Distinct positions on a line where a case has none, so the cost is meaningful.
+PolygonMesh to_mesh(const Poly& p) { return testing::to_mesh(p, 1.0f); }
 
 // A renumbered copy: vertex v becomes vperm[v], face f goes to place fperm[f] with its corners rotated by
 // rot[f]; positions follow their vertices.
@@ -204,17 +195,6 @@ TEST(MatchPolygons, HandMadeFlippedDiagonalsAreNotIsomorphic) {
   EXPECT_GE(flipped, 5);
 }
 
-// Whether a corpus file is a mesh the polygon path takes (a face repeating a vertex is not a mesh).
-bool cuttable(const PolygonMesh& m) {
-  try {
-    (void)cut_manifold(m.face_offsets, m.corners, static_cast<std::uint32_t>(m.vertex_count()));
-    return true;
-  } catch (const Error& e) {
-    EXPECT_TRUE(e.code() == ErrorCode::kDegenerateFace || e.code() == ErrorCode::kBadIndex) << e.what();
-    return false;
-  }
-}
-
 bool all_quad_manifold(const PolygonMesh& m) {
   for (std::size_t f = 0; f < m.face_count(); ++f)
     if (m.degree(f) != 4) return false;
@@ -234,8 +214,9 @@ TEST(MatchPolygons, SharedPolygonMeshesMatchCopiesAndNotFlips) {
   QSP_NEEDS_SHARED();
   int meshes = 0, flipped = 0;
   for (const fs::path& path : testing::shared_meshes()) {
-    const PolygonMesh m = to_mesh(testing::read_faces(path));
-    if (m.face_count() > 40000 || all_quad_manifold(m) || !cuttable(m)) continue;
+    const Poly p = testing::read_faces(path);
+    const PolygonMesh m = to_mesh(p);
+    if (m.face_count() > 40000 || all_quad_manifold(m) || !testing::cuttable(p)) continue;
     expect_matches_its_copies(m, path.filename().string());
     expect_flip_differs(m, path.filename().string(), flipped);
     ++meshes;

@@ -35,6 +35,22 @@ struct Poly {
   std::uint32_t degree(std::uint32_t f) const { return offsets[f + 1] - offsets[f]; }
 };
 
+// `p` as the API's PolygonMesh. Where `p` has no positions, vertex v is put at (spacing * v, 0, 0): apart
+// on a line (spacing 1) where distances choose among isomorphisms, all at the origin (spacing 0) where
+// bytes must not depend on which of tied vertices comes first.
+inline PolygonMesh to_mesh(const Poly& p, float spacing) {
+  PolygonMesh m;
+  m.face_offsets = p.offsets;
+  m.corners = p.corners;
+  m.positions = p.positions;
+  if (m.positions.empty()) {
+    m.positions.assign(3 * std::size_t{p.nv}, 0.0f);
+    for (std::uint32_t v = 0; v < p.nv; ++v)
+      m.positions[3 * std::size_t{v}] = spacing * static_cast<float>(v);
+  }
+  return m;
+}
+
 // A (w x h)-cell grid; vertex (x, y) is y * (w + 1) + x. cell() adds cell (i, j) = [i,i+1]x[j,j+1] as a
 // counter-clockwise quad; split() adds it as two triangles along the diagonal (i+1,j)-(i,j+1).
 struct Grid {
