@@ -288,6 +288,10 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   return out;
 }
 
+bool holds_polygons(std::string_view bytes) {
+  return container::parse(bytes).find(container::kTagPolygons) != nullptr;
+}
+
 FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits) {
   Parsed p = parse(bytes, limits);
   decode_components(p);

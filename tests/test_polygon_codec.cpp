@@ -100,11 +100,6 @@ std::string expect_round_trip(const Poly& p, const std::string& what, const Enco
   return bytes;
 }
 
-bool needs_polygons(const std::string& bytes) {
-  const container::File f = container::parse(bytes);
-  return f.find(container::kTagPolygons) != nullptr;
-}
-
 // The sections of a file, without its header and checksum.
 std::string body_of(const std::string& file) {
   const container::File f = container::parse(file);
@@ -119,7 +114,7 @@ TEST(PolygonCodec, HandCasesRoundTripAndAreCanonical) {
     const Poly p = with_positions(c.p);
     const std::string bytes = expect_round_trip(p, c.name);
     EXPECT_EQ(bytes[9], 1) << c.name << ": a polygon file is format 3.1";
-    EXPECT_TRUE(needs_polygons(bytes)) << c.name;
+    EXPECT_TRUE(holds_polygons(bytes)) << c.name;
     for (std::uint32_t seed : {5u, 6u})
       EXPECT_EQ(encode_polygons(to_mesh(testing::shuffled(p, seed))), bytes) << c.name;
   }
@@ -131,7 +126,7 @@ TEST(PolygonCodec, ManifoldQuadMeshKeepsItsFormat30Bytes) {
   const std::string bytes = encode_polygons(m);
   EXPECT_EQ(bytes, encode(QuadMesh{m.positions, m.corners}));
   EXPECT_EQ(bytes[9], 0);
-  EXPECT_FALSE(needs_polygons(bytes));
+  EXPECT_FALSE(holds_polygons(bytes));
   const PolygonMesh back = decode_polygons(bytes);
   EXPECT_EQ(back.corners, decode(bytes).quads);
 }
@@ -205,7 +200,7 @@ TEST(PolygonCodec, NonManifoldAndMisorientedQuadMeshesRoundTrip) {
   Poly flip = Grid::make(3, 3, [](int, int) { return 'q'; }).p;
   std::reverse(flip.corners.begin() + 16, flip.corners.begin() + 20);
   const std::string bytes = expect_round_trip(with_positions(flip), "flipped quad");
-  EXPECT_TRUE(needs_polygons(bytes));
+  EXPECT_TRUE(holds_polygons(bytes));
 }
 
 // --keep-order: the order section over all faces (rotations modulo each face's degree) gives back the
@@ -242,6 +237,16 @@ TEST(PolygonCodec, QuadReaderRefusesPolygonFiles) {
     ADD_FAILURE() << "decode() accepted a polygon file";
   } catch (const Error& e) {
     EXPECT_EQ(e.code(), ErrorCode::kNotQuad) << e.what();
+  }
+  // What the CLI asks before choosing a decoder: the container alone, checked as decode() checks it.
+  EXPECT_TRUE(holds_polygons(bytes));
+  std::string flipped = bytes;
+  flipped[flipped.size() / 2] ^= 1;
+  try {
+    (void)holds_polygons(flipped);
+    ADD_FAILURE() << "holds_polygons() took a file whose checksum does not match";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kChecksum) << e.what();
   }
   // Section 0x05 in a file that says it is 3.0 cannot come from a correct encoder.
   try {
@@ -349,7 +354,7 @@ TEST(PolygonCodec, EveryCorpusMeshRoundTripsAndIsCanonical) {
     const Poly p = testing::read_faces(path);
     if (!testing::cuttable(p)) continue;
     const std::string bytes = expect_round_trip(p, path.filename().string());
-    polygon_files += needs_polygons(bytes);
+    polygon_files += holds_polygons(bytes);
     ++meshes;
     if (p.face_count() <= 20000) {
       EXPECT_EQ(encode_polygons(to_mesh(testing::shuffled(p, 3))), bytes) << "renumbered copy";

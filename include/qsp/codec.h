@@ -130,6 +130,12 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
 // left and `limits` before anything is allocated by it; time and memory linear in the file and limits.
 PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits = {});
 
+// Whether a .qsp holds a polygon mesh (the polygons section, 3.1: decode() refuses it with kNotQuad,
+// decode_polygons() reads it), from its container alone (magic, version, size, checksum, sections'
+// framing), decoding nothing, so a caller can choose its reader before decoding once. Throws what
+// decode() throws for a malformed container (kFormat, kVersion, kChecksum). Safe on untrusted input.
+bool holds_polygons(std::string_view bytes);
+
 struct SectionInfo {
   std::uint8_t tag = 0;
   std::uint64_t offset = 0;  // of the tag byte
