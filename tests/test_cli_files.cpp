@@ -412,6 +412,12 @@ TEST_F(CliFiles, StandardInputInAnyFormat) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("-: is .qsp compressed data, not a mesh (qsp decompress reads it)"), std::string::npos)
       << r.err;
+  // By its name too, in the same words, before it is read.
+  r = run_qsp("compress -c " + quote(p("a.qsp")));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find(p("a.qsp") + ": is .qsp compressed data, not a mesh (qsp decompress reads it)"),
+            std::string::npos)
+      << r.err;
   r = run_qsp("compress -c - --format stl < " + quote(a));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--format"), std::string::npos) << r.err;

@@ -137,5 +137,88 @@ TEST_F(CliPolygons, APolygonQspIsItsMeshForMatchFingerprintStats) {
   EXPECT_NE(q.out.find(s.out.substr(at, s.out.find('\n', at) - at)), std::string::npos) << q.out;
 }
 
+// The comment lines ('#') of a text mesh, in order.
+std::vector<std::string> comment_lines(const std::string& text) {
+  std::vector<std::string> out;
+  for (std::size_t at = 0; at < text.size();) {
+    const std::size_t end = std::min(text.find('\n', at), text.size());
+    if (text[at] == '#') out.push_back(text.substr(at, end - at));
+    at = end + 1;
+  }
+  return out;
+}
+
+// A polygon mesh file keeps what a quad mesh file keeps through reorder: its leading comment block, not a
+// comment after it.
+TEST_F(CliPolygons, ReorderKeepsTheLeadingCommentsAsForQuads) {
+  const std::string head =
+      "# licence\n# second line\nOFF\n5 2 0\n# later\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n";
+  testing::spit(p("poly.off"), head + "4 0 1 2 3\n3 1 4 2\n");
+  testing::spit(p("quads.off"),
+                "# licence\n# second line\nOFF\n4 1 0\n# later\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
+  std::vector<std::vector<std::string>> kept;
+  for (const char* name : {"quads", "poly"}) {
+    const std::string in = p(std::string(name) + ".off"), out = p(std::string(name) + ".out.obj");
+    const auto r = run_qsp("reorder --like " + quote(in) + " " + quote(in) + " -o " + quote(out));
+    ASSERT_EQ(r.exit_code, 0) << name << ": " << r.err;
+    kept.push_back(comment_lines(testing::slurp(out)));
+  }
+  EXPECT_EQ(kept[0], (std::vector<std::string>{"# licence", "# second line"}));
+  EXPECT_EQ(kept[1], kept[0]);
+  const auto r = run_qsp("reorder --drop comment --like " + quote(p("poly.off")) + " " +
+                         quote(p("poly.off")) + " -o " + quote(p("none.obj")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(comment_lines(testing::slurp(p("none.obj"))).empty());
+}
+
+// The note naming the data dropped is said once OUT is written, so never for an OUT that could not be.
+TEST_F(CliPolygons, TheDroppedNoteFollowsTheOutput) {
+  testing::spit(p("m.obj"), kPolygonObj);
+  testing::spit(p("uv.obj"), std::string(kPolygonObj) + "vt 0 0\n");
+  const std::string call = "reorder --drop uv --like " + quote(p("m.obj")) + " " + quote(p("uv.obj")) +
+                           " -o " + quote(p("out.obj"));
+  auto r = run_qsp(call);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::size_t at = r.err.find("dropped");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("dropped", at + 1), std::string::npos) << "said twice: " << r.err;
+  r = run_qsp(call);  // OUT exists now
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("already exists"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("dropped"), std::string::npos) << r.err;
+}
+
+// Coordinates are read as the quad reader reads them: one that does not round to a finite float32 is
+// refused by every subcommand, with the quad mesh's exit code; more digits than float32 keeps is refused
+// by reorder unless --float32.
+TEST_F(CliPolygons, CoordinatesAreTakenAsForQuads) {
+  const std::string huge = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 1e39\nv 2 0 0\nf 1 2 3 4\n";
+  testing::spit(p("quad.obj"), huge);
+  testing::spit(p("poly.obj"), huge + "f 2 5 3\n");
+  testing::spit(p("ok.obj"), "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+  for (const std::string& call :
+       {std::string("fingerprint "), std::string("stats "), "match " + quote(p("ok.obj")) + " "}) {
+    const auto q = run_qsp(call + quote(p("quad.obj")));
+    const auto r = run_qsp(call + quote(p("poly.obj")));
+    EXPECT_NE(q.exit_code, 0) << call << q.out;
+    EXPECT_EQ(r.exit_code, q.exit_code) << call << r.out;
+    EXPECT_NE(r.err.find("outside the float32 range"), std::string::npos) << call << r.err;
+  }
+  testing::spit(p("digits.obj"),
+                "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0.1000000001\nv 2 0 0\nf 1 2 3 4\nf 2 5 3\n");
+  const std::string call = "reorder --like " + quote(p("digits.obj")) + " " + quote(p("digits.obj")) + " -o ";
+  auto r = run_qsp(call + quote(p("a.obj")));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--float32"), std::string::npos) << r.err;
+  r = run_qsp(call + quote(p("b.obj")) + " --float32");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("rounded 1 coordinate to float32"), std::string::npos) << r.err;
+  // layout warns, naming the coordinate as it does for a quad mesh.
+  r = run_qsp("layout " + quote(p("digits.obj")) + " -o " + quote(p("layout.obj")));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: " + p("digits.obj") + ": vertex 3 has 0.1000000001"), std::string::npos)
+      << r.err;
+}
+
 }  // namespace
 }  // namespace qsp

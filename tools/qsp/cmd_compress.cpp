@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <utility>
 
 #include "commands.h"
 #include "qsp/codec.h"
@@ -76,8 +77,9 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
     throw Error(ErrorCode::kIo,
                 "-: refusing to write compressed data to a terminal (redirect it, or give OUT)");
 
-  ReadReport report;
-  const PolygonMesh mesh = read_input_polygons(in, format, &report);
+  PolygonInput input = read_polygon_input(in, format, QspInput::kRefused);
+  const ReadReport report = std::move(input.report);
+  const PolygonMesh mesh = polygons_of(std::move(input));
   const bool quiet = o.verbosity.quiet;
   const std::string dropped = refuse_extra_data(in, report, ".qsp", o.drop, quiet);
   if (!o.quantize) refuse_rounding(in, report, "a lossless .qsp", o.float32, quiet, "--quantize BITS");

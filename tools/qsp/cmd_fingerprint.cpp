@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "commands.h"
@@ -37,29 +38,29 @@ std::uint64_t qsp_fingerprint(const std::string& path, const std::string& bytes)
 
 // A polygon mesh's (match.h, fingerprint.h); a warning where a symmetric piece without quads may make
 // it depend on the numbering.
-std::uint64_t polygon_fingerprint_of(const std::string& path, PolygonMesh mesh,
-                                     const std::vector<std::uint32_t>& face_line) {
-  const PolygonMatchInput in = prepare_polygon_located(std::move(mesh), path, face_line);
-  if (in.capped)
+std::uint64_t polygon_fingerprint_of(const std::string& path, PolygonInput in) {
+  const ReadReport report = std::move(in.report);
+  const PolygonMatchInput prepared = prepare_polygon_located(polygons_of(std::move(in)), path, report);
+  if (prepared.capped)
     std::fprintf(
         stderr,
         "qsp: warning: %s: a piece of non-quad faces with no quad is too symmetric for its canonical "
         "code to be certain: a renumbered copy may get another fingerprint\n",
         path.c_str());
-  return polygon_fingerprint(in);
+  return polygon_fingerprint(prepared);
 }
 
 std::uint64_t fingerprint_of(const std::string& path, MeshFormat format) {
   PolygonInput in = read_polygon_input(path, format);
   if (in.qsp) return qsp_fingerprint(path, in.bytes);
-  if (!in.quads) return polygon_fingerprint_of(path, polygon_mesh_of(in.polygons), in.notes.face_line);
+  if (!in.quads) return polygon_fingerprint_of(path, std::move(in));
   try {
     return mesh_fingerprint(in.mesh);
   } catch (const Error& e) {
     // Quads only, but non-manifold or mis-oriented: cut apart as any polygon mesh is.
     if (!polygon_path_takes(e)) rethrow_located(e, path, in.report);
   }
-  return polygon_fingerprint_of(path, polygon_mesh(in.mesh), in.report.face_line);
+  return polygon_fingerprint_of(path, std::move(in));
 }
 
 // Goes on after a file that cannot be read (its error on stderr); returns the first failure's exit code.

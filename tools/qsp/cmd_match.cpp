@@ -70,10 +70,9 @@ std::string face_map_text(const std::vector<std::uint32_t>& face, const std::vec
 // mis-oriented pieces; qsp/match.h's polygon matching).
 struct Side {
   bool polygon = false;
-  QuadMesh quads;       // a quad mesh as read (kept: the other side may be a polygon mesh)
-  MatchInput prepared;  // !polygon
-  PolygonMesh mesh;     // polygon: the mesh, and the line of each face for messages
-  std::vector<std::uint32_t> face_line;
+  QuadMesh quads;              // a quad mesh as read (kept: the other side may be a polygon mesh)
+  MatchInput prepared;         // !polygon
+  PolygonMesh mesh;            // polygon
   PolygonMatchInput polygons;  // prepared once both sides are read
 };
 
@@ -81,28 +80,21 @@ struct Side {
 // and prepares it for matching. Topology errors name the file and line, as everywhere (prepare_located).
 // A quad mesh that build_adjacency refuses as non-manifold or mis-oriented goes the polygon way.
 Side read_and_prepare(const std::string& path, MeshFormat format) {
-  PolygonInput in = read_polygon_input(path, format);
+  PolygonInput in = read_polygon_input(path, format, QspInput::kDecoded);
   Side side;
-  if (in.qsp) {
-    in.mesh = decode_named(in.bytes, path);
-    in.quads = true;
-  }
   if (in.quads) {
-    side.quads = std::move(in.mesh);
     try {
-      side.prepared = prepare_located(side.quads, path, in.report);
+      side.prepared = prepare_located(in.mesh, path, in.report);
+      side.quads = std::move(in.mesh);
       return side;
     } catch (const Error& e) {
       if (!polygon_path_takes(e)) throw;
     }
-    side.mesh = polygon_mesh(side.quads);
-    side.face_line = std::move(in.report.face_line);
-  } else {
-    side.mesh = polygon_mesh_of(in.polygons);
-    side.face_line = std::move(in.notes.face_line);
   }
+  const ReadReport report = std::move(in.report);
+  side.mesh = polygons_of(std::move(in));
   side.polygon = true;
-  side.polygons = prepare_polygon_located(side.mesh, path, side.face_line);
+  side.polygons = prepare_polygon_located(side.mesh, path, report);
   return side;
 }
 

@@ -51,51 +51,13 @@ void say_mirrored(const ReorderOptions& o) {
                o.input.c_str(), o.ref.c_str(), o.ref.c_str());
 }
 
-// A file read for reorder: a .qsp decoded, a quad mesh, or a polygon mesh.
-PolygonInput load(const std::string& path, MeshFormat format) {
-  PolygonInput in = read_polygon_input(path, format);
-  if (!in.qsp) return in;
-  in.report.leading_comments = comments_named(in.bytes, path);
-  in.report.comments = in.report.leading_comments.size();
-  try {
-    in.mesh = decode_named(in.bytes, path);
-    in.quads = true;
-  } catch (const Error& e) {
-    if (e.code() != ErrorCode::kNotQuad) throw;
-    const PolygonMesh m = decode_polygons(in.bytes);  // a polygon mesh (format 3.1)
-    in.polygons.positions = numbers_from_float32(m.positions);
-    in.polygons.face_offsets = m.face_offsets;
-    in.polygons.corner_vertices = m.corners;
-    in.polygons.comments = in.report.leading_comments;
-  }
-  return in;
-}
-
-PolygonMesh polygons_of(const PolygonInput& in) {
-  return in.quads ? polygon_mesh(in.mesh) : polygon_mesh_of(in.polygons);
-}
-
-const std::vector<std::uint32_t>& face_lines(const PolygonInput& in) {
-  return in.quads ? in.report.face_line : in.notes.face_line;
-}
-
-// The leading comment block of IN, to write with OUT (none if --drop comment).
-std::vector<std::string> comments_of(const ReorderOptions& o, const PolygonInput& in) {
-  if (in.quads || in.qsp) return kept_comments(in.report, o.drop);
-  if (o.drop.categories() & kCategoryComment) return {};
-  const Mesh& m = in.polygons;  // OBJ: the comments before the first statement; PLY, OFF: all of them
-  if (m.statements.empty()) return m.comments;
-  if (m.statements[0].kind != ObjStatement::kComment) return {};
-  return {m.comments.begin(), m.comments.begin() + m.statements[0].value};
-}
-
 // REF or IN is a polygon mesh (or non-manifold quads): match_polygons and reorder_polygons_like.
 int run_polygons(const ReorderOptions& o, MeshFormat format, const PolygonInput& ref,
                  const PolygonInput& in) {
-  const PolygonMesh in_mesh = polygons_of(in);
+  const PolygonMesh ref_mesh = polygons_of(ref), in_mesh = polygons_of(in);
   const PolygonMatchResult r =
-      match_polygons(prepare_polygon_located(polygons_of(ref), o.ref, face_lines(ref)),
-                     prepare_polygon_located(in_mesh, o.input, face_lines(in)), match_options(o));
+      match_polygons(prepare_polygon_located(ref_mesh, o.ref, ref.report),
+                     prepare_polygon_located(in_mesh, o.input, in.report), match_options(o));
   if (!r.isomorphic) return not_isomorphic(o, r.reason, r.mirror_would_match);
   if (r.mirrored) say_mirrored(o);
   if (!r.unique && !r.same_positions && !r.snapped)
@@ -105,9 +67,9 @@ int run_polygons(const ReorderOptions& o, MeshFormat format, const PolygonInput&
         "is searched on all-quad meshes only)\n",
         o.input.c_str());
   const PolygonMesh out = reorder_polygons_like(in_mesh, r);
-  if (out.face_offsets != polygons_of(ref).face_offsets || out.corners != polygons_of(ref).corners)
+  if (out.face_offsets != ref_mesh.face_offsets || out.corners != ref_mesh.corners)
     throw Error(ErrorCode::kInternal, "reorder: faces do not come out in REF's order");
-  const std::vector<std::string> comments = comments_of(o, in);
+  const std::vector<std::string> comments = kept_comments(in.report, o.drop);
   std::string bytes;
   if (format == MeshFormat::kQsp) {  // the order kept, so decompressing gives REF's
     EncodeOptions eo;
@@ -135,20 +97,11 @@ int run(const ReorderOptions& o) {
   check_outputs({o.ref, o.input}, {{o.output, "-o"}});
 
   const MeshFormat in_format = parse_format_option(o.format);
-  const PolygonInput ref = load(o.ref, in_format), in = load(o.input, in_format);
+  const PolygonInput ref = read_polygon_input(o.ref, in_format, QspInput::kDecoded),
+                     in = read_polygon_input(o.input, in_format, QspInput::kDecoded);
   // Only IN's data reaches OUT; REF contributes its order alone.
-  std::string dropped;
-  if (in.quads || in.qsp) {
-    dropped = refuse_extra_data(o.input, in.report, "reorder", o.drop, false);
-    refuse_rounding(o.input, in.report, "reorder", o.float32, false);
-  } else {
-    refuse_polygon_extra_data(o.input, in.polygons, "reorder", o.drop, false);
-    if (in.polygons.positions.precision != Precision::kFloat32 && !o.float32)
-      throw Error(ErrorCode::kUnsupported,
-                  o.input +
-                      ": has coordinates float32 does not hold; reorder keeps float32 "
-                      "coordinates: pass --float32 to round them");
-  }
+  const std::string dropped = refuse_extra_data(o.input, in.report, "reorder", o.drop, false);
+  refuse_rounding(o.input, in.report, "reorder", o.float32, false);
   if (!ref.quads || !in.quads) {
     const int rc = run_polygons(o, format, ref, in);
     std::fputs(dropped.c_str(), stderr);
@@ -175,7 +128,7 @@ int run(const ReorderOptions& o) {
   const QuadMesh out = reorder_like(in.mesh, r);
   if (out.quads != ref.mesh.quads)
     throw Error(ErrorCode::kInternal, "reorder: faces do not come out in REF's order");
-  const std::vector<std::string> comments = comments_of(o, in);
+  const std::vector<std::string> comments = kept_comments(in.report, o.drop);
   std::string bytes;
   if (format == MeshFormat::kQsp) {
     // Keep the order in the file, so decompressing gives REF's order.

@@ -313,22 +313,21 @@ void register_stats(CLI::App& app, int& rc) {
     };
     // A polygon mesh: the rows of its quad submesh, with its PolygonCounts. Compressing it (--sizes,
     // auto) is not available here.
-    const auto add_polygon_rows = [&](const std::string& f, const PolygonMesh& mesh,
-                                      const std::vector<std::uint32_t>& face_line) {
+    const auto add_polygon_rows = [&](const std::string& f, PolygonInput in) {
       if (opt->sizes || opt->partition == "auto")
         throw Error(ErrorCode::kUnsupported,
                     f + ": has faces that are not quads, or non-manifold or mis-oriented pieces: --sizes and "
                         "--partition auto compress it, which qsp does not do yet for such meshes");
       if (opt->partition == "all")
         std::fprintf(stderr, "qsp: %s: no auto row: compress does not take polygon meshes yet\n", f.c_str());
+      const ReadReport report = std::move(in.report);
+      const PolygonMesh mesh = polygons_of(std::move(in));
       QuadSubmesh s;
       try {
         s = quad_submesh(mesh.face_offsets, mesh.corners, static_cast<std::uint32_t>(mesh.vertex_count()),
                          mesh.positions);
       } catch (const Error& e) {
-        ReadReport lines;
-        lines.face_line = face_line;
-        rethrow_located(e, f, lines);
+        rethrow_located(e, f, report);
       }
       const PolygonCounts counts = s.counts;
       const LoadedMesh loaded{std::move(s.mesh), std::move(s.adjacency), {}};
@@ -343,7 +342,7 @@ void register_stats(CLI::App& app, int& rc) {
       file_start = rows.size();
       const std::string& f = opt->files[i];
       PolygonInput in = read_polygon_input(f, format);
-      if (!in.qsp && !in.quads) return add_polygon_rows(f, polygon_mesh_of(in.polygons), in.notes.face_line);
+      if (!in.qsp && !in.quads) return add_polygon_rows(f, std::move(in));
       if (!in.qsp) {
         Adjacency adjacency;
         try {
@@ -351,7 +350,7 @@ void register_stats(CLI::App& app, int& rc) {
         } catch (const Error& e) {
           // Quads only, but non-manifold or mis-oriented: cut apart as any polygon mesh is.
           if (!polygon_path_takes(e)) rethrow_located(e, f, in.report);
-          return add_polygon_rows(f, polygon_mesh(in.mesh), in.report.face_line);
+          return add_polygon_rows(f, std::move(in));
         }
         return add_mesh_rows(f, LoadedMesh{std::move(in.mesh), std::move(adjacency), std::move(in.report)});
       }

@@ -59,11 +59,10 @@ PartitionedMesh polygon_partitioned(PolygonMesh mesh, const std::string& path, c
 }  // namespace
 
 PartitionedMesh load_partitioned(const std::string& path, const std::string& partition, MeshFormat format) {
-  PolygonInput in = read_polygon_bytes_or_mesh(path, format);
-  if (!in.qsp && !in.quads) {
-    PartitionedMesh pm = polygon_partitioned(polygon_mesh_of(in.polygons), path, partition, false);
-    if (in.polygons.positions.precision != Precision::kFloat32)
-      pm.rounding = path + ": some coordinates are not float32 values and are drawn rounded to float32";
+  PolygonInput in = read_polygon_input(path, format);
+  if (!in.qsp && !in.quads) {  // a polygon mesh, from a mesh file or a .qsp
+    PartitionedMesh pm = polygon_partitioned(std::move(in.polygons), path, partition, in.from_qsp);
+    pm.rounding = in.report.describe_rounding(path);
     return pm;
   }
   if (partition == "stored" && !in.qsp)
@@ -72,8 +71,6 @@ PartitionedMesh load_partitioned(const std::string& path, const std::string& par
   Partition part;
   if (in.qsp) {
     try {
-      if (inspect(in.bytes).polygons)
-        return polygon_partitioned(decode_polygons(in.bytes), path, partition, true);
       pm.mesh = decode(in.bytes);
       pm.adjacency = build_adjacency(pm.mesh);
       if (partition.empty() || partition == "stored") {

@@ -26,7 +26,7 @@ inline constexpr const char* kPartitionHelp =
     "Partition: motorcycle (default for a mesh), greedy, merge, auto (the one compress would store), or "
     "stored (default for a .qsp: the partition the file holds)";
 
-// Reads `path` (a mesh, or a .qsp decoded in full; read_polygon_bytes_or_mesh, shared.h, with `format`
+// Reads `path` (a mesh, or a .qsp decoded in full; read_polygon_input, shared.h, with `format`
 // from --format) and partitions it (a polygon mesh: its quad submesh, where "auto" is the motorcycle
 // graph compress's default level stores and "stored" is refused): `partition` is "" (a .qsp's stored
 // partition, a mesh's motorcycle graph), "stored"

@@ -179,18 +179,32 @@ MeshFormat detect_format(std::string_view bytes) {
   return MeshFormat::kObj;
 }
 
-// The detecting half of read_input_mesh, on bytes already read from `path`.
-QuadMesh read_mesh_bytes(std::string_view bytes, const std::string& path, ReadReport* report) {
+[[noreturn]] void refuse_qsp(const std::string& path) {
+  throw Error(ErrorCode::kUnsupported,
+              path + ": is .qsp compressed data, not a mesh (qsp decompress reads it)");
+}
+
+// The format of bytes read from `path` whose name says none: by detect_format, OBJ (no magic) on
+// standard input only; kQsp for .qsp bytes.
+MeshFormat format_of_bytes(std::string_view bytes, const std::string& path) {
   const MeshFormat detected = detect_format(bytes);
-  if (detected == MeshFormat::kQsp)
-    throw Error(ErrorCode::kUnsupported,
-                path + ": is .qsp compressed data, not a mesh (qsp decompress reads it)");
-  if (detected == MeshFormat::kOff) return read_off(bytes, path, report);
-  if (detected == MeshFormat::kPly) return read_ply(bytes, path, report);
-  if (path != "-")
+  if (detected == MeshFormat::kObj && path != "-")
     throw Error(ErrorCode::kUnsupported,
                 path + ": unknown mesh format (expected .obj, .off or .ply; give --format obj if it is OBJ)");
+  return detected;
+}
+
+QuadMesh parse_quads(std::string_view bytes, const std::string& path, MeshFormat format, ReadReport* report) {
+  if (format == MeshFormat::kOff) return read_off(bytes, path, report);
+  if (format == MeshFormat::kPly) return read_ply(bytes, path, report);
   return read_obj(bytes, path, report);
+}
+
+// The detecting half of read_input_mesh, on bytes already read from `path`.
+QuadMesh read_mesh_bytes(std::string_view bytes, const std::string& path, ReadReport* report) {
+  const MeshFormat detected = format_of_bytes(bytes, path);
+  if (detected == MeshFormat::kQsp) refuse_qsp(path);
+  return parse_quads(bytes, path, detected, report);
 }
 
 }  // namespace
@@ -203,82 +217,6 @@ QuadMesh read_input_mesh(const std::string& path, MeshFormat format, ReadReport*
   // Standard input, or a name that says nothing: the bytes say it (OBJ has no magic: the default on
   // standard input; a file of unknown name must be OFF or PLY by its magic, or be named).
   return read_mesh_bytes(read_file_bytes(path), path, report);
-}
-
-namespace {
-
-// What the quad reader's report would say of a mesh the exact reader read: its extra data by category,
-// its face lines, and the coordinates float32 does not hold.
-ReadReport report_of(const Mesh& m, ReadNotes&& notes, const std::string& path) {
-  ReadReport r;
-  const Extras x = extras(m);
-  r.texcoords = x.texcoords;
-  r.normals = x.normals;
-  r.vertex_colors = x.vertex_colors;
-  r.face_colors = x.face_colors;
-  r.groups = x.objects + x.groups;
-  r.materials = x.materials + x.material_libraries;
-  r.smoothing = x.smoothing;
-  r.tags = x.tags;
-  r.vertex_weights = x.vertex_weights;
-  r.kept_lines = x.verbatim;
-  if (!notes.warnings.empty()) r.first_kept = notes.warnings.front();
-  r.other_properties = x.properties;
-  r.face_line = std::move(notes.face_line);
-  for (std::size_t i = 0; i < m.positions.size(); ++i) {
-    const float f = m.positions.f32[i];
-    const double exact = m.positions.approx(i);
-    if (!std::isfinite(f) || (f == 0.0f && exact != 0.0))
-      throw Error(ErrorCode::kBadNumber, path + ": vertex " + std::to_string(i / 3) +
-                                             " has a coordinate outside the float32 range (it does not round "
-                                             "to a finite nonzero float)");
-    if (static_cast<double>(f) == exact) continue;
-    if (r.rounded_coordinates++ == 0) {
-      char text[32];
-      const auto end = std::to_chars(text, text + sizeof text, exact).ptr;
-      r.first_rounded = {0, i / 3, std::string(text, end), f};  // line: the exact reader does not say
-    }
-  }
-  return r;
-}
-
-}  // namespace
-
-PolygonMesh read_input_polygons(const std::string& path, MeshFormat format, ReadReport* report) {
-  refuse_folder(path);
-  format = format_for(path, format);
-  if (format == MeshFormat::kUnknown && path != "-") format = format_from_path(path);
-  // Standard input, or a name that says nothing: read once, so that the exact reader can read it again.
-  std::string bytes;
-  const bool from_bytes = format == MeshFormat::kUnknown;
-  if (from_bytes) bytes = read_file_bytes(path);
-  try {
-    return polygon_mesh(from_bytes ? read_mesh_bytes(bytes, path, report)
-                                   : read_mesh_file(path, report, format));
-  } catch (const Error& e) {
-    if (e.code() != ErrorCode::kNotQuad) throw;
-  }
-  ReadNotes notes;
-  Mesh m;
-  if (from_bytes) {
-    const MeshFormat detected = detect_format(bytes);
-    m = detected == MeshFormat::kOff   ? read_off_mesh(bytes, path, &notes)
-        : detected == MeshFormat::kPly ? read_ply_mesh(bytes, path, &notes)
-                                       : read_obj_mesh(bytes, path, &notes);
-  } else {
-    m = read_mesh(path, &notes, format);
-  }
-  ReadReport r = report_of(m, std::move(notes), path);
-  // The leading comment block, as the quad readers report it (PLY: the header's comments).
-  const bool ply = (from_bytes ? detect_format(bytes) : format) == MeshFormat::kPly;
-  r.leading_comments = ply ? m.comments : leading_comments(from_bytes ? bytes : read_file_bytes(path));
-  r.comments = r.leading_comments.size();
-  if (report) *report = std::move(r);
-  PolygonMesh out;
-  out.positions = std::move(m.positions.f32);
-  out.face_offsets = std::move(m.face_offsets);
-  out.corners = std::move(m.corner_vertices);
-  return out;
 }
 
 void rethrow_located(const Error& e, const std::string& path, const ReadReport& report) {
@@ -357,96 +295,109 @@ MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadRep
 
 namespace {
 
-QuadMesh parse_quads(std::string_view bytes, const std::string& path, MeshFormat format, ReadReport* report) {
-  if (format == MeshFormat::kOff) return read_off(bytes, path, report);
-  if (format == MeshFormat::kPly) return read_ply(bytes, path, report);
-  return read_obj(bytes, path, report);
+// What the quad reader's report would say of a mesh the exact reader read: its extra data by category,
+// its face lines, and the coordinates float32 does not hold (refused where they do not round to a
+// finite nonzero float, as the quad reader refuses them).
+ReadReport report_of(const Mesh& m, ReadNotes&& notes, const std::string& path) {
+  ReadReport r;
+  const Extras x = extras(m);
+  r.texcoords = x.texcoords;
+  r.normals = x.normals;
+  r.vertex_colors = x.vertex_colors;
+  r.face_colors = x.face_colors;
+  r.groups = x.objects + x.groups;
+  r.materials = x.materials + x.material_libraries;
+  r.smoothing = x.smoothing;
+  r.tags = x.tags;
+  r.vertex_weights = x.vertex_weights;
+  r.kept_lines = x.verbatim;
+  if (!notes.warnings.empty()) r.first_kept = notes.warnings.front();
+  r.other_properties = x.properties;
+  r.face_line = std::move(notes.face_line);
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    const float f = m.positions.f32[i];
+    const double exact = m.positions.approx(i);
+    if (!std::isfinite(f) || (f == 0.0f && exact != 0.0))
+      throw Error(ErrorCode::kBadNumber, path + ": vertex " + std::to_string(i / 3) +
+                                             " has a coordinate outside the float32 range (it does not round "
+                                             "to a finite nonzero float)");
+    if (static_cast<double>(f) == exact) continue;
+    if (r.rounded_coordinates++ == 0) {
+      char text[32];
+      const auto end = std::to_chars(text, text + sizeof text, exact).ptr;
+      r.first_rounded = {0, i / 3, std::string(text, end), f};  // line: the exact reader does not say
+    }
+  }
+  return r;
 }
 
-Mesh parse_polygons(std::string_view bytes, const std::string& path, MeshFormat format, ReadNotes* notes) {
-  if (format == MeshFormat::kOff) return read_off_mesh(bytes, path, notes);
-  if (format == MeshFormat::kPly) return read_ply_mesh(bytes, path, notes);
-  return read_obj_mesh(bytes, path, notes);
+// A mesh file the quad reader refused for a face that is not a quad, parsed again by the exact reader.
+void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& path, MeshFormat format) {
+  ReadNotes notes;
+  Mesh m = format == MeshFormat::kOff   ? read_off_mesh(bytes, path, &notes)
+           : format == MeshFormat::kPly ? read_ply_mesh(bytes, path, &notes)
+                                        : read_obj_mesh(bytes, path, &notes);
+  in.report = report_of(m, std::move(notes), path);
+  // The leading comment block, as the quad readers report it (PLY: the header's comments).
+  in.report.leading_comments = format == MeshFormat::kPly ? m.comments : leading_comments(bytes);
+  in.report.comments = in.report.leading_comments.size();
+  in.polygons.positions = std::move(m.positions.f32);
+  if (!m.face_offsets.empty()) in.polygons.face_offsets = std::move(m.face_offsets);
+  in.polygons.corners = std::move(m.corner_vertices);
 }
 
-}  // namespace
-
-namespace {
-
-// A .qsp of a polygon mesh (its polygons section, 3.1) is read as the polygon mesh it holds, so that
-// every subcommand taking polygon meshes treats it as the mesh it was compressed from; a quad .qsp
-// stays bytes (read without decoding positions where a subcommand can).
-PolygonInput opened(PolygonInput in, const std::string& path) {
-  if (!in.qsp) return in;
+// A .qsp: a polygon mesh (its polygons section, 3.1) is decoded, so that every subcommand taking polygon
+// meshes treats it as the mesh it was compressed from; a quad .qsp as `qsp` says. The container is
+// looked at first, so that the file is decoded once, by the reader it needs.
+void read_qsp(PolygonInput& in, std::string&& bytes, const std::string& path, QspInput qsp) {
+  if (qsp == QspInput::kRefused) refuse_qsp(path);
+  in.from_qsp = true;
   try {
-    if (!inspect(in.bytes).polygons) return in;
-    const PolygonMesh m = decode_polygons(in.bytes);
-    in.polygons.positions = numbers_from_float32(m.positions);
-    in.polygons.face_offsets = m.face_offsets;
-    in.polygons.corner_vertices = m.corners;
-    in.polygons.comments = file_comments(in.bytes);
+    if (holds_polygons(bytes)) {
+      in.polygons = decode_polygons(bytes);
+    } else if (qsp == QspInput::kDecoded) {
+      in.mesh = decode(bytes);
+      in.quads = true;
+    } else {
+      in.qsp = true;
+      in.bytes = std::move(bytes);
+      return;
+    }
+    in.report.leading_comments = file_comments(bytes);
   } catch (const Error& e) {
     throw Error(e.code(), path + ": " + e.what());
   }
-  in.qsp = false;
-  in.quads = false;
-  return in;
+  in.report.comments = in.report.leading_comments.size();
 }
 
 }  // namespace
 
-PolygonInput read_polygon_input(const std::string& path, MeshFormat format) {
-  return opened(read_polygon_bytes_or_mesh(path, format), path);
-}
-
-PolygonInput read_polygon_bytes_or_mesh(const std::string& path, MeshFormat format) {
-  PolygonInput out;
-  if (path != "-" && format_from_path(path) != MeshFormat::kUnknown) {
-    // A named file: read as every subcommand reads it, and again as polygons only where that refuses.
-    try {
-      Input in = read_input(path, format);
-      out.qsp = in.qsp;
-      out.quads = !in.qsp;
-      out.bytes = std::move(in.bytes);
-      out.mesh = std::move(in.mesh);
-      out.report = std::move(in.report);
-      return out;
-    } catch (const Error& e) {
-      if (e.code() != ErrorCode::kNotQuad) throw;
-    }
-    out.polygons = read_mesh(path, &out.notes);
-    return out;
-  }
-  // Standard input or a name that says nothing: the bytes are read once and parsed as above.
+PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspInput qsp) {
   refuse_folder(path);
+  format = format_for(path, format);
+  if (format == MeshFormat::kUnknown && path != "-") format = format_from_path(path);
+  if (format == MeshFormat::kQsp && qsp == QspInput::kRefused) refuse_qsp(path);  // before reading it
+  // Read once: the exact reader and the leading comments read the same bytes again where the quad
+  // reader refuses a face.
   std::string bytes = read_file_bytes(path);
-  MeshFormat f = format_for(path, format);
-  if (f == MeshFormat::kUnknown) {
-    f = detect_format(bytes);
-    if (f == MeshFormat::kQsp) {
-      out.qsp = true;
-      out.bytes = std::move(bytes);
-      return out;
-    }
-    if (f == MeshFormat::kObj && path != "-") (void)read_mesh_bytes(bytes, path, nullptr);  // says why not
+  if (format == MeshFormat::kUnknown) format = format_of_bytes(bytes, path);
+  PolygonInput in;
+  if (format == MeshFormat::kQsp) {
+    read_qsp(in, std::move(bytes), path, qsp);
+    return in;
   }
   try {
-    out.mesh = parse_quads(bytes, path, f, &out.report);
-    out.quads = true;
-    return out;
+    in.mesh = parse_quads(bytes, path, format, &in.report);
+    in.quads = true;
   } catch (const Error& e) {
     if (e.code() != ErrorCode::kNotQuad) throw;
+    read_polygons(in, bytes, path, format);
   }
-  out.polygons = parse_polygons(bytes, path, f, &out.notes);
-  return out;
+  return in;
 }
 
-PolygonMesh polygon_mesh_of(const Mesh& mesh) {
-  PolygonMesh out;
-  out.positions = mesh.positions.f32;
-  out.face_offsets = mesh.face_offsets.empty() ? std::vector<std::uint32_t>{0} : mesh.face_offsets;
-  out.corners = mesh.corner_vertices;
-  return out;
+PolygonMesh polygons_of(PolygonInput in) {
+  return in.quads ? polygon_mesh(std::move(in.mesh)) : std::move(in.polygons);
 }
 
 bool polygon_path_takes(const Error& e) {
@@ -454,13 +405,11 @@ bool polygon_path_takes(const Error& e) {
 }
 
 PolygonMatchInput prepare_polygon_located(PolygonMesh mesh, const std::string& path,
-                                          const std::vector<std::uint32_t>& face_line) {
+                                          const ReadReport& report) {
   try {
     return prepare_polygon_match(std::move(mesh));
   } catch (const Error& e) {
-    ReadReport lines;
-    lines.face_line = face_line;
-    rethrow_located(e, path, lines);
+    rethrow_located(e, path, report);
   }
 }
 
@@ -506,22 +455,6 @@ std::string refuse_extra_data(const std::string& path, const ReadReport& report,
 
 std::vector<std::string> kept_comments(const ReadReport& report, const DropOptions& drop) {
   return drop.categories() & kCategoryComment ? std::vector<std::string>{} : report.leading_comments;
-}
-
-void refuse_polygon_extra_data(const std::string& path, const Mesh& mesh, const std::string& what,
-                               const DropOptions& drop, bool quiet) {
-  unsigned has = 0;
-  for (const CategoryName& c : kCategoryNames)
-    if (c.category != kCategoryComment && extras(mesh, c.category).any()) has |= c.category;
-  const unsigned dropped = drop.categories() & has;
-  if (has == 0) return;
-  if (dropped != has)
-    throw Error(ErrorCode::kUnsupported, path + ": has " + extras(mesh, has & ~dropped).describe() +
-                                             ", which " + what + " does not keep; pass --drop " +
-                                             category_list(has) + " (or --positions-only) to drop them");
-  if (!quiet)
-    std::fprintf(stderr, "qsp: %s: dropped %s (%s)\n", path.c_str(), extras(mesh, dropped).describe().c_str(),
-                 drop.positions_only ? "--positions-only" : ("--drop " + drop.list).c_str());
 }
 
 void refuse_rounding(const std::string& path, const ReadReport& report, const std::string& what, bool float32,

@@ -97,14 +97,6 @@ void add_format_option(CLI::App* cmd, std::string& value);
 // untrusted input.
 QuadMesh read_input_mesh(const std::string& path, MeshFormat format, ReadReport* report);
 
-// read_input_mesh for `qsp compress`, which stores any polygon mesh: the same reading (and the same
-// errors, a vertex out of range or a face repeating one included) where the faces are all quads; where
-// they are not, the file is read again with the exact Mesh reader (qsp/io.h), its data besides positions
-// and faces counted into `report` as the quad reader counts them, and coordinates float32 does not hold
-// counted as rounded (refused when they round to infinity or a nonzero one to zero, as by the quad
-// reader). Throws qsp::Error as the readers do. Safe on untrusted input.
-PolygonMesh read_input_polygons(const std::string& path, MeshFormat format, ReadReport* report);
-
 // A file named on the command line, read as what it is: a .qsp (by its name, or by its magic on standard
 // input or under a name that says nothing) kept as bytes, or a mesh with the reader's report (face
 // lines, data dropped).
@@ -146,42 +138,50 @@ LoadedMesh with_adjacency(QuadMesh mesh, ReadReport report, const std::string& p
 // prepare_match(mesh) (match.h) with topology errors located as "path:LINE: ..." (rethrow_located).
 MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadReport& report);
 
-// ---- Polygon meshes (match, fingerprint, stats, reorder: faces of any degree, non-manifold pieces) ----
+// ---- Polygon meshes (compress, match, fingerprint, stats, reorder: faces of any degree, non-manifold
+// pieces) ----
 
-// A file read for the subcommands that take any polygon mesh: a .qsp kept as bytes; a quad mesh as
-// read_input reads it (`quads`); else, where the quad reader refuses a face that is not a quad, the same
-// file read as a polygon mesh (qsp::Mesh, faces as the file has them, `notes.face_line` per face).
+// A file read for the subcommands that take any polygon mesh: a .qsp of quads kept as bytes (`qsp`), or
+// decoded as a quad mesh; a quad mesh file as read_input reads it (`quads`); else a polygon mesh
+// (`polygons`): a mesh file with a face that is not a quad, or a .qsp holding a polygon mesh (3.1).
 struct PolygonInput {
   bool qsp = false;
-  std::string bytes;  // the .qsp's bytes, unchecked
+  std::string bytes;      // the .qsp's bytes, their container checked
+  bool from_qsp = false;  // the mesh below was decoded from a .qsp
   bool quads = false;
-  QuadMesh mesh;  // quads: the mesh, and the reader's report
+  QuadMesh mesh;         // quads
+  PolygonMesh polygons;  // neither: float32 positions, faces and corners as read
+  // The reader's report. A polygon mesh file's says what the quad reader's would (its data besides
+  // positions and faces by kind, face lines, leading comments, coordinates float32 does not hold); a
+  // decoded .qsp's has the lines of its comments section.
   ReadReport report;
-  Mesh polygons;  // otherwise: the polygon mesh and the reader's notes
-  ReadNotes notes;
 };
 
-// Reads `path` ("-" = standard input, read once) as read_input does, then, if the quad reader refuses
-// a face that is not a quad (kNotQuad), as a polygon mesh (read_obj_mesh, read_off_mesh, read_ply_mesh;
-// their errors). A .qsp holding a polygon mesh (3.1) is decoded into `polygons` (qsp false); a quad
-// .qsp is left as bytes. `format` (--format) as for read_input. Throws qsp::Error as the readers and
-// the decoder do, naming `path`. Safe on untrusted input.
-PolygonInput read_polygon_input(const std::string& path, MeshFormat format = MeshFormat::kUnknown);
-// read_polygon_input before a polygon .qsp is decoded (its bytes, as for a quad .qsp).
-PolygonInput read_polygon_bytes_or_mesh(const std::string& path, MeshFormat format = MeshFormat::kUnknown);
+// What read_polygon_input does with a .qsp of quads: keeps its bytes (fingerprint and stats read it
+// without decoding positions), decodes it (match, reorder), or refuses it, and a polygon .qsp too
+// (compress: kUnsupported, it is no mesh file).
+enum class QspInput { kBytes, kDecoded, kRefused };
 
-// The polygon mesh (float32 positions, faces and corners as read) of a read polygon file.
-PolygonMesh polygon_mesh_of(const Mesh& mesh);
+// Reads `path` ("-" = standard input) once, as read_input does; where the quad reader refuses a face that
+// is not a quad (kNotQuad), the same bytes again with the exact reader (read_obj_mesh, read_off_mesh,
+// read_ply_mesh; their errors), a coordinate rounding to infinity, or a nonzero one to zero, in float32
+// refused (kBadNumber) as the quad reader refuses it. A .qsp holding a polygon mesh (3.1) is decoded into
+// `polygons`; a quad .qsp as `qsp` says. `format` (--format) as for read_input. Throws qsp::Error as the
+// readers and the decoder do, naming `path`. Safe on untrusted input.
+PolygonInput read_polygon_input(const std::string& path, MeshFormat format = MeshFormat::kUnknown,
+                                QspInput qsp = QspInput::kBytes);
+
+// The mesh of a read mesh file or decoded .qsp as a polygon mesh (its quads, or its polygons).
+PolygonMesh polygons_of(PolygonInput in);
 
 // Whether an error preparing a quad mesh (build_adjacency's) means the mesh is a polygon mesh's
 // business: an edge with three or more faces, a vertex with several fans, neighbours of opposite
 // orientation (kNonManifold, kOrientation), which the polygon path cuts apart.
 bool polygon_path_takes(const Error& e);
 
-// prepare_polygon_match (match.h) with an error at a face located as "path:LINE: ..." by `face_line`
-// (per face its 1-based line, ReadNotes::face_line or ReadReport::face_line).
+// prepare_polygon_match (match.h) with an error at a face located as "path:LINE: ..." (rethrow_located).
 PolygonMatchInput prepare_polygon_located(PolygonMesh mesh, const std::string& path,
-                                          const std::vector<std::uint32_t>& face_line);
+                                          const ReadReport& report);
 
 // --drop LIST and --positions-only (compress, reorder): the kinds of data (qsp/polymesh.h's categories)
 // a call drops instead of refusing a file that has them.
@@ -207,12 +207,6 @@ std::string refuse_extra_data(const std::string& path, const ReadReport& report,
 
 // The leading comment lines to write with the mesh: the report's, unless `drop` drops comments.
 std::vector<std::string> kept_comments(const ReadReport& report, const DropOptions& drop);
-
-// refuse_extra_data for a polygon mesh read into a qsp::Mesh (read_polygon_input): the kinds of data it
-// carries besides positions and faces (comments not counted, as the quad readers do not), refused
-// unless dropped, with the same message and note.
-void refuse_polygon_extra_data(const std::string& path, const Mesh& mesh, const std::string& what,
-                               const DropOptions& drop, bool quiet);
 
 // Coordinates the reader rounded to float32 (ReadReport::rounded_coordinates), which `what` would
 // write rounded: refused (kUnsupported, naming the first and --float32, plus `other_way` when not
