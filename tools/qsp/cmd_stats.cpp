@@ -305,8 +305,19 @@ void register_stats(CLI::App& app, int& rc) {
     for (PartitionMode m : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge})
       if (opt->partition == "all" || opt->partition == partition_mode_name(m)) modes.push_back(m);
     const bool partition_given = cmd->count("--partition") > 0;
+    // A row per partition asked for, of a quad mesh or of a polygon mesh's quad submesh (`polygon`: its
+    // PolygonCounts); `sizes`: each compressed in memory for its bytes.
+    const auto add_partition_rows = [&](const std::string& f, const LoadedMesh& loaded, bool sizes,
+                                        const PolygonCounts* polygon) {
+      for (PartitionMode m : modes) {
+        rows.push_back(mesh_row(f, loaded, m, sizes));
+        if (!polygon) continue;
+        rows.back().polygon = true;
+        rows.back().polygons = *polygon;
+      }
+    };
     const auto add_mesh_rows = [&](const std::string& f, const LoadedMesh& loaded) {
-      for (PartitionMode m : modes) rows.push_back(mesh_row(f, loaded, m, opt->sizes));
+      add_partition_rows(f, loaded, opt->sizes, nullptr);
       // What `qsp compress` would write (default options): its partition and sizes, from the bytes.
       if (opt->partition == "auto" || opt->partition == "all")
         rows.push_back(info_row(f, encode(loaded.mesh), "auto"));
@@ -329,13 +340,7 @@ void register_stats(CLI::App& app, int& rc) {
       } catch (const Error& e) {
         rethrow_located(e, f, report);
       }
-      const PolygonCounts counts = s.counts;
-      const LoadedMesh loaded{std::move(s.mesh), std::move(s.adjacency), {}};
-      for (PartitionMode m : modes) {
-        rows.push_back(mesh_row(f, loaded, m, false));
-        rows.back().polygon = true;
-        rows.back().polygons = counts;
-      }
+      add_partition_rows(f, LoadedMesh{std::move(s.mesh), std::move(s.adjacency), {}}, false, &s.counts);
     };
     std::size_t file_start = 0;  // rows of the file being read: dropped if it fails part-way
     const auto one = [&](std::size_t i) {
