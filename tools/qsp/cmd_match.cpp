@@ -125,25 +125,47 @@ void prepare_both(const std::string& pa, const std::string& pb, MeshFormat forma
     }
 }
 
-// The polygon way: the same exit codes, maps and report lines, with rotations modulo each face's degree.
-int run_polygons(const MatchCliOptions& o, const Side& a, const Side& b, const std::vector<Output>& outputs) {
+MatchOptions match_options(const MatchCliOptions& o) {
   MatchOptions mo;
   mo.centering = o.centering;
   mo.prefer_order = o.prefer_order;
+  // Orientation-reversing: accepted with --allow-mirror, else only named as the likely cause.
   mo.mirror = o.allow_mirror ? Mirror::kAccept : o.quiet ? Mirror::kNo : Mirror::kHint;
-  PolygonMatchResult r = match_polygons(a.polygons, b.polygons, mo);
+  return mo;
+}
+
+// The report goes to stdout unless a map does.
+std::FILE* report_stream(const MatchCliOptions& o) {
+  return (o.map == "-" || o.face_map == "-") ? stderr : stdout;
+}
+
+// What both ways do with their result (MatchResult, PolygonMatchResult): say why the meshes differ
+// (false), or write the maps (true).
+template <class Result>
+bool write_maps(const MatchCliOptions& o, Result& r, const std::vector<Output>& outputs) {
   if (r.mirror_would_match) r.reason += mirror_hint(o.a, o.b);
-  std::FILE* report = (o.map == "-" || o.face_map == "-") ? stderr : stdout;
   if (!r.isomorphic) {
-    if (!o.quiet) std::fprintf(report, "not isomorphic: %s\n", name_meshes(r.reason, o.a, o.b).c_str());
-    return exit_code(Outcome::kDiffer, Answers::kCompare);
+    if (!o.quiet)
+      std::fprintf(report_stream(o), "not isomorphic: %s\n", name_meshes(r.reason, o.a, o.b).c_str());
+    return false;
   }
   const WriteOptions wo{o.force, o.quiet, "name another output", o.sync};
-  refuse_existing(outputs, wo);
+  refuse_existing(outputs, wo);  // both maps or neither
   if (!o.map.empty()) write_output(o.map, vertex_map_text(r.vertex), wo);
   if (!o.face_map.empty()) write_output(o.face_map, face_map_text(r.face, r.rotation), wo);
+  return true;
+}
+
+template <class Result>
+double rms_distance(const Result& r) {
+  return r.vertex.empty() ? 0.0 : std::sqrt(r.cost / double(r.vertex.size()));
+}
+
+// The polygon way: the same exit codes, maps and report lines, with rotations modulo each face's degree.
+int run_polygons(const MatchCliOptions& o, const Side& a, const Side& b, const std::vector<Output>& outputs) {
+  PolygonMatchResult r = match_polygons(a.polygons, b.polygons, match_options(o));
+  if (!write_maps(o, r, outputs)) return exit_code(Outcome::kDiffer, Answers::kCompare);
   if (!o.quiet) {
-    const double rms = r.vertex.empty() ? 0.0 : std::sqrt(r.cost / double(r.vertex.size()));
     const char* which =
         r.identity         ? "the identity of indices (--prefer-order)"
         : r.unique         ? "the only isomorphism (every vertex told apart by its neighbourhood)"
@@ -152,11 +174,11 @@ int run_polygons(const MatchCliOptions& o, const Side& a, const Side& b, const s
                       "isomorphisms; nearest not proven)"
                     : "one isomorphism (the mesh may be symmetric: the nearest is searched exhaustively "
                       "on all-quad meshes only)";
-    std::fprintf(report, "isomorphic%s: polygon meshes; %s, rms distance %.6g%s\n",
+    std::fprintf(report_stream(o), "isomorphic%s: polygon meshes; %s, rms distance %.6g%s\n",
                  r.mirrored ? " (orientation-reversing: every face of B reversed; FACEMAP corner c is B's "
                               "corner (R-c)%d)"
                             : "",
-                 which, rms,
+                 which, rms_distance(r),
                  r.ambiguous ? "; ambiguous: unreferenced vertices as near in another pairing" : "");
   }
   return exit_code(Outcome::kSuccess, Answers::kCompare);
@@ -171,28 +193,12 @@ int run(const MatchCliOptions& o) {
   Side sa, sb;
   prepare_both(o.a, o.b, parse_format_option(o.format), sa, sb);
   if (sa.polygon) return run_polygons(o, sa, sb, outputs);
-  const MatchInput& a = sa.prepared;
-  const MatchInput& b = sb.prepared;
-  MatchOptions mo;
-  mo.centering = o.centering;
+  MatchOptions mo = match_options(o);
   mo.max_full_evaluations = o.max_evaluations;
-  mo.prefer_order = o.prefer_order;
-  // Orientation-reversing: accepted with --allow-mirror, else only named as the likely cause.
-  mo.mirror = o.allow_mirror ? Mirror::kAccept : o.quiet ? Mirror::kNo : Mirror::kHint;
-  MatchResult r = match(a, b, mo);
-  if (r.mirror_would_match) r.reason += mirror_hint(o.a, o.b);
-  // The report goes to stdout unless a map does.
-  std::FILE* report = (o.map == "-" || o.face_map == "-") ? stderr : stdout;
-  if (!r.isomorphic) {
-    if (!o.quiet) std::fprintf(report, "not isomorphic: %s\n", name_meshes(r.reason, o.a, o.b).c_str());
-    return exit_code(Outcome::kDiffer, Answers::kCompare);
-  }
-  const WriteOptions wo{o.force, o.quiet, "name another output", o.sync};
-  refuse_existing(outputs, wo);  // both maps or neither
-  if (!o.map.empty()) write_output(o.map, vertex_map_text(r.vertex), wo);
-  if (!o.face_map.empty()) write_output(o.face_map, face_map_text(r.face, r.rotation), wo);
+  MatchResult r = match(sa.prepared, sb.prepared, mo);
+  if (!write_maps(o, r, outputs)) return exit_code(Outcome::kDiffer, Answers::kCompare);
   if (!o.quiet) {
-    const double rms = r.vertex.empty() ? 0.0 : std::sqrt(r.cost / double(r.vertex.size()));
+    std::FILE* report = report_stream(o);
     std::string chose = "the nearest";
     if (o.prefer_order) {
       std::size_t moved = 0;
@@ -206,7 +212,7 @@ int run(const MatchCliOptions& o) {
             ? " (orientation-reversing: every face of B reversed; FACEMAP corner c is B's corner (R-c)%4)"
             : "",
         (isomorphism_count_text(r) + (r.isomorphisms == 1 ? " isomorphism" : " isomorphisms")).c_str(),
-        chose.c_str(), rms);
+        chose.c_str(), rms_distance(r));
     if (r.ambiguous) std::fprintf(report, "; ambiguous: another isomorphism is as near");
     if (!r.exhaustive)
       std::fprintf(report, "; nearest not proven (search capped, or many equal components paired greedily)");
