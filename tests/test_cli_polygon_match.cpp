@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <charconv>
 #include <filesystem>
-#include <map>
 #include <numeric>
 #include <random>
 #include <set>
@@ -56,54 +55,6 @@ std::string obj_text(const Poly& p) {
 
 // A renumbered copy (positions follow their vertices).
 Poly renumbered(const Poly& p, std::uint32_t seed) { return testing::shuffled(p, seed); }
-
-// The diagonal between two triangles (p q r), (q s r) flipped to (p q s), (p s r), where that changes
-// the sorted vertex valences (so the result is surely not isomorphic) and p-s is no edge yet.
-bool flip_a_diagonal(const Poly& m, Poly& out) {
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> faces_of;  // directed edge
-  std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
-  auto valences = [](const Poly& x) {
-    std::set<std::pair<std::uint32_t, std::uint32_t>> e;
-    for (std::uint32_t f = 0; f < x.face_count(); ++f)
-      for (std::uint32_t i = 0, d = x.degree(f); i < d; ++i) {
-        const std::uint32_t a = x.corners[x.offsets[f] + i], b = x.corners[x.offsets[f] + (i + 1) % d];
-        e.insert({std::min(a, b), std::max(a, b)});
-      }
-    std::vector<std::uint32_t> n(x.nv, 0);
-    for (const auto& [a, b] : e) ++n[a], ++n[b];
-    std::sort(n.begin(), n.end());
-    return n;
-  };
-  for (std::uint32_t f = 0; f < m.face_count(); ++f)
-    for (std::uint32_t i = 0, d = m.degree(f); i < d; ++i) {
-      const std::uint32_t a = m.corners[m.offsets[f] + i], b = m.corners[m.offsets[f] + (i + 1) % d];
-      faces_of[{a, b}].push_back(f);
-      edges.insert({std::min(a, b), std::max(a, b)});
-    }
-  const auto before = valences(m);
-  for (std::uint32_t f = 0; f < m.face_count(); ++f) {
-    if (m.degree(f) != 3) continue;
-    for (std::uint32_t i = 0; i < 3; ++i) {
-      const std::uint32_t* t = &m.corners[m.offsets[f]];
-      const std::uint32_t p = t[i], q = t[(i + 1) % 3], r = t[(i + 2) % 3];
-      const auto back = faces_of.find({r, q});
-      if (back == faces_of.end() || back->second.size() != 1 || faces_of[{q, r}].size() != 1) continue;
-      const std::uint32_t g = back->second[0];
-      if (g == f || m.degree(g) != 3) continue;
-      std::uint32_t s = 0;
-      for (std::uint32_t k = m.offsets[g]; k < m.offsets[g + 1]; ++k)
-        if (m.corners[k] != q && m.corners[k] != r) s = m.corners[k];
-      if (s == p || edges.count({std::min(p, s), std::max(p, s)})) continue;
-      out = m;
-      std::uint32_t* a = &out.corners[out.offsets[f]];
-      std::uint32_t* b = &out.corners[out.offsets[g]];
-      a[0] = p, a[1] = q, a[2] = s;
-      b[0] = p, b[1] = s, b[2] = r;
-      if (valences(out) != before) return true;
-    }
-  }
-  return false;
-}
 
 // MAP and FACEMAP as match writes them, checked against both meshes' faces: a bijection of vertices,
 // every face of A a face of B of its degree with the same cyclic corner order, each face of B once.

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <map>
 #include <numeric>
 #include <random>
 #include <set>
@@ -89,60 +88,13 @@ void expect_face_by_face(const PolygonMesh& a, const PolygonMesh& b, const Polyg
   }
 }
 
-// Per vertex its number of distinct neighbours (edges), sorted: an isomorphism invariant.
-std::vector<std::uint32_t> valences(const PolygonMesh& m) {
-  std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
-  for (std::size_t f = 0; f < m.face_count(); ++f)
-    for (std::uint32_t i = 0, d = m.degree(f); i < d; ++i) {
-      const std::uint32_t x = m.corners[m.face_offsets[f] + i],
-                          y = m.corners[m.face_offsets[f] + (i + 1) % d];
-      edges.insert({std::min(x, y), std::max(x, y)});
-    }
-  std::vector<std::uint32_t> n(m.vertex_count(), 0);
-  for (const auto& [x, y] : edges) ++n[x], ++n[y];
-  std::sort(n.begin(), n.end());
-  return n;
-}
-
-// The mesh with the diagonal between two adjacent triangles flipped ((p q r), (q s r) -> (p q s),
-// (p s r)), choosing a pair whose flip changes the valence multiset (so the result is surely not
-// isomorphic) and whose new diagonal is not an edge yet; false if there is none.
+// support/polygon.h's flip_a_diagonal on the mesh's arrays (positions follow).
 bool flip_a_diagonal(const PolygonMesh& m, PolygonMesh& out) {
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>>
-      by_edge;  // directed -> corner
-  std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
-  for (std::uint32_t f = 0; f < m.face_count(); ++f)
-    for (std::uint32_t i = 0, d = m.degree(f); i < d; ++i) {
-      const std::uint32_t x = m.corners[m.face_offsets[f] + i],
-                          y = m.corners[m.face_offsets[f] + (i + 1) % d];
-      by_edge[{x, y}].push_back(f);
-      edges.insert({std::min(x, y), std::max(x, y)});
-    }
-  const std::vector<std::uint32_t> before = valences(m);
-  for (std::uint32_t f = 0; f < m.face_count(); ++f) {
-    if (m.degree(f) != 3) continue;
-    for (std::uint32_t i = 0; i < 3; ++i) {
-      const std::uint32_t* t = &m.corners[m.face_offsets[f]];
-      const std::uint32_t p = t[i], q = t[(i + 1) % 3], r = t[(i + 2) % 3];
-      const auto back = by_edge.find({r, q});
-      const auto same = by_edge.find({q, r});
-      if (back == by_edge.end() || back->second.size() != 1 || same->second.size() != 1) continue;
-      const std::uint32_t g = back->second[0];
-      if (g == f || m.degree(g) != 3) continue;
-      const std::uint32_t* u = &m.corners[m.face_offsets[g]];
-      std::uint32_t s = kInvalid;
-      for (int k = 0; k < 3; ++k)
-        if (u[k] != q && u[k] != r) s = u[k];
-      if (s == p || edges.count({std::min(p, s), std::max(p, s)})) continue;
-      out = m;
-      std::uint32_t* a = &out.corners[out.face_offsets[f]];
-      std::uint32_t* b = &out.corners[out.face_offsets[g]];
-      a[0] = p, a[1] = q, a[2] = s;
-      b[0] = p, b[1] = s, b[2] = r;
-      if (valences(out) != before) return true;
-    }
-  }
-  return false;
+  const Poly p{m.face_offsets, m.corners, static_cast<std::uint32_t>(m.vertex_count()), m.positions};
+  Poly flipped;
+  if (!testing::flip_a_diagonal(p, flipped)) return false;
+  out = to_mesh(flipped);
+  return true;
 }
 
 // Renumbered copies match face by face and share the fingerprint; a rigid mesh's map is the renumbering
