@@ -175,15 +175,47 @@ TEST(CliStats, PolygonCountsBesideTheQuadSubmeshRow) {
       r.out.find("polygons: 2 quads, 0 triangles, 0 n-gons; 1 cut vertices (0 cut edges, 1 extra copies)"),
       std::string::npos)
       << r.out;
-  // Compressing such a mesh is not stats' to do yet: a clear refusal.
-  r = run_qsp("stats --sizes " + quote(grid));
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("--sizes"), std::string::npos) << r.err;
-  // --partition all: the three partitions' rows, each with the counts, and a note for the auto row.
+  // --sizes compresses it as compress does: the same bytes as the file compress writes, with the
+  // polygons section's parts, and the stored row of that file says the same.
+  const std::string qsp_file = dir + "/grid.qsp";
+  ASSERT_EQ(run_qsp("compress -f " + quote(grid) + " " + quote(qsp_file)).exit_code, 0);
+  const std::uint64_t file_size = fs::file_size(qsp_file);
+  for (const std::string& args : {"--sizes " + quote(grid), quote(qsp_file)}) {
+    SCOPED_TRACE(args);
+    r = run_qsp("stats --json " + args);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("\"bytes\": {\"total\": " + std::to_string(file_size) + ","), std::string::npos)
+        << r.out;
+    const std::size_t at = r.out.find("\"polygons_section\": {\"connectivity\": ");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    unsigned conn = 0, positions = 0;
+    double bits = 0;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + at,
+                          "\"polygons_section\": {\"connectivity\": %u, \"positions\": %u, "
+                          "\"connectivity_bits_per_non_quad_face\": %lf",
+                          &conn, &positions, &bits),
+              3)
+        << r.out;
+    EXPECT_GT(conn, 4u);  // four counts and a stream
+    EXPECT_GT(positions, 0u) << "the pentagon's vertex 17 is in no quad";
+    EXPECT_NEAR(bits, 8.0 * conn / 3, 1e-3) << "three faces are not quads";
+    EXPECT_NE(r.out.find("\"format\": \"3.1\""), std::string::npos) << r.out;
+  }
+  r = run_qsp("stats " + quote(qsp_file));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("[stored]"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("polygons: 7 quads, 2 triangles, 1 n-gons"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("bits per non-quad face"), std::string::npos) << r.out;
+  // --partition all: the three partitions' rows and the auto row, each with the counts.
   r = run_qsp("stats --partition all " + quote(grid));
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  for (const char* mode : {"[greedy]", "[merge]"}) EXPECT_NE(r.out.find(mode), std::string::npos) << r.out;
-  EXPECT_NE(r.err.find("no auto row"), std::string::npos) << r.err;
+  for (const char* mode : {"[greedy]", "[merge]", "[auto]"})
+    EXPECT_NE(r.out.find(mode), std::string::npos) << r.out;
+  std::size_t counted = 0;
+  for (std::size_t at = r.out.find("polygons: 7 quads"); at != std::string::npos;
+       at = r.out.find("polygons: 7 quads", at + 1))
+    ++counted;
+  EXPECT_EQ(counted, 4u) << r.out;
   r = run_qsp("stats --json " + quote(std::string(QSP_TESTDATA_DIR) + "/cube_4.obj"));
   EXPECT_EQ(r.out.find("polygons"), std::string::npos) << r.out;
   fs::remove_all(dir);

@@ -54,7 +54,12 @@ struct Row {
   // are its faces by degree and what was cut apart (PolygonCounts, qsp/submesh.h).
   bool polygon = false;
   PolygonCounts polygons;
+  // Its polygons section (with bytes): the counts and region codes, the interior vertices' positions.
+  std::uint64_t polygon_connectivity_bytes = 0, polygon_positions_bytes = 0;
 };
+
+// Faces that are not quads, for the cost per face.
+std::uint64_t non_quads(const PolygonCounts& n) { return std::uint64_t{n.triangles} + n.ngons; }
 
 void add_sizes(Row& r, const FileInfo& info) {
   r.has_bytes = true;
@@ -71,6 +76,8 @@ void add_sizes(Row& r, const FileInfo& info) {
   r.level = info.level;
   r.geometry_tools = geometry_tool_names(info.geometry_tools);
   r.geometry_order = info.geometry_order == CodingOrder::kPatch ? "patch" : "layout";
+  r.polygon_connectivity_bytes = info.polygon_connectivity_bytes;
+  r.polygon_positions_bytes = info.polygon_positions_bytes;
 }
 
 // A .qsp's bytes: everything from inspect(), without decoding positions.
@@ -104,7 +111,7 @@ Row info_row(const std::string& file, const std::string& bytes, const char* part
   return r;
 }
 
-Row mesh_row(const std::string& file, const LoadedMesh& loaded, PartitionMode mode, bool sizes) {
+Row mesh_row(const std::string& file, const LoadedMesh& loaded, PartitionMode mode) {
   const QuadMesh& mesh = loaded.mesh;
   const Adjacency& adj = loaded.adjacency;
   const Partition part = partition(adj, mode);
@@ -134,12 +141,6 @@ Row mesh_row(const std::string& file, const LoadedMesh& loaded, PartitionMode mo
     r.se += k.se;
     r.patches += k.patches;
     r.comps.push_back(k);
-  }
-  if (sizes) {
-    EncodeOptions eo;
-    eo.partition = mode;
-    const std::string bytes = encode(mesh, eo);
-    add_sizes(r, inspect(bytes));
   }
   return r;
 }
@@ -194,6 +195,14 @@ void print_json(const std::vector<Row>& rows, bool verbose, bool lines) {
     }
     if (r.has_bytes) {
       const double v = r.vertices ? double(r.vertices) : 1.0;
+      if (r.polygon) {
+        const std::uint64_t nq = non_quads(r.polygons);
+        std::printf(
+            ", \"polygons_section\": {\"connectivity\": %llu, \"positions\": %llu, "
+            "\"connectivity_bits_per_non_quad_face\": %.4f}",
+            (unsigned long long)r.polygon_connectivity_bytes, (unsigned long long)r.polygon_positions_bytes,
+            nq ? 8.0 * r.polygon_connectivity_bytes / double(nq) : 0.0);
+      }
       std::printf(
           ", \"bytes\": {\"total\": %llu, \"header\": %llu, \"connectivity\": %llu, \"geometry\": %llu, "
           "\"order\": %llu, \"other\": %llu}, "
@@ -260,6 +269,16 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
           (unsigned long long)r.geometry_bytes, 8.0 * r.geometry_bytes / v);
       if (r.order_bytes) std::printf(" + %llu order", (unsigned long long)r.order_bytes);
       if (r.other_bytes) std::printf(" + %llu other", (unsigned long long)r.other_bytes);
+      if (r.polygon) {
+        const std::uint64_t nq = non_quads(r.polygons);
+        std::printf(
+            "\n  polygons section: %llu connectivity (%.2f bits per non-quad face, in the connectivity "
+            "above) + "
+            "%llu interior positions (in the geometry above)",
+            (unsigned long long)r.polygon_connectivity_bytes,
+            nq ? 8.0 * r.polygon_connectivity_bytes / double(nq) : 0.0,
+            (unsigned long long)r.polygon_positions_bytes);
+      }
       const std::string positions = r.quantize_bits > 0
                                         ? "quantized to " + std::to_string(r.quantize_bits) + " bits"
                                     : r.quantize_bits == 0 ? "lossless"
@@ -306,32 +325,36 @@ void register_stats(CLI::App& app, int& rc) {
       if (opt->partition == "all" || opt->partition == partition_mode_name(m)) modes.push_back(m);
     const bool partition_given = cmd->count("--partition") > 0;
     // A row per partition asked for, of a quad mesh or of a polygon mesh's quad submesh (`polygon`: its
-    // PolygonCounts); `sizes`: each compressed in memory for its bytes.
-    const auto add_partition_rows = [&](const std::string& f, const LoadedMesh& loaded, bool sizes,
-                                        const PolygonCounts* polygon) {
+    // PolygonCounts); `encode_with(options)`: the file compress writes (--sizes: each partition's
+    // sizes; auto: the default's, as stored).
+    const auto add_rows = [&](const std::string& f, const LoadedMesh& loaded, const auto& encode_with,
+                              const PolygonCounts* polygon) {
+      const auto push = [&](Row r) {
+        r.polygon = polygon != nullptr;
+        if (polygon) r.polygons = *polygon;
+        rows.push_back(std::move(r));
+      };
       for (PartitionMode m : modes) {
-        rows.push_back(mesh_row(f, loaded, m, sizes));
-        if (!polygon) continue;
-        rows.back().polygon = true;
-        rows.back().polygons = *polygon;
+        Row r = mesh_row(f, loaded, m);
+        if (opt->sizes) {
+          EncodeOptions eo;
+          eo.partition = m;
+          add_sizes(r, inspect(encode_with(eo)));
+        }
+        push(std::move(r));
       }
+      if (opt->partition == "auto" || opt->partition == "all")
+        push(info_row(f, encode_with(EncodeOptions{}), "auto"));
     };
     const auto add_mesh_rows = [&](const std::string& f, const LoadedMesh& loaded) {
-      add_partition_rows(f, loaded, opt->sizes, nullptr);
-      // What `qsp compress` would write (default options): its partition and sizes, from the bytes.
-      if (opt->partition == "auto" || opt->partition == "all")
-        rows.push_back(info_row(f, encode(loaded.mesh), "auto"));
+      add_rows(
+          f, loaded, [&](const EncodeOptions& eo) { return encode(loaded.mesh, eo); }, nullptr);
     };
-    // A polygon mesh: the rows of its quad submesh, with its PolygonCounts. Compressing it (--sizes,
-    // auto) is not available here.
+    // A polygon mesh: the rows of its quad submesh, with its PolygonCounts, sizes from encode_polygons;
+    // a polygon .qsp's stored row comes from its bytes.
     const auto add_polygon_rows = [&](const std::string& f, PolygonInput in) {
-      if (opt->sizes || opt->partition == "auto")
-        throw Error(ErrorCode::kUnsupported,
-                    f + ": has faces that are not quads, or non-manifold or mis-oriented pieces: --sizes and "
-                        "--partition auto compress it, which qsp does not do yet for such meshes");
-      if (opt->partition == "all")
-        std::fprintf(stderr, "qsp: %s: no auto row: compress does not take polygon meshes yet\n", f.c_str());
       const ReadReport report = std::move(in.report);
+      const std::string bytes = std::move(in.bytes);
       const PolygonMesh mesh = polygons_of(std::move(in));
       QuadSubmesh s;
       try {
@@ -340,7 +363,15 @@ void register_stats(CLI::App& app, int& rc) {
       } catch (const Error& e) {
         rethrow_located(e, f, report);
       }
-      add_partition_rows(f, LoadedMesh{std::move(s.mesh), std::move(s.adjacency), {}}, false, &s.counts);
+      if (!bytes.empty()) {
+        rows.push_back(info_row(f, bytes, "stored"));
+        rows.back().polygon = true;
+        rows.back().polygons = s.counts;
+        if (!partition_given) return;
+      }
+      add_rows(
+          f, LoadedMesh{std::move(s.mesh), std::move(s.adjacency), {}},
+          [&](const EncodeOptions& eo) { return encode_polygons(mesh, eo); }, &s.counts);
     };
     std::size_t file_start = 0;  // rows of the file being read: dropped if it fails part-way
     const auto one = [&](std::size_t i) {

@@ -368,6 +368,7 @@ void read_qsp(PolygonInput& in, std::string&& bytes, const std::string& path, Qs
     throw Error(e.code(), path + ": " + e.what());
   }
   in.report.comments = in.report.leading_comments.size();
+  if (qsp == QspInput::kBytes && !in.quads) in.bytes = std::move(bytes);  // a polygon file's sections
 }
 
 }  // namespace

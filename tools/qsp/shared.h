@@ -146,7 +146,7 @@ MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadRep
 // (`polygons`): a mesh file with a face that is not a quad, or a .qsp holding a polygon mesh (3.1).
 struct PolygonInput {
   bool qsp = false;
-  std::string bytes;      // the .qsp's bytes, their container checked
+  std::string bytes;      // the .qsp's bytes, their container checked (kBytes: a polygon .qsp's too)
   bool from_qsp = false;  // the mesh below was decoded from a .qsp
   bool quads = false;
   QuadMesh mesh;         // quads
