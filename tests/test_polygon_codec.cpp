@@ -40,6 +40,18 @@ Poly with_positions(Poly p) {
   return p;
 }
 
+// A 3x3 quad grid whose middle cell is a fan of four triangles around a vertex no quad has (the last
+// vertex), with with_positions' lattice positions.
+Poly fan_in_a_hole() {
+  Grid g = Grid::make(3, 3, [](int i, int j) { return i == 1 && j == 1 ? '.' : 'q'; });
+  const std::uint32_t c = g.p.nv++;
+  g.p.face({g.id(1, 1), g.id(2, 1), c});
+  g.p.face({g.id(2, 1), g.id(2, 2), c});
+  g.p.face({g.id(2, 2), g.id(1, 2), c});
+  g.p.face({g.id(1, 2), g.id(1, 1), c});
+  return with_positions(g.p);
+}
+
 using Point = std::array<float, 3>;
 
 // Each face as the cyclic sequence of its corners' positions, rotated to start at its smallest, sorted:
@@ -140,13 +152,8 @@ TEST(PolygonCodec, NgonWithInteriorVerticesAndQuantizedPositions) {
   Poly p = with_positions(testing::ngon_with_a_quad(40));
   expect_round_trip(p, "40-gon");
   // A triangle fan around an interior vertex in a quad grid's hole.
-  Grid g = Grid::make(3, 3, [](int i, int j) { return i == 1 && j == 1 ? '.' : 'q'; });
-  const std::uint32_t c = g.p.nv++;
-  g.p.face({g.id(1, 1), g.id(2, 1), c});
-  g.p.face({g.id(2, 1), g.id(2, 2), c});
-  g.p.face({g.id(2, 2), g.id(1, 2), c});
-  g.p.face({g.id(1, 2), g.id(1, 1), c});
-  Poly fan = with_positions(g.p);
+  Poly fan = fan_in_a_hole();
+  const std::uint32_t c = fan.nv - 1;
   fan.positions[3 * c] = 1.5f, fan.positions[3 * c + 1] = 1.5f, fan.positions[3 * c + 2] = 0.25f;
   expect_round_trip(fan, "fan around an interior vertex");
   // Quantized: the same faces as lossless on the same numbering, positions within the grid's step.
@@ -164,16 +171,9 @@ TEST(PolygonCodec, NgonWithInteriorVerticesAndQuantizedPositions) {
 // inspect() splits the polygons section: its counts and region stream are connectivity, the positions
 // of vertices no quad has geometry; the two parts make the section, found here by its own tag and length.
 TEST(PolygonCodec, InspectSplitsThePolygonsSection) {
-  Grid holed = Grid::make(3, 3, [](int i, int j) { return i == 1 && j == 1 ? '.' : 'q'; });
   const Poly pairs =
       with_positions(Grid::make(4, 3, [](int i, int j) { return i == 2 && j == 1 ? 't' : 'q'; }).p);
-  const std::uint32_t c = holed.p.nv++;
-  for (auto [a, b] : {std::pair{holed.id(1, 1), holed.id(2, 1)},
-                      {holed.id(2, 1), holed.id(2, 2)},
-                      {holed.id(2, 2), holed.id(1, 2)},
-                      {holed.id(1, 2), holed.id(1, 1)}})
-    holed.p.face({a, b, c});
-  const Poly fan = with_positions(holed.p);
+  const Poly fan = fan_in_a_hole();
   for (const auto& [poly, interior] : {std::pair{pairs, false}, {fan, true}}) {
     const std::string bytes = encode_polygons(to_mesh(poly));
     const FileInfo info = inspect(bytes);
@@ -307,14 +307,7 @@ TEST(PolygonCodec, EveryResealedBitFlipAndCutIsRefusedOrValid) {
 // The decoder's limits: refs (interior vertices included) against max_vertices before anything is
 // allocated by them, all faces against max_faces.
 TEST(PolygonCodec, LimitsAreCheckedOnRefsAndAllFaces) {
-  Grid g = Grid::make(3, 3, [](int i, int j) { return i == 1 && j == 1 ? '.' : 'q'; });
-  const std::uint32_t c = g.p.nv++;
-  for (auto [a, b] : {std::pair{g.id(1, 1), g.id(2, 1)},
-                      {g.id(2, 1), g.id(2, 2)},
-                      {g.id(2, 2), g.id(1, 2)},
-                      {g.id(1, 2), g.id(1, 1)}})
-    g.p.face({a, b, c});
-  const std::string bytes = encode_polygons(to_mesh(with_positions(g.p)));  // 17 vertices, 12 faces
+  const std::string bytes = encode_polygons(to_mesh(fan_in_a_hole()));  // 17 vertices, 12 faces
   DecodeLimits l;
   l.max_vertices = 16;  // the quads' 16 vertices fit, the interior one does not
   try {

@@ -58,8 +58,11 @@ struct Row {
   std::uint64_t polygon_connectivity_bytes = 0, polygon_positions_bytes = 0;
 };
 
-// Faces that are not quads, for the cost per face.
-std::uint64_t non_quads(const PolygonCounts& n) { return std::uint64_t{n.triangles} + n.ngons; }
+// The polygons section's connectivity per face that is not a quad, in bits (0 without such faces).
+double bits_per_non_quad(const Row& r) {
+  const std::uint64_t n = std::uint64_t{r.polygons.triangles} + r.polygons.ngons;
+  return n ? 8.0 * double(r.polygon_connectivity_bytes) / double(n) : 0.0;
+}
 
 void add_sizes(Row& r, const FileInfo& info) {
   r.has_bytes = true;
@@ -196,12 +199,11 @@ void print_json(const std::vector<Row>& rows, bool verbose, bool lines) {
     if (r.has_bytes) {
       const double v = r.vertices ? double(r.vertices) : 1.0;
       if (r.polygon) {
-        const std::uint64_t nq = non_quads(r.polygons);
         std::printf(
             ", \"polygons_section\": {\"connectivity\": %llu, \"positions\": %llu, "
             "\"connectivity_bits_per_non_quad_face\": %.4f}",
             (unsigned long long)r.polygon_connectivity_bytes, (unsigned long long)r.polygon_positions_bytes,
-            nq ? 8.0 * r.polygon_connectivity_bytes / double(nq) : 0.0);
+            bits_per_non_quad(r));
       }
       std::printf(
           ", \"bytes\": {\"total\": %llu, \"header\": %llu, \"connectivity\": %llu, \"geometry\": %llu, "
@@ -270,13 +272,10 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
       if (r.order_bytes) std::printf(" + %llu order", (unsigned long long)r.order_bytes);
       if (r.other_bytes) std::printf(" + %llu other", (unsigned long long)r.other_bytes);
       if (r.polygon) {
-        const std::uint64_t nq = non_quads(r.polygons);
         std::printf(
             "\n  polygons section: %llu connectivity (%.2f bits per non-quad face, in the connectivity "
-            "above) + "
-            "%llu interior positions (in the geometry above)",
-            (unsigned long long)r.polygon_connectivity_bytes,
-            nq ? 8.0 * r.polygon_connectivity_bytes / double(nq) : 0.0,
+            "above) + %llu interior positions (in the geometry above)",
+            (unsigned long long)r.polygon_connectivity_bytes, bits_per_non_quad(r),
             (unsigned long long)r.polygon_positions_bytes);
       }
       const std::string positions = r.quantize_bits > 0
