@@ -243,53 +243,85 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
                 "the file holds a polygon mesh (faces that are not quads, or a non-manifold or mis-oriented "
                 "mesh: section 0x05 at byte offset " +
                     std::to_string(s->offset) + "), which this reader of quad meshes does not take");
+  if (const Section* s = p.file.find(container::kTagTexcoords))
+    throw Error(ErrorCode::kNotQuad,
+                "the file holds texture coordinates (section 0x06 at byte offset " + std::to_string(s->offset) +
+                    "), which this reader of quad meshes does not return: decode_polygons() reads them");
   return decode_quads(p);
 }
 
 PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) {
   Parsed p = parse(bytes, limits);
   const Section* poly = p.file.find(container::kTagPolygons);
-  if (!poly) return polygon_mesh(decode_quads(p));
-  Adjacency adj;
-  const QuadMesh layout = decode_layout(p, &adj);
+  const Section* uv = p.file.find(container::kTagTexcoords);
+  if (!poly && !uv) return polygon_mesh(decode_quads(p));
+  // The output mesh in canonical order, then its texture coordinates, then the input's numbering.
   PolygonMesh out;
-  DecodedPolygons d = decode_polygons_section(poly->payload, poly->payload_offset, layout.quads, adj,
-                                              layout.positions, limits);
-  if (!p.order) {
+  std::uint32_t nv = 0;
+  if (poly) {
+    Adjacency adj;
+    const QuadMesh layout = decode_layout(p, &adj);
+    DecodedPolygons d = decode_polygons_section(poly->payload, poly->payload_offset, layout.quads, adj,
+                                                layout.positions, limits);
+    nv = d.faces.vertex_count;
     out.positions = std::move(d.positions);
     out.face_offsets = std::move(d.faces.face_offsets);
     out.corners = std::move(d.faces.corners);
-    return out;
+  } else {
+    out = polygon_mesh(decode_layout(p));
+    nv = static_cast<std::uint32_t>(p.counts.vertices);
   }
+  if (uv) {
+    DecodedTexcoords t = decode_texcoords_section(uv->payload, uv->payload_offset, out.face_offsets,
+                                                  out.corners, nv, p.order != nullptr, limits);
+    out.texcoord_components = t.components;
+    out.texcoords = std::move(t.values);
+    out.corner_texcoords = std::move(t.corners);
+  }
+  if (!p.order) return out;
   // The input's numbering: vertex j is output vertex vertex[j]; face f is output face face[f], its corner
   // (i + rotation[f]) mod d output corner i.
-  const std::vector<std::uint32_t>& fo = d.faces.face_offsets;
+  const std::vector<std::uint32_t>& fo = out.face_offsets;
   const auto nf = static_cast<std::uint32_t>(fo.size() - 1);
   std::vector<std::uint32_t> degree(nf);
   for (std::uint32_t f = 0; f < nf; ++f) degree[f] = fo[f + 1] - fo[f];
-  const PolygonOrder order =
-      decode_polygon_order(p.order->payload, p.order->payload_offset, d.faces.vertex_count, degree);
-  std::vector<std::uint32_t> output_to_input(d.faces.vertex_count);
-  out.positions.resize(d.positions.size());
-  for (std::uint32_t j = 0; j < d.faces.vertex_count; ++j) {
-    output_to_input[order.vertex[j]] = j;
-    std::copy_n(&d.positions[3 * std::size_t{order.vertex[j]}], 3, &out.positions[3 * std::size_t{j}]);
+  PolygonOrder order;
+  if (poly) {
+    order = decode_polygon_order(p.order->payload, p.order->payload_offset, nv, degree);
+  } else {
+    OrderMap quads = decode_order(p.order->payload, p.order->payload_offset, nv, nf);
+    order.vertex = std::move(quads.vertex);
+    order.face = std::move(quads.face);
+    order.rotation.assign(quads.rotation.begin(), quads.rotation.end());
   }
-  out.face_offsets.assign(1, 0);
-  for (std::uint32_t f = 0; f < nf; ++f)
-    out.face_offsets.push_back(out.face_offsets.back() + degree[order.face[f]]);
-  out.corners.resize(d.faces.corners.size());
+  std::vector<std::uint32_t> output_to_input(nv);
+  PolygonMesh in;
+  in.positions.resize(out.positions.size());
+  for (std::uint32_t j = 0; j < nv; ++j) {
+    output_to_input[order.vertex[j]] = j;
+    std::copy_n(&out.positions[3 * std::size_t{order.vertex[j]}], 3, &in.positions[3 * std::size_t{j}]);
+  }
+  in.face_offsets.assign(1, 0);
+  for (std::uint32_t f = 0; f < nf; ++f) in.face_offsets.push_back(in.face_offsets.back() + degree[order.face[f]]);
+  in.corners.resize(out.corners.size());
+  const bool texcoords = !out.corner_texcoords.empty();
+  if (texcoords) in.corner_texcoords.resize(out.corners.size());
   for (std::uint32_t f = 0; f < nf; ++f) {
     const std::uint32_t g = order.face[f], dg = degree[g];
-    for (std::uint32_t i = 0; i < dg; ++i)
-      out.corners[out.face_offsets[f] + (i + order.rotation[f]) % dg] =
-          output_to_input[d.faces.corners[fo[g] + i]];
+    for (std::uint32_t i = 0; i < dg; ++i) {
+      const std::uint32_t to = in.face_offsets[f] + (i + order.rotation[f]) % dg;
+      in.corners[to] = output_to_input[out.corners[fo[g] + i]];
+      if (texcoords) in.corner_texcoords[to] = out.corner_texcoords[fo[g] + i];
+    }
   }
-  return out;
+  in.texcoord_components = out.texcoord_components;
+  in.texcoords = std::move(out.texcoords);
+  return in;
 }
 
 bool holds_polygons(std::string_view bytes) {
-  return container::parse(bytes).find(container::kTagPolygons) != nullptr;
+  const container::File f = container::parse(bytes);
+  return f.find(container::kTagPolygons) != nullptr || f.find(container::kTagTexcoords) != nullptr;
 }
 
 FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits) {

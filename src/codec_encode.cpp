@@ -135,7 +135,7 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
   if (!polygon_order.empty()) container::put_section(body, container::kTagOrder, polygon_order);
   if (!polygons.empty()) container::put_section(body, container::kTagPolygons, polygons);
   if (order_out) *order_out = std::move(order);
-  return container::seal(kFormatMajor, polygons.empty() ? kFormatMinorQuads : kFormatMinor,
+  return container::seal(kFormatMajor, polygons.empty() ? kFormatMinorQuads : kFormatMinorPolygons,
                          static_cast<std::uint8_t>(options.level), body);
 }
 

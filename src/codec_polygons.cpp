@@ -8,6 +8,7 @@
 
 #include "codec_encode.h"
 #include "codec_sections.h"
+#include "container.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/regions.h"
@@ -43,9 +44,14 @@ std::uint32_t interior_bits(std::uint32_t bits, double layout_extent, double int
   return bits;
 }
 
+// Where each input face went: output face face[f], whose corner c is the input's corner (c + r) mod d.
+struct FaceMap {
+  std::vector<std::uint32_t> face, rotation;
+};
+
 // One partition's 3.1 file of the mesh cut into `s`.
 std::string encode_cut(const PolygonMesh& mesh, const QuadSubmesh& s, PartitionMode mode,
-                       const EncodeOptions& options, const Effort& effort) {
+                       const EncodeOptions& options, const Effort& effort, FaceMap& map) {
   const auto nv = static_cast<std::uint32_t>(mesh.vertex_count());
   const Partition part = qsp::partition(s.adjacency, mode, s.mesh.positions);
   CanonicalRegions r = canonical_regions(mesh.face_offsets, mesh.corners, nv, mesh.positions, s,
@@ -87,14 +93,15 @@ std::string encode_cut(const PolygonMesh& mesh, const QuadSubmesh& s, PartitionM
     for (std::size_t f = 0; f < nf; ++f) degree[f] = rebuilt.face_offsets[f + 1] - rebuilt.face_offsets[f];
     order = encode_polygon_order(r.vertex, r.face, r.rotation, degree);
   }
+  map.face = r.face;
+  map.rotation = r.rotation;
   EncodeOptions quads = options;
   quads.keep_order = false;
   return encode_canonical(s.mesh, r.quads, quads, effort, {}, nullptr, {}, polygons, order);
 }
 
-}  // namespace
-
-std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& options) {
+// The file of the faces and positions, and where each face went.
+std::string encode_faces(const PolygonMesh& mesh, const EncodeOptions& options, FaceMap& map) {
   if (mesh.positions.size() % 3 != 0)
     throw Error(ErrorCode::kUsage, "encode: positions array has a partial element");
   if (mesh.face_offsets.empty() || mesh.face_offsets.front() != 0 ||
@@ -113,7 +120,11 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
   // non-manifold or mis-oriented goes through the quad submesh.
   if (all_quads) {
     try {
-      return encode(QuadMesh{mesh.positions, mesh.corners}, options);
+      OrderMap order;
+      std::string bytes = encode(QuadMesh{mesh.positions, mesh.corners}, options, &order);
+      map.face = std::move(order.face);
+      map.rotation.assign(order.rotation.begin(), order.rotation.end());
+      return bytes;
     } catch (const Error& e) {
       if (e.code() != ErrorCode::kNonManifold && e.code() != ErrorCode::kOrientation) throw;
     }
@@ -125,21 +136,69 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
   const QuadSubmesh s = quad_submesh(mesh.face_offsets, mesh.corners, nv, mesh.positions);
   const Effort effort = level_effort(options.level, s.mesh.vertex_count());
   if (options.partition || !effort.all_partitions)
-    return encode_cut(mesh, s, options.partition.value_or(PartitionMode::kMotorcycle), options, effort);
+    return encode_cut(mesh, s, options.partition.value_or(PartitionMode::kMotorcycle), options, effort, map);
   // The highest levels keep the smallest of the three partitions' files (the first on a tie), as for
   // quad meshes.
   std::string best;
   for (PartitionMode m : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
     std::string bytes;
+    FaceMap this_map;
     try {
-      bytes = encode_cut(mesh, s, m, options, effort);
+      bytes = encode_cut(mesh, s, m, options, effort, this_map);
     } catch (const Error& e) {
       if (e.code() != ErrorCode::kInternal || m == PartitionMode::kMotorcycle) throw;
       continue;
     }
-    if (best.empty() || bytes.size() < best.size()) best = std::move(bytes);
+    if (best.empty() || bytes.size() < best.size()) best = std::move(bytes), map = std::move(this_map);
   }
   return best;
+}
+
+// The texture coordinates section of `mesh` whose faces went where `map` says: the corners in the
+// decoder's output order, named by input vertex (the decoder's vertices are the same up to numbering).
+std::string texcoords_section(const PolygonMesh& mesh, const FaceMap& map, bool keep_order) {
+  const std::size_t nf = mesh.face_count();
+  if (map.face.size() != nf || map.rotation.size() != nf) internal("the face map has another face count");
+  std::vector<std::uint32_t> input_face(nf, kInvalid);
+  for (std::size_t f = 0; f < nf; ++f) {
+    if (map.face[f] >= nf || input_face[map.face[f]] != kInvalid) internal("the face map is not a permutation");
+    input_face[map.face[f]] = static_cast<std::uint32_t>(f);
+  }
+  std::vector<std::uint32_t> offsets(nf + 1, 0), vertices(mesh.corners.size()), texcoords(mesh.corners.size());
+  for (std::size_t g = 0; g < nf; ++g) {
+    const std::uint32_t f = input_face[g], b = mesh.face_offsets[f], d = mesh.degree(f);
+    offsets[g + 1] = offsets[g] + d;
+    for (std::uint32_t c = 0; c < d; ++c) {
+      const std::uint32_t from = b + (c + map.rotation[f]) % d;
+      vertices[offsets[g] + c] = mesh.corners[from];
+      texcoords[offsets[g] + c] = mesh.corner_texcoords[from];
+    }
+  }
+  return encode_texcoords_section(offsets, vertices, static_cast<std::uint32_t>(mesh.vertex_count()),
+                                  mesh.texcoord_components, mesh.texcoords, texcoords, keep_order);
+}
+
+}  // namespace
+
+std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& options) {
+  const bool texcoords = mesh.texcoord_components != 0;
+  if (texcoords ? mesh.texcoord_components > 3 || mesh.texcoords.size() % mesh.texcoord_components != 0 ||
+                      mesh.corner_texcoords.size() != mesh.corners.size()
+                : !mesh.texcoords.empty() || !mesh.corner_texcoords.empty())
+    throw Error(ErrorCode::kUsage, "encode: texture coordinate arrays disagree with their component count");
+  if (texcoords) {
+    const std::size_t count = mesh.texcoords.size() / mesh.texcoord_components;
+    for (std::size_t c = 0; c < mesh.corner_texcoords.size(); ++c)
+      if (mesh.corner_texcoords[c] != kInvalid && mesh.corner_texcoords[c] >= count)
+        throw Error(ErrorCode::kUsage, "encode: corner " + std::to_string(c) + " names texture coordinate " +
+                                           std::to_string(mesh.corner_texcoords[c]) + " of " +
+                                           std::to_string(count));
+  }
+  FaceMap map;
+  std::string bytes = encode_faces(mesh, options, map);
+  if (!texcoords) return bytes;
+  return container::with_section(bytes, container::kTagTexcoords,
+                                 texcoords_section(mesh, map, options.keep_order), kFormatMinorTexcoords);
 }
 
 }  // namespace qsp

@@ -74,4 +74,30 @@ DecodedPolygons decode_polygons_section(std::string_view payload, std::uint64_t 
                                         const Adjacency& layout_adjacency,
                                         std::span<const float> layout_positions, const DecodeLimits& limits);
 
+// The texture coordinates section (format 3.2) of the output mesh whose faces are `face_offsets` (one
+// more than faces) and whose corners' vertices are `corner_vertices` (below `vertex_count`), in the order
+// the decoder outputs them before any order section applies. `values` holds `components` (1-3) floats
+// per texture coordinate in the input's numbering, `corner_texcoords` per output corner its input index
+// or kInvalid. `keep_order` stores the input numbering too. Throws Error(kBadNumber) for a value that is
+// not finite, Error(kInternal) for inconsistent sizes.
+std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets,
+                                     std::span<const std::uint32_t> corner_vertices, std::uint32_t vertex_count,
+                                     std::uint8_t components, std::span<const float> values,
+                                     std::span<const std::uint32_t> corner_texcoords, bool keep_order);
+
+struct DecodedTexcoords {
+  std::uint8_t components = 0;
+  std::vector<float> values;           // components per texture coordinate (input numbering if kept)
+  std::vector<std::uint32_t> corners;  // per output corner: its texture coordinate or kInvalid
+};
+// Inverse of encode_texcoords_section; `order_section` says whether the file has one (the section's
+// order bit must agree). Throws Error(kFormat) naming what and the byte offset, kLimit past
+// `limits.max_texcoords`. Safe on untrusted input: the declared counts are checked against the corners
+// and the limits before anything is allocated by them; time and memory linear in them.
+DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_t base_offset,
+                                          std::span<const std::uint32_t> face_offsets,
+                                          std::span<const std::uint32_t> corner_vertices,
+                                          std::uint32_t vertex_count, bool order_section,
+                                          const DecodeLimits& limits);
+
 }  // namespace qsp

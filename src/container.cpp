@@ -123,8 +123,13 @@ File parse(std::string_view file) {
       format_error(
           "section 0x05 (polygons) is format 3.1's, and the file says it is " + version(f.major, f.minor),
           sec.offset);
+    if (sec.tag == kTagTexcoords && f.minor < 2)
+      format_error("section 0x06 (texture coordinates) is format 3.2's, and the file says it is " +
+                       version(f.major, f.minor),
+                   sec.offset);
     const bool known = sec.tag == kTagCounts || sec.tag == kTagTopology || sec.tag == kTagGeometry ||
-                       sec.tag == kTagOrder || sec.tag == kTagPolygons || (sec.tag & kOptionalBit);
+                       sec.tag == kTagOrder || sec.tag == kTagPolygons || sec.tag == kTagTexcoords ||
+                       (sec.tag & kOptionalBit);
     if (!known) {
       const std::string what = "section " + tag_name(sec.tag) +
                                " is required but unknown to this qsp, which reads format " +
@@ -173,6 +178,18 @@ std::string seal(std::uint8_t major, std::uint8_t minor, std::uint8_t encoder, s
   out.append(sections);
   put_le(out, checksum(out), static_cast<int>(kChecksumBytes));
   return out;
+}
+
+std::string with_section(std::string_view file, std::uint8_t tag, std::string_view payload, std::uint8_t minor) {
+  const File f = parse(file);
+  std::string body;
+  bool put = false;
+  for (const Section& s : f.sections) {
+    if (!put && s.tag >= tag) put_section(body, tag, payload), put = true;
+    if (s.tag != tag) put_section(body, s.tag, s.payload);
+  }
+  if (!put) put_section(body, tag, payload);
+  return seal(f.major, std::max(f.minor, minor), f.level, body);
 }
 
 }  // namespace qsp::container

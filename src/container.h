@@ -21,6 +21,8 @@ inline constexpr std::size_t kChecksumBytes = 8;
 inline constexpr std::uint8_t kTagCounts = 0x01, kTagTopology = 0x02, kTagGeometry = 0x03, kTagOrder = 0x04;
 // Format 3.1: required where the mesh is not a manifold, consistently oriented all-quad one.
 inline constexpr std::uint8_t kTagPolygons = 0x05;
+// Format 3.2: required where the mesh has texture coordinates.
+inline constexpr std::uint8_t kTagTexcoords = 0x06;
 inline constexpr std::uint8_t kOptionalBit = 0x80;
 inline constexpr std::uint8_t kTagComments = 0x81;  // optional, from 3.1
 
@@ -59,5 +61,9 @@ void put_section(std::string& out, std::uint8_t tag, std::string_view payload);
 // size field (which counts itself) and the checksum. Writes whatever it is given (tests craft invalid
 // files with it).
 std::string seal(std::uint8_t major, std::uint8_t minor, std::uint8_t encoder, std::string_view sections);
+
+// `file` (a whole .qsp) with the section `tag` holding `payload`, in its place among the others
+// (replacing one with that tag), and a minor version of at least `minor`. Throws what parse() throws.
+std::string with_section(std::string_view file, std::uint8_t tag, std::string_view payload, std::uint8_t minor);
 
 }  // namespace qsp::container

@@ -50,11 +50,12 @@ void dump(const std::string& path, std::string_view bytes) {
   std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
-// The goldens' names: testdata/golden/NAME.obj, and polygons/NAME.obj for polygon meshes (kept out of
-// testdata/golden itself, whose meshes the test corpus reads as valid quad meshes).
+// The goldens' names: testdata/golden/NAME.obj, polygons/NAME.obj for polygon meshes and
+// texcoords/NAME.obj for meshes with texture coordinates (kept out of testdata/golden itself, whose
+// meshes the test corpus reads as valid quad meshes without other data).
 std::vector<std::string> golden_names() {
   std::vector<std::string> out;
-  for (const char* dir : {"", "polygons/"}) {
+  for (const char* dir : {"", "polygons/", "texcoords/"}) {
     for (const auto& e : fs::directory_iterator(kGolden + "/" + dir)) {
       if (e.path().extension() == ".obj") out.push_back(std::string(dir) + e.path().stem().string());
     }
@@ -158,13 +159,18 @@ std::vector<std::string> golden_paths() {
   return paths;
 }
 
-// A golden's .obj as any polygon mesh (float32 positions, faces as read).
+// A golden's .obj as any polygon mesh (float32 positions, faces as read, texture coordinates).
 PolygonMesh read_polygons(const std::string& path) {
   Mesh m = read_obj_mesh(slurp(path), path);
   PolygonMesh out;
   out.positions = std::move(m.positions.f32);
   out.face_offsets = std::move(m.face_offsets);
   out.corners = std::move(m.corner_vertices);
+  if (!m.texcoords.empty()) {
+    out.texcoord_components = m.texcoord_components;
+    out.texcoords = std::move(m.texcoords.f32);
+    out.corner_texcoords = std::move(m.corner_texcoords);
+  }
   return out;
 }
 
@@ -180,8 +186,9 @@ bool is_quad_mesh(const PolygonMesh& m) {
 std::string encode_golden(const std::string& name) {
   const std::string path = kGolden + "/" + name + ".obj";
   const PolygonMesh poly = read_polygons(path);
-  std::string bytes = is_quad_mesh(poly) ? encode(read_mesh_file(path), options_for(name))
-                                         : encode_polygons(poly, options_for(name));
+  std::string bytes = is_quad_mesh(poly) && !poly.texcoord_components
+                          ? encode(read_mesh_file(path), options_for(name))
+                          : encode_polygons(poly, options_for(name));
   if (name.find("_comments") != std::string::npos)
     bytes = with_comments(bytes, leading_comments(slurp(path)));
   return bytes;
@@ -208,13 +215,20 @@ void expect_same_polygons(const PolygonMesh& mesh, const PolygonMesh& decoded) {
     ASSERT_NE(it, at.end()) << "vertex " << v << " has no decoded vertex at its position";
     to[v] = it->second;
   }
+  // Each corner: its vertex, then its texture coordinate's float bits (none: kInvalid).
+  ASSERT_EQ(decoded.texcoord_components, mesh.texcoord_components);
   const auto faces = [](const PolygonMesh& m, const std::vector<std::uint32_t>* map) {
-    std::vector<std::vector<std::uint32_t>> out;
+    using Corner = std::array<std::uint32_t, 4>;
+    std::vector<std::vector<Corner>> out;
     for (std::size_t f = 0; f < m.face_count(); ++f) {
-      std::vector<std::uint32_t> c(m.corners.begin() + m.face_offsets[f],
-                                   m.corners.begin() + m.face_offsets[f + 1]);
-      if (map)
-        for (auto& v : c) v = (*map)[v];
+      std::vector<Corner> c;
+      for (std::uint32_t k = m.face_offsets[f]; k < m.face_offsets[f + 1]; ++k) {
+        Corner x{map ? (*map)[m.corners[k]] : m.corners[k], qsp::kInvalid, qsp::kInvalid, qsp::kInvalid};
+        const std::uint32_t t = m.corner_texcoords.empty() ? qsp::kInvalid : m.corner_texcoords[k];
+        for (std::uint32_t i = 0; t != qsp::kInvalid && i < m.texcoord_components; ++i)
+          std::memcpy(&x[1 + i], &m.texcoords[std::size_t{t} * m.texcoord_components + i], 4);
+        c.push_back(x);
+      }
       std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
       out.push_back(c);
     }
@@ -227,7 +241,7 @@ void expect_same_polygons(const PolygonMesh& mesh, const PolygonMesh& decoded) {
 TEST(Golden, BytesArePinned) {
   auto names = golden_names();
   ASSERT_GE(names.size(), 5u);
-  int polygons = 0, comments = 0;
+  int polygons = 0, comments = 0, texcoords = 0;
   for (const auto& name : names) {
     SCOPED_TRACE(name);
     const std::string obj = kGolden + "/" + name + ".obj";
@@ -241,6 +255,21 @@ TEST(Golden, BytesArePinned) {
                                                                  : std::vector<std::string>{});
     comments += !lines.empty();
     const PolygonMesh poly = read_polygons(obj);
+    if (poly.texcoord_components) {
+      // Texture coordinates: a 3.2 file, decoded to the .obj's corners and their texture coordinates.
+      ++texcoords;
+      EXPECT_EQ(slurp(path)[9], 2) << "a file with texture coordinates says format 3.2";
+      const PolygonMesh back = decode_polygons(slurp(path));
+      if (options_for(name).keep_order) {
+        EXPECT_EQ(back.face_offsets, poly.face_offsets);
+        EXPECT_EQ(back.corners, poly.corners);
+        EXPECT_EQ(back.corner_texcoords, poly.corner_texcoords);
+        EXPECT_EQ(std::memcmp(back.texcoords.data(), poly.texcoords.data(), 4 * poly.texcoords.size()), 0);
+      } else {
+        expect_same_polygons(poly, back);
+      }
+      continue;
+    }
     if (!is_quad_mesh(poly)) {
       // A polygon mesh: a 3.1 file with a polygons section, decoded to the .obj's faces and vertices.
       ++polygons;
@@ -264,6 +293,7 @@ TEST(Golden, BytesArePinned) {
   // Format 3.1's two sections each have a golden.
   EXPECT_GE(polygons, 1);
   EXPECT_GE(comments, 1);
+  EXPECT_GE(texcoords, 2);
 }
 
 // One golden per combination of the geometry tools, each decoding to the mesh its natural golden gives
@@ -443,15 +473,15 @@ std::map<std::string, Crafted> crafted() {
     // A required section of a newer minor version: "upgrade qsp". The same tag in a file of this
     // version cannot come from a correct encoder.
     const std::string sections =
-        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(6, "x");
+        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(7, "x");
     Parts newer_minor = p;
     newer_minor.minor = kFormatMinor + 1;
     out["qsp_unknown_required_section_newer_minor"] = {
         seal(newer_minor, sections), "version",
-        "section 0x06 is required but unknown to this qsp, which reads "
-        "format 3.1 (upgrade qsp)"};
+        "section 0x07 is required but unknown to this qsp, which reads "
+        "format 3.2 (upgrade qsp)"};
     out["qsp_unknown_required_section"] = {seal(p, sections), "format",
-                                           "section 0x06 is required but unknown to this qsp"};
+                                           "section 0x07 is required but unknown to this qsp"};
     // Format 3.1's polygons section in a file that says it is 3.0.
     out["qsp_polygons_section_in_3_0"] = {
         seal(p, section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(5, "x")),

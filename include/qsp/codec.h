@@ -17,14 +17,17 @@
 
 namespace qsp {
 
-// The format version this library writes: 3.1 for a polygon mesh (its polygons section) or a file with a
-// comments section, 3.0, the first release format, for a manifold, consistently oriented all-quad mesh
-// otherwise (the same bytes as before 3.1).
+// The format version this library writes: the lowest whose sections the file holds. 3.2 for a mesh with
+// texture coordinates, 3.1 for a polygon mesh (its polygons section) or a file with a comments section,
+// 3.0, the first release format, for a manifold, consistently oriented all-quad mesh otherwise (the same
+// bytes as before 3.1).
 // It reads every 3.x file (the required sections a newer minor may add excepted, which it refuses with
 // "upgrade qsp"); 1.x and 2.x were development versions and are not read (format-spec/qsp_format.md,
 // "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 1;
+inline constexpr std::uint8_t kFormatMinor = 2;
+inline constexpr std::uint8_t kFormatMinorTexcoords = 2;
+inline constexpr std::uint8_t kFormatMinorPolygons = 1;
 inline constexpr std::uint8_t kFormatMinorQuads = 0;
 
 // Compression levels, as gzip's and zstd's: 1 is the fastest, 9 the smallest. Every level is canonical
@@ -72,6 +75,7 @@ struct EncodeOptions {
 struct DecodeLimits {
   std::uint64_t max_vertices = std::uint64_t{1} << 26;
   std::uint64_t max_faces = std::uint64_t{1} << 26;
+  std::uint64_t max_texcoords = std::uint64_t{1} << 26;  // texture coordinates (format 3.2)
 };
 
 // The keep-order permutations, as the encoder stores them: for each original vertex its canonical

@@ -41,6 +41,10 @@ struct PolygonMesh {
   std::vector<float> positions;                // 3 per vertex
   std::vector<std::uint32_t> face_offsets{0};  // per face and one more: its first corner
   std::vector<std::uint32_t> corners;          // per corner: its vertex
+  // Texture coordinates (OBJ `vt`) in their own index space, so seams are kept; all empty when none.
+  std::uint8_t texcoord_components = 0;         // 0 (none), or 1 to 3 per texture coordinate
+  std::vector<float> texcoords;                 // texcoord_components per texture coordinate
+  std::vector<std::uint32_t> corner_texcoords;  // per corner: its texture coordinate or kInvalid
   std::size_t vertex_count() const { return positions.size() / 3; }
   std::size_t face_count() const { return face_offsets.empty() ? 0 : face_offsets.size() - 1; }
   std::uint32_t degree(std::size_t f) const { return face_offsets[f + 1] - face_offsets[f]; }

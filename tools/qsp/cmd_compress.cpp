@@ -77,12 +77,22 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
     throw Error(ErrorCode::kIo,
                 "-: refusing to write compressed data to a terminal (redirect it, or give OUT)");
 
-  PolygonInput input = read_polygon_input(in, format, QspInput::kRefused);
+  const bool keep_uv = !(o.drop.categories() & kCategoryUv);
+  PolygonInput input = read_polygon_input(in, format, QspInput::kRefused, keep_uv);
   const ReadReport report = std::move(input.report);
+  const std::uint64_t rounded_uv = input.rounded_texcoords;
   const PolygonMesh mesh = polygons_of(std::move(input));
   const bool quiet = o.verbosity.quiet;
-  const std::string dropped = refuse_extra_data(in, report, ".qsp", o.drop, quiet);
+  const std::string dropped = refuse_extra_data(in, report, ".qsp", o.drop, quiet, kCategoryUv);
   if (!o.quantize) refuse_rounding(in, report, "a lossless .qsp", o.float32, quiet, "--quantize BITS");
+  if (rounded_uv && !o.float32)
+    throw Error(ErrorCode::kUnsupported,
+                in + ": " + std::to_string(rounded_uv) +
+                    " texture coordinate values have more digits than float32 holds; a .qsp keeps float32 "
+                    "texture coordinates: pass --float32 to round them, or --drop uv");
+  if (rounded_uv && !quiet)
+    std::fprintf(stderr, "qsp: %s: rounded %llu texture coordinate values to float32 (--float32)\n", in.c_str(),
+                 static_cast<unsigned long long>(rounded_uv));
   if (mesh.face_count() == 0 && !quiet)
     std::fprintf(stderr, "qsp: warning: %s: has no faces (%zu vertices); writing an empty mesh\n", in.c_str(),
                  mesh.vertex_count());

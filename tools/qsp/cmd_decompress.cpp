@@ -39,7 +39,7 @@ std::string mesh_text(PolygonMesh m, MeshFormat format, const std::vector<std::s
   bool quads = true;
   for (std::size_t f = 0; f < m.face_count(); ++f)
     quads = quads && m.face_offsets[f + 1] - m.face_offsets[f] == 4;
-  if (quads) {
+  if (quads && m.texcoord_components == 0) {
     const QuadMesh q{std::move(m.positions), std::move(m.corners)};
     return format == MeshFormat::kOff ? write_off(q, comments) : write_obj(q, comments);
   }
@@ -47,6 +47,11 @@ std::string mesh_text(PolygonMesh m, MeshFormat format, const std::vector<std::s
   out.positions = numbers_from_float32(std::move(m.positions));
   out.face_offsets = std::move(m.face_offsets);
   out.corner_vertices = std::move(m.corners);
+  if (m.texcoord_components) {
+    out.texcoord_components = m.texcoord_components;
+    out.texcoords = numbers_from_float32(std::move(m.texcoords));
+    out.corner_texcoords = std::move(m.corner_texcoords);
+  }
   out.comments = comments;
   return format == MeshFormat::kOff ? write_off_mesh(out) : write_obj_mesh(out);
 }

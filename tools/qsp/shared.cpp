@@ -332,7 +332,8 @@ ReadReport report_of(const Mesh& m, ReadNotes&& notes, const std::string& path) 
 }
 
 // A mesh file the quad reader refused for a face that is not a quad, parsed again by the exact reader.
-void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& path, MeshFormat format) {
+void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& path, MeshFormat format,
+                   bool keep_texcoords) {
   ReadNotes notes;
   Mesh m = format == MeshFormat::kOff   ? read_off_mesh(bytes, path, &notes)
            : format == MeshFormat::kPly ? read_ply_mesh(bytes, path, &notes)
@@ -344,6 +345,13 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
   in.polygons.positions = std::move(m.positions.f32);
   if (!m.face_offsets.empty()) in.polygons.face_offsets = std::move(m.face_offsets);
   in.polygons.corners = std::move(m.corner_vertices);
+  if (keep_texcoords && !m.texcoords.empty()) {
+    for (std::size_t i = 0; i < m.texcoords.size(); ++i)
+      in.rounded_texcoords += m.texcoords.precision != Precision::kFloat32 && m.texcoords.approx(i) != m.texcoords.f32[i];
+    in.polygons.texcoord_components = m.texcoord_components;
+    in.polygons.texcoords = std::move(m.texcoords.f32);
+    in.polygons.corner_texcoords = std::move(m.corner_texcoords);
+  }
 }
 
 // A .qsp: a polygon mesh (its polygons section, 3.1) is decoded, so that every subcommand taking polygon
@@ -355,6 +363,8 @@ void read_qsp(PolygonInput& in, std::string&& bytes, const std::string& path, Qs
   try {
     if (holds_polygons(bytes)) {
       in.polygons = decode_polygons(bytes);
+      if (in.polygons.texcoord_components)
+        in.report.texcoords = in.polygons.texcoords.size() / in.polygons.texcoord_components;
     } else if (qsp == QspInput::kDecoded) {
       in.mesh = decode(bytes);
       in.quads = true;
@@ -373,7 +383,7 @@ void read_qsp(PolygonInput& in, std::string&& bytes, const std::string& path, Qs
 
 }  // namespace
 
-PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspInput qsp) {
+PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspInput qsp, bool keep_texcoords) {
   refuse_folder(path);
   format = format_for(path, format);
   if (format == MeshFormat::kUnknown && path != "-") format = format_from_path(path);
@@ -392,7 +402,14 @@ PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspI
     in.quads = true;
   } catch (const Error& e) {
     if (e.code() != ErrorCode::kNotQuad) throw;
-    read_polygons(in, bytes, path, format);
+    read_polygons(in, bytes, path, format, keep_texcoords);
+    return in;
+  }
+  // Texture coordinates come from the exact reader, which the quad reader's report says it needs.
+  if (keep_texcoords && (in.report.categories() & kCategoryUv)) {
+    in.mesh = {};
+    in.quads = false;
+    read_polygons(in, bytes, path, format, true);
   }
   return in;
 }
@@ -442,8 +459,8 @@ void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose
 }
 
 std::string refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
-                              const DropOptions& drop, bool quiet) {
-  const unsigned has = report.categories(), dropped = drop.categories() & has;
+                              const DropOptions& drop, bool quiet, unsigned kept) {
+  const unsigned has = report.categories() & ~(kept & ~drop.categories()), dropped = drop.categories() & has;
   if ((dropped | kKeptCategories) != (has | kKeptCategories))
     throw Error(ErrorCode::kUnsupported,
                 path + ": has " + report.describe_extra_data(path, has & ~dropped & ~kKeptCategories) +

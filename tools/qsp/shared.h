@@ -150,7 +150,8 @@ struct PolygonInput {
   bool from_qsp = false;  // the mesh below was decoded from a .qsp
   bool quads = false;
   QuadMesh mesh;         // quads
-  PolygonMesh polygons;  // neither: float32 positions, faces and corners as read
+  PolygonMesh polygons;  // neither: float32 positions, faces and corners as read (texture coordinates if kept)
+  std::uint64_t rounded_texcoords = 0;  // kept texture coordinate values float32 does not hold
   // The reader's report. A polygon mesh file's says what the quad reader's would (its data besides
   // positions and faces by kind, face lines, leading comments, coordinates float32 does not hold); a
   // decoded .qsp's has the lines of its comments section.
@@ -166,10 +167,12 @@ enum class QspInput { kBytes, kDecoded, kRefused };
 // is not a quad (kNotQuad), the same bytes again with the exact reader (read_obj_mesh, read_off_mesh,
 // read_ply_mesh; their errors), a coordinate rounding to infinity, or a nonzero one to zero, in float32
 // refused (kBadNumber) as the quad reader refuses it. A .qsp holding a polygon mesh (3.1) is decoded into
-// `polygons`; a quad .qsp as `qsp` says. `format` (--format) as for read_input. Throws qsp::Error as the
-// readers and the decoder do, naming `path`. Safe on untrusted input.
+// `polygons`, its texture coordinates counted in the report; a quad .qsp as `qsp` says. `format`
+// (--format) as for read_input. `keep_texcoords`: a mesh file's texture coordinates are read (by the
+// exact reader) into `polygons`. Throws qsp::Error as the readers and the decoder do, naming `path`.
+// Safe on untrusted input.
 PolygonInput read_polygon_input(const std::string& path, MeshFormat format = MeshFormat::kUnknown,
-                                QspInput qsp = QspInput::kBytes);
+                                QspInput qsp = QspInput::kBytes, bool keep_texcoords = false);
 
 // The mesh of a read mesh file or decoded .qsp as a polygon mesh (its quads, or its polygons).
 PolygonMesh polygons_of(PolygonInput in);
@@ -202,8 +205,9 @@ void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose
 // print once its output is written. The leading comment block is kept by both (kKeptCategories):
 // never refused, dropped only when `drop` names it.
 inline constexpr unsigned kKeptCategories = kCategoryComment;
+// `kept`: the categories `what` keeps (compress: uv), refused only when `drop` names them.
 std::string refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
-                              const DropOptions& drop, bool quiet);
+                              const DropOptions& drop, bool quiet, unsigned kept = 0);
 
 // The leading comment lines to write with the mesh: the report's, unless `drop` drops comments.
 std::vector<std::string> kept_comments(const ReadReport& report, const DropOptions& drop);

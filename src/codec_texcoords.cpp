@@ -1,0 +1,347 @@
+// The texture coordinates section (format 3.2; format-spec/qsp_format.md, "Texture coordinates
+// section"): which value each corner names, as the corners first name them (new, one its vertex has
+// named, none, or an earlier one), then the values predicted across their creating corner's face,
+// exactly (decimal grids or float bits), then with --keep-order the input numbering.
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "bytes.h"
+#include "codec_sections.h"
+#include "entropy.h"
+#include "geometry_values.h"
+#include "permutation_coder.h"
+#include "qsp/error.h"
+
+namespace qsp {
+namespace {
+
+constexpr const char* kSection = "texture coordinates section";
+constexpr std::uint8_t kComponentsMask = 0x03, kOrderBit = 0x04, kReservedBits = 0xF8;
+constexpr std::uint8_t kModeFloat = 0;  // else 1 + decimals
+constexpr std::uint32_t kEscape = 0xFFFFFFFEu;
+constexpr unsigned kWideHalf = 21;  // w < 2^42 follows an escape as two 21-bit halves
+
+[[noreturn]] void internal(const std::string& what) { throw Error(ErrorCode::kInternal, "encode: " + what); }
+[[noreturn]] void format_error(const std::string& what, std::uint64_t offset) {
+  throw Error(ErrorCode::kFormat, std::string(kSection) + ": " + what + " (near byte offset " +
+                                      std::to_string(offset) + ")");
+}
+
+// Per vertex, the values its corners have named, in one slot per corner (S(v) in the spec).
+struct Named {
+  std::vector<std::uint32_t> start, size, slots;
+  Named(std::span<const std::uint32_t> corner_vertices, std::uint32_t vertex_count)
+      : start(std::size_t{vertex_count} + 1, 0), size(vertex_count, 0), slots(corner_vertices.size()) {
+    for (std::uint32_t v : corner_vertices) ++start[v + 1];
+    std::partial_sum(start.begin(), start.end(), start.begin());
+  }
+  std::span<const std::uint32_t> of(std::uint32_t v) const { return {&slots[start[v]], size[v]}; }
+  void add(std::uint32_t v, std::uint32_t value) { slots[start[v] + size[v]++] = value; }
+};
+
+// The decisions and models of the corner symbols.
+struct SymbolModels {
+  std::array<BitModel, 3> is_new{}, is_seen{};
+  BitModel is_none{};
+  IntModel pick, far;
+};
+
+struct Prediction {
+  int context = 2;
+  std::uint32_t a = kInvalid, b = kInvalid, o = kInvalid;  // values; b, o only for the parallelogram
+};
+
+// The prediction of value `i` from its creating corner (kInvalid: none, i >= T - U).
+Prediction predict(std::uint32_t i, std::uint32_t creating, std::span<const std::uint32_t> face_of_corner,
+                   std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> names) {
+  Prediction p;
+  if (creating != kInvalid) {
+    const std::uint32_t f = face_of_corner[creating], first = face_offsets[f], d = face_offsets[f + 1] - first;
+    const std::uint32_t pos = creating - first;
+    auto named = [&](std::uint32_t k) {
+      const std::uint32_t t = names[first + (pos + k) % d];
+      return t != kInvalid && t < i ? t : kInvalid;
+    };
+    const std::uint32_t a = named(d - 1), b = named(1), o = d >= 4 ? named(2) : kInvalid;
+    if (a != kInvalid && b != kInvalid && o != kInvalid) return {0, a, b, o};
+    if (a != kInvalid) return {1, a, kInvalid, kInvalid};
+    if (b != kInvalid) return {1, b, kInvalid, kInvalid};
+  }
+  return {2, i > 0 ? i - 1 : kInvalid, kInvalid, kInvalid};
+}
+
+// One component's domain: decimal integers (k decimals) or float images.
+struct Domain {
+  std::uint8_t mode = kModeFloat;
+  std::int64_t predicted(const Prediction& p, std::span<const float> values, unsigned K, unsigned c) const {
+    auto value = [&](std::uint32_t t) { return values[std::size_t{t} * K + c]; };
+    if (p.a == kInvalid) return mode == kModeFloat ? float_image(0.0f) : 0;
+    if (mode != kModeFloat) {
+      auto q = [&](std::uint32_t t) {
+        std::int64_t n = 0;
+        decimal_of(value(t), mode - 1, n);  // exact: every value is on the grid
+        return n;
+      };
+      if (p.b == kInvalid) return q(p.a);
+      return clamp_decimal(q(p.a) + q(p.b) - q(p.o));
+    }
+    if (p.b == kInvalid) return float_image(value(p.a));
+    const float a = value(p.a);
+    const auto x = static_cast<float>((static_cast<double>(a) + static_cast<double>(value(p.b))) -
+                                      static_cast<double>(value(p.o)));
+    return float_image(std::isfinite(x) ? x : a);
+  }
+  std::int64_t integer(float x) const {
+    if (mode == kModeFloat) return float_image(x);
+    std::int64_t n = 0;
+    decimal_of(x, mode - 1, n);
+    return n;
+  }
+};
+
+// The fewest decimals every value of component c is exactly on, or float bits.
+std::uint8_t choose_mode(std::span<const float> values, unsigned K, unsigned c) {
+  for (int k = 0; k <= kMaxDecimals; ++k) {
+    bool all = true;
+    std::int64_t n = 0;
+    for (std::size_t i = c; i < values.size() && all; i += K) all = decimal_of(values[i], k, n);
+    if (all) return static_cast<std::uint8_t>(1 + k);
+  }
+  return kModeFloat;
+}
+
+void encode_residual(RangeEncoder& enc, IntModel& model, std::int64_t r) {
+  const std::uint64_t z = zigzag64(r);
+  model.encode(enc, static_cast<std::uint32_t>(std::min<std::uint64_t>(z, kEscape)));
+  if (z < kEscape) return;
+  const std::uint64_t w = z - kEscape;
+  enc.encode_raw(static_cast<std::uint32_t>(w >> kWideHalf), kWideHalf);
+  enc.encode_raw(static_cast<std::uint32_t>(w & ((1u << kWideHalf) - 1)), kWideHalf);
+}
+
+std::int64_t decode_residual(RangeDecoder& dec, IntModel& model) {
+  std::uint64_t z = model.decode(dec);
+  if (z == kEscape) {
+    const std::uint64_t hi = dec.decode_raw(kWideHalf), lo = dec.decode_raw(kWideHalf);
+    z += (hi << kWideHalf) | lo;
+  }
+  return unzigzag64(z);
+}
+
+std::vector<std::uint32_t> faces_of_corners(std::span<const std::uint32_t> face_offsets) {
+  std::vector<std::uint32_t> face(face_offsets.empty() ? 0 : face_offsets.back());
+  for (std::size_t f = 0; f + 1 < face_offsets.size(); ++f)
+    std::fill(face.begin() + face_offsets[f], face.begin() + face_offsets[f + 1], static_cast<std::uint32_t>(f));
+  return face;
+}
+
+}  // namespace
+
+std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets,
+                                     std::span<const std::uint32_t> corner_vertices, std::uint32_t vertex_count,
+                                     std::uint8_t components, std::span<const float> values,
+                                     std::span<const std::uint32_t> corner_texcoords, bool keep_order) {
+  const unsigned K = components;
+  if (K < 1 || K > 3 || values.size() % K != 0 || corner_texcoords.size() != corner_vertices.size() ||
+      face_offsets.empty() || face_offsets.back() != corner_vertices.size())
+    internal("texture coordinate arrays disagree with the mesh");
+  const auto T = static_cast<std::uint32_t>(values.size() / K);
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (!std::isfinite(values[i]))
+      throw Error(ErrorCode::kBadNumber, "texture coordinate " + std::to_string(i / K) + " is not finite");
+
+  std::string stream;
+  RangeEncoder enc(stream);
+  // Corner symbols; `output` maps input indices to the order the corners first name them.
+  std::vector<std::uint32_t> output(T, kInvalid), input;  // input: per output index, its input index
+  std::vector<std::uint32_t> names(corner_vertices.size(), kInvalid), creating;
+  Named named(corner_vertices, vertex_count);
+  SymbolModels m;
+  for (std::size_t c = 0; c < corner_vertices.size(); ++c) {
+    const std::uint32_t v = corner_vertices[c], t = corner_texcoords[c];
+    if (t != kInvalid && t >= T) internal("a corner names texture coordinate " + std::to_string(t));
+    const auto seen = named.of(v);
+    const unsigned s = std::min<std::size_t>(seen.size(), 2);
+    const bool is_new = t != kInvalid && output[t] == kInvalid;
+    enc.encode_bit(m.is_new[s], is_new);
+    if (is_new) {
+      output[t] = static_cast<std::uint32_t>(input.size());
+      input.push_back(t);
+      creating.push_back(static_cast<std::uint32_t>(c));
+      named.add(v, output[t]);
+      names[c] = output[t];
+      continue;
+    }
+    const auto at = t == kInvalid ? seen.end() : std::find(seen.begin(), seen.end(), output[t]);
+    if (!seen.empty()) enc.encode_bit(m.is_seen[s], at != seen.end());
+    if (at != seen.end()) {
+      if (seen.size() >= 2) m.pick.encode(enc, static_cast<std::uint32_t>(at - seen.begin()));
+      names[c] = *at;
+      continue;
+    }
+    enc.encode_bit(m.is_none, t == kInvalid);
+    if (t == kInvalid) continue;
+    m.far.encode(enc, static_cast<std::uint32_t>(input.size() - 1 - output[t]));
+    named.add(v, output[t]);
+    names[c] = output[t];
+  }
+  // The values no corner names, in the order of their float bits.
+  const auto referenced = static_cast<std::uint32_t>(input.size());
+  for (std::uint32_t t = 0; t < T; ++t)
+    if (output[t] == kInvalid) input.push_back(t);
+  std::sort(input.begin() + referenced, input.end(), [&](std::uint32_t x, std::uint32_t y) {
+    for (unsigned c = 0; c < K; ++c) {
+      const auto bx = std::bit_cast<std::uint32_t>(values[std::size_t{x} * K + c]);
+      const auto by = std::bit_cast<std::uint32_t>(values[std::size_t{y} * K + c]);
+      if (bx != by) return bx < by;
+    }
+    return false;
+  });
+  std::vector<float> ordered(values.size());
+  for (std::uint32_t i = 0; i < T; ++i) {
+    output[input[i]] = i;
+    std::copy_n(&values[std::size_t{input[i]} * K], K, &ordered[std::size_t{i} * K]);
+  }
+
+  std::array<Domain, 3> domain{};
+  for (unsigned c = 0; c < K; ++c) domain[c].mode = choose_mode(ordered, K, c);
+  std::vector<IntModel> residual(3 * K);
+  const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
+  for (std::uint32_t i = 0; i < T; ++i) {
+    const Prediction p =
+        predict(i, i < referenced ? creating[i] : kInvalid, face_of_corner, face_offsets, names);
+    for (unsigned c = 0; c < K; ++c) {
+      const std::int64_t r =
+          domain[c].integer(ordered[std::size_t{i} * K + c]) - domain[c].predicted(p, ordered, K, c);
+      encode_residual(enc, residual[K * p.context + c], r);
+    }
+  }
+  if (keep_order) {
+    PermutationCoder perm;
+    for (std::uint32_t i = 0; i < T; ++i) perm.encode(enc, input[i], T);
+  }
+  enc.finish();
+
+  std::string out;
+  put_u8(out, static_cast<std::uint8_t>(K | (keep_order ? kOrderBit : 0)));
+  put_varint(out, T);
+  put_varint(out, T - referenced);
+  for (unsigned c = 0; c < K; ++c) put_u8(out, domain[c].mode);
+  return out + stream;
+}
+
+DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_t base_offset,
+                                          std::span<const std::uint32_t> face_offsets,
+                                          std::span<const std::uint32_t> corner_vertices,
+                                          std::uint32_t vertex_count, bool order_section,
+                                          const DecodeLimits& limits) {
+  ByteReader in(payload, base_offset, kSection);
+  std::uint64_t at = in.offset();
+  const std::uint8_t flags = in.u8("flags");
+  const unsigned K = flags & kComponentsMask;
+  if (K == 0) in.fail_at("0 components per texture coordinate (1 to 3)", at);
+  if (flags & kReservedBits) in.fail_at("reserved flag bits are set (must be zero)", at);
+  if (((flags & kOrderBit) != 0) != order_section)
+    in.fail_at(order_section ? "the order bit is clear beside an order section"
+                             : "the order bit is set but the file has no order section",
+               at);
+  at = in.offset();
+  const std::uint64_t T = in.varint("texture coordinate count");
+  if (T > kMaxVertices) in.fail_at("texture coordinate count exceeds the format's 2^31 - 1", at);
+  if (T > limits.max_texcoords)
+    throw Error(ErrorCode::kLimit, "texture coordinate count " + std::to_string(T) + " exceeds the limit " +
+                                       std::to_string(limits.max_texcoords) + " (at byte offset " +
+                                       std::to_string(at) + ")");
+  at = in.offset();
+  const std::uint64_t U = in.varint("unreferenced texture coordinate count");
+  if (U > T) in.fail_at("more unreferenced texture coordinates than texture coordinates", at);
+  if (T - U > corner_vertices.size())
+    in.fail_at(std::to_string(T - U) + " referenced texture coordinates but only " +
+                   std::to_string(corner_vertices.size()) + " corners",
+               at);
+  std::array<Domain, 3> domain{};
+  for (unsigned c = 0; c < K; ++c) {
+    at = in.offset();
+    domain[c].mode = in.u8("component mode");
+    if (domain[c].mode > 1 + kMaxDecimals) in.fail_at("component mode " + std::to_string(domain[c].mode) + " (0 to 10)", at);
+  }
+  const std::uint64_t stream_offset = in.offset();
+  RangeDecoder dec(payload.substr(in.pos()), stream_offset, kSection);
+
+  DecodedTexcoords out;
+  out.components = static_cast<std::uint8_t>(K);
+  out.corners.assign(corner_vertices.size(), kInvalid);
+  std::vector<std::uint32_t> creating;
+  creating.reserve(T - U);
+  Named named(corner_vertices, vertex_count);
+  SymbolModels m;
+  std::uint32_t n = 0;
+  for (std::size_t c = 0; c < corner_vertices.size(); ++c) {
+    const std::uint32_t v = corner_vertices[c];
+    const auto seen = named.of(v);
+    const unsigned s = std::min<std::size_t>(seen.size(), 2);
+    if (dec.decode_bit(m.is_new[s])) {
+      if (n >= T - U) format_error("more texture coordinates named than the " + std::to_string(T - U) + " declared", dec.offset());
+      creating.push_back(static_cast<std::uint32_t>(c));
+      named.add(v, n);
+      out.corners[c] = n++;
+      continue;
+    }
+    if (!seen.empty() && dec.decode_bit(m.is_seen[s])) {
+      const std::uint32_t j = seen.size() >= 2 ? m.pick.decode(dec) : 0;
+      if (j >= seen.size()) format_error("corner " + std::to_string(c) + " picks value " + std::to_string(j) + " of its vertex's " + std::to_string(seen.size()), dec.offset());
+      out.corners[c] = seen[j];
+      continue;
+    }
+    if (dec.decode_bit(m.is_none)) continue;
+    const std::uint32_t back = m.far.decode(dec);
+    if (back >= n) format_error("corner " + std::to_string(c) + " names a texture coordinate before the first", dec.offset());
+    out.corners[c] = n - 1 - back;
+    named.add(v, out.corners[c]);
+  }
+  if (n != T - U) format_error("the corners name " + std::to_string(n) + " texture coordinates, not the " + std::to_string(T - U) + " declared", dec.offset());
+
+  out.values.resize(T * K);
+  std::vector<IntModel> residual(3 * K);
+  const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
+  for (std::uint32_t i = 0; i < T; ++i) {
+    const Prediction p = predict(i, i < n ? creating[i] : kInvalid, face_of_corner, face_offsets, out.corners);
+    for (unsigned c = 0; c < K; ++c) {
+      const std::int64_t predicted = domain[c].predicted(p, out.values, K, c);
+      const std::int64_t value = predicted + decode_residual(dec, residual[K * p.context + c]);
+      float x = 0;
+      if (domain[c].mode == kModeFloat) {
+        if (value < 0 || value > std::int64_t{0xFFFFFFFF}) format_error("a float image outside 32 bits", dec.offset());
+        x = image_float(static_cast<std::uint32_t>(value));
+      } else {
+        if (value <= -kDecimalLimit || value >= kDecimalLimit) format_error("a decimal integer outside (-2^40, 2^40)", dec.offset());
+        x = decimal_grid_value(value, domain[c].mode - 1);
+      }
+      if (!std::isfinite(x)) format_error("texture coordinate " + std::to_string(i) + " is not finite", dec.offset());
+      out.values[std::size_t{i} * K + c] = x;
+    }
+  }
+  if (order_section) {
+    // Output value i had input index input[i]: give the values and the corners the input numbering.
+    PermutationCoder perm;
+    perm.section = kSection;
+    std::vector<std::uint8_t> used(T, 0);
+    std::vector<std::uint32_t> input(T);
+    for (std::uint32_t i = 0; i < T; ++i) input[i] = perm.decode(dec, static_cast<std::uint32_t>(T), used, "texture coordinate");
+    std::vector<float> values(out.values.size());
+    for (std::uint32_t i = 0; i < T; ++i) std::copy_n(&out.values[std::size_t{i} * K], K, &values[std::size_t{input[i]} * K]);
+    out.values = std::move(values);
+    for (std::uint32_t& t : out.corners)
+      if (t != kInvalid) t = input[t];
+  }
+  dec.finish();
+  return out;
+}
+
+}  // namespace qsp
