@@ -1,9 +1,11 @@
-// libFuzzer target: the .qsp decoder (decode, decode_polygons, inspect and file_comments) on hostile bytes.
+// libFuzzer target: the .qsp decoder (decode, decode_polygons with texture coordinates, inspect and
+// file_comments) on hostile bytes.
 // Each input is tried as is (magic, version, size and checksum checks) and, when it is shaped like a
 // container, re-sealed with a correct size and checksum so mutations reach the section parsers.
 // Properties: no crash, no sanitizer report, no internal error, memory bounded by the limits below;
 // a file that decodes gives a valid manifold quad mesh that inspect() agrees with and that
 // round-trips through encode/decode.
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -38,6 +40,16 @@ void check_polygons(std::string_view bytes, const qsp::DecodeLimits& limits) {
     fuzz::finding("decoded polygon mesh exceeds the limits");
   if (m.face_offsets.empty() || m.face_offsets.back() != m.corners.size())
     fuzz::finding("decoded polygon mesh has inconsistent face offsets");
+  // Texture coordinates (3.2): every corner names one of them or none; every value is finite.
+  if (m.texcoord_components > 3 || (m.texcoord_components == 0) != m.corner_texcoords.empty() ||
+      (m.texcoord_components &&
+       (m.texcoords.size() % m.texcoord_components != 0 || m.corner_texcoords.size() != m.corners.size())))
+    fuzz::finding("decoded texture coordinate arrays disagree");
+  for (const std::uint32_t t : m.corner_texcoords)
+    if (t != kInvalid && std::size_t{t} * m.texcoord_components >= m.texcoords.size())
+      fuzz::finding("decoded a corner naming a texture coordinate out of range");
+  for (const float x : m.texcoords)
+    if (!std::isfinite(x)) fuzz::finding("decoded a texture coordinate that is not finite");
   std::vector<std::uint32_t> seen(m.vertex_count(), ~0u);
   for (std::size_t f = 0; f < m.face_count(); ++f) {
     if (m.face_offsets[f + 1] < m.face_offsets[f] + 3)

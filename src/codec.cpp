@@ -245,7 +245,8 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
                     std::to_string(s->offset) + "), which this reader of quad meshes does not take");
   if (const Section* s = p.file.find(container::kTagTexcoords))
     throw Error(ErrorCode::kNotQuad,
-                "the file holds texture coordinates (section 0x06 at byte offset " + std::to_string(s->offset) +
+                "the file holds texture coordinates (section 0x06 at byte offset " +
+                    std::to_string(s->offset) +
                     "), which this reader of quad meshes does not return: decode_polygons() reads them");
   return decode_quads(p);
 }
@@ -302,7 +303,8 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
     std::copy_n(&out.positions[3 * std::size_t{order.vertex[j]}], 3, &in.positions[3 * std::size_t{j}]);
   }
   in.face_offsets.assign(1, 0);
-  for (std::uint32_t f = 0; f < nf; ++f) in.face_offsets.push_back(in.face_offsets.back() + degree[order.face[f]]);
+  for (std::uint32_t f = 0; f < nf; ++f)
+    in.face_offsets.push_back(in.face_offsets.back() + degree[order.face[f]]);
   in.corners.resize(out.corners.size());
   const bool texcoords = !out.corner_texcoords.empty();
   if (texcoords) in.corner_texcoords.resize(out.corners.size());

@@ -161,10 +161,12 @@ std::string texcoords_section(const PolygonMesh& mesh, const FaceMap& map, bool 
   if (map.face.size() != nf || map.rotation.size() != nf) internal("the face map has another face count");
   std::vector<std::uint32_t> input_face(nf, kInvalid);
   for (std::size_t f = 0; f < nf; ++f) {
-    if (map.face[f] >= nf || input_face[map.face[f]] != kInvalid) internal("the face map is not a permutation");
+    if (map.face[f] >= nf || input_face[map.face[f]] != kInvalid)
+      internal("the face map is not a permutation");
     input_face[map.face[f]] = static_cast<std::uint32_t>(f);
   }
-  std::vector<std::uint32_t> offsets(nf + 1, 0), vertices(mesh.corners.size()), texcoords(mesh.corners.size());
+  std::vector<std::uint32_t> offsets(nf + 1, 0), vertices(mesh.corners.size()),
+      texcoords(mesh.corners.size());
   for (std::size_t g = 0; g < nf; ++g) {
     const std::uint32_t f = input_face[g], b = mesh.face_offsets[f], d = mesh.degree(f);
     offsets[g + 1] = offsets[g] + d;

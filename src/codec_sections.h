@@ -81,8 +81,9 @@ DecodedPolygons decode_polygons_section(std::string_view payload, std::uint64_t 
 // or kInvalid. `keep_order` stores the input numbering too. Throws Error(kBadNumber) for a value that is
 // not finite, Error(kInternal) for inconsistent sizes.
 std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets,
-                                     std::span<const std::uint32_t> corner_vertices, std::uint32_t vertex_count,
-                                     std::uint8_t components, std::span<const float> values,
+                                     std::span<const std::uint32_t> corner_vertices,
+                                     std::uint32_t vertex_count, std::uint8_t components,
+                                     std::span<const float> values,
                                      std::span<const std::uint32_t> corner_texcoords, bool keep_order);
 
 struct DecodedTexcoords {

@@ -29,8 +29,8 @@ constexpr unsigned kWideHalf = 21;  // w < 2^42 follows an escape as two 21-bit 
 
 [[noreturn]] void internal(const std::string& what) { throw Error(ErrorCode::kInternal, "encode: " + what); }
 [[noreturn]] void format_error(const std::string& what, std::uint64_t offset) {
-  throw Error(ErrorCode::kFormat, std::string(kSection) + ": " + what + " (near byte offset " +
-                                      std::to_string(offset) + ")");
+  throw Error(ErrorCode::kFormat,
+              std::string(kSection) + ": " + what + " (near byte offset " + std::to_string(offset) + ")");
 }
 
 // Per vertex, the values its corners have named, in one slot per corner (S(v) in the spec).
@@ -62,7 +62,8 @@ Prediction predict(std::uint32_t i, std::uint32_t creating, std::span<const std:
                    std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> names) {
   Prediction p;
   if (creating != kInvalid) {
-    const std::uint32_t f = face_of_corner[creating], first = face_offsets[f], d = face_offsets[f + 1] - first;
+    const std::uint32_t f = face_of_corner[creating], first = face_offsets[f],
+                        d = face_offsets[f + 1] - first;
     const std::uint32_t pos = creating - first;
     auto named = [&](std::uint32_t k) {
       const std::uint32_t t = names[first + (pos + k) % d];
@@ -137,15 +138,17 @@ std::int64_t decode_residual(RangeDecoder& dec, IntModel& model) {
 std::vector<std::uint32_t> faces_of_corners(std::span<const std::uint32_t> face_offsets) {
   std::vector<std::uint32_t> face(face_offsets.empty() ? 0 : face_offsets.back());
   for (std::size_t f = 0; f + 1 < face_offsets.size(); ++f)
-    std::fill(face.begin() + face_offsets[f], face.begin() + face_offsets[f + 1], static_cast<std::uint32_t>(f));
+    std::fill(face.begin() + face_offsets[f], face.begin() + face_offsets[f + 1],
+              static_cast<std::uint32_t>(f));
   return face;
 }
 
 }  // namespace
 
 std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets,
-                                     std::span<const std::uint32_t> corner_vertices, std::uint32_t vertex_count,
-                                     std::uint8_t components, std::span<const float> values,
+                                     std::span<const std::uint32_t> corner_vertices,
+                                     std::uint32_t vertex_count, std::uint8_t components,
+                                     std::span<const float> values,
                                      std::span<const std::uint32_t> corner_texcoords, bool keep_order) {
   const unsigned K = components;
   if (K < 1 || K > 3 || values.size() % K != 0 || corner_texcoords.size() != corner_vertices.size() ||
@@ -269,7 +272,8 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   for (unsigned c = 0; c < K; ++c) {
     at = in.offset();
     domain[c].mode = in.u8("component mode");
-    if (domain[c].mode > 1 + kMaxDecimals) in.fail_at("component mode " + std::to_string(domain[c].mode) + " (0 to 10)", at);
+    if (domain[c].mode > 1 + kMaxDecimals)
+      in.fail_at("component mode " + std::to_string(domain[c].mode) + " (0 to 10)", at);
   }
   const std::uint64_t stream_offset = in.offset();
   RangeDecoder dec(payload.substr(in.pos()), stream_offset, kSection);
@@ -287,7 +291,9 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     const auto seen = named.of(v);
     const unsigned s = std::min<std::size_t>(seen.size(), 2);
     if (dec.decode_bit(m.is_new[s])) {
-      if (n >= T - U) format_error("more texture coordinates named than the " + std::to_string(T - U) + " declared", dec.offset());
+      if (n >= T - U)
+        format_error("more texture coordinates named than the " + std::to_string(T - U) + " declared",
+                     dec.offset());
       creating.push_back(static_cast<std::uint32_t>(c));
       named.add(v, n);
       out.corners[c] = n++;
@@ -295,35 +301,47 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     }
     if (!seen.empty() && dec.decode_bit(m.is_seen[s])) {
       const std::uint32_t j = seen.size() >= 2 ? m.pick.decode(dec) : 0;
-      if (j >= seen.size()) format_error("corner " + std::to_string(c) + " picks value " + std::to_string(j) + " of its vertex's " + std::to_string(seen.size()), dec.offset());
+      if (j >= seen.size())
+        format_error("corner " + std::to_string(c) + " picks value " + std::to_string(j) +
+                         " of its vertex's " + std::to_string(seen.size()),
+                     dec.offset());
       out.corners[c] = seen[j];
       continue;
     }
     if (dec.decode_bit(m.is_none)) continue;
     const std::uint32_t back = m.far.decode(dec);
-    if (back >= n) format_error("corner " + std::to_string(c) + " names a texture coordinate before the first", dec.offset());
+    if (back >= n)
+      format_error("corner " + std::to_string(c) + " names a texture coordinate before the first",
+                   dec.offset());
     out.corners[c] = n - 1 - back;
     named.add(v, out.corners[c]);
   }
-  if (n != T - U) format_error("the corners name " + std::to_string(n) + " texture coordinates, not the " + std::to_string(T - U) + " declared", dec.offset());
+  if (n != T - U)
+    format_error("the corners name " + std::to_string(n) + " texture coordinates, not the " +
+                     std::to_string(T - U) + " declared",
+                 dec.offset());
 
   out.values.resize(T * K);
   std::vector<IntModel> residual(3 * K);
   const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
   for (std::uint32_t i = 0; i < T; ++i) {
-    const Prediction p = predict(i, i < n ? creating[i] : kInvalid, face_of_corner, face_offsets, out.corners);
+    const Prediction p =
+        predict(i, i < n ? creating[i] : kInvalid, face_of_corner, face_offsets, out.corners);
     for (unsigned c = 0; c < K; ++c) {
       const std::int64_t predicted = domain[c].predicted(p, out.values, K, c);
       const std::int64_t value = predicted + decode_residual(dec, residual[K * p.context + c]);
       float x = 0;
       if (domain[c].mode == kModeFloat) {
-        if (value < 0 || value > std::int64_t{0xFFFFFFFF}) format_error("a float image outside 32 bits", dec.offset());
+        if (value < 0 || value > std::int64_t{0xFFFFFFFF})
+          format_error("a float image outside 32 bits", dec.offset());
         x = image_float(static_cast<std::uint32_t>(value));
       } else {
-        if (value <= -kDecimalLimit || value >= kDecimalLimit) format_error("a decimal integer outside (-2^40, 2^40)", dec.offset());
+        if (value <= -kDecimalLimit || value >= kDecimalLimit)
+          format_error("a decimal integer outside (-2^40, 2^40)", dec.offset());
         x = decimal_grid_value(value, domain[c].mode - 1);
       }
-      if (!std::isfinite(x)) format_error("texture coordinate " + std::to_string(i) + " is not finite", dec.offset());
+      if (!std::isfinite(x))
+        format_error("texture coordinate " + std::to_string(i) + " is not finite", dec.offset());
       out.values[std::size_t{i} * K + c] = x;
     }
   }
@@ -333,9 +351,11 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     perm.section = kSection;
     std::vector<std::uint8_t> used(T, 0);
     std::vector<std::uint32_t> input(T);
-    for (std::uint32_t i = 0; i < T; ++i) input[i] = perm.decode(dec, static_cast<std::uint32_t>(T), used, "texture coordinate");
+    for (std::uint32_t i = 0; i < T; ++i)
+      input[i] = perm.decode(dec, static_cast<std::uint32_t>(T), used, "texture coordinate");
     std::vector<float> values(out.values.size());
-    for (std::uint32_t i = 0; i < T; ++i) std::copy_n(&out.values[std::size_t{i} * K], K, &values[std::size_t{input[i]} * K]);
+    for (std::uint32_t i = 0; i < T; ++i)
+      std::copy_n(&out.values[std::size_t{i} * K], K, &values[std::size_t{input[i]} * K]);
     out.values = std::move(values);
     for (std::uint32_t& t : out.corners)
       if (t != kInvalid) t = input[t];

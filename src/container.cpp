@@ -180,7 +180,8 @@ std::string seal(std::uint8_t major, std::uint8_t minor, std::uint8_t encoder, s
   return out;
 }
 
-std::string with_section(std::string_view file, std::uint8_t tag, std::string_view payload, std::uint8_t minor) {
+std::string with_section(std::string_view file, std::uint8_t tag, std::string_view payload,
+                         std::uint8_t minor) {
   const File f = parse(file);
   std::string body;
   bool put = false;

@@ -64,6 +64,7 @@ std::string seal(std::uint8_t major, std::uint8_t minor, std::uint8_t encoder, s
 
 // `file` (a whole .qsp) with the section `tag` holding `payload`, in its place among the others
 // (replacing one with that tag), and a minor version of at least `minor`. Throws what parse() throws.
-std::string with_section(std::string_view file, std::uint8_t tag, std::string_view payload, std::uint8_t minor);
+std::string with_section(std::string_view file, std::uint8_t tag, std::string_view payload,
+                         std::uint8_t minor);
 
 }  // namespace qsp::container

@@ -90,16 +90,25 @@ TEST_F(CliDrop, EachKindAloneIsRefusedByNameAndDroppedByName) {
     const std::string in = p(std::string(k.name) + ".obj"), out = p("out.qsp");
     spit(in, k.text);
     const std::string what = said(k.said, in);
+    const bool kept = std::string(k.name) == "uv";  // a .qsp keeps texture coordinates (format 3.2)
     auto r = compress(in, "", out);
-    EXPECT_EQ(r.exit_code, 1);
-    EXPECT_EQ(r.err, "qsp: error: " + in + ": has " + what + ", which .qsp does not keep; pass --drop " +
-                         k.name + " (or --positions-only) to drop them\n");
-    EXPECT_FALSE(fs::exists(out));
+    if (kept) {
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      EXPECT_EQ(r.err, "");
+      EXPECT_EQ(decode_polygons(slurp(out)).texcoords, (std::vector<float>{0, 0, 1, 0}));
+    } else {
+      EXPECT_EQ(r.exit_code, 1);
+      EXPECT_EQ(r.err, "qsp: error: " + in + ": has " + what + ", which .qsp does not keep; pass --drop " +
+                           k.name + " (or --positions-only) to drop them\n");
+      EXPECT_FALSE(fs::exists(out));
+    }
     // Dropping another kind does not help.
-    const std::string other = std::string(k.name) == "uv" ? "normal" : "uv";
+    const std::string other = kept ? "normal" : "uv";
     r = compress(in, "--drop " + other, out);
-    EXPECT_EQ(r.exit_code, 1);
-    EXPECT_NE(r.err.find("pass --drop " + std::string(k.name) + " (or"), std::string::npos) << r.err;
+    EXPECT_EQ(r.exit_code, kept ? 0 : 1);
+    if (!kept) {
+      EXPECT_NE(r.err.find("pass --drop " + std::string(k.name) + " (or"), std::string::npos) << r.err;
+    }
     // Dropping it: one note, and the bare mesh's bytes.
     r = compress(in, "--drop " + std::string(k.name), out);
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -138,28 +147,33 @@ TEST_F(CliDrop, EveryKindMustBeDroppedAndTheNoteNamesEach) {
   spit(in,
        "# a comment\nmtllib m.mtl\nv 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 1 1 1\nvt 0 0\n"
        "vn 0 0 1\nvp 0.5\no thing\nusemtl red\ns 1\nf 1/1/1 2/1/1 3/1/1 4/1/1\nt corner 1/1/0 0 2.0\n");
+  // compress keeps the texture coordinates (format 3.2) and refuses the rest.
   const std::string all = "uv,normal,color,group,material,smoothing,tag,extra";
-  const std::string described =
-      "1 texture coordinate, 1 face with texture coordinate indices (uv), 1 normal, 1 face with normal "
+  const std::string refused = "normal,color,group,material,smoothing,tag,extra";
+  const std::string uv = "1 texture coordinate, 1 face with texture coordinate indices (uv), ";
+  const std::string described_refused =
+      "1 normal, 1 face with normal "
       "indices (normal), 4 vertex colours (color), 1 group/object statement (group), 2 material statements "
       "(material), 1 smoothing group statement (smoothing), 1 subdivision tag (tag), 1 line qsp keeps only "
       "as "
       "text, the first at " +
       in + ":9: `vp` (parameter-space vertex) (extra)";
+  const std::string described = uv + described_refused;
   // With the leading comment dropped too: named in --drop's order, before extra.
   std::string with_comment = described;
   with_comment.insert(with_comment.find("1 line qsp keeps"), "1 leading comment line (comment), ");
   auto r = compress(in, "", out);
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, "qsp: error: " + in + ": has " + described + ", which .qsp does not keep; pass --drop " +
-                       all + " (or --positions-only) to drop them\n");
+  EXPECT_EQ(r.err, "qsp: error: " + in + ": has " + described_refused +
+                       ", which .qsp does not keep; pass --drop " + refused +
+                       " (or --positions-only) to drop them\n");
   for (const CategoryName& c : kCategoryNames) {
-    if (c.category == kCategoryComment) continue;
+    if (c.category == kCategoryComment || c.category == kCategoryUv) continue;
     SCOPED_TRACE(c.name);
     std::string list = category_list(kCategoryAll & ~c.category);
     r = compress(in, "--drop " + list, out);
     EXPECT_EQ(r.exit_code, 1);
-    EXPECT_NE(r.err.find(in_parens(c.name) + ", which .qsp does not keep; pass --drop " + all + " (or"),
+    EXPECT_NE(r.err.find(in_parens(c.name) + ", which .qsp does not keep; pass --drop " + refused + " (or"),
               std::string::npos)
         << r.err;
     for (const CategoryName& other : kCategoryNames) {  // the others are not named
@@ -256,10 +270,9 @@ TEST_F(CliDrop, AStrayLineOfProseInAMakeHumanHeaderIsExtra) {
   EXPECT_EQ(as_plain, run_qsp("stats --json " + quote(plain)).out);
   r = compress(hat, "--drop uv", p("hat.qsp"));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err,
-            "qsp: error: " + hat + ": has 1 line qsp keeps only as text, the first at " + where +
-                " (extra), which .qsp does not keep; pass --drop uv,extra (or --positions-only) to drop "
-                "them\n");
+  EXPECT_EQ(r.err, "qsp: error: " + hat + ": has 1 line qsp keeps only as text, the first at " + where +
+                       " (extra), which .qsp does not keep; pass --drop extra (or --positions-only) to drop "
+                       "them\n");
   r = compress(hat, "--drop uv,extra", p("hat.qsp"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(

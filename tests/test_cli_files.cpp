@@ -448,10 +448,10 @@ TEST_F(CliFiles, MessagesNameTheWayOut) {
   r = run_qsp("stats --jsn " + quote(a));
   EXPECT_NE(r.err.find("did you mean --json?"), std::string::npos) << r.err;
   // Extra data: the refusal names the --drop that drops it (tests/test_cli_drop.cpp has the rest).
-  const std::string uv = add_bytes("uv.obj", slurp(a) + "vt 0 0\n");
-  r = run_qsp("compress " + quote(uv));
+  const std::string normal = add_bytes("normal.obj", slurp(a) + "vn 0 0 1\n");
+  r = run_qsp("compress " + quote(normal));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("pass --drop uv (or --positions-only)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("pass --drop normal (or --positions-only)"), std::string::npos) << r.err;
   // reorder and match name the files, not A and B.
   const std::string two = add("multi_component.obj", "two.obj");
   r = run_qsp("reorder --like " + quote(a) + " " + quote(two) + " -o " + quote(p("out.obj")));
@@ -460,7 +460,7 @@ TEST_F(CliFiles, MessagesNameTheWayOut) {
   r = run_qsp("match " + quote(two) + " " + quote(a));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.out.find(two + " has 4, " + a + " has 1"), std::string::npos) << r.out;
-  EXPECT_EQ(listing(), (std::vector<std::string>{"a.obj", "meshes/", "two.obj", "uv.obj"}));
+  EXPECT_EQ(listing(), (std::vector<std::string>{"a.obj", "meshes/", "normal.obj", "two.obj"}));
   expect_inputs_unchanged();
 }
 

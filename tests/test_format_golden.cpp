@@ -29,6 +29,7 @@
 #include "qsp/polymesh.h"
 #include "qsp/submesh.h"
 #include "support/corpus.h"
+#include "support/polygon.h"
 #include "support/quantized.h"
 
 namespace fs = std::filesystem;
@@ -160,19 +161,7 @@ std::vector<std::string> golden_paths() {
 }
 
 // A golden's .obj as any polygon mesh (float32 positions, faces as read, texture coordinates).
-PolygonMesh read_polygons(const std::string& path) {
-  Mesh m = read_obj_mesh(slurp(path), path);
-  PolygonMesh out;
-  out.positions = std::move(m.positions.f32);
-  out.face_offsets = std::move(m.face_offsets);
-  out.corners = std::move(m.corner_vertices);
-  if (!m.texcoords.empty()) {
-    out.texcoord_components = m.texcoord_components;
-    out.texcoords = std::move(m.texcoords.f32);
-    out.corner_texcoords = std::move(m.corner_texcoords);
-  }
-  return out;
-}
+PolygonMesh read_polygons(const std::string& path) { return testing::read_obj_polygons(path); }
 
 bool is_quad_mesh(const PolygonMesh& m) {
   for (std::size_t f = 0; f < m.face_count(); ++f)

@@ -91,8 +91,8 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
                     " texture coordinate values have more digits than float32 holds; a .qsp keeps float32 "
                     "texture coordinates: pass --float32 to round them, or --drop uv");
   if (rounded_uv && !quiet)
-    std::fprintf(stderr, "qsp: %s: rounded %llu texture coordinate values to float32 (--float32)\n", in.c_str(),
-                 static_cast<unsigned long long>(rounded_uv));
+    std::fprintf(stderr, "qsp: %s: rounded %llu texture coordinate values to float32 (--float32)\n",
+                 in.c_str(), static_cast<unsigned long long>(rounded_uv));
   if (mesh.face_count() == 0 && !quiet)
     std::fprintf(stderr, "qsp: warning: %s: has no faces (%zu vertices); writing an empty mesh\n", in.c_str(),
                  mesh.vertex_count());

@@ -347,10 +347,13 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
   in.polygons.corners = std::move(m.corner_vertices);
   if (keep_texcoords && !m.texcoords.empty()) {
     for (std::size_t i = 0; i < m.texcoords.size(); ++i)
-      in.rounded_texcoords += m.texcoords.precision != Precision::kFloat32 && m.texcoords.approx(i) != m.texcoords.f32[i];
+      in.rounded_texcoords +=
+          m.texcoords.precision != Precision::kFloat32 && m.texcoords.approx(i) != m.texcoords.f32[i];
     in.polygons.texcoord_components = m.texcoord_components;
     in.polygons.texcoords = std::move(m.texcoords.f32);
     in.polygons.corner_texcoords = std::move(m.corner_texcoords);
+    if (in.polygons.corner_texcoords.empty())
+      in.polygons.corner_texcoords.assign(in.polygons.corners.size(), kInvalid);
   }
 }
 
@@ -383,7 +386,8 @@ void read_qsp(PolygonInput& in, std::string&& bytes, const std::string& path, Qs
 
 }  // namespace
 
-PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspInput qsp, bool keep_texcoords) {
+PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspInput qsp,
+                                bool keep_texcoords) {
   refuse_folder(path);
   format = format_for(path, format);
   if (format == MeshFormat::kUnknown && path != "-") format = format_from_path(path);
@@ -407,9 +411,11 @@ PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspI
   }
   // Texture coordinates come from the exact reader, which the quad reader's report says it needs.
   if (keep_texcoords && (in.report.categories() & kCategoryUv)) {
+    ReadReport report = std::move(in.report);  // the same kinds; its words for the quad path's messages
     in.mesh = {};
     in.quads = false;
     read_polygons(in, bytes, path, format, true);
+    in.report = std::move(report);
   }
   return in;
 }
@@ -465,7 +471,8 @@ std::string refuse_extra_data(const std::string& path, const ReadReport& report,
     throw Error(ErrorCode::kUnsupported,
                 path + ": has " + report.describe_extra_data(path, has & ~dropped & ~kKeptCategories) +
                     ", which " + what + " does not keep; pass --drop " +
-                    category_list(has & ~kKeptCategories) + " (or --positions-only) to drop them");
+                    category_list(report.categories() & ~kKeptCategories & ~kept) +
+                    " (or --positions-only) to drop them");
   if (quiet || !dropped) return {};
   return "qsp: " + path + ": dropped " + report.describe_extra_data(path, dropped) + " (" +
          (drop.positions_only ? "--positions-only" : "--drop " + drop.list) + ")\n";

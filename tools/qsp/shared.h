@@ -149,8 +149,9 @@ struct PolygonInput {
   std::string bytes;      // the .qsp's bytes, their container checked (kBytes: a polygon .qsp's too)
   bool from_qsp = false;  // the mesh below was decoded from a .qsp
   bool quads = false;
-  QuadMesh mesh;         // quads
-  PolygonMesh polygons;  // neither: float32 positions, faces and corners as read (texture coordinates if kept)
+  QuadMesh mesh;  // quads
+  PolygonMesh
+      polygons;  // neither: float32 positions, faces and corners as read (texture coordinates if kept)
   std::uint64_t rounded_texcoords = 0;  // kept texture coordinate values float32 does not hold
   // The reader's report. A polygon mesh file's says what the quad reader's would (its data besides
   // positions and faces by kind, face lines, leading comments, coordinates float32 does not hold); a

@@ -1,0 +1,190 @@
+// Texture coordinates (format 3.2, the texture coordinates section): every shared mesh with `vt` comes
+// back with the same texture coordinate on every corner (compared by an independent parse of both
+// OBJ texts), renumbered copies give the same bytes, and every prefix and bit flip of a file is
+// refused or decodes without harm.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "container.h"
+#include "qsp/codec.h"
+#include "qsp/error.h"
+#include "qsp/io.h"
+#include "qsp/submesh.h"
+#include "support/cli.h"
+#include "support/corpus.h"
+#include "support/files.h"
+#include "support/mesh_text.h"
+#include "support/polygon.h"
+
+namespace qsp {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The same mesh with vertices, faces and texture coordinates renumbered and corner lists rotated.
+PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  const std::size_t nv = m.vertex_count(), nf = m.face_count(), K = m.texcoord_components;
+  const std::size_t nt = K ? m.texcoords.size() / K : 0;
+  std::vector<std::uint32_t> v(nv), f(nf), t(nt);
+  std::iota(v.begin(), v.end(), 0u);
+  std::iota(f.begin(), f.end(), 0u);
+  std::iota(t.begin(), t.end(), 0u);
+  std::shuffle(v.begin(), v.end(), rng);
+  std::shuffle(f.begin(), f.end(), rng);
+  std::shuffle(t.begin(), t.end(), rng);
+  PolygonMesh out;
+  out.positions.resize(m.positions.size());
+  for (std::size_t i = 0; i < nv; ++i)
+    std::copy_n(&m.positions[3 * i], 3, &out.positions[3 * std::size_t{v[i]}]);
+  out.texcoord_components = m.texcoord_components;
+  out.texcoords.resize(m.texcoords.size());
+  for (std::size_t i = 0; i < nt; ++i) std::copy_n(&m.texcoords[K * i], K, &out.texcoords[K * t[i]]);
+  out.face_offsets.assign(1, 0);
+  for (std::size_t g = 0; g < nf; ++g) {
+    const std::uint32_t from = f[g], b = m.face_offsets[from], d = m.degree(from);
+    const std::uint32_t r = static_cast<std::uint32_t>(rng() % d);
+    for (std::uint32_t i = 0; i < d; ++i) {
+      const std::uint32_t c = b + (i + r) % d;
+      out.corners.push_back(v[m.corners[c]]);
+      if (K)
+        out.corner_texcoords.push_back(m.corner_texcoords[c] == kInvalid ? kInvalid
+                                                                         : t[m.corner_texcoords[c]]);
+    }
+    out.face_offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
+  }
+  return out;
+}
+
+// Every shared OBJ with texture coordinates, keep-order round trip through the tool: the decompressed
+// text names, face for face and corner for corner, the same position and texture coordinate values
+// (as float32) as the input text, both read by the test's own parser.
+TEST(Texcoords, SharedMeshesComeBackCornerForCorner) {
+  QSP_NEEDS_SHARED();
+  testing::TempDir dir;
+  int with_uv = 0;
+  for (const fs::path& f : testing::shared_meshes()) {
+    if (f.extension() != ".obj") continue;
+    const testing::TextMesh in = testing::parse_obj_text(testing::slurp(f.string()));
+    if (in.texcoords.empty()) continue;
+    SCOPED_TRACE(f.string());
+    const std::string q = dir.p("m.qsp"), back = dir.p("back.obj");
+    const auto r = testing::run_qsp(
+        "compress -f -q --keep-order --drop normal,color,group,material,smoothing,tag,extra " +
+        testing::quote(f.string()) + " " + testing::quote(q));
+    if (r.exit_code != 0) {
+      // Only what is not a mesh (a face repeating a vertex) is refused.
+      EXPECT_NE(r.err.find("repeats vertex"), std::string::npos) << r.err;
+      continue;
+    }
+    ++with_uv;
+    EXPECT_EQ(inspect(testing::slurp(q)).version_minor, 2);
+    ASSERT_EQ(
+        testing::run_qsp("decompress -f -q " + testing::quote(q) + " -o " + testing::quote(back)).exit_code,
+        0);
+    const testing::TextMesh out = testing::parse_obj_text(testing::slurp(back));
+    ASSERT_EQ(out.faces, in.faces);
+    ASSERT_EQ(out.face_texcoords.size(), in.face_texcoords.size());
+    const auto value = [](const testing::TextMesh& m, long t, std::size_t k) {
+      return k < m.texcoords[static_cast<std::size_t>(t)].size()
+                 ? std::stof(m.texcoords[static_cast<std::size_t>(t)][k])
+                 : 0.0f;
+    };
+    for (std::size_t i = 0; i < in.faces.size(); ++i) {
+      for (std::size_t c = 0; c < in.faces[i].size(); ++c) {
+        const long a = in.face_texcoords[i].empty() ? -1 : in.face_texcoords[i][c];
+        const long b = out.face_texcoords[i].empty() ? -1 : out.face_texcoords[i][c];
+        ASSERT_EQ(a < 0, b < 0) << "face " << i << " corner " << c;
+        if (a < 0) continue;
+        ASSERT_EQ(a, b) << "face " << i << " corner " << c << ": the texture coordinates' order is kept";
+        for (std::size_t k = 0; k < 3; ++k) ASSERT_EQ(value(in, a, k), value(out, b, k)) << "face " << i;
+      }
+    }
+    ASSERT_EQ(out.texcoords.size(), in.texcoords.size());
+  }
+  EXPECT_GE(with_uv, 50);
+}
+
+// Canonical: renumbering vertices, faces and texture coordinates and rotating corners gives the same
+// bytes; the decoded mesh has the input's corners with their texture coordinates.
+TEST(Texcoords, RenumberedCopiesGiveTheSameBytes) {
+  std::vector<fs::path> files = {fs::path(QSP_TESTDATA_DIR) / "golden/texcoords/grid_seam.obj",
+                                 fs::path(QSP_TESTDATA_DIR) / "golden/texcoords/polygon_uv.obj"};
+  for (const char* name : {"keenan_spot_quadrangulated.obj", "osd_catmark_bishop.obj", "mh_fedora.obj"})
+    if (fs::exists(testing::shared_dir() / "meshes" / name))
+      files.push_back(testing::shared_dir() / "meshes" / name);
+  for (const fs::path& f : files) {
+    SCOPED_TRACE(f.string());
+    const PolygonMesh m = testing::read_obj_polygons(f);
+    ASSERT_GT(m.texcoord_components, 0);
+    for (int level : {1, 9}) {
+      EncodeOptions o;
+      o.level = level;
+      const std::string bytes = encode_polygons(m, o);
+      EXPECT_EQ(encode_polygons(renumbered(m, 7), o), bytes);
+      o.quantize_bits = 12;
+      EXPECT_EQ(encode_polygons(renumbered(m, 8), o), encode_polygons(m, o));
+    }
+  }
+}
+
+// Every prefix is refused; every single bit flip is refused or decodes to a mesh of the right size.
+TEST(Texcoords, EveryPrefixAndBitFlipIsSafe) {
+  for (const char* name : {"grid_seam", "grid_seam_keep_order", "polygon_uv"}) {
+    SCOPED_TRACE(name);
+    const std::string good =
+        testing::slurp(std::string(QSP_TESTDATA_DIR) + "/golden/texcoords/" + name + ".qsp");
+    const PolygonMesh want = decode_polygons(good);
+    for (std::size_t n = 0; n < good.size(); ++n)
+      EXPECT_THROW(decode_polygons(std::string_view(good).substr(0, n)), Error) << n;
+    for (std::size_t bit = 0; bit < 8 * good.size(); ++bit) {
+      std::string bad = good;
+      bad[bit / 8] = static_cast<char>(bad[bit / 8] ^ (1 << (bit % 8)));
+      try {
+        const PolygonMesh got = decode_polygons(bad);
+        ADD_FAILURE() << "bit " << bit << " decoded (the checksum should refuse it)";
+        (void)got;
+      } catch (const Error&) {
+      }
+    }
+    EXPECT_EQ(want.corner_texcoords.size(), want.corners.size());
+    // Past the checksum: every bit of the section flipped and every cut of it, the file resealed, is
+    // refused as a format error naming a byte offset, or decodes to valid texture coordinates.
+    const container::File file = container::parse(good);
+    const container::Section* s = file.find(container::kTagTexcoords);
+    ASSERT_NE(s, nullptr);
+    const std::string payload(s->payload);
+    auto check = [&](const std::string& changed, const std::string& what) {
+      SCOPED_TRACE(what);
+      try {
+        const PolygonMesh got =
+            decode_polygons(container::with_section(good, container::kTagTexcoords, changed, 2));
+        ASSERT_EQ(got.corner_texcoords.size(), got.corners.size());
+        const std::size_t count = got.texcoords.size() / got.texcoord_components;
+        for (const std::uint32_t t : got.corner_texcoords) ASSERT_TRUE(t == kInvalid || t < count);
+        for (const float x : got.texcoords) ASSERT_TRUE(std::isfinite(x));
+      } catch (const Error& e) {
+        EXPECT_TRUE(e.code() == ErrorCode::kFormat || e.code() == ErrorCode::kLimit) << e.what();
+        EXPECT_NE(std::string(e.what()).find("byte offset"), std::string::npos) << e.what();
+      }
+    };
+    for (std::size_t bit = 0; bit < 8 * payload.size(); ++bit) {
+      std::string bad = payload;
+      bad[bit / 8] = static_cast<char>(bad[bit / 8] ^ (1 << (bit % 8)));
+      check(bad, "bit " + std::to_string(bit));
+    }
+    for (std::size_t n = 0; n < payload.size(); ++n)
+      check(payload.substr(0, n), "cut at " + std::to_string(n));
+    check(payload + std::string(1, '\0'), "a byte more");
+  }
+}
+
+}  // namespace
+}  // namespace qsp
