@@ -10,7 +10,13 @@
 # of polygon meshes from polygen.py, are also decoded whole by qsppoly.py (format 3.1's polygons and
 # comments sections too, from qsp_format.md alone) and compared with their .obj (faces, corner cycles,
 # positions bit for bit when lossless, the leading comment block) and exactly with the reference
-# decoder's output.
+# decoder's output. Files with texture coordinates (format 3.2's section, and the order section, from
+# the text too): each of testdata/golden/texcoords, fresh encodes of the textured testdata meshes, of
+# bishop (triangles beside quads) from ../shared/meshes, and of polygon meshes given texture
+# coordinates by texgen.py (seams, corners naming none or another vertex's value, values no corner
+# names, float extremes), with and without --keep-order, are decoded whole by qsppoly.py and compared
+# with their .obj (every corner's position and texture coordinate bits; index for index under
+# --keep-order) and index for index with what `qsp decompress` writes.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -20,6 +26,8 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 files=("$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp "$root"/testdata/golden/tools/*.qsp)
 declare -A obj_of=()  # the files qsppoly.py decodes whole, and the mesh each was made from
+declare -A tex_of=()  # the files with texture coordinates, and the mesh each was made from
+for f in "$root"/testdata/golden/texcoords/*.qsp; do tex_of[$f]=${f%.qsp}.obj; done
 for f in "$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp; do obj_of[$f]=${f%.qsp}.obj; done
 encode() {  # encode NAME MESH [OPTIONS...]: a fresh file to check
   local name=$1 mesh=$2
@@ -56,6 +64,28 @@ for seed in 1 2 3; do  # polygon meshes (3.1 files), lossless and quantized
 done
 encode polygons_1_q12 "$work/polygons_1.obj" --quantize 12
 obj_of[$work/polygons_1_q12.qsp]=$work/polygons_1.obj
+encode polygons_3_keep_order "$work/polygons_3.obj" --keep-order   # the order section over a polygon mesh
+obj_of[$work/polygons_3_keep_order.qsp]=$work/polygons_3.obj
+encode_tex() {  # encode_tex NAME MESH [OPTIONS...]: a fresh file with texture coordinates to check
+  local name=$1 mesh=$2
+  shift 2
+  [[ -f $mesh ]] || return 0
+  if ! "$qsp" compress -f --drop normal,group,material,smoothing,tag,extra "$@" "$mesh" "$work/$name.qsp" \
+       >/dev/null 2>"$work/$name.err"; then  # (its notes on rounding and dropped data are not news)
+    cat "$work/$name.err" >&2
+    exit 1
+  fi
+  tex_of[$work/$name.qsp]=$mesh
+}
+for t in "1 uv" "2 u" "3 uvw" "2 uv --keep-order" "3 uvw --keep-order"; do  # polygon meshes with texture coordinates
+  read -r seed mode keep <<<"$t"
+  name=tex_${seed}_$mode${keep:+_keep_order}
+  "$python" "$here/texgen.py" "$work/polygons_$seed.obj" "$work/$name.obj" "$seed" "$mode"
+  encode_tex "$name" "$work/$name.obj" --float32 $keep
+done
+encode_tex spot_uv "$root/testdata/keenan_spot_quadrangulated.obj"
+encode_tex fedora_uv "$root/testdata/mh_fedora.obj"
+encode_tex fedora_uv_keep_order "$root/testdata/mh_fedora.obj" --keep-order
 encode fedora "$root/testdata/mh_fedora.obj"                     # decimal grid, lossless
 encode fedora_q14 "$root/testdata/mh_fedora.obj" --quantize 14
 encode spot_q14 "$root/testdata/keenan_spot_quadrangulated.obj" --quantize 14
@@ -70,8 +100,10 @@ if [[ ! -f $shared/MANIFEST.tsv ]]; then
     echo "spec decoder: $shared is missing, and this run requires it (CI=true or QSP_REQUIRE_SHARED=1)" >&2
     exit 1
   fi
-  echo "spec decoder: $shared absent: its 5 real-mesh encodes are skipped"
+  echo "spec decoder: $shared absent: its 7 real-mesh encodes are skipped"
 fi
+encode_tex bishop_uv "$shared/osd_catmark_bishop.obj"                       # triangles: a polygons section
+encode_tex bishop_uv_keep_order "$shared/osd_catmark_bishop.obj" --keep-order
 encode gargoyle_q14 "$shared/quadriflow_gargoyle.obj" --quantize 14  # normal chaining, distorted cells
 encode gargoyle_q14_best "$shared/quadriflow_gargoyle.obj" --quantize 14 --best  # and the costly tools
 encode horse "$shared/igl_horse_quad.obj" --best
@@ -95,14 +127,28 @@ recode() {  # recode NAME: NAME.qsp under every tools byte
 }
 recode xord
 recode bumpy_mixed
+whole() {  # whole FILE MESH: the text's whole decoder against MESH and what `qsp decompress` writes
+  local f=$1 out exact=()
+  out="$work/$(basename "$f" .qsp)_$BASHPID.obj"
+  [[ $f == *_keep_order.qsp ]] && exact=(--exact)  # the original numbering kept: index for index
+  "$qsp" decompress -f "$f" -o "$out" >/dev/null &&
+    "$python" "$here/qsppoly.py" "$f" --obj "$2" --tex-obj "$2" "${exact[@]}" --decompressed "$out"
+}
 check() {  # check FILE: the text's decoder against the reference's dump (prints nothing on success)
   local f=$1 prefix
+  if [[ -n ${tex_of[$f]:-} ]]; then  # (the reference's dump reads no texture coordinates)
+    whole "$f" "${tex_of[$f]}" || { echo "spec decoder's mesh with texture coordinates disagrees: $f" >&2; return 1; }
+    return 0
+  fi
   prefix="$work/$(basename "$f" .qsp)_$BASHPID"
   if ! "$dump" "$f" "$prefix" || ! "$python" "$here/qspgeo.py" "$f" "$prefix"; then
     echo "spec decoder disagrees: $f" >&2
     return 1
   elif [[ -n ${obj_of[$f]:-} ]] && ! "$python" "$here/qsppoly.py" "$f" --obj "${obj_of[$f]}" --reference "$prefix"; then
     echo "spec decoder's whole mesh disagrees: $f" >&2
+    return 1
+  elif [[ $f == *_keep_order.qsp && -n ${obj_of[$f]:-} ]] && ! whole "$f" "${obj_of[$f]}"; then
+    echo "spec decoder's mesh in its original order disagrees: $f" >&2
     return 1
   elif [[ -n ${original[$f]:-} ]] && ! cmp -s "$prefix.pos" "${original[$f]}"; then
     echo "the reference decodes a recoded file to other positions than its original: $f" >&2
@@ -112,7 +158,7 @@ check() {  # check FILE: the text's decoder against the reference's dump (prints
 # Files are independent: as many at once as there are cores (the Python decoder is the long pole of
 # the release suite).
 failed=0 running=0
-for f in "${files[@]}"; do
+for f in "${!tex_of[@]}" "${files[@]}"; do
   if ((running >= $(nproc))); then
     wait -n || failed=1
     running=$((running - 1))
@@ -124,5 +170,5 @@ while ((running)); do
   wait -n || failed=1
   running=$((running - 1))
 done
-echo "spec decoder: ${#files[@]} files checked, ${#obj_of[@]} of them decoded whole against their mesh"
+echo "spec decoder: $((${#files[@]} + ${#tex_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]})) of them decoded whole against their mesh, ${#tex_of[@]} with texture coordinates"
 exit $failed

@@ -1,17 +1,25 @@
 #!/usr/bin/env python3
-"""The whole mesh of a .qsp file, polygons section (0x05) and comments section (0x81) included,
-written from format-spec/qsp_format.md alone ("Grid layout", "Polygons section", "Comments section",
-"Decoding a mesh") without reading the codec's C++, on top of qsplayout.py (topology, layout) and
-qspgeo.py (container, range coder, geometry).
+"""The whole mesh of a .qsp file, polygons section (0x05), texture coordinates section (0x06), order
+section (0x04) and comments section (0x81) included, written from format-spec/qsp_format.md alone
+("Grid layout", "Order section", "Polygons section", "Texture coordinates section", "Comments
+section", "Decoding a mesh") without reading the codec's C++, on top of qsplayout.py (topology,
+layout) and qspgeo.py (container, range coder, geometry).
 
-usage: qsppoly.py FILE.qsp [--obj MESH.obj] [--reference PREFIX]
-       decodes FILE to its output mesh (vertices, faces with their corners, float bits) and its comment
+usage: qsppoly.py FILE.qsp [--obj MESH.obj] [--reference PREFIX] [--tex-obj MESH.obj [--exact]]
+                  [--decompressed OUT.obj] [--stats]
+       decodes FILE to its output mesh (vertices, faces with their corners, float bits, each corner's
+       texture coordinate, in the original order when the file has an order section) and its comment
        lines. --obj: compares them with MESH.obj, the mesh the file was made from: the same faces with
        the same corner cycles on the same vertices up to renumbering and face order, every position bit
        for bit (skipped for a quantized file), and, when the file has a comments section, its lines
        with MESH.obj's leading comment block. --reference: compares them exactly (vertex order, face
        order, each face's first corner, float bits) with the reference decoder's output that
-       dump_stencils wrote to PREFIX.mesh and PREFIX.comments. Exit 0 if all agree, else 1.
+       dump_stencils wrote to PREFIX.mesh and PREFIX.comments. --tex-obj: compares every corner's
+       position and texture coordinate (float32 bits) with MESH.obj's up to renumbering, face order and
+       rotation, and the texture coordinates no corner names; with --exact index for index (a file
+       written with --keep-order). --decompressed: compares positions, faces and texture coordinates
+       index for index with OUT.obj, what `qsp decompress FILE` wrote. --stats: prints how often each
+       rule of the text was met. Exit 0 if all agree, else 1.
 """
 import struct
 import sys
@@ -358,10 +366,230 @@ def comments(payload):
     return out
 
 
+# ---------------- "Order section" ----------------
+def decode_order(payload, V, degrees):
+    """The order section over a mesh of V vertices and faces of these degrees (canonical order):
+    (c_j per original vertex j, (c_f, r) per original face f)."""
+    rd = g.RangeDecoder(payload)
+    T = {}
+
+    def t(name):
+        if name not in T:
+            T[name] = g.Table()
+        return T[name]
+
+    def permutation(n, step):
+        """c_j for j = 0 .. n-1: each coded as zigzag(s) through step[z], s = c_j - p mod n in
+        (-n/2, n/2], p = c_{j-1} + 1 mod n (0 for j = 0), z = 1 after a coded 0 (and at j = 0)."""
+        out, used = [], [False] * n
+        z = 1
+        for j in range(n):
+            p = (out[-1] + 1) % n if j else 0
+            coded = rd.integer(t('%s%d' % (step, z)))
+            s = g.unzigzag(coded)
+            need(-n < 2 * s <= n, '%s: step %d outside (-n/2, n/2] for n = %d' % (step, s, n))
+            c = (p + s) % n
+            need(not used[c], '%s: index %d used twice' % (step, c))
+            used[c] = True
+            out.append(c)
+            z = int(coded == 0)
+            yield c, j
+
+    cv = [c for c, _ in permutation(V, 'vstep')]
+    faces = []
+    r_prev = 0                      # the previous quad's rotation
+    for c, f in permutation(len(degrees), 'fstep'):
+        d = degrees[c]
+        if d == 4:
+            hi = rd.bit(t('rotation')[3 * r_prev])
+            lo = rd.bit(t('rotation')[3 * r_prev + 1 + hi])
+            r = 2 * hi + lo
+            r_prev = r
+            seen('order: quad rotation')
+        else:
+            r = rd.integer(t('turn%d' % (0 if d == 3 else 1)))
+            need(r < d, 'rotation %d of a face of degree %d' % (r, d))
+            seen('order: turn %s' % ('triangle' if d == 3 else 'big'))
+        faces.append((c, r))
+    rd.finish()
+    return cv, faces
+
+
+# ---------------- "Texture coordinates section" ----------------
+MAX_TEXCOORDS = 1 << 26           # the reference decoder's default max_texcoords
+
+
+def decode_texcoords(payload, nverts, faces, has_order):
+    """The texture coordinates section over the output mesh of the other sections (faces in
+    canonical order, corners from each face's first): (values, names, original) with values[i] the
+    K components of value i as binary32 bits, names[f][k] the value corner k of face f names (None:
+    none), original[i] value i's original index (None without bit 2)."""
+    need(len(payload) >= 1, 'empty texture coordinates section')
+    flags = payload[0]
+    K = flags & 3
+    need(K != 0, 'texture coordinates with 0 components')
+    need(flags >> 3 == 0, 'reserved texture coordinates flag bits set')
+    kept = bool(flags & 4)
+    need(kept == has_order, 'texture coordinates order bit %d, order section %s' % (kept, has_order))
+    T, pos = g.read_varint(payload, 1)
+    need(T <= (1 << 31) - 1, 'more than 2^31 - 1 texture coordinates')
+    need(T <= MAX_TEXCOORDS, 'texture coordinates past max_texcoords')
+    U, pos = g.read_varint(payload, pos)
+    need(U <= T, 'more unreferenced texture coordinates than values')
+    need(pos + K <= len(payload), 'modes past the section')
+    modes = list(payload[pos:pos + K])
+    for mode in modes:
+        need(mode <= 10, 'texture coordinate mode %d' % mode)
+        seen('tex: K=%d mode %d' % (K, mode))
+    pos += K
+    rd = g.RangeDecoder(payload[pos:])
+    T_ = {}
+
+    def t(name):
+        if name not in T_:
+            T_[name] = g.Table()
+        return T_[name]
+
+    def bit(name, key=0):
+        return rd.bit(t(name)[key])
+
+    # Corner symbols
+    corners = []                   # (face, position, degree)
+    verts = []
+    for fi, f in enumerate(faces):
+        for p, v in enumerate(f):
+            corners.append((fi, p, len(f)))
+            verts.append(v)
+    S = [[] for _ in range(nverts)]
+    name = []
+    creator = []
+    n = 0
+    for c, v in enumerate(verts):
+        Sv = S[v]
+        s = min(len(Sv), 2)
+        if bit('is_new', s):
+            seen('tex: new')
+            Sv.append(n)
+            creator.append(c)
+            name.append(n)
+            n += 1
+            need(n <= T - U, 'more named texture coordinates than T - U')
+        elif Sv and bit('is_seen', s):
+            j = rd.integer(t('pick')) if len(Sv) >= 2 else 0
+            seen('tex: seen, pick' if len(Sv) >= 2 else 'tex: seen')
+            need(j < len(Sv), 'pick %d past S(v) of %d' % (j, len(Sv)))
+            name.append(Sv[j])
+        elif bit('is_none'):
+            seen('tex: none')
+            name.append(None)
+        else:
+            need(n > 0, 'a far reference before any value')
+            m = n - 1 - rd.integer(t('far'))
+            need(m >= 0, 'far reference before value 0')
+            if m in Sv:   # the encoder would have said seen; the text does not refuse it (nor does qsp)
+                seen('tex: far to a value of S(v)')
+            seen('tex: far')
+            Sv.append(m)
+            name.append(m)
+    need(n == T - U, 'named texture coordinates %d, T - U = %d' % (n, T - U))
+
+    # Values
+    LIM = (1 << 40) - 1
+    start = [0]
+    for f in faces:
+        start.append(start[-1] + len(f))
+    vals = []                      # per value: K coded components (q, or binary32 bits)
+
+    def residual(key):
+        z = rd.integer(t('residual%d' % key))
+        if z == (1 << 32) - 2:
+            seen('tex: escape')
+            hi = lo = 0
+            for _ in range(21):
+                hi = 2 * hi + rd.raw()
+            for _ in range(21):
+                lo = 2 * lo + rd.raw()
+            z += (hi << 21) | lo
+        return g.unzigzag(z)
+
+    for i in range(T):
+        x = 2
+        if i < T - U:
+            c = creator[i]
+            fi, p, d = corners[c]
+            at = lambda k: start[fi] + (p + k) % d
+            A, B, O = at(-1), at(1), at(2)
+            known = lambda cc: name[cc] is not None and name[cc] < i
+            if d >= 4 and known(A) and known(B) and known(O):
+                x = 0
+            elif known(A):
+                x, ref = 1, name[A]
+            elif known(B):
+                x, ref = 1, name[B]
+        seen('tex: x=%d' % x)
+        val = []
+        for k in range(K):
+            mode = modes[k]
+            if x == 0:
+                a, b, o = (vals[name[cc]][k] for cc in (A, B, O))
+            elif x == 1:
+                a = vals[ref][k]
+            else:
+                a = vals[i - 1][k] if i else 0
+            r = residual(K * x + k)
+            if mode:
+                pred = g.clamp(a + b - o, -LIM, LIM) if x == 0 else a
+                if x == 0 and pred != a + b - o:
+                    seen('tex: clamped parallelogram')
+                q = pred + r
+                need(-LIM <= q <= LIM, 'decimal texture coordinate %d outside (-2^40, 2^40)' % q)
+                val.append(q)
+            else:
+                if x == 0:
+                    pb = g.f32_bits_of_double((g.bits_f32(a) + g.bits_f32(b)) - g.bits_f32(o))
+                    if pb & 0x7FFFFFFF == 0x7F800000:
+                        seen('tex: infinite parallelogram')
+                        pb = a
+                else:
+                    pb = a
+                im = g.image(pb) + r
+                need(0 <= im < 1 << 32, 'texture coordinate image outside [0, 2^32)')
+                u = g.unimage(im)
+                need(u & 0x7F800000 != 0x7F800000, 'texture coordinate not finite')
+                val.append(u)
+        vals.append(val)
+    values = []
+    for val in vals:
+        values.append(tuple(g.f32_of_rational(q, 10 ** (mode - 1)) if mode else q
+                            for q, mode in zip(val, modes)))
+    unref = values[T - U:]
+    if unref != sorted(unref):
+        seen('tex: unreferenced values not sorted (an encoder rule)')
+
+    # Original numbering
+    original = None
+    if kept:
+        original = []
+        used = [False] * T
+        z = 1
+        for i in range(T):
+            p_ = (original[-1] + 1) % T if i else 0
+            coded = rd.integer(t('step%d' % z))
+            s = g.unzigzag(coded)
+            need(-T < 2 * s <= T, 'texture coordinate step outside (-T/2, T/2]')
+            j = (p_ + s) % T
+            need(not used[j], 'original texture coordinate index used twice')
+            used[j] = True
+            original.append(j)
+            z = int(coded == 0)
+    rd.finish()
+    names = [name[start[fi]:start[fi + 1]] for fi in range(len(faces))]
+    return values, names, original
+
+
 # ---------------- "Decoding a mesh" ----------------
-def decode_file(data):
-    """(positions as float bits per output vertex, faces, comment lines, quantized?)."""
-    secs = g.sections(data)
+def canonical_mesh(data, secs):
+    """The output mesh before an order section: (positions as float bits, faces, quantized?)."""
     V, F, C, U = g.counts(secs[1])
     n, quads = layout(secs[2], C, U)
     need(n == V and len(quads) == F, 'counts disagree with the topology')
@@ -371,9 +599,8 @@ def decode_file(data):
     pos = [None] * V
     for k in range(V):
         pos[coding[k]] = (fb[0][k], fb[1][k], fb[2][k])
-    lines = comments(secs[0x81]) if 0x81 in secs else []
     if 0x05 not in secs:
-        return pos, [list(q) for q in quads], lines, geo[1] != 0
+        return pos, [list(q) for q in quads], geo[1] != 0
     need(data[9] >= 1, 'a polygons section in a 3.0 file')
     I, groups, faces, rest = decode_polygons(secs[0x05], V, quads)
     first_of = {}
@@ -396,7 +623,48 @@ def decode_file(data):
         o = [out_index[first_of.get(r, r)] for r in f]
         need(len(set(o)) == len(o), 'a face repeating an output vertex')
         out_faces.append(o)
-    return out_pos, out_faces, lines, geo[1] != 0
+    return out_pos, out_faces, geo[1] != 0
+
+
+def decode_file(data):
+    """(positions as float bits per output vertex, faces, comment lines, quantized?, texture
+    coordinates) of the output mesh, the order section applied; texture coordinates are None or
+    (values as binary32 bits per component, per face the value each corner names or None)."""
+    secs = g.sections(data)
+    pos, faces, quantized = canonical_mesh(data, secs)
+    lines = comments(secs[0x81]) if 0x81 in secs else []
+    tex = None
+    if 0x06 in secs:
+        need(data[9] >= 2, 'a texture coordinates section in a %d.%d file' % (data[8], data[9]))
+        values, names, original = decode_texcoords(secs[0x06], len(pos), faces, 0x04 in secs)
+        if original is not None:
+            out_values = [None] * len(values)
+            for i, j in enumerate(original):
+                out_values[j] = values[i]
+            names = [[None if x is None else original[x] for x in f] for f in names]
+            values = out_values
+        tex = [values, names]
+    if 0x04 in secs:
+        seen('order section')
+        cv, of = decode_order(secs[0x04], len(pos), [len(f) for f in faces])
+        back = [None] * len(pos)
+        for j, c in enumerate(cv):
+            back[c] = j
+        opos = [pos[c] for c in cv]
+        ofaces, onames = [], []
+        for c, r in of:
+            d = len(faces[c])
+            f, nm = [None] * d, [None] * d
+            for k in range(d):
+                f[(k + r) % d] = back[faces[c][k]]
+                if tex:
+                    nm[(k + r) % d] = tex[1][c][k]
+            ofaces.append(f)
+            onames.append(nm)
+        pos, faces = opos, ofaces
+        if tex:
+            tex[1] = onames
+    return pos, faces, lines, quantized, tex
 
 
 # ---------------- comparisons ----------------
@@ -431,13 +699,100 @@ def read_obj(path):
     return pos, faces, lead
 
 
+def read_obj_tex(path):
+    """Positions, texture coordinates (float32 bits per component) and faces with, per corner, its
+    vertex and the texture coordinate it names (0-based, None for none) of an .obj."""
+    pos, vts, faces, names = [], [], [], []
+    for raw in open(path, 'rb').read().split(b'\n'):
+        w = raw.split()
+        if not w or w[0].startswith(b'#'):
+            continue
+        if w[0] == b'v':
+            pos.append(tuple(f32(float(x)) for x in w[1:4]))
+        elif w[0] == b'vt':
+            vts.append(tuple(f32(float(x)) for x in w[1:]))
+        elif w[0] == b'f':
+            f, nm = [], []
+            for x in w[1:]:
+                parts = x.split(b'/')
+                i = int(parts[0])
+                f.append(i - 1 if i > 0 else len(pos) + i)
+                if len(parts) > 1 and parts[1]:
+                    k = int(parts[1])
+                    nm.append(k - 1 if k > 0 else len(vts) + k)
+                else:
+                    nm.append(None)
+            faces.append(f)
+            names.append(nm)
+    return pos, vts, faces, names
+
+
+def tex_faces(pos, faces, values, names):
+    """The faces as corner cycles of (position, texture coordinate or ()), each from its smallest
+    corner, sorted: a mesh up to vertex and texture coordinate renumbering, face order and rotation."""
+    out = []
+    for f, nm in zip(faces, names):
+        cyc = [(pos[v], () if x is None else tuple(values[x])) for v, x in zip(f, nm)]
+        k = cyc.index(min(cyc))
+        out.append(tuple(cyc[k:] + cyc[:k]))
+    return sorted(out)
+
+
+def compare_tex(mesh, other, what, exact):
+    """The mesh's texture coordinates against (pos, vts, faces, names) of an .obj: every corner's
+    position and texture coordinate bits up to renumbering, face order and rotation, and the values
+    no corner names; exact: index for index (vertex order, face order, first corners, values)."""
+    pos, faces, _, quantized, tex = mesh
+    opos, ovts, ofaces, onames = other
+    if tex is None:
+        if ovts:
+            return ['no texture coordinates section, %s has %d' % (what, len(ovts))]
+        tex = [], [[None] * len(f) for f in faces]
+    values, names = tex
+    K = len(values[0]) if values else 0
+    ovts = [v[:K] + (0,) * (K - len(v)) if len(v) != K else v for v in ovts]
+    bad = []
+    if exact:
+        if not quantized and pos != opos:
+            bad.append('positions differ from %s\'s' % what)
+        if faces != ofaces:
+            bad.append('faces differ from %s\'s' % what)
+        if values != ovts:
+            bad.append('texture coordinates differ from %s\'s (first at %s; %d and %d)' % (
+                what, next((i for i in range(min(len(values), len(ovts))) if values[i] != ovts[i]), '-'),
+                len(values), len(ovts)))
+        if names != onames:
+            bad.append('corners\' texture coordinates differ from %s\'s (first at face %s)' % (
+                what, next((i for i in range(min(len(names), len(onames))) if names[i] != onames[i]), '-')))
+        return bad
+    if len(faces) != len(ofaces):
+        return ['%d faces, %s %d' % (len(faces), what, len(ofaces))]
+    if quantized:
+        pos = [()] * len(pos)
+        opos = [()] * len(opos)
+    mine, theirs = tex_faces(pos, faces, values, names), tex_faces(opos, ofaces, ovts, onames)
+    if mine != theirs:
+        diff = sorted(set(mine) ^ set(theirs))
+        bad.append('corners\' positions and texture coordinates differ from %s\'s (%d of %d faces; first: %s)'
+                   % (what, sum(1 for a, b in zip(mine, theirs) if a != b), len(mine), diff[:1]))
+    named = {x for nm in names for x in nm if x is not None}
+    onamed = {x for nm in onames for x in nm if x is not None}
+    free = sorted(tuple(v) for i, v in enumerate(values) if i not in named)
+    ofree = sorted(tuple(v) for i, v in enumerate(ovts) if i not in onamed)
+    if free != ofree:
+        bad.append('texture coordinates no corner names: %d, %s\'s %d (or other values)' % (len(free), what, len(ofree)))
+    if len(values) != len(ovts):
+        bad.append('%d texture coordinates, %s %d' % (len(values), what, len(ovts)))
+    return bad
+
+
 def canon_face(f):
     k = f.index(min(f))
     return tuple(f[k:] + f[:k])
 
 
 def compare_obj(path, mesh, obj_path):
-    pos, faces, lines, quantized = mesh
+    pos, faces, lines, quantized = mesh[:4]
     opos, ofaces, olead = read_obj(obj_path)
     bad = []
     if len(pos) != len(opos) or len(faces) != len(ofaces):
@@ -469,9 +824,9 @@ def compare_obj(path, mesh, obj_path):
 
 def compare_reference(mesh, prefix):
     """Exactly the reference decoder's output (dump_stencils' PREFIX.mesh, PREFIX.comments; no
-    PREFIX.mesh for a file with an order section, which this decoder does not read)."""
+    PREFIX.mesh for a file with an order section: --decompressed compares those)."""
     import os
-    pos, faces, lines, _ = mesh
+    pos, faces, lines = mesh[:3]
     bad = []
     rlines = [bytes.fromhex(x[1:]) for x in open(prefix + '.comments').read().split()]  # 'x' + hex each
     if rlines != lines:
@@ -506,7 +861,7 @@ def main():
         print(__doc__, file=sys.stderr)
         return 2
     path = args[0]
-    opts = dict(zip(args[1::2], args[2::2]))
+    opts = {a: b for a, b in zip(args[1:], args[2:]) if a.startswith('--')}
     try:
         mesh = decode_file(open(path, 'rb').read())
     except g.FormatError as e:
@@ -517,6 +872,14 @@ def main():
         bad += compare_obj(path, mesh, opts['--obj'])
     if '--reference' in opts:
         bad += compare_reference(mesh, opts['--reference'])
+    if '--tex-obj' in opts:
+        bad += compare_tex(mesh, read_obj_tex(opts['--tex-obj']), 'the .obj', exact='--exact' in args)
+    if '--decompressed' in opts:
+        bad += compare_tex(mesh, read_obj_tex(opts['--decompressed']), 'qsp decompress\'s output', exact=True)
+    if '--stats' in args:
+        print(' '.join('%s=%d' % kv for kv in sorted(STATS.items())))
+    if 'tex: unreferenced values not sorted (an encoder rule)' in STATS:
+        bad.append('texture coordinates no corner names are not sorted by their bits, as the encoder writes them')
     for b in bad:
         print('%s: %s' % (path, b))
     return 1 if bad else 0
