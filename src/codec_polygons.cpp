@@ -156,7 +156,7 @@ std::string encode_faces(const PolygonMesh& mesh, const EncodeOptions& options, 
 
 // The texture coordinates section of `mesh` whose faces went where `map` says: the corners in the
 // decoder's output order, named by input vertex (the decoder's vertices are the same up to numbering).
-std::string texcoords_section(const PolygonMesh& mesh, const FaceMap& map, bool keep_order) {
+std::string texcoords_section(const PolygonMesh& mesh, const FaceMap& map, const EncodeOptions& options) {
   const std::size_t nf = mesh.face_count();
   if (map.face.size() != nf || map.rotation.size() != nf) internal("the face map has another face count");
   std::vector<std::uint32_t> input_face(nf, kInvalid);
@@ -177,7 +177,8 @@ std::string texcoords_section(const PolygonMesh& mesh, const FaceMap& map, bool 
     }
   }
   return encode_texcoords_section(offsets, vertices, static_cast<std::uint32_t>(mesh.vertex_count()),
-                                  mesh.texcoord_components, mesh.texcoords, texcoords, keep_order);
+                                  mesh.texcoord_components, mesh.texcoords, texcoords, options.keep_order,
+                                  options.quantize_texcoord_bits);
 }
 
 }  // namespace
@@ -199,8 +200,8 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
   FaceMap map;
   std::string bytes = encode_faces(mesh, options, map);
   if (!texcoords) return bytes;
-  return container::with_section(bytes, container::kTagTexcoords,
-                                 texcoords_section(mesh, map, options.keep_order), kFormatMinorTexcoords);
+  return container::with_section(bytes, container::kTagTexcoords, texcoords_section(mesh, map, options),
+                                 kFormatMinorTexcoords);
 }
 
 }  // namespace qsp

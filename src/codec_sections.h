@@ -78,13 +78,16 @@ DecodedPolygons decode_polygons_section(std::string_view payload, std::uint64_t 
 // more than faces) and whose corners' vertices are `corner_vertices` (below `vertex_count`), in the order
 // the decoder outputs them before any order section applies. `values` holds `components` (1-3) floats
 // per texture coordinate in the input's numbering, `corner_texcoords` per output corner its input index
-// or kInvalid. `keep_order` stores the input numbering too. Throws Error(kBadNumber) for a value that is
-// not finite, Error(kInternal) for inconsistent sizes.
+// or kInvalid. `keep_order` stores the input numbering too. `quantize_bits` 1-24 rounds the values to
+// the grid of step 2^-bits (a component with a value of 2^(40 - bits) or more stays exact); 0 keeps
+// them exactly. Throws Error(kBadNumber) for a value that is not finite, Error(kUsage) for more than 24
+// bits, Error(kInternal) for inconsistent sizes.
 std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets,
                                      std::span<const std::uint32_t> corner_vertices,
                                      std::uint32_t vertex_count, std::uint8_t components,
                                      std::span<const float> values,
-                                     std::span<const std::uint32_t> corner_texcoords, bool keep_order);
+                                     std::span<const std::uint32_t> corner_texcoords, bool keep_order,
+                                     std::uint32_t quantize_bits);
 
 struct DecodedTexcoords {
   std::uint8_t components = 0;

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <numeric>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "bytes.h"
@@ -22,8 +23,12 @@ namespace qsp {
 namespace {
 
 constexpr const char* kSection = "texture coordinates section";
-constexpr std::uint8_t kComponentsMask = 0x03, kOrderBit = 0x04, kReservedBits = 0xF8;
-constexpr std::uint8_t kModeFloat = 0;  // else 1 + decimals
+constexpr std::uint8_t kComponentsMask = 0x03, kOrderBit = 0x04, kCorrectionBit = 0x08, kReservedBits = 0xF0;
+constexpr std::uint8_t kModeFloat = 0;  // 1 + k: decimal grid of k decimals; kModeGrid + b: step 2^-b
+constexpr std::uint8_t kModeGrid = 0x10;
+constexpr std::uint32_t kMaxGridBits = 24;
+constexpr unsigned kContexts = 5;
+constexpr std::uint64_t kMaxValuesPerByte = 2048;
 constexpr std::uint32_t kEscape = 0xFFFFFFFEu;
 constexpr unsigned kWideHalf = 21;  // w < 2^42 follows an escape as two 21-bit halves
 
@@ -52,59 +57,142 @@ struct SymbolModels {
   IntModel pick, far;
 };
 
+// A prediction: (sum of weight * value) / 2 over up to 11 terms, and its context.
 struct Prediction {
   int context = 2;
-  std::uint32_t a = kInvalid, b = kInvalid, o = kInvalid;  // values; b, o only for the parallelogram
+  int count = 0;
+  std::array<std::uint32_t, 11> value{};
+  std::array<int, 11> weight{};  // twice the weight
+  void add(std::uint32_t v, int w) { value[count] = v, weight[count++] = w; }
+};
+
+// Where each texture-coordinate edge lies: the first corner k (in output order) whose face runs from
+// names[k] to the next corner's name, keyed by that pair.
+struct Edges {
+  std::unordered_map<std::uint64_t, std::uint32_t> at;
+  Edges(std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> names) {
+    at.reserve(names.size());
+    for (std::size_t f = 0; f + 1 < face_offsets.size(); ++f) {
+      const std::uint32_t first = face_offsets[f], d = face_offsets[f + 1] - first;
+      for (std::uint32_t k = 0; k < d; ++k) {
+        const std::uint32_t x = names[first + k], y = names[first + (k + 1) % d];
+        if (x != kInvalid && y != kInvalid) at.emplace(key(x, y), first + k);
+      }
+    }
+  }
+  static std::uint64_t key(std::uint32_t x, std::uint32_t y) { return (std::uint64_t{x} << 32) | y; }
+  // The corner that runs from x to y, or kInvalid.
+  std::uint32_t find(std::uint32_t x, std::uint32_t y) const {
+    const auto it = at.find(key(x, y));
+    return it == at.end() ? kInvalid : it->second;
+  }
 };
 
 // The prediction of value `i` from its creating corner (kInvalid: none, i >= T - U).
 Prediction predict(std::uint32_t i, std::uint32_t creating, std::span<const std::uint32_t> face_of_corner,
-                   std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> names) {
+                   std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> names,
+                   const Edges& edges, bool corrections) {
   Prediction p;
   if (creating != kInvalid) {
-    const std::uint32_t f = face_of_corner[creating], first = face_offsets[f],
-                        d = face_offsets[f + 1] - first;
-    const std::uint32_t pos = creating - first;
-    auto named = [&](std::uint32_t k) {
-      const std::uint32_t t = names[first + (pos + k) % d];
-      return t != kInvalid && t < i ? t : kInvalid;
+    auto known = [&](std::uint32_t t) { return t != kInvalid && t < i ? t : kInvalid; };
+    // Corner `corner`'s neighbour k steps on in its face.
+    auto step = [&](std::uint32_t corner, std::uint32_t k) {
+      const std::uint32_t f = face_of_corner[corner], first = face_offsets[f],
+                          d = face_offsets[f + 1] - first;
+      return first + (corner - first + k) % d;
     };
-    const std::uint32_t a = named(d - 1), b = named(1), o = d >= 4 ? named(2) : kInvalid;
-    if (a != kInvalid && b != kInvalid && o != kInvalid) return {0, a, b, o};
-    if (a != kInvalid) return {1, a, kInvalid, kInvalid};
-    if (b != kInvalid) return {1, b, kInvalid, kInvalid};
+    const std::uint32_t f = face_of_corner[creating], d = face_offsets[f + 1] - face_offsets[f];
+    const std::uint32_t a = known(names[step(creating, d - 1)]), b = known(names[step(creating, 1)]),
+                        o = d >= 4 ? known(names[step(creating, 2)]) : kInvalid;
+    // The quad across the edge from x to y of this face (it runs from y to x): its corners at y and x
+    // and the two beyond, when all are known, as (y, x, next of x, next of that).
+    auto across = [&](std::uint32_t x, std::uint32_t y, std::array<std::uint32_t, 4>& q) {
+      const std::uint32_t k = edges.find(y, x);
+      if (k == kInvalid || face_offsets[face_of_corner[k] + 1] - face_offsets[face_of_corner[k]] != 4)
+        return false;
+      for (std::uint32_t s = 0; s < 4; ++s)
+        if ((q[s] = known(names[step(k, s)])) == kInvalid) return false;
+      return true;
+    };
+    std::array<std::uint32_t, 4> q{};
+    if (a != kInvalid && b != kInvalid && o != kInvalid) {
+      // The parallelogram, corrected by what it missed in the quads across o-a and b-o.
+      p.add(a, 2), p.add(b, 2), p.add(o, -2);
+      int corrected = 0;
+      std::array<std::uint32_t, 4> r{};
+      const bool left = corrections && across(o, a, q), below = corrections && across(b, o, r);
+      // Across o -> a (runs a, o, y1, y2): a's parallelogram there is o + y2 - y1, its miss a - (o + y2 -
+      // y1). Across b -> o (runs o, b, z1, z2): b's parallelogram there is o + z1 - z2, its miss b - (o + z1
+      // - z2).
+      const int w = left && below ? 1 : 2;
+      if (left) p.add(q[0], w), p.add(q[1], -w), p.add(q[3], -w), p.add(q[2], w), ++corrected;
+      if (below) p.add(r[1], w), p.add(r[0], -w), p.add(r[2], -w), p.add(r[3], w), ++corrected;
+      p.context = corrected ? 3 : 0;
+      return p;
+    }
+    // One neighbour: continue the grid line through it from the quad across its edge to o. Across o -> a
+    // the quad runs a, o, y1, y2 (the line y2 -> a -> here); across b -> o it runs o, b, z1, z2 (z1 -> b).
+    for (const bool first : {true, false}) {
+      const std::uint32_t n = first ? a : b;
+      if (n == kInvalid) continue;
+      if (o != kInvalid && (first ? across(o, a, q) : across(b, o, q))) {
+        p.add(n, 4), p.add(q[first ? 3 : 2], -2), p.context = 4;
+      } else {
+        p.add(n, 2), p.context = 1;
+      }
+      return p;
+    }
   }
-  return {2, i > 0 ? i - 1 : kInvalid, kInvalid, kInvalid};
+  p.context = 2;
+  if (i > 0) p.add(i - 1, 2);
+  return p;
 }
 
-// One component's domain: decimal integers (k decimals) or float images.
+// One component's domain: decimal integers (k decimals), integers on a grid of step 2^-b, or float
+// images.
 struct Domain {
   std::uint8_t mode = kModeFloat;
-  std::int64_t predicted(const Prediction& p, std::span<const float> values, unsigned K, unsigned c) const {
-    auto value = [&](std::uint32_t t) { return values[std::size_t{t} * K + c]; };
-    if (p.a == kInvalid) return mode == kModeFloat ? float_image(0.0f) : 0;
-    if (mode != kModeFloat) {
-      auto q = [&](std::uint32_t t) {
-        std::int64_t n = 0;
-        decimal_of(value(t), mode - 1, n);  // exact: every value is on the grid
-        return n;
-      };
-      if (p.b == kInvalid) return q(p.a);
-      return clamp_decimal(q(p.a) + q(p.b) - q(p.o));
-    }
-    if (p.b == kInvalid) return float_image(value(p.a));
-    const float a = value(p.a);
-    const auto x = static_cast<float>((static_cast<double>(a) + static_cast<double>(value(p.b))) -
-                                      static_cast<double>(value(p.o)));
-    return float_image(std::isfinite(x) ? x : a);
-  }
+  bool grid() const { return mode > kModeGrid; }
+  // The integer a value stands for (exact for the values the encoder writes).
   std::int64_t integer(float x) const {
     if (mode == kModeFloat) return float_image(x);
-    std::int64_t n = 0;
-    decimal_of(x, mode - 1, n);
-    return n;
+    if (grid()) return std::llround(std::ldexp(static_cast<double>(x), mode - kModeGrid));
+    return std::llround(static_cast<double>(x) * kPow10[mode - 1u]);
+  }
+  // The value an integer stands for (|n| < 2^40, or a float image).
+  float value(std::int64_t n) const {
+    if (mode == kModeFloat) return image_float(static_cast<std::uint32_t>(n));
+    if (grid()) return static_cast<float>(std::ldexp(static_cast<double>(n), -(mode - kModeGrid)));
+    return decimal_grid_value(n, mode - 1);
+  }
+  std::int64_t predicted(const Prediction& p, std::span<const float> values, unsigned K, unsigned c) const {
+    auto value_of = [&](std::uint32_t t) { return values[std::size_t{t} * K + c]; };
+    if (p.count == 0) return mode == kModeFloat ? float_image(0.0f) : 0;
+    if (mode != kModeFloat) {
+      std::int64_t sum = 0;
+      for (int k = 0; k < p.count; ++k) sum += p.weight[k] * integer(value_of(p.value[k]));
+      return clamp_decimal(floor_div(sum + 1, 2));
+    }
+    double sum = 0;
+    for (int k = 0; k < p.count; ++k) sum += p.weight[k] * static_cast<double>(value_of(p.value[k]));
+    const auto x = static_cast<float>(sum / 2);
+    return float_image(std::isfinite(x) ? x : value_of(p.value[0]));
   }
 };
+
+// Component c's values rounded to the grid of step 2^-bits (kept as they are, and false, if one of them
+// is too large for it: |x| * 2^bits must stay below 2^40).
+bool quantize(std::span<float> values, unsigned K, unsigned c, std::uint32_t bits) {
+  const int b = static_cast<int>(bits);
+  for (std::size_t i = c; i < values.size(); i += K)
+    if (!(std::fabs(std::ldexp(static_cast<double>(values[i]), b)) < static_cast<double>(kDecimalLimit - 1)))
+      return false;
+  for (std::size_t i = c; i < values.size(); i += K)
+    values[i] =
+        static_cast<float>(std::ldexp(std::nearbyint(std::ldexp(static_cast<double>(values[i]), b)), -b)) +
+        0.0f;  // -0 becomes 0, the grid's zero
+  return true;
+}
 
 // The fewest decimals every value of component c is exactly on, or float bits.
 std::uint8_t choose_mode(std::span<const float> values, unsigned K, unsigned c) {
@@ -149,7 +237,8 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
                                      std::span<const std::uint32_t> corner_vertices,
                                      std::uint32_t vertex_count, std::uint8_t components,
                                      std::span<const float> values,
-                                     std::span<const std::uint32_t> corner_texcoords, bool keep_order) {
+                                     std::span<const std::uint32_t> corner_texcoords, bool keep_order,
+                                     std::uint32_t quantize_bits) {
   const unsigned K = components;
   if (K < 1 || K > 3 || values.size() % K != 0 || corner_texcoords.size() != corner_vertices.size() ||
       face_offsets.empty() || face_offsets.back() != corner_vertices.size())
@@ -159,84 +248,98 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     if (!std::isfinite(values[i]))
       throw Error(ErrorCode::kBadNumber, "texture coordinate " + std::to_string(i / K) + " is not finite");
 
-  std::string stream;
-  RangeEncoder enc(stream);
-  // Corner symbols; `output` maps input indices to the order the corners first name them.
-  std::vector<std::uint32_t> output(T, kInvalid), input;  // input: per output index, its input index
-  std::vector<std::uint32_t> names(corner_vertices.size(), kInvalid), creating;
-  Named named(corner_vertices, vertex_count);
-  SymbolModels m;
-  for (std::size_t c = 0; c < corner_vertices.size(); ++c) {
-    const std::uint32_t v = corner_vertices[c], t = corner_texcoords[c];
-    if (t != kInvalid && t >= T) internal("a corner names texture coordinate " + std::to_string(t));
-    const auto seen = named.of(v);
-    const unsigned s = std::min<std::size_t>(seen.size(), 2);
-    const bool is_new = t != kInvalid && output[t] == kInvalid;
-    enc.encode_bit(m.is_new[s], is_new);
-    if (is_new) {
-      output[t] = static_cast<std::uint32_t>(input.size());
-      input.push_back(t);
-      creating.push_back(static_cast<std::uint32_t>(c));
+  if (quantize_bits > kMaxGridBits)
+    throw Error(ErrorCode::kUsage, "encode: texture coordinate quantization bits " +
+                                       std::to_string(quantize_bits) + " is not 0 (exact) to 24");
+  // The section with or without the second-order corrections (flag bit 3).
+  const auto section = [&](bool corrections) {
+    std::string stream;
+    RangeEncoder enc(stream);
+    // Corner symbols; `output` maps input indices to the order the corners first name them.
+    std::vector<std::uint32_t> output(T, kInvalid), input;  // input: per output index, its input index
+    std::vector<std::uint32_t> names(corner_vertices.size(), kInvalid), creating;
+    Named named(corner_vertices, vertex_count);
+    SymbolModels m;
+    for (std::size_t c = 0; c < corner_vertices.size(); ++c) {
+      const std::uint32_t v = corner_vertices[c], t = corner_texcoords[c];
+      if (t != kInvalid && t >= T) internal("a corner names texture coordinate " + std::to_string(t));
+      const auto seen = named.of(v);
+      const unsigned s = std::min<std::size_t>(seen.size(), 2);
+      const bool is_new = t != kInvalid && output[t] == kInvalid;
+      enc.encode_bit(m.is_new[s], is_new);
+      if (is_new) {
+        output[t] = static_cast<std::uint32_t>(input.size());
+        input.push_back(t);
+        creating.push_back(static_cast<std::uint32_t>(c));
+        named.add(v, output[t]);
+        names[c] = output[t];
+        continue;
+      }
+      const auto at = t == kInvalid ? seen.end() : std::find(seen.begin(), seen.end(), output[t]);
+      if (!seen.empty()) enc.encode_bit(m.is_seen[s], at != seen.end());
+      if (at != seen.end()) {
+        if (seen.size() >= 2) m.pick.encode(enc, static_cast<std::uint32_t>(at - seen.begin()));
+        names[c] = *at;
+        continue;
+      }
+      enc.encode_bit(m.is_none, t == kInvalid);
+      if (t == kInvalid) continue;
+      m.far.encode(enc, static_cast<std::uint32_t>(input.size() - 1 - output[t]));
       named.add(v, output[t]);
       names[c] = output[t];
-      continue;
     }
-    const auto at = t == kInvalid ? seen.end() : std::find(seen.begin(), seen.end(), output[t]);
-    if (!seen.empty()) enc.encode_bit(m.is_seen[s], at != seen.end());
-    if (at != seen.end()) {
-      if (seen.size() >= 2) m.pick.encode(enc, static_cast<std::uint32_t>(at - seen.begin()));
-      names[c] = *at;
-      continue;
+    // The values no corner names, in the order of their float bits.
+    const auto referenced = static_cast<std::uint32_t>(input.size());
+    for (std::uint32_t t = 0; t < T; ++t)
+      if (output[t] == kInvalid) input.push_back(t);
+    std::sort(input.begin() + referenced, input.end(), [&](std::uint32_t x, std::uint32_t y) {
+      for (unsigned c = 0; c < K; ++c) {
+        const auto bx = std::bit_cast<std::uint32_t>(values[std::size_t{x} * K + c]);
+        const auto by = std::bit_cast<std::uint32_t>(values[std::size_t{y} * K + c]);
+        if (bx != by) return bx < by;
+      }
+      return false;
+    });
+    std::vector<float> ordered(values.size());
+    for (std::uint32_t i = 0; i < T; ++i) {
+      output[input[i]] = i;
+      std::copy_n(&values[std::size_t{input[i]} * K], K, &ordered[std::size_t{i} * K]);
     }
-    enc.encode_bit(m.is_none, t == kInvalid);
-    if (t == kInvalid) continue;
-    m.far.encode(enc, static_cast<std::uint32_t>(input.size() - 1 - output[t]));
-    named.add(v, output[t]);
-    names[c] = output[t];
-  }
-  // The values no corner names, in the order of their float bits.
-  const auto referenced = static_cast<std::uint32_t>(input.size());
-  for (std::uint32_t t = 0; t < T; ++t)
-    if (output[t] == kInvalid) input.push_back(t);
-  std::sort(input.begin() + referenced, input.end(), [&](std::uint32_t x, std::uint32_t y) {
-    for (unsigned c = 0; c < K; ++c) {
-      const auto bx = std::bit_cast<std::uint32_t>(values[std::size_t{x} * K + c]);
-      const auto by = std::bit_cast<std::uint32_t>(values[std::size_t{y} * K + c]);
-      if (bx != by) return bx < by;
+    std::array<Domain, 3> domain{};
+    for (unsigned c = 0; c < K; ++c)
+      domain[c].mode = quantize_bits && quantize(ordered, K, c, quantize_bits)
+                           ? static_cast<std::uint8_t>(kModeGrid + quantize_bits)
+                           : choose_mode(ordered, K, c);
+    std::vector<IntModel> residual(kContexts * K);
+    const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
+    const Edges edges(face_offsets, names);
+    for (std::uint32_t i = 0; i < T; ++i) {
+      const Prediction p = predict(i, i < referenced ? creating[i] : kInvalid, face_of_corner, face_offsets,
+                                   names, edges, corrections);
+      for (unsigned c = 0; c < K; ++c) {
+        const std::int64_t r =
+            domain[c].integer(ordered[std::size_t{i} * K + c]) - domain[c].predicted(p, ordered, K, c);
+        encode_residual(enc, residual[K * p.context + c], r);
+      }
     }
-    return false;
-  });
-  std::vector<float> ordered(values.size());
-  for (std::uint32_t i = 0; i < T; ++i) {
-    output[input[i]] = i;
-    std::copy_n(&values[std::size_t{input[i]} * K], K, &ordered[std::size_t{i} * K]);
-  }
+    if (keep_order) {
+      PermutationCoder perm;
+      for (std::uint32_t i = 0; i < T; ++i) perm.encode(enc, input[i], T);
+    }
+    enc.finish();
 
-  std::array<Domain, 3> domain{};
-  for (unsigned c = 0; c < K; ++c) domain[c].mode = choose_mode(ordered, K, c);
-  std::vector<IntModel> residual(3 * K);
-  const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
-  for (std::uint32_t i = 0; i < T; ++i) {
-    const Prediction p =
-        predict(i, i < referenced ? creating[i] : kInvalid, face_of_corner, face_offsets, names);
-    for (unsigned c = 0; c < K; ++c) {
-      const std::int64_t r =
-          domain[c].integer(ordered[std::size_t{i} * K + c]) - domain[c].predicted(p, ordered, K, c);
-      encode_residual(enc, residual[K * p.context + c], r);
-    }
-  }
-  if (keep_order) {
-    PermutationCoder perm;
-    for (std::uint32_t i = 0; i < T; ++i) perm.encode(enc, input[i], T);
-  }
-  enc.finish();
-
-  std::string out;
-  put_u8(out, static_cast<std::uint8_t>(K | (keep_order ? kOrderBit : 0)));
-  put_varint(out, T);
-  put_varint(out, T - referenced);
-  for (unsigned c = 0; c < K; ++c) put_u8(out, domain[c].mode);
-  return out + stream;
+    std::string out;
+    put_u8(out,
+           static_cast<std::uint8_t>(K | (keep_order ? kOrderBit : 0) | (corrections ? kCorrectionBit : 0)));
+    put_varint(out, T);
+    put_varint(out, T - referenced);
+    for (unsigned c = 0; c < K; ++c) put_u8(out, domain[c].mode);
+    return out + stream;
+  };
+  // The smaller; the first on a tie. Smooth texture layouts gain from the corrections, layouts whose
+  // charts bend against the patches lose.
+  std::string plain = section(false), corrected = section(true);
+  return corrected.size() < plain.size() ? corrected : plain;
 }
 
 DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_t base_offset,
@@ -268,12 +371,19 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     in.fail_at(std::to_string(T - U) + " referenced texture coordinates but only " +
                    std::to_string(corner_vertices.size()) + " corners",
                at);
+  // Every value costs at least one decision of its residual's model, and no decision less than
+  // log2(65536 / 65465) bits: a tiny section declaring millions of values is refused unallocated.
+  if (T > kMaxValuesPerByte * (in.left() + 8))
+    in.fail_at(std::to_string(T) + " texture coordinates cannot fit in the " + std::to_string(in.left()) +
+                   " bytes left",
+               at);
   std::array<Domain, 3> domain{};
   for (unsigned c = 0; c < K; ++c) {
     at = in.offset();
     domain[c].mode = in.u8("component mode");
-    if (domain[c].mode > 1 + kMaxDecimals)
-      in.fail_at("component mode " + std::to_string(domain[c].mode) + " (0 to 10)", at);
+    if (domain[c].mode > 1 + kMaxDecimals &&
+        (domain[c].mode <= kModeGrid || domain[c].mode > kModeGrid + kMaxGridBits))
+      in.fail_at("component mode " + std::to_string(domain[c].mode) + " (0 to 10, or 17 to 40)", at);
   }
   const std::uint64_t stream_offset = in.offset();
   RangeDecoder dec(payload.substr(in.pos()), stream_offset, kSection);
@@ -322,24 +432,21 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                  dec.offset());
 
   out.values.resize(T * K);
-  std::vector<IntModel> residual(3 * K);
+  std::vector<IntModel> residual(kContexts * K);
   const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
+  const Edges edges(face_offsets, out.corners);
   for (std::uint32_t i = 0; i < T; ++i) {
-    const Prediction p =
-        predict(i, i < n ? creating[i] : kInvalid, face_of_corner, face_offsets, out.corners);
+    const Prediction p = predict(i, i < n ? creating[i] : kInvalid, face_of_corner, face_offsets, out.corners,
+                                 edges, (flags & kCorrectionBit) != 0);
     for (unsigned c = 0; c < K; ++c) {
       const std::int64_t predicted = domain[c].predicted(p, out.values, K, c);
       const std::int64_t value = predicted + decode_residual(dec, residual[K * p.context + c]);
-      float x = 0;
-      if (domain[c].mode == kModeFloat) {
-        if (value < 0 || value > std::int64_t{0xFFFFFFFF})
-          format_error("a float image outside 32 bits", dec.offset());
-        x = image_float(static_cast<std::uint32_t>(value));
-      } else {
-        if (value <= -kDecimalLimit || value >= kDecimalLimit)
-          format_error("a decimal integer outside (-2^40, 2^40)", dec.offset());
-        x = decimal_grid_value(value, domain[c].mode - 1);
-      }
+      if (domain[c].mode == kModeFloat ? value < 0 || value > std::int64_t{0xFFFFFFFF}
+                                       : value <= -kDecimalLimit || value >= kDecimalLimit)
+        format_error(domain[c].mode == kModeFloat ? "a float image outside 32 bits"
+                                                  : "an integer outside (-2^40, 2^40)",
+                     dec.offset());
+      const float x = domain[c].value(value);
       if (!std::isfinite(x))
         format_error("texture coordinate " + std::to_string(i) + " is not finite", dec.offset());
       out.values[std::size_t{i} * K + c] = x;

@@ -76,6 +76,8 @@ EncodeOptions options_for(const std::string& name) {
       name.find("_greedy") != std::string::npos ? PartitionMode::kGreedy : PartitionMode::kMotorcycle;
   // "_q14": positions quantized to 14 bits (the other goldens are lossless).
   if (name.find("_q14") != std::string::npos) o.quantize_bits = 14;
+  // "_uv12": texture coordinates on the binary grid of step 2^-12.
+  if (name.find("_uv12") != std::string::npos) o.quantize_texcoord_bits = 12;
   // The encoder picks patch order for every other golden; this pins the layout-order bytes.
   if (name.find("_layout_order") != std::string::npos) o.geometry_order = CodingOrder::kLayout;
   return o;
@@ -243,12 +245,19 @@ TEST(Golden, BytesArePinned) {
     EXPECT_EQ(lines, name.find("_comments") != std::string::npos ? leading_comments(slurp(obj))
                                                                  : std::vector<std::string>{});
     comments += !lines.empty();
-    const PolygonMesh poly = read_polygons(obj);
+    PolygonMesh poly = read_polygons(obj);
     if (poly.texcoord_components) {
       // Texture coordinates: a 3.2 file, decoded to the .obj's corners and their texture coordinates.
       ++texcoords;
       EXPECT_EQ(slurp(path)[9], 2) << "a file with texture coordinates says format 3.2";
       const PolygonMesh back = decode_polygons(slurp(path));
+      if (const std::uint32_t bits = options_for(name).quantize_texcoord_bits) {
+        // Rounded as the spec says: the binary32 nearest to round(x * 2^bits) * 2^-bits.
+        const int b = static_cast<int>(bits);
+        for (float& x : poly.texcoords)
+          x = static_cast<float>(std::ldexp(std::nearbyint(std::ldexp(static_cast<double>(x), b)), -b)) +
+              0.0f;
+      }
       if (options_for(name).keep_order) {
         EXPECT_EQ(back.face_offsets, poly.face_offsets);
         EXPECT_EQ(back.corners, poly.corners);

@@ -57,6 +57,9 @@ std::string level_description(int level);
 
 struct EncodeOptions {
   std::uint32_t quantize_bits = 0;  // 0 = lossless; 1..30 = uniform grid (GeometryOptions)
+  // Texture coordinates: 0 = exact; 1..24 = rounded to the grid of step 2^-bits in texture space (12:
+  // 1/4096, a texel of a 4096-wide texture), whatever other values the mesh has.
+  std::uint32_t quantize_texcoord_bits = 0;
   bool keep_order = false;          // also store vertex order, face order and first corners
   int level = kDefaultLevel;        // kMinLevel..kMaxLevel: how much the encoder searches (Effort)
   // Threads the encoder may use: 0 = as it sees fit (at most two), 1 = this thread only. The bytes

@@ -23,6 +23,7 @@ struct CompressOptions {
   bool sync = false;
   Verbosity verbosity;
   std::uint32_t quantize = 0;
+  std::uint32_t quantize_uv = 0;
   bool keep_order = false;
   DropOptions drop;
   bool float32 = false;            // round coordinates float32 does not hold instead of refusing
@@ -54,6 +55,7 @@ std::string stored_partition(const PolygonMesh& mesh, const EncodeOptions& eo, c
 EncodeOptions encode_options(const CompressOptions& o) {
   EncodeOptions eo;
   eo.quantize_bits = o.quantize;
+  eo.quantize_texcoord_bits = o.quantize_uv;
   eo.keep_order = o.keep_order;
   eo.level = o.level;
   eo.threads = o.threads;
@@ -165,6 +167,10 @@ void register_compress(CLI::App& app, int& rc) {
   sub->add_option("--quantize", opt->quantize,
                   "Lossy: quantize positions to BITS bits over the bounding box (1-30)")
       ->check(CLI::Range(1, 30));
+  sub->add_option("--quantize-uv", opt->quantize_uv,
+                  "Lossy: round texture coordinates to a grid of step 2^-BITS (1-24; 12 = 1/4096), "
+                  "whatever their range, so a few far-off ones cost only themselves")
+      ->check(CLI::Range(1, 24));
   sub->add_flag("--keep-order", opt->keep_order, "Also store the vertex order, face order and first corners");
   add_drop_options(sub, opt->drop, "");
   sub->add_flag("--float32", opt->float32,
