@@ -388,6 +388,8 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       info.order_bytes += size;
     else if (s.tag == container::kTagPolygons)
       split_polygons_section(s, info);
+    else if (s.tag == container::kTagTexcoords)
+      info.texcoord_bytes += size;
     else
       info.other_bytes += size;
   }

@@ -27,14 +27,15 @@ const std::string kData = QSP_TESTDATA_DIR;
 
 using CliReport = testing::TempDirTest;
 
-// The numbers of "bytes: T total = H header + C connectivity (...) + G geometry (...)[ + O order]".
+// The numbers of "bytes: T total = H header + C connectivity (...) + G geometry (...)[ + O order][ + U
+// texture coordinates][ + X other]".
 std::vector<std::uint64_t> byte_parts(const std::string& out) {
   std::smatch m;
   static const std::regex re(
-      R"(bytes: (\d+) total = (\d+) header \+ (\d+) connectivity \([^)]*\) \+ (\d+) geometry \([^)]*\)(?: \+ (\d+) order)?(?: \+ (\d+) other)?)");
+      R"(bytes: (\d+) total = (\d+) header \+ (\d+) connectivity \([^)]*\) \+ (\d+) geometry \([^)]*\)(?: \+ (\d+) order)?(?: \+ (\d+) texture coordinates)?(?: \+ (\d+) other)?)");
   if (!std::regex_search(out, m, re)) return {};
   std::vector<std::uint64_t> v;
-  for (int i = 1; i <= 6; ++i) v.push_back(m[i].matched ? std::stoull(m[i].str()) : 0);
+  for (int i = 1; i <= 7; ++i) v.push_back(m[i].matched ? std::stoull(m[i].str()) : 0);
   return v;
 }
 
@@ -56,9 +57,9 @@ TEST_F(CliReport, StatsOnAQspSaysWhatItHoldsAndItsBytesAddUp) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find(c.says), std::string::npos) << r.out;
     const auto parts = byte_parts(r.out);
-    ASSERT_EQ(parts.size(), 6u) << r.out;
+    ASSERT_EQ(parts.size(), 7u) << r.out;
     EXPECT_EQ(parts[0], fs::file_size(q));
-    EXPECT_EQ(parts[0], parts[1] + parts[2] + parts[3] + parts[4] + parts[5]) << r.out;
+    EXPECT_EQ(parts[0], parts[1] + parts[2] + parts[3] + parts[4] + parts[5] + parts[6]) << r.out;
     EXPECT_EQ(parts[4] > 0, c.options.find("--keep-order") != std::string::npos) << r.out;
     r = run_qsp("stats --json " + quote(q));
     const std::string bits =
@@ -66,7 +67,7 @@ TEST_F(CliReport, StatsOnAQspSaysWhatItHoldsAndItsBytesAddUp) {
     EXPECT_NE(r.out.find("\"quantize_bits\": " + bits + ","), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("\"header\": " + std::to_string(parts[1]) + ", \"connectivity\": " +
                          std::to_string(parts[2]) + ", \"geometry\": " + std::to_string(parts[3]) +
-                         ", \"order\": " + std::to_string(parts[4]) + ", \"other\": 0}"),
+                         ", \"order\": " + std::to_string(parts[4]) + ", \"texcoords\": 0, \"other\": 0}"),
               std::string::npos)
         << r.out;
   }
@@ -88,10 +89,12 @@ TEST_F(CliReport, EveryGoldenFilesBytesAddUpAndNameItsPrecision) {
       continue;
     }
     const auto parts = byte_parts(r.out);
-    ASSERT_EQ(parts.size(), 6u) << r.out;
+    ASSERT_EQ(parts.size(), 7u) << r.out;
     EXPECT_EQ(parts[0], fs::file_size(e.path()));
     // "other": sections the stats do not name, such as a comments section (3.1).
-    EXPECT_EQ(parts[0], parts[1] + parts[2] + parts[3] + parts[4] + parts[5]) << r.out;
+    EXPECT_EQ(parts[0], parts[1] + parts[2] + parts[3] + parts[4] + parts[5] + parts[6]) << r.out;
+    // Texture coordinates (3.2) have their own part.
+    EXPECT_EQ(parts[5] > 0, e.path().parent_path().filename() == "texcoords") << r.out;
     const bool q14 = e.path().filename().string().find("_q14") != std::string::npos;
     EXPECT_NE(r.out.find(q14 ? "; quantized to 14 bits, " : "; lossless, "), std::string::npos) << r.out;
     ++n;

@@ -112,6 +112,42 @@ TEST(Texcoords, SharedMeshesComeBackCornerForCorner) {
   EXPECT_GE(with_uv, 50);
 }
 
+// --quantize-uv 12: every texture coordinate within half a step (2^-13, and the input text's own rounding
+// to float32) of the input's, read back by
+// the test's own parser face for face; a far-off value (a UV at 1e5, which stretches Draco's grid)
+// changes no other value, which keep the step 2^-12.
+TEST(Texcoords, QuantizedValuesAreWithinHalfAStepWhateverTheOutliers) {
+  testing::TempDir dir;
+  const std::string spot = testing::slurp(std::string(QSP_TESTDATA_DIR) + "/keenan_spot_quadrangulated.obj");
+  const std::string with_outlier = spot + "vt 100000 5\n";
+  std::vector<testing::TextMesh> outs;
+  for (const std::string& text : {spot, with_outlier}) {
+    testing::spit(dir.p("in.obj"), text);
+    const auto r = testing::run_qsp("compress -f -q --keep-order --quantize-uv 12 " +
+                                    testing::quote(dir.p("in.obj")) + " " + testing::quote(dir.p("in.qsp")));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    ASSERT_EQ(testing::run_qsp("decompress -f -q " + testing::quote(dir.p("in.qsp")) + " -o " +
+                               testing::quote(dir.p("out.obj")))
+                  .exit_code,
+              0);
+    const testing::TextMesh in = testing::parse_obj_text(text);
+    outs.push_back(testing::parse_obj_text(testing::slurp(dir.p("out.obj"))));
+    const testing::TextMesh& out = outs.back();
+    ASSERT_EQ(out.face_texcoords, in.face_texcoords);
+    ASSERT_EQ(out.texcoords.size(), in.texcoords.size());
+    for (std::size_t t = 0; t < in.texcoords.size(); ++t)
+      for (std::size_t k = 0; k < 2; ++k)
+        ASSERT_LE(std::fabs(std::stod(out.texcoords[t][k]) - std::stod(in.texcoords[t][k])),
+                  std::ldexp(1.0, -13) + 1e-6)
+            << "texture coordinate " << t;
+  }
+  // The outlier came back exactly (it is on the grid) and changed nothing else.
+  ASSERT_EQ(outs[1].texcoords.size(), outs[0].texcoords.size() + 1);
+  EXPECT_EQ(std::stod(outs[1].texcoords.back()[0]), 100000.0);
+  outs[1].texcoords.pop_back();
+  EXPECT_EQ(outs[1].texcoords, outs[0].texcoords);
+}
+
 // Canonical: renumbering vertices, faces and texture coordinates and rotating corners gives the same
 // bytes; the decoded mesh has the input's corners with their texture coordinates.
 TEST(Texcoords, RenumberedCopiesGiveTheSameBytes) {

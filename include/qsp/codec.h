@@ -168,6 +168,7 @@ struct FileInfo {
   // cut vertices) and the positions of the vertices no quad has.
   std::uint64_t polygon_connectivity_bytes = 0, polygon_positions_bytes = 0;
   std::uint64_t order_bytes = 0;    // keep-order permutations (0 if absent)
+  std::uint64_t texcoord_bytes = 0;  // the texture coordinates section (3.2; 0 if absent)
   std::uint64_t other_bytes = 0;    // optional sections this decoder skipped
   std::uint8_t geometry_tools = 0;  // qsp/geometry.h's geometry_tool bits (geometry_tool_names() says them)
   std::uint8_t quantize_bits = 0;   // 0: lossless positions; 1..30: quantized to that many bits
