@@ -112,10 +112,9 @@ TEST(Texcoords, SharedMeshesComeBackCornerForCorner) {
   EXPECT_GE(with_uv, 50);
 }
 
-// --quantize-uv 12: every texture coordinate within half a step (2^-13, and the input text's own rounding
-// to float32) of the input's, read back by
-// the test's own parser face for face; a far-off value (a UV at 1e5, which stretches Draco's grid)
-// changes no other value, which keep the step 2^-12.
+// --quantize-uv 12: every texture coordinate within half a step (2^-13, and the input text's own
+// rounding to float32) of the input's, read back by the test's own parser face for face; a far-off
+// value (a UV at 1e5, which stretches Draco's grid) changes no other value, which keep the step 2^-12.
 TEST(Texcoords, QuantizedValuesAreWithinHalfAStepWhateverTheOutliers) {
   testing::TempDir dir;
   const std::string spot = testing::slurp(std::string(QSP_TESTDATA_DIR) + "/keenan_spot_quadrangulated.obj");
@@ -141,6 +140,14 @@ TEST(Texcoords, QuantizedValuesAreWithinHalfAStepWhateverTheOutliers) {
                   std::ldexp(1.0, -13) + 1e-6)
             << "texture coordinate " << t;
   }
+  // OFF holds no texture coordinate per corner: refused, saying what to write instead, and nothing written.
+  const auto off = testing::run_qsp("decompress -f " + testing::quote(dir.p("in.qsp")) + " -o " +
+                                    testing::quote(dir.p("out.off")));
+  EXPECT_EQ(off.exit_code, 1);
+  EXPECT_NE(off.err.find("holds texture coordinates per corner, which OFF cannot hold; write OBJ"),
+            std::string::npos)
+      << off.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.p("out.off")));
   // The outlier came back exactly (it is on the grid) and changed nothing else.
   ASSERT_EQ(outs[1].texcoords.size(), outs[0].texcoords.size() + 1);
   EXPECT_EQ(std::stod(outs[1].texcoords.back()[0]), 100000.0);

@@ -60,8 +60,8 @@ struct EncodeOptions {
   // Texture coordinates: 0 = exact; 1..24 = rounded to the grid of step 2^-bits in texture space (12:
   // 1/4096, a texel of a 4096-wide texture), whatever other values the mesh has.
   std::uint32_t quantize_texcoord_bits = 0;
-  bool keep_order = false;          // also store vertex order, face order and first corners
-  int level = kDefaultLevel;        // kMinLevel..kMaxLevel: how much the encoder searches (Effort)
+  bool keep_order = false;    // also store vertex order, face order and first corners
+  int level = kDefaultLevel;  // kMinLevel..kMaxLevel: how much the encoder searches (Effort)
   // Threads the encoder may use: 0 = as it sees fit (at most two), 1 = this thread only. The bytes
   // are the same for every count.
   unsigned threads = 0;
@@ -112,10 +112,10 @@ std::string with_comments(std::string_view file, const std::vector<std::string>&
 std::vector<std::string> file_comments(std::string_view bytes);
 
 // Decodes a whole .qsp of a quad mesh. Returns the mesh in canonical order (or the original order when
-// the file has an order section). A file with a polygons section (3.1) is refused with Error(kNotQuad):
-// decode_polygons reads it. Throws Error with kFormat (malformed, truncated, trailing bytes), kVersion
-// (newer major), kChecksum, kLimit (past `limits`); the message says what and at which byte offset.
-// The checksum is verified before anything is decoded. Safe on untrusted input.
+// the file has an order section). A file with a polygons section (3.1) or texture coordinates (3.2) is
+// refused with Error(kNotQuad): decode_polygons reads it. Throws Error with kFormat (malformed, truncated,
+// trailing bytes), kVersion (newer major), kChecksum, kLimit (past `limits`); the message says what and at
+// which byte offset. The checksum is verified before anything is decoded. Safe on untrusted input.
 QuadMesh decode(std::string_view bytes, const DecodeLimits& limits = {});
 
 // Encodes any polygon mesh. A manifold, consistently oriented all-quad mesh gives exactly encode()'s
@@ -127,20 +127,25 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits = {});
 // face, as for a quad mesh), Error(kUsage) for a partial element, face offsets that do not cover the
 // corners or quantize_bits past 30 (keep_order stores the polygon mesh's own numbering),
 // Error(kLimit) past the format's limits, Error(kInternal) if a stage broke an invariant (never writes a
-// wrong file).
+// wrong file). Texture coordinates (mesh.texcoord_components 1-3) go into the texture coordinates section
+// (format 3.2) after the faces' canonical order, exactly or rounded as options.quantize_texcoord_bits
+// says: Error(kUsage) for arrays that disagree with their component count or a corner naming one past
+// the array, Error(kBadNumber) for a value that is not finite.
 std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& options = {});
 
-// Decodes any .qsp, 3.0 or 3.1: a 3.0 file gives its quads (as decode()), a 3.1 file the polygon mesh:
+// Decodes any .qsp, 3.0 to 3.2: a 3.0 file gives its quads (as decode()), a 3.1 file the polygon mesh:
 // the same faces, each with its corner cycle (rotated), on the same vertices up to renumbering; positions
-// as stored (exact, or quantized). Same errors as decode(), kLimit also for more vertices (interior ones
+// as stored (exact, or quantized); a file with texture coordinates (3.2) also every corner's, in their
+// original order with an order section. Same errors as decode(), kLimit also for more vertices (interior ones
 // included) or faces than `limits`. Safe on untrusted input: every count is checked against the bytes
 // left and `limits` before anything is allocated by it; time and memory linear in the file and limits.
 PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits = {});
 
-// Whether a .qsp holds a polygon mesh (the polygons section, 3.1: decode() refuses it with kNotQuad,
-// decode_polygons() reads it), from its container alone (magic, version, size, checksum, sections'
-// framing), decoding nothing, so a caller can choose its reader before decoding once. Throws what
-// decode() throws for a malformed container (kFormat, kVersion, kChecksum). Safe on untrusted input.
+// Whether a .qsp needs decode_polygons(): it holds a polygon mesh (the polygons section, 3.1) or texture
+// coordinates (3.2), which decode() refuses with kNotQuad; from its container alone (magic, version, size,
+// checksum, sections' framing), decoding nothing, so a caller can choose its reader before decoding once.
+// Throws what decode() throws for a malformed container (kFormat, kVersion, kChecksum). Safe on untrusted
+// input.
 bool holds_polygons(std::string_view bytes);
 
 struct SectionInfo {
@@ -167,11 +172,11 @@ struct FileInfo {
   // A polygon file's polygons section: its counts and region codes (the non-quad faces, the glue of
   // cut vertices) and the positions of the vertices no quad has.
   std::uint64_t polygon_connectivity_bytes = 0, polygon_positions_bytes = 0;
-  std::uint64_t order_bytes = 0;    // keep-order permutations (0 if absent)
+  std::uint64_t order_bytes = 0;     // keep-order permutations (0 if absent)
   std::uint64_t texcoord_bytes = 0;  // the texture coordinates section (3.2; 0 if absent)
-  std::uint64_t other_bytes = 0;    // optional sections this decoder skipped
-  std::uint8_t geometry_tools = 0;  // qsp/geometry.h's geometry_tool bits (geometry_tool_names() says them)
-  std::uint8_t quantize_bits = 0;   // 0: lossless positions; 1..30: quantized to that many bits
+  std::uint64_t other_bytes = 0;     // optional sections this decoder skipped
+  std::uint8_t geometry_tools = 0;   // qsp/geometry.h's geometry_tool bits (geometry_tool_names() says them)
+  std::uint8_t quantize_bits = 0;    // 0: lossless positions; 1..30: quantized to that many bits
   CodingOrder geometry_order = CodingOrder::kLayout;  // the order the positions were coded in
   std::uint64_t vertices = 0, edges = 0, faces = 0, unreferenced = 0, extraordinary = 0;
   std::uint64_t schematic_vertices = 0, schematic_edges = 0, patches = 0;

@@ -85,6 +85,10 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
   } catch (const Error& e) {
     throw Error(e.code(), job.input + ": " + e.what());
   }
+  if (format == MeshFormat::kOff && mesh.texcoord_components)
+    throw Error(ErrorCode::kUnsupported,
+                job.input + ": holds texture coordinates per corner, which OFF cannot hold; write OBJ (-o " +
+                    job.output.substr(0, job.output.size() - 4) + ".obj)");
   const std::size_t vertices = mesh.vertex_count(), faces = mesh.face_count();
   const std::string text = mesh_text(std::move(mesh), format, comments_named(bytes, job.input));
   write_output(job.output, text, {o.force, o.verbosity.quiet, other_ways(job), o.sync});
