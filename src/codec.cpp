@@ -274,7 +274,7 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   }
   if (uv) {
     DecodedTexcoords t = decode_texcoords_section(uv->payload, uv->payload_offset, out.face_offsets,
-                                                  out.corners, nv, p.order != nullptr, limits);
+                                                  out.corners, nv, out.positions, p.order != nullptr, limits);
     out.texcoord_components = t.components;
     out.texcoords = std::move(t.values);
     out.corner_texcoords = std::move(t.corners);

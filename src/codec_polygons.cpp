@@ -156,7 +156,9 @@ std::string encode_faces(const PolygonMesh& mesh, const EncodeOptions& options, 
 
 // The texture coordinates section of `mesh` whose faces went where `map` says: the corners in the
 // decoder's output order, named by input vertex (the decoder's vertices are the same up to numbering).
-std::string texcoords_section(const PolygonMesh& mesh, const FaceMap& map, const EncodeOptions& options) {
+// `file` is the file without it: the positions its decoder predicts from are that file's.
+std::string texcoords_section(const PolygonMesh& mesh, const FaceMap& map, const EncodeOptions& options,
+                              std::string_view file) {
   const std::size_t nf = mesh.face_count();
   if (map.face.size() != nf || map.rotation.size() != nf) internal("the face map has another face count");
   std::vector<std::uint32_t> input_face(nf, kInvalid);
@@ -176,8 +178,26 @@ std::string texcoords_section(const PolygonMesh& mesh, const FaceMap& map, const
       texcoords[offsets[g] + c] = mesh.corner_texcoords[from];
     }
   }
+  // Lossless positions are the input's; quantized ones as the decoder rebuilds them, per input vertex.
+  std::vector<float> decoded;
+  if (options.quantize_bits) {
+    DecodeLimits all;
+    all.max_vertices = kMaxVertices;
+    all.max_faces = kMaxFaces;
+    const PolygonMesh d = decode_polygons(file, all);
+    if (d.corners.size() != vertices.size() || d.positions.size() != mesh.positions.size())
+      internal("the decoded mesh has another size");
+    if (options.keep_order) {
+      decoded = d.positions;  // numbered as the input
+    } else {                  // numbered by the decoder: its corners are the output corners
+      decoded.resize(mesh.positions.size());
+      for (std::size_t k = 0; k < vertices.size(); ++k)
+        std::copy_n(&d.positions[3 * std::size_t{d.corners[k]}], 3, &decoded[3 * std::size_t{vertices[k]}]);
+    }
+  }
   return encode_texcoords_section(offsets, vertices, static_cast<std::uint32_t>(mesh.vertex_count()),
-                                  mesh.texcoord_components, mesh.texcoords, texcoords, options.keep_order,
+                                  options.quantize_bits ? decoded : mesh.positions, mesh.texcoord_components,
+                                  mesh.texcoords, texcoords, options.keep_order,
                                   options.quantize_texcoord_bits);
 }
 
@@ -200,8 +220,8 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
   FaceMap map;
   std::string bytes = encode_faces(mesh, options, map);
   if (!texcoords) return bytes;
-  return container::with_section(bytes, container::kTagTexcoords, texcoords_section(mesh, map, options),
-                                 kFormatMinorTexcoords);
+  return container::with_section(bytes, container::kTagTexcoords,
+                                 texcoords_section(mesh, map, options, bytes), kFormatMinorTexcoords);
 }
 
 }  // namespace qsp

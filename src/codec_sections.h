@@ -75,7 +75,8 @@ DecodedPolygons decode_polygons_section(std::string_view payload, std::uint64_t 
                                         std::span<const float> layout_positions, const DecodeLimits& limits);
 
 // The texture coordinates section (format 3.2) of the output mesh whose faces are `face_offsets` (one
-// more than faces) and whose corners' vertices are `corner_vertices` (below `vertex_count`), in the order
+// more than faces) and whose corners' vertices are `corner_vertices` (below `vertex_count`, at
+// `positions` as the decoder decodes them: 3 per vertex), in the order
 // the decoder outputs them before any order section applies. `values` holds `components` (1-3) floats
 // per texture coordinate in the input's numbering, `corner_texcoords` per output corner its input index
 // or kInvalid. `keep_order` stores the input numbering too. `quantize_bits` 1-24 rounds the values to
@@ -84,8 +85,8 @@ DecodedPolygons decode_polygons_section(std::string_view payload, std::uint64_t 
 // bits, Error(kInternal) for inconsistent sizes.
 std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets,
                                      std::span<const std::uint32_t> corner_vertices,
-                                     std::uint32_t vertex_count, std::uint8_t components,
-                                     std::span<const float> values,
+                                     std::uint32_t vertex_count, std::span<const float> positions,
+                                     std::uint8_t components, std::span<const float> values,
                                      std::span<const std::uint32_t> corner_texcoords, bool keep_order,
                                      std::uint32_t quantize_bits);
 
@@ -101,7 +102,7 @@ struct DecodedTexcoords {
 DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_t base_offset,
                                           std::span<const std::uint32_t> face_offsets,
                                           std::span<const std::uint32_t> corner_vertices,
-                                          std::uint32_t vertex_count, bool order_section,
-                                          const DecodeLimits& limits);
+                                          std::uint32_t vertex_count, std::span<const float> positions,
+                                          bool order_section, const DecodeLimits& limits);
 
 }  // namespace qsp

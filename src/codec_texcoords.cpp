@@ -6,6 +6,8 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <numeric>
 #include <string>
@@ -23,7 +25,8 @@ namespace qsp {
 namespace {
 
 constexpr const char* kSection = "texture coordinates section";
-constexpr std::uint8_t kComponentsMask = 0x03, kOrderBit = 0x04, kCorrectionBit = 0x08, kReservedBits = 0xF0;
+constexpr std::uint8_t kComponentsMask = 0x03, kOrderBit = 0x04, kCorrectionBit = 0x08, kShapeBit = 0x10,
+                       kReservedBits = 0xE0;
 constexpr std::uint8_t kModeFloat = 0;  // 1 + k: decimal grid of k decimals; kModeGrid + b: step 2^-b
 constexpr std::uint8_t kModeGrid = 0x10;
 constexpr std::uint32_t kMaxGridBits = 24;
@@ -61,9 +64,43 @@ struct SymbolModels {
 struct Prediction {
   int context = 2;
   int count = 0;
-  std::array<std::uint32_t, 11> value{};
-  std::array<int, 11> weight{};  // twice the weight
+  std::array<std::uint32_t, 8> value{};
+  std::array<int, 8> weight{};  // twice the weight
   void add(std::uint32_t v, int w) { value[count] = v, weight[count++] = w; }
+  // The shaped parallelogram o + alpha (a - o) + beta (b - o), before the terms' half, if `shaped`.
+  bool shaped = false;
+  std::uint32_t a = kInvalid, b = kInvalid, o = kInvalid;
+  double alpha = 1, beta = 1;
+};
+
+// The corner positions, 3 per vertex, for the parallelogram's shape.
+struct Shape {
+  std::span<const float> positions;
+  std::span<const std::uint32_t> corner_vertices;
+  double at(std::uint32_t corner, int k) const {
+    return static_cast<double>(
+        positions[3 * std::size_t{corner_vertices[corner]} + static_cast<unsigned>(k)]);
+  }
+  // alpha, beta with c - o = alpha (a - o) + beta (b - o) in 3D by least squares (corners' positions),
+  // or 1, 1 where that is ill-posed or far from a parallelogram. Every step rounded (no fused multiply-add:
+  // this file is compiled with -ffp-contract=off), so every decoder computes the same bits.
+  void fit(std::uint32_t a, std::uint32_t b, std::uint32_t o, std::uint32_t c, Prediction& p) const {
+    double ea[3], eb[3], ec[3];
+    for (int k = 0; k < 3; ++k) {
+      ea[k] = at(a, k) - at(o, k);
+      eb[k] = at(b, k) - at(o, k);
+      ec[k] = at(c, k) - at(o, k);
+    }
+    const auto dot = [](const double* x, const double* y) {
+      return (x[0] * y[0] + x[1] * y[1]) + x[2] * y[2];
+    };
+    const double aa = dot(ea, ea), bb = dot(eb, eb), ab = dot(ea, eb), ac = dot(ea, ec), bc = dot(eb, ec);
+    const double det = aa * bb - ab * ab;
+    p.alpha = p.beta = 1;
+    if (!(det > 0x1p-40 * (aa * bb))) return;
+    const double alpha = (ac * bb - bc * ab) / det, beta = (bc * aa - ac * ab) / det;
+    if (std::fabs(alpha) <= 4 && std::fabs(beta) <= 4) p.alpha = alpha, p.beta = beta;
+  }
 };
 
 // Where each texture-coordinate edge lies: the first corner k (in output order) whose face runs from
@@ -91,7 +128,7 @@ struct Edges {
 // The prediction of value `i` from its creating corner (kInvalid: none, i >= T - U).
 Prediction predict(std::uint32_t i, std::uint32_t creating, std::span<const std::uint32_t> face_of_corner,
                    std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> names,
-                   const Edges& edges, bool corrections) {
+                   const Edges& edges, bool corrections, const Shape* shape) {
   Prediction p;
   if (creating != kInvalid) {
     auto known = [&](std::uint32_t t) { return t != kInvalid && t < i ? t : kInvalid; };
@@ -117,7 +154,8 @@ Prediction predict(std::uint32_t i, std::uint32_t creating, std::span<const std:
     std::array<std::uint32_t, 4> q{};
     if (a != kInvalid && b != kInvalid && o != kInvalid) {
       // The parallelogram, corrected by what it missed in the quads across o-a and b-o.
-      p.add(a, 2), p.add(b, 2), p.add(o, -2);
+      p.shaped = true, p.a = a, p.b = b, p.o = o;
+      if (shape) shape->fit(step(creating, d - 1), step(creating, 1), step(creating, 2), creating, p);
       int corrected = 0;
       std::array<std::uint32_t, 4> r{};
       const bool left = corrections && across(o, a, q), below = corrections && across(b, o, r);
@@ -167,16 +205,29 @@ struct Domain {
   }
   std::int64_t predicted(const Prediction& p, std::span<const float> values, unsigned K, unsigned c) const {
     auto value_of = [&](std::uint32_t t) { return values[std::size_t{t} * K + c]; };
-    if (p.count == 0) return mode == kModeFloat ? float_image(0.0f) : 0;
+    if (p.count == 0 && !p.shaped) return mode == kModeFloat ? float_image(0.0f) : 0;
     if (mode != kModeFloat) {
       std::int64_t sum = 0;
       for (int k = 0; k < p.count; ++k) sum += p.weight[k] * integer(value_of(p.value[k]));
-      return clamp_decimal(floor_div(sum + 1, 2));
+      if (!p.shaped) return clamp_decimal(floor_div(sum + 1, 2));
+      const std::int64_t qo = integer(value_of(p.o));
+      const double shape = p.alpha * static_cast<double>(integer(value_of(p.a)) - qo) +
+                           p.beta * static_cast<double>(integer(value_of(p.b)) - qo);
+      const double t = std::floor((static_cast<double>(sum + 2 * qo) / 2 + shape) + 0.5);
+      return static_cast<std::int64_t>(
+          std::clamp(t, -static_cast<double>(kDecimalLimit - 1), static_cast<double>(kDecimalLimit - 1)));
     }
     double sum = 0;
     for (int k = 0; k < p.count; ++k) sum += p.weight[k] * static_cast<double>(value_of(p.value[k]));
-    const auto x = static_cast<float>(sum / 2);
-    return float_image(std::isfinite(x) ? x : value_of(p.value[0]));
+    if (!p.shaped) {
+      const auto x = static_cast<float>(sum / 2);
+      return float_image(std::isfinite(x) ? x : value_of(p.value[0]));
+    }
+    const double o = value_of(p.o);
+    const auto x = static_cast<float>(((o + p.alpha * (static_cast<double>(value_of(p.a)) - o)) +
+                                       p.beta * (static_cast<double>(value_of(p.b)) - o)) +
+                                      sum / 2);
+    return float_image(std::isfinite(x) ? x : value_of(p.a));
   }
 };
 
@@ -235,13 +286,14 @@ std::vector<std::uint32_t> faces_of_corners(std::span<const std::uint32_t> face_
 
 std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets,
                                      std::span<const std::uint32_t> corner_vertices,
-                                     std::uint32_t vertex_count, std::uint8_t components,
-                                     std::span<const float> values,
+                                     std::uint32_t vertex_count, std::span<const float> positions,
+                                     std::uint8_t components, std::span<const float> values,
                                      std::span<const std::uint32_t> corner_texcoords, bool keep_order,
                                      std::uint32_t quantize_bits) {
   const unsigned K = components;
   if (K < 1 || K > 3 || values.size() % K != 0 || corner_texcoords.size() != corner_vertices.size() ||
-      face_offsets.empty() || face_offsets.back() != corner_vertices.size())
+      positions.size() != 3 * std::size_t{vertex_count} || face_offsets.empty() ||
+      face_offsets.back() != corner_vertices.size())
     internal("texture coordinate arrays disagree with the mesh");
   const auto T = static_cast<std::uint32_t>(values.size() / K);
   for (std::size_t i = 0; i < values.size(); ++i)
@@ -252,7 +304,7 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     throw Error(ErrorCode::kUsage, "encode: texture coordinate quantization bits " +
                                        std::to_string(quantize_bits) + " is not 0 (exact) to 24");
   // The section with or without the second-order corrections (flag bit 3).
-  const auto section = [&](bool corrections) {
+  const auto section = [&](std::uint8_t tools) {
     std::string stream;
     RangeEncoder enc(stream);
     // Corner symbols; `output` maps input indices to the order the corners first name them.
@@ -313,9 +365,11 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     std::vector<IntModel> residual(kContexts * K);
     const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
     const Edges edges(face_offsets, names);
+    const Shape shape{positions, corner_vertices};
     for (std::uint32_t i = 0; i < T; ++i) {
-      const Prediction p = predict(i, i < referenced ? creating[i] : kInvalid, face_of_corner, face_offsets,
-                                   names, edges, corrections);
+      const Prediction p =
+          predict(i, i < referenced ? creating[i] : kInvalid, face_of_corner, face_offsets, names, edges,
+                  (tools & kCorrectionBit) != 0, (tools & kShapeBit) ? &shape : nullptr);
       for (unsigned c = 0; c < K; ++c) {
         const std::int64_t r =
             domain[c].integer(ordered[std::size_t{i} * K + c]) - domain[c].predicted(p, ordered, K, c);
@@ -329,8 +383,7 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     enc.finish();
 
     std::string out;
-    put_u8(out,
-           static_cast<std::uint8_t>(K | (keep_order ? kOrderBit : 0) | (corrections ? kCorrectionBit : 0)));
+    put_u8(out, static_cast<std::uint8_t>(K | (keep_order ? kOrderBit : 0) | tools));
     put_varint(out, T);
     put_varint(out, T - referenced);
     for (unsigned c = 0; c < K; ++c) put_u8(out, domain[c].mode);
@@ -338,21 +391,29 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
   };
   // The smaller; the first on a tie. Smooth texture layouts gain from the corrections, layouts whose
   // charts bend against the patches lose.
-  std::string plain = section(false), corrected = section(true);
-  return corrected.size() < plain.size() ? corrected : plain;
+  // The smallest of the three predictions (the first on a tie): the plain parallelogram, corrected by
+  // the quads across (smooth layouts), or shaped by the corners' positions (charts that follow the
+  // surface's shape rather than the patches).
+  std::string best;
+  for (const std::uint8_t tools : {std::uint8_t{0}, kCorrectionBit, kShapeBit}) {
+    std::string bytes = section(tools);
+    if (best.empty() || bytes.size() < best.size()) best = std::move(bytes);
+  }
+  return best;
 }
 
 DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_t base_offset,
                                           std::span<const std::uint32_t> face_offsets,
                                           std::span<const std::uint32_t> corner_vertices,
-                                          std::uint32_t vertex_count, bool order_section,
-                                          const DecodeLimits& limits) {
+                                          std::uint32_t vertex_count, std::span<const float> positions,
+                                          bool order_section, const DecodeLimits& limits) {
   ByteReader in(payload, base_offset, kSection);
   std::uint64_t at = in.offset();
   const std::uint8_t flags = in.u8("flags");
   const unsigned K = flags & kComponentsMask;
   if (K == 0) in.fail_at("0 components per texture coordinate (1 to 3)", at);
   if (flags & kReservedBits) in.fail_at("reserved flag bits are set (must be zero)", at);
+  if ((flags & kCorrectionBit) && (flags & kShapeBit)) in.fail_at("corrections and shapes are both set", at);
   if (((flags & kOrderBit) != 0) != order_section)
     in.fail_at(order_section ? "the order bit is clear beside an order section"
                              : "the order bit is set but the file has no order section",
@@ -435,9 +496,11 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   std::vector<IntModel> residual(kContexts * K);
   const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
   const Edges edges(face_offsets, out.corners);
+  const Shape shape{positions, corner_vertices};
   for (std::uint32_t i = 0; i < T; ++i) {
-    const Prediction p = predict(i, i < n ? creating[i] : kInvalid, face_of_corner, face_offsets, out.corners,
-                                 edges, (flags & kCorrectionBit) != 0);
+    const Prediction p =
+        predict(i, i < n ? creating[i] : kInvalid, face_of_corner, face_offsets, out.corners, edges,
+                (flags & kCorrectionBit) != 0, (flags & kShapeBit) ? &shape : nullptr);
     for (unsigned c = 0; c < K; ++c) {
       const std::int64_t predicted = domain[c].predicted(p, out.values, K, c);
       const std::int64_t value = predicted + decode_residual(dec, residual[K * p.context + c]);

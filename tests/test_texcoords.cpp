@@ -172,8 +172,10 @@ TEST(Texcoords, RenumberedCopiesGiveTheSameBytes) {
       o.level = level;
       const std::string bytes = encode_polygons(m, o);
       EXPECT_EQ(encode_polygons(renumbered(m, 7), o), bytes);
-      o.quantize_bits = 12;
+      o.quantize_bits = 12;  // the shapes then come from the decoded positions
       EXPECT_EQ(encode_polygons(renumbered(m, 8), o), encode_polygons(m, o));
+      o.quantize_texcoord_bits = 10;
+      EXPECT_EQ(encode_polygons(renumbered(m, 9), o), encode_polygons(m, o));
     }
   }
 }
