@@ -53,11 +53,13 @@ struct Named {
   void add(std::uint32_t v, std::uint32_t value) { slots[start[v] + size[v]++] = value; }
 };
 
-// The decisions and models of the corner symbols.
+// The decisions and models of the corner symbols. Context: how many values the corner's vertex has
+// named (0, 1, 2 or more) and whether an earlier corner of its face crossed a seam (took a value other
+// than its vertex's first, new or not): faces beyond a seam name second values.
 struct SymbolModels {
-  std::array<BitModel, 3> is_new{}, is_seen{};
+  std::array<BitModel, 6> is_new{}, is_seen{};
   BitModel is_none{};
-  IntModel pick, far;
+  IntModel pick[2], far;
 };
 
 // A prediction: (sum of weight * value) / 2 over up to 11 terms, and its context.
@@ -84,7 +86,8 @@ struct Shape {
   // alpha, beta with c - o = alpha (a - o) + beta (b - o) in 3D by least squares (corners' positions),
   // or 1, 1 where that is ill-posed or far from a parallelogram. Every step rounded (no fused multiply-add:
   // this file is compiled with -ffp-contract=off), so every decoder computes the same bits.
-  void fit(std::uint32_t a, std::uint32_t b, std::uint32_t o, std::uint32_t c, Prediction& p) const {
+  void fit(std::uint32_t a, std::uint32_t b, std::uint32_t o, std::uint32_t c, Prediction& p, double alpha0,
+           double beta0) const {
     double ea[3], eb[3], ec[3];
     for (int k = 0; k < 3; ++k) {
       ea[k] = at(a, k) - at(o, k);
@@ -96,7 +99,7 @@ struct Shape {
     };
     const double aa = dot(ea, ea), bb = dot(eb, eb), ab = dot(ea, eb), ac = dot(ea, ec), bc = dot(eb, ec);
     const double det = aa * bb - ab * ab;
-    p.alpha = p.beta = 1;
+    p.alpha = alpha0, p.beta = beta0;
     if (!(det > 0x1p-40 * (aa * bb))) return;
     const double alpha = (ac * bb - bc * ab) / det, beta = (bc * aa - ac * ab) / det;
     if (std::fabs(alpha) <= 4 && std::fabs(beta) <= 4) p.alpha = alpha, p.beta = beta;
@@ -143,8 +146,9 @@ Prediction predict(std::uint32_t i, std::uint32_t creating, std::span<const std:
                         o = d >= 4 ? known(names[step(creating, 2)]) : kInvalid;
     // The quad across the edge from x to y of this face (it runs from y to x): its corners at y and x
     // and the two beyond, when all are known, as (y, x, next of x, next of that).
+    std::uint32_t k = kInvalid;  // the last quad across: its corner at y
     auto across = [&](std::uint32_t x, std::uint32_t y, std::array<std::uint32_t, 4>& q) {
-      const std::uint32_t k = edges.find(y, x);
+      k = edges.find(y, x);
       if (k == kInvalid || face_offsets[face_of_corner[k] + 1] - face_offsets[face_of_corner[k]] != 4)
         return false;
       for (std::uint32_t s = 0; s < 4; ++s)
@@ -155,7 +159,7 @@ Prediction predict(std::uint32_t i, std::uint32_t creating, std::span<const std:
     if (a != kInvalid && b != kInvalid && o != kInvalid) {
       // The parallelogram, corrected by what it missed in the quads across o-a and b-o.
       p.shaped = true, p.a = a, p.b = b, p.o = o;
-      if (shape) shape->fit(step(creating, d - 1), step(creating, 1), step(creating, 2), creating, p);
+      if (shape) shape->fit(step(creating, d - 1), step(creating, 1), step(creating, 2), creating, p, 1, 1);
       int corrected = 0;
       std::array<std::uint32_t, 4> r{};
       const bool left = corrections && across(o, a, q), below = corrections && across(b, o, r);
@@ -174,7 +178,11 @@ Prediction predict(std::uint32_t i, std::uint32_t creating, std::span<const std:
       const std::uint32_t n = first ? a : b;
       if (n == kInvalid) continue;
       if (o != kInvalid && (first ? across(o, a, q) : across(b, o, q))) {
-        p.add(n, 4), p.add(q[first ? 3 : 2], -2), p.context = 4;
+        // n + alpha (o - n) + beta (y - n), beta = -1 and alpha = 0 (the line), or fitted to the corners.
+        const std::uint32_t y = first ? 3 : 2;
+        p.shaped = true, p.o = n, p.a = o, p.b = q[y], p.alpha = 0, p.beta = -1, p.context = 4;
+        if (shape)
+          shape->fit(step(creating, 2), step(k, y), step(creating, first ? d - 1 : 1), creating, p, 0, -1);
       } else {
         p.add(n, 2), p.context = 1;
       }
@@ -312,13 +320,17 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     std::vector<std::uint32_t> names(corner_vertices.size(), kInvalid), creating;
     Named named(corner_vertices, vertex_count);
     SymbolModels m;
+    std::size_t face = 0;
+    unsigned seam = 0;
     for (std::size_t c = 0; c < corner_vertices.size(); ++c) {
+      while (face_offsets[face] <= c) ++face, seam = 0;
       const std::uint32_t v = corner_vertices[c], t = corner_texcoords[c];
       if (t != kInvalid && t >= T) internal("a corner names texture coordinate " + std::to_string(t));
       const auto seen = named.of(v);
-      const unsigned s = std::min<std::size_t>(seen.size(), 2);
+      const unsigned s = 2 * static_cast<unsigned>(std::min<std::size_t>(seen.size(), 2)) + seam;
       const bool is_new = t != kInvalid && output[t] == kInvalid;
       enc.encode_bit(m.is_new[s], is_new);
+      if (is_new && !seen.empty()) seam = 1;
       if (is_new) {
         output[t] = static_cast<std::uint32_t>(input.size());
         input.push_back(t);
@@ -330,13 +342,15 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
       const auto at = t == kInvalid ? seen.end() : std::find(seen.begin(), seen.end(), output[t]);
       if (!seen.empty()) enc.encode_bit(m.is_seen[s], at != seen.end());
       if (at != seen.end()) {
-        if (seen.size() >= 2) m.pick.encode(enc, static_cast<std::uint32_t>(at - seen.begin()));
+        if (seen.size() >= 2) m.pick[seam].encode(enc, static_cast<std::uint32_t>(at - seen.begin()));
+        if (at != seen.begin()) seam = 1;
         names[c] = *at;
         continue;
       }
       enc.encode_bit(m.is_none, t == kInvalid);
       if (t == kInvalid) continue;
       m.far.encode(enc, static_cast<std::uint32_t>(input.size() - 1 - output[t]));
+      seam = 1;
       named.add(v, output[t]);
       names[c] = output[t];
     }
@@ -457,26 +471,31 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   Named named(corner_vertices, vertex_count);
   SymbolModels m;
   std::uint32_t n = 0;
+  std::size_t face = 0;
+  unsigned seam = 0;
   for (std::size_t c = 0; c < corner_vertices.size(); ++c) {
+    while (face_offsets[face] <= c) ++face, seam = 0;
     const std::uint32_t v = corner_vertices[c];
     const auto seen = named.of(v);
-    const unsigned s = std::min<std::size_t>(seen.size(), 2);
+    const unsigned s = 2 * static_cast<unsigned>(std::min<std::size_t>(seen.size(), 2)) + seam;
     if (dec.decode_bit(m.is_new[s])) {
       if (n >= T - U)
         format_error("more texture coordinates named than the " + std::to_string(T - U) + " declared",
                      dec.offset());
+      if (!seen.empty()) seam = 1;
       creating.push_back(static_cast<std::uint32_t>(c));
       named.add(v, n);
       out.corners[c] = n++;
       continue;
     }
     if (!seen.empty() && dec.decode_bit(m.is_seen[s])) {
-      const std::uint32_t j = seen.size() >= 2 ? m.pick.decode(dec) : 0;
+      const std::uint32_t j = seen.size() >= 2 ? m.pick[seam].decode(dec) : 0;
       if (j >= seen.size())
         format_error("corner " + std::to_string(c) + " picks value " + std::to_string(j) +
                          " of its vertex's " + std::to_string(seen.size()),
                      dec.offset());
       out.corners[c] = seen[j];
+      if (j != 0) seam = 1;
       continue;
     }
     if (dec.decode_bit(m.is_none)) continue;
@@ -486,6 +505,7 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                    dec.offset());
     out.corners[c] = n - 1 - back;
     named.add(v, out.corners[c]);
+    seam = 1;
   }
   if (n != T - U)
     format_error("the corners name " + std::to_string(n) + " texture coordinates, not the " +
