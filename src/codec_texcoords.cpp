@@ -11,7 +11,6 @@
 #include <cstring>
 #include <numeric>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "bytes.h"
@@ -107,24 +106,33 @@ struct Shape {
 };
 
 // Where each texture-coordinate edge lies: the first corner k (in output order) whose face runs from
-// names[k] to the next corner's name, keyed by that pair.
+// names[k] to the next corner's name. Per value x, its edges x -> y in corner order (a value is named by
+// a handful of corners, so a scan of its few edges finds one).
 struct Edges {
-  std::unordered_map<std::uint64_t, std::uint32_t> at;
-  Edges(std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> names) {
-    at.reserve(names.size());
-    for (std::size_t f = 0; f + 1 < face_offsets.size(); ++f) {
-      const std::uint32_t first = face_offsets[f], d = face_offsets[f + 1] - first;
-      for (std::uint32_t k = 0; k < d; ++k) {
-        const std::uint32_t x = names[first + k], y = names[first + (k + 1) % d];
-        if (x != kInvalid && y != kInvalid) at.emplace(key(x, y), first + k);
+  std::vector<std::uint32_t> start;                         // per value and one more: its first edge
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> to;  // per edge: (y, corner k)
+  Edges(std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> names, std::size_t count)
+      : start(count + 1, 0) {
+    auto each = [&](auto&& f) {
+      for (std::size_t g = 0; g + 1 < face_offsets.size(); ++g) {
+        const std::uint32_t first = face_offsets[g], d = face_offsets[g + 1] - first;
+        for (std::uint32_t k = 0; k < d; ++k) {
+          const std::uint32_t x = names[first + k], y = names[first + (k + 1) % d];
+          if (x != kInvalid && y != kInvalid) f(x, y, first + k);
+        }
       }
-    }
+    };
+    each([&](std::uint32_t x, std::uint32_t, std::uint32_t) { ++start[x + 1]; });
+    std::partial_sum(start.begin(), start.end(), start.begin());
+    to.resize(start.back());
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    each([&](std::uint32_t x, std::uint32_t y, std::uint32_t k) { to[fill[x]++] = {y, k}; });
   }
-  static std::uint64_t key(std::uint32_t x, std::uint32_t y) { return (std::uint64_t{x} << 32) | y; }
   // The corner that runs from x to y, or kInvalid.
   std::uint32_t find(std::uint32_t x, std::uint32_t y) const {
-    const auto it = at.find(key(x, y));
-    return it == at.end() ? kInvalid : it->second;
+    for (std::uint32_t e = start[x]; e < start[x + 1]; ++e)
+      if (to[e].first == y) return to[e].second;
+    return kInvalid;
   }
 };
 
@@ -211,16 +219,19 @@ struct Domain {
     if (grid()) return static_cast<float>(std::ldexp(static_cast<double>(n), -(mode - kModeGrid)));
     return decimal_grid_value(n, mode - 1);
   }
-  std::int64_t predicted(const Prediction& p, std::span<const float> values, unsigned K, unsigned c) const {
+  // `integers` holds integer() of every value before the one predicted.
+  std::int64_t predicted(const Prediction& p, std::span<const float> values,
+                         std::span<const std::int64_t> integers, unsigned K, unsigned c) const {
     auto value_of = [&](std::uint32_t t) { return values[std::size_t{t} * K + c]; };
+    auto integer_of = [&](std::uint32_t t) { return integers[std::size_t{t} * K + c]; };
     if (p.count == 0 && !p.shaped) return mode == kModeFloat ? float_image(0.0f) : 0;
     if (mode != kModeFloat) {
       std::int64_t sum = 0;
-      for (int k = 0; k < p.count; ++k) sum += p.weight[k] * integer(value_of(p.value[k]));
+      for (int k = 0; k < p.count; ++k) sum += p.weight[k] * integer_of(p.value[k]);
       if (!p.shaped) return clamp_decimal(floor_div(sum + 1, 2));
-      const std::int64_t qo = integer(value_of(p.o));
-      const double shape = p.alpha * static_cast<double>(integer(value_of(p.a)) - qo) +
-                           p.beta * static_cast<double>(integer(value_of(p.b)) - qo);
+      const std::int64_t qo = integer_of(p.o);
+      const double shape = p.alpha * static_cast<double>(integer_of(p.a) - qo) +
+                           p.beta * static_cast<double>(integer_of(p.b) - qo);
       const double t = std::floor((static_cast<double>(sum + 2 * qo) / 2 + shape) + 0.5);
       return static_cast<std::int64_t>(
           std::clamp(t, -static_cast<double>(kDecimalLimit - 1), static_cast<double>(kDecimalLimit - 1)));
@@ -311,27 +322,31 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
   if (quantize_bits > kMaxGridBits)
     throw Error(ErrorCode::kUsage, "encode: texture coordinate quantization bits " +
                                        std::to_string(quantize_bits) + " is not 0 (exact) to 24");
-  // The section with or without the second-order corrections (flag bit 3).
-  const auto section = [&](std::uint8_t tools) {
-    std::string stream;
-    RangeEncoder enc(stream);
-    // Corner symbols; `output` maps input indices to the order the corners first name them.
-    std::vector<std::uint32_t> output(T, kInvalid), input;  // input: per output index, its input index
-    std::vector<std::uint32_t> names(corner_vertices.size(), kInvalid), creating;
+  // The corner symbols, once: which value each corner names, numbered as the corners first name them.
+  struct Symbol {
+    std::uint8_t kind;     // 0 new, 1 seen, 2 none, 3 far
+    std::uint8_t context;  // s
+    std::uint8_t seam;     // e (pick's context)
+    std::uint32_t arg;     // seen: j (coded when `coded`), far: n - 1 - m
+    bool coded;            // seen: |S(v)| >= 2; none/far: whether is_seen was coded
+  };
+  std::vector<Symbol> symbols;
+  symbols.reserve(corner_vertices.size());
+  std::vector<std::uint32_t> output(T, kInvalid), input;  // input: per output index, its input index
+  std::vector<std::uint32_t> names(corner_vertices.size(), kInvalid), creating;
+  {
     Named named(corner_vertices, vertex_count);
-    SymbolModels m;
     std::size_t face = 0;
-    unsigned seam = 0;
+    std::uint8_t seam = 0;
     for (std::size_t c = 0; c < corner_vertices.size(); ++c) {
       while (face_offsets[face] <= c) ++face, seam = 0;
       const std::uint32_t v = corner_vertices[c], t = corner_texcoords[c];
       if (t != kInvalid && t >= T) internal("a corner names texture coordinate " + std::to_string(t));
       const auto seen = named.of(v);
-      const unsigned s = 2 * static_cast<unsigned>(std::min<std::size_t>(seen.size(), 2)) + seam;
-      const bool is_new = t != kInvalid && output[t] == kInvalid;
-      enc.encode_bit(m.is_new[s], is_new);
-      if (is_new && !seen.empty()) seam = 1;
-      if (is_new) {
+      const auto s = static_cast<std::uint8_t>(2 * std::min<std::size_t>(seen.size(), 2) + seam);
+      if (t != kInvalid && output[t] == kInvalid) {
+        symbols.push_back({0, s, seam, 0, false});
+        if (!seen.empty()) seam = 1;
         output[t] = static_cast<std::uint32_t>(input.size());
         input.push_back(t);
         creating.push_back(static_cast<std::uint32_t>(c));
@@ -340,53 +355,73 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
         continue;
       }
       const auto at = t == kInvalid ? seen.end() : std::find(seen.begin(), seen.end(), output[t]);
-      if (!seen.empty()) enc.encode_bit(m.is_seen[s], at != seen.end());
       if (at != seen.end()) {
-        if (seen.size() >= 2) m.pick[seam].encode(enc, static_cast<std::uint32_t>(at - seen.begin()));
+        symbols.push_back({1, s, seam, static_cast<std::uint32_t>(at - seen.begin()), seen.size() >= 2});
         if (at != seen.begin()) seam = 1;
         names[c] = *at;
         continue;
       }
-      enc.encode_bit(m.is_none, t == kInvalid);
-      if (t == kInvalid) continue;
-      m.far.encode(enc, static_cast<std::uint32_t>(input.size() - 1 - output[t]));
+      if (t == kInvalid) {
+        symbols.push_back({2, s, seam, 0, !seen.empty()});
+        continue;
+      }
+      symbols.push_back(
+          {3, s, seam, static_cast<std::uint32_t>(input.size() - 1 - output[t]), !seen.empty()});
       seam = 1;
       named.add(v, output[t]);
       names[c] = output[t];
     }
-    // The values no corner names, in the order of their float bits.
-    const auto referenced = static_cast<std::uint32_t>(input.size());
-    for (std::uint32_t t = 0; t < T; ++t)
-      if (output[t] == kInvalid) input.push_back(t);
-    std::sort(input.begin() + referenced, input.end(), [&](std::uint32_t x, std::uint32_t y) {
-      for (unsigned c = 0; c < K; ++c) {
-        const auto bx = std::bit_cast<std::uint32_t>(values[std::size_t{x} * K + c]);
-        const auto by = std::bit_cast<std::uint32_t>(values[std::size_t{y} * K + c]);
-        if (bx != by) return bx < by;
-      }
-      return false;
-    });
-    std::vector<float> ordered(values.size());
-    for (std::uint32_t i = 0; i < T; ++i) {
-      output[input[i]] = i;
-      std::copy_n(&values[std::size_t{input[i]} * K], K, &ordered[std::size_t{i} * K]);
+  }
+  // The values no corner names, in the order of their float bits.
+  const auto referenced = static_cast<std::uint32_t>(input.size());
+  for (std::uint32_t t = 0; t < T; ++t)
+    if (output[t] == kInvalid) input.push_back(t);
+  std::sort(input.begin() + referenced, input.end(), [&](std::uint32_t x, std::uint32_t y) {
+    for (unsigned c = 0; c < K; ++c) {
+      const auto bx = std::bit_cast<std::uint32_t>(values[std::size_t{x} * K + c]);
+      const auto by = std::bit_cast<std::uint32_t>(values[std::size_t{y} * K + c]);
+      if (bx != by) return bx < by;
     }
-    std::array<Domain, 3> domain{};
-    for (unsigned c = 0; c < K; ++c)
-      domain[c].mode = quantize_bits && quantize(ordered, K, c, quantize_bits)
-                           ? static_cast<std::uint8_t>(kModeGrid + quantize_bits)
-                           : choose_mode(ordered, K, c);
+    return false;
+  });
+  std::vector<float> ordered(values.size());
+  for (std::uint32_t i = 0; i < T; ++i)
+    std::copy_n(&values[std::size_t{input[i]} * K], K, &ordered[std::size_t{i} * K]);
+  std::array<Domain, 3> domain{};
+  for (unsigned c = 0; c < K; ++c)
+    domain[c].mode = quantize_bits && quantize(ordered, K, c, quantize_bits)
+                         ? static_cast<std::uint8_t>(kModeGrid + quantize_bits)
+                         : choose_mode(ordered, K, c);
+  std::vector<std::int64_t> integers(ordered.size());
+  for (std::size_t k = 0; k < ordered.size(); ++k) integers[k] = domain[k % K].integer(ordered[k]);
+  const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
+  const Edges edges(face_offsets, names, T);
+  const Shape shape{positions, corner_vertices};
+
+  // The section with one of the prediction tools (flag bits 3 and 4), or neither.
+  const auto section = [&](std::uint8_t tools) {
+    std::string stream;
+    RangeEncoder enc(stream);
+    SymbolModels m;
+    for (const Symbol& y : symbols) {
+      enc.encode_bit(m.is_new[y.context], y.kind == 0);
+      if (y.kind == 0) continue;
+      if (y.kind == 1 || y.coded) enc.encode_bit(m.is_seen[y.context], y.kind == 1);
+      if (y.kind == 1) {
+        if (y.coded) m.pick[y.seam].encode(enc, y.arg);
+        continue;
+      }
+      enc.encode_bit(m.is_none, y.kind == 2);
+      if (y.kind == 3) m.far.encode(enc, y.arg);
+    }
     std::vector<IntModel> residual(kContexts * K);
-    const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
-    const Edges edges(face_offsets, names);
-    const Shape shape{positions, corner_vertices};
     for (std::uint32_t i = 0; i < T; ++i) {
       const Prediction p =
           predict(i, i < referenced ? creating[i] : kInvalid, face_of_corner, face_offsets, names, edges,
                   (tools & kCorrectionBit) != 0, (tools & kShapeBit) ? &shape : nullptr);
       for (unsigned c = 0; c < K; ++c) {
         const std::int64_t r =
-            domain[c].integer(ordered[std::size_t{i} * K + c]) - domain[c].predicted(p, ordered, K, c);
+            integers[std::size_t{i} * K + c] - domain[c].predicted(p, ordered, integers, K, c);
         encode_residual(enc, residual[K * p.context + c], r);
       }
     }
@@ -403,8 +438,6 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     for (unsigned c = 0; c < K; ++c) put_u8(out, domain[c].mode);
     return out + stream;
   };
-  // The smaller; the first on a tie. Smooth texture layouts gain from the corrections, layouts whose
-  // charts bend against the patches lose.
   // The smallest of the three predictions (the first on a tie): the plain parallelogram, corrected by
   // the quads across (smooth layouts), or shaped by the corners' positions (charts that follow the
   // surface's shape rather than the patches).
@@ -513,16 +546,17 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                  dec.offset());
 
   out.values.resize(T * K);
+  std::vector<std::int64_t> integers(T * K);  // integer() of each decoded value, to predict from
   std::vector<IntModel> residual(kContexts * K);
   const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
-  const Edges edges(face_offsets, out.corners);
+  const Edges edges(face_offsets, out.corners, T);
   const Shape shape{positions, corner_vertices};
   for (std::uint32_t i = 0; i < T; ++i) {
     const Prediction p =
         predict(i, i < n ? creating[i] : kInvalid, face_of_corner, face_offsets, out.corners, edges,
                 (flags & kCorrectionBit) != 0, (flags & kShapeBit) ? &shape : nullptr);
     for (unsigned c = 0; c < K; ++c) {
-      const std::int64_t predicted = domain[c].predicted(p, out.values, K, c);
+      const std::int64_t predicted = domain[c].predicted(p, out.values, integers, K, c);
       const std::int64_t value = predicted + decode_residual(dec, residual[K * p.context + c]);
       if (domain[c].mode == kModeFloat ? value < 0 || value > std::int64_t{0xFFFFFFFF}
                                        : value <= -kDecimalLimit || value >= kDecimalLimit)
@@ -533,6 +567,7 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
       if (!std::isfinite(x))
         format_error("texture coordinate " + std::to_string(i) + " is not finite", dec.offset());
       out.values[std::size_t{i} * K + c] = x;
+      integers[std::size_t{i} * K + c] = domain[c].integer(x);
     }
   }
   if (order_section) {
