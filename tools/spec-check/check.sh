@@ -14,9 +14,12 @@
 # the text too): each of testdata/golden/texcoords, fresh encodes of the textured testdata meshes, of
 # bishop (triangles beside quads) from ../shared/meshes, and of polygon meshes given texture
 # coordinates by texgen.py (seams, corners naming none or another vertex's value, values no corner
-# names, float extremes), with and without --keep-order, are decoded whole by qsppoly.py and compared
-# with their .obj (every corner's position and texture coordinate bits; index for index under
-# --keep-order) and index for index with what `qsp decompress` writes.
+# names, float extremes, decimal values halfway between two grid integers), with and without
+# --keep-order, and of texgen.py's smoothly bent grid (the corrections, grid lines, chords of
+# hexagons), lossless and with --quantize-uv 12 and 7 (spot and bishop with 12 too), are decoded
+# whole by qsppoly.py and compared with their .obj (every corner's position and texture coordinate
+# bits, rounded to the binary grid of --quantize-uv; index for index under --keep-order) and index
+# for index with what `qsp decompress` writes.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -77,13 +80,19 @@ encode_tex() {  # encode_tex NAME MESH [OPTIONS...]: a fresh file with texture c
   fi
   tex_of[$work/$name.qsp]=$mesh
 }
-for t in "1 uv" "2 u" "3 uvw" "2 uv --keep-order" "3 uvw --keep-order"; do  # polygon meshes with texture coordinates
+for t in "1 uv" "2 u" "3 uvw" "1 uh" "2 uv --keep-order" "3 uvw --keep-order"; do  # polygon meshes with texture coordinates
   read -r seed mode keep <<<"$t"
   name=tex_${seed}_$mode${keep:+_keep_order}
   "$python" "$here/texgen.py" "$work/polygons_$seed.obj" "$work/$name.obj" "$seed" "$mode"
   encode_tex "$name" "$work/$name.obj" --float32 $keep
 done
+"$python" "$here/texgen.py" - "$work/bent.obj" 1 bent  # smooth: the corrections and grid lines pay
+encode_tex bent_uv "$work/bent.obj" --float32
+encode_tex bent_uv12 "$work/bent.obj" --float32 --quantize-uv 12   # binary grids, with the corrections
+encode_tex bent_uv7 "$work/bent.obj" --float32 --quantize-uv 7     # and without
+encode_tex bent_uv12_keep_order "$work/bent.obj" --float32 --quantize-uv 12 --keep-order
 encode_tex spot_uv "$root/testdata/keenan_spot_quadrangulated.obj"
+encode_tex spot_uv12 "$root/testdata/keenan_spot_quadrangulated.obj" --quantize-uv 12  # (../shared's copy too)
 encode_tex fedora_uv "$root/testdata/mh_fedora.obj"
 encode_tex fedora_uv_keep_order "$root/testdata/mh_fedora.obj" --keep-order
 encode fedora "$root/testdata/mh_fedora.obj"                     # decimal grid, lossless
@@ -100,10 +109,11 @@ if [[ ! -f $shared/MANIFEST.tsv ]]; then
     echo "spec decoder: $shared is missing, and this run requires it (CI=true or QSP_REQUIRE_SHARED=1)" >&2
     exit 1
   fi
-  echo "spec decoder: $shared absent: its 7 real-mesh encodes are skipped"
+  echo "spec decoder: $shared absent: its 9 real-mesh encodes are skipped"
 fi
 encode_tex bishop_uv "$shared/osd_catmark_bishop.obj"                       # triangles: a polygons section
 encode_tex bishop_uv_keep_order "$shared/osd_catmark_bishop.obj" --keep-order
+encode_tex bishop_uv12 "$shared/osd_catmark_bishop.obj" --quantize-uv 12
 encode gargoyle_q14 "$shared/quadriflow_gargoyle.obj" --quantize 14  # normal chaining, distorted cells
 encode gargoyle_q14_best "$shared/quadriflow_gargoyle.obj" --quantize 14 --best  # and the costly tools
 encode horse "$shared/igl_horse_quad.obj" --best

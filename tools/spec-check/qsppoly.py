@@ -15,12 +15,14 @@ usage: qsppoly.py FILE.qsp [--obj MESH.obj] [--reference PREFIX] [--tex-obj MESH
        with MESH.obj's leading comment block. --reference: compares them exactly (vertex order, face
        order, each face's first corner, float bits) with the reference decoder's output that
        dump_stencils wrote to PREFIX.mesh and PREFIX.comments. --tex-obj: compares every corner's
-       position and texture coordinate (float32 bits) with MESH.obj's up to renumbering, face order and
+       position and texture coordinate (float32 bits; rounded to the binary grid a component's mode
+       names, as --quantize-uv rounds them) with MESH.obj's up to renumbering, face order and
        rotation, and the texture coordinates no corner names; with --exact index for index (a file
        written with --keep-order). --decompressed: compares positions, faces and texture coordinates
        index for index with OUT.obj, what `qsp decompress FILE` wrote. --stats: prints how often each
        rule of the text was met. Exit 0 if all agree, else 1.
 """
+import math
 import struct
 import sys
 
@@ -417,30 +419,51 @@ def decode_order(payload, V, degrees):
 
 # ---------------- "Texture coordinates section" ----------------
 MAX_TEXCOORDS = 1 << 26           # the reference decoder's default max_texcoords
+ACROSS_ANY_DEGREE = True          # the quad across O -> A in a face of degree > 4 too, where O -> A is a
+                                  # chord (the text's E(x, y) goes by names; qsp does so)
+
+
+def round_half_away(z):
+    """round(z) of a binary64 z, halfway cases away from zero."""
+    f = math.floor(z)
+    return f + 1 if z - f > 0.5 or (z - f == 0.5 and z > 0) else f
+
+
+ROUND = round_half_away   # round(y * 10^k): the text does not say how a halfway y * 10^k rounds (an
+                          # encoder writes such values: texgen.py's `uh`); qsp rounds it away from 0
+FLOAT_FROM_ZERO = True    # a float prediction's binary64 sum starts from +0.0, so (-0.0, 2) alone
+                          # predicts +0.0 (the text does not say; qsp does so: texgen.py's `u`)
 
 
 def decode_texcoords(payload, nverts, faces, has_order):
     """The texture coordinates section over the output mesh of the other sections (faces in
-    canonical order, corners from each face's first): (values, names, original) with values[i] the
-    K components of value i as binary32 bits, names[f][k] the value corner k of face f names (None:
-    none), original[i] value i's original index (None without bit 2)."""
+    canonical order, corners from each face's first): (values, names, original, modes) with
+    values[i] the K components of value i as binary32 bits, names[f][k] the value corner k of face f
+    names (None: none), original[i] value i's original index (None without bit 2), modes the K
+    components' modes."""
     need(len(payload) >= 1, 'empty texture coordinates section')
     flags = payload[0]
     K = flags & 3
     need(K != 0, 'texture coordinates with 0 components')
-    need(flags >> 3 == 0, 'reserved texture coordinates flag bits set')
+    need(flags >> 4 == 0, 'reserved texture coordinates flag bits set')
     kept = bool(flags & 4)
+    corrections = bool(flags & 8)
+    seen('tex: corrections flag %d' % corrections)
     need(kept == has_order, 'texture coordinates order bit %d, order section %s' % (kept, has_order))
     T, pos = g.read_varint(payload, 1)
     need(T <= (1 << 31) - 1, 'more than 2^31 - 1 texture coordinates')
     need(T <= MAX_TEXCOORDS, 'texture coordinates past max_texcoords')
+    need(T <= 2048 * (len(payload) - pos + 8), '%d texture coordinates in %d bytes' % (T, len(payload) - pos))
     U, pos = g.read_varint(payload, pos)
     need(U <= T, 'more unreferenced texture coordinates than values')
+    ncorners = sum(len(f) for f in faces)
+    need(T - U <= ncorners, 'more named texture coordinates (%d) than corners (%d)' % (T - U, ncorners))
     need(pos + K <= len(payload), 'modes past the section')
     modes = list(payload[pos:pos + K])
     for mode in modes:
-        need(mode <= 10, 'texture coordinate mode %d' % mode)
-        seen('tex: K=%d mode %d' % (K, mode))
+        need(mode <= 10 or 17 <= mode <= 40, 'texture coordinate mode %d' % mode)
+        seen('tex: K=%d mode %s' % (K, 'float' if mode == 0 else 'dec%d' % (mode - 1) if mode <= 10
+                                    else 'bin%d' % (mode - 16)))
     pos += K
     rd = g.RangeDecoder(payload[pos:])
     T_ = {}
@@ -486,7 +509,7 @@ def decode_texcoords(payload, nverts, faces, has_order):
             need(n > 0, 'a far reference before any value')
             m = n - 1 - rd.integer(t('far'))
             need(m >= 0, 'far reference before value 0')
-            if m in Sv:   # the encoder would have said seen; the text does not refuse it (nor does qsp)
+            if m in Sv:   # the encoder would have said seen; a decoder need not check it
                 seen('tex: far to a value of S(v)')
             seen('tex: far')
             Sv.append(m)
@@ -498,7 +521,17 @@ def decode_texcoords(payload, nverts, faces, has_order):
     start = [0]
     for f in faces:
         start.append(start[-1] + len(f))
-    vals = []                      # per value: K coded components (q, or binary32 bits)
+    corner_at = lambda fi, p: start[fi] + p % (start[fi + 1] - start[fi])
+    # "Edges": E(x, y), the first corner naming x whose face's next corner names y
+    E = {}
+    for fi in range(len(faces)):
+        for p in range(start[fi + 1] - start[fi]):
+            c = start[fi] + p
+            x, y = name[c], name[corner_at(fi, p + 1)]
+            if x is not None and y is not None and (x, y) not in E:
+                E[x, y] = c
+    vals = []                      # per value: K components as binary32 bits
+    ints = []                      # per value: K components' integers (grid modes; None in float bits)
 
     def residual(key):
         z = rd.integer(t('residual%d' % key))
@@ -512,58 +545,124 @@ def decode_texcoords(payload, nverts, faces, has_order):
             z += (hi << 21) | lo
         return g.unzigzag(z)
 
+    def integer_of(u, mode):
+        """The integer the mode maps a decoded binary32 y back to: round(y * 2^b), or round(y * 10^k)
+        in binary64."""
+        y = g.bits_f32(u)
+        if mode >= 17:
+            z = y * float(1 << (mode - 16))       # exact
+        else:
+            z = y * float(10 ** (mode - 1))       # one binary64 rounding
+        r = ROUND(z)
+        if r - z in (0.5, -0.5):
+            seen('tex: integer of a value halfway (%s)' % ('binary' if mode >= 17 else 'decimal'))
+        if z != r:
+            seen('tex: y * 10^k not an integer' if mode < 17 else 'tex: y * 2^b not an integer')
+        return r
+
     for i in range(T):
-        x = 2
+        x, terms = 2, None               # terms: (value index, weight)
         if i < T - U:
             c = creator[i]
             fi, p, d = corners[c]
-            at = lambda k: start[fi] + (p + k) % d
-            A, B, O = at(-1), at(1), at(2)
-            known = lambda cc: name[cc] is not None and name[cc] < i
-            if d >= 4 and known(A) and known(B) and known(O):
-                x = 0
-            elif known(A):
-                x, ref = 1, name[A]
-            elif known(B):
-                x, ref = 1, name[B]
+            A, B = corner_at(fi, p - 1), corner_at(fi, p + 1)
+            O = corner_at(fi, p + 2) if d >= 4 else None
+            known = lambda cc: cc is not None and name[cc] is not None and name[cc] < i
+
+            def across(X, Y):
+                """The quad across the edge X -> Y: the values (q0, q1, q2, q3), or None."""
+                k = E.get((name[Y], name[X]))
+                if k is None:
+                    return None
+                kf = corners[k][0]
+                if start[kf + 1] - start[kf] != 4:
+                    seen('tex: edge across in a face not a quad')
+                    return None
+                kp = corners[k][1]
+                qs = [corner_at(kf, kp + j) for j in range(4)]
+                if not all(known(cc) for cc in qs):
+                    seen('tex: quad across not known')
+                    return None
+                if kf == fi:
+                    seen('tex: quad across is the face itself')
+                if d > 4 and Y == A:
+                    seen('tex: quad across the chord O -> A of a face of degree %s' % ('5' if d == 5 else '> 5'))
+                return [name[cc] for cc in qs]
+
+            # (O -> A is an edge of the face only if d = 4; the text finds the quad across by names)
+            across_oa = (lambda: across(O, A)) if ACROSS_ANY_DEGREE or d == 4 else (lambda: None)
+            across_bo = lambda: across(B, O)
+            a = name[A] if known(A) else None
+            b = name[B] if known(B) else None
+            o = name[O] if known(O) else None
+            if a is not None and b is not None and o is not None:
+                x, terms = 0, [(a, 2), (b, 2), (o, -2)]
+                if corrections:
+                    l, m = across_oa(), across_bo()
+                    w = 1 if l and m else 2
+                    if l:
+                        terms += [(l[0], w), (l[1], -w), (l[3], -w), (l[2], w)]
+                    if m:
+                        terms += [(m[1], w), (m[0], -w), (m[2], -w), (m[3], w)]
+                    if l or m:
+                        x = 3
+                        seen('tex: corrections %s' % ('both' if l and m else 'l' if l else 'm'))
+                if d > 4:
+                    seen('tex: parallelogram in a face of degree > 4')
+            elif a is not None:
+                l = across_oa() if o is not None else None
+                x, terms = (4, [(a, 4), (l[3], -2)]) if l else (1, [(a, 2)])
+                if l and d > 4:
+                    seen('tex: grid line in a face of degree > 4')
+            elif b is not None:
+                m = across_bo() if o is not None else None
+                x, terms = (4, [(b, 4), (m[2], -2)]) if m else (1, [(b, 2)])
+                if m and d > 4:
+                    seen('tex: grid line in a face of degree > 4')
+        if terms is None:
+            terms = [(i - 1, 2)] if i else []
         seen('tex: x=%d' % x)
-        val = []
+        val, vint = [], []
         for k in range(K):
             mode = modes[k]
-            if x == 0:
-                a, b, o = (vals[name[cc]][k] for cc in (A, B, O))
-            elif x == 1:
-                a = vals[ref][k]
-            else:
-                a = vals[i - 1][k] if i else 0
             r = residual(K * x + k)
             if mode:
-                pred = g.clamp(a + b - o, -LIM, LIM) if x == 0 else a
-                if x == 0 and pred != a + b - o:
-                    seen('tex: clamped parallelogram')
+                S_ = sum(w * ints[j][k] for j, w in terms)
+                pred = g.clamp((S_ + 1) >> 1, -LIM, LIM) if terms else 0
+                if terms and pred != (S_ + 1) >> 1:
+                    seen('tex: clamped prediction')
+                if S_ & 1:
+                    seen('tex: odd integer sum')
                 q = pred + r
-                need(-LIM <= q <= LIM, 'decimal texture coordinate %d outside (-2^40, 2^40)' % q)
-                val.append(q)
+                need(-LIM <= q <= LIM, 'texture coordinate integer %d outside (-2^40, 2^40)' % q)
+                den = 1 << (mode - 16) if mode >= 17 else 10 ** (mode - 1)
+                u = g.f32_of_rational(q, den)
+                val.append(u)
+                vint.append(integer_of(u, mode))
             else:
-                if x == 0:
-                    pb = g.f32_bits_of_double((g.bits_f32(a) + g.bits_f32(b)) - g.bits_f32(o))
+                if terms:
+                    acc = 0.0 if FLOAT_FROM_ZERO else None
+                    for j, w in terms:
+                        v = w * g.bits_f32(vals[j][k])
+                        acc = v if acc is None else acc + v
+                    pb = g.f32_bits_of_double(acc / 2)
                     if pb & 0x7FFFFFFF == 0x7F800000:
-                        seen('tex: infinite parallelogram')
-                        pb = a
+                        seen('tex: infinite prediction')
+                        pb = vals[terms[0][0]][k]
                 else:
-                    pb = a
+                    pb = 0                 # 0.0
                 im = g.image(pb) + r
                 need(0 <= im < 1 << 32, 'texture coordinate image outside [0, 2^32)')
                 u = g.unimage(im)
                 need(u & 0x7F800000 != 0x7F800000, 'texture coordinate not finite')
                 val.append(u)
+                vint.append(None)
         vals.append(val)
-    values = []
-    for val in vals:
-        values.append(tuple(g.f32_of_rational(q, 10 ** (mode - 1)) if mode else q
-                            for q, mode in zip(val, modes)))
+        ints.append(vint)
+    values = [tuple(v) for v in vals]
     unref = values[T - U:]
-    if unref != sorted(unref):
+    # (the encoder sorts them by the bits it was given, before a binary grid rounds them)
+    if unref != sorted(unref) and not any(mode >= 17 for mode in modes):
         seen('tex: unreferenced values not sorted (an encoder rule)')
 
     # Original numbering
@@ -584,7 +683,7 @@ def decode_texcoords(payload, nverts, faces, has_order):
             z = int(coded == 0)
     rd.finish()
     names = [name[start[fi]:start[fi + 1]] for fi in range(len(faces))]
-    return values, names, original
+    return values, names, original, modes
 
 
 # ---------------- "Decoding a mesh" ----------------
@@ -636,14 +735,14 @@ def decode_file(data):
     tex = None
     if 0x06 in secs:
         need(data[9] >= 2, 'a texture coordinates section in a %d.%d file' % (data[8], data[9]))
-        values, names, original = decode_texcoords(secs[0x06], len(pos), faces, 0x04 in secs)
+        values, names, original, modes = decode_texcoords(secs[0x06], len(pos), faces, 0x04 in secs)
         if original is not None:
             out_values = [None] * len(values)
             for i, j in enumerate(original):
                 out_values[j] = values[i]
             names = [[None if x is None else original[x] for x in f] for f in names]
             values = out_values
-        tex = [values, names]
+        tex = [values, names, modes]
     if 0x04 in secs:
         seen('order section')
         cv, of = decode_order(secs[0x04], len(pos), [len(f) for f in faces])
@@ -727,6 +826,20 @@ def read_obj_tex(path):
     return pos, vts, faces, names
 
 
+def on_grid(u, mode):
+    """Binary32 bits u rounded to the binary grid of step 2^-b that mode 16 + b names (halfway: to
+    even), as the decoder gives it back: the binary32 nearest to q * 2^-b."""
+    b = mode - 16
+    z = g.bits_f32(u) * float(1 << b)          # exact
+    if z - math.floor(z) == 0.5:
+        seen('tex: --quantize-uv halfway')
+    return g.f32_of_rational(QUANTIZE_ROUND(z), 1 << b)
+
+
+QUANTIZE_ROUND = round   # (the text does not say how --quantize-uv rounds a halfway value: qsp rounds
+                         # it to even, so does Python's round of a float)
+
+
 def tex_faces(pos, faces, values, names):
     """The faces as corner cycles of (position, texture coordinate or ()), each from its smallest
     corner, sorted: a mesh up to vertex and texture coordinate renumbering, face order and rotation."""
@@ -738,19 +851,22 @@ def tex_faces(pos, faces, values, names):
     return sorted(out)
 
 
-def compare_tex(mesh, other, what, exact):
+def compare_tex(mesh, other, what, exact, source=False):
     """The mesh's texture coordinates against (pos, vts, faces, names) of an .obj: every corner's
     position and texture coordinate bits up to renumbering, face order and rotation, and the values
-    no corner names; exact: index for index (vertex order, face order, first corners, values)."""
+    no corner names; exact: index for index (vertex order, face order, first corners, values). source:
+    the .obj the file was made from, its values rounded to the binary grids the file's modes name."""
     pos, faces, _, quantized, tex = mesh
     opos, ovts, ofaces, onames = other
     if tex is None:
         if ovts:
             return ['no texture coordinates section, %s has %d' % (what, len(ovts))]
-        tex = [], [[None] * len(f) for f in faces]
-    values, names = tex
+        tex = [], [[None] * len(f) for f in faces], []
+    values, names, modes = tex
     K = len(values[0]) if values else 0
     ovts = [v[:K] + (0,) * (K - len(v)) if len(v) != K else v for v in ovts]
+    if source and any(mode >= 17 for mode in modes):   # --quantize-uv: the .obj's values on the grid
+        ovts = [tuple(on_grid(u, mode) if mode >= 17 else u for u, mode in zip(v, modes)) for v in ovts]
     bad = []
     if exact:
         if not quantized and pos != opos:
@@ -873,7 +989,8 @@ def main():
     if '--reference' in opts:
         bad += compare_reference(mesh, opts['--reference'])
     if '--tex-obj' in opts:
-        bad += compare_tex(mesh, read_obj_tex(opts['--tex-obj']), 'the .obj', exact='--exact' in args)
+        bad += compare_tex(mesh, read_obj_tex(opts['--tex-obj']), 'the .obj', exact='--exact' in args,
+                           source=True)
     if '--decompressed' in opts:
         bad += compare_tex(mesh, read_obj_tex(opts['--decompressed']), 'qsp decompress\'s output', exact=True)
     if '--stats' in args:
