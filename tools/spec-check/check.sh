@@ -16,7 +16,8 @@
 # coordinates by texgen.py (seams, corners naming none or another vertex's value, values no corner
 # names, float extremes, decimal values halfway between two grid integers), with and without
 # --keep-order, and of texgen.py's smoothly bent grid (the corrections, grid lines, chords of
-# hexagons), lossless and with --quantize-uv 12 and 7 (spot and bishop with 12 too), are decoded
+# hexagons), lossless and with --quantize-uv 12 and 7 (spot, fedora (the shapes) and bishop with 12
+# too), are decoded
 # whole by qsppoly.py and compared with their .obj (every corner's position and texture coordinate
 # bits, rounded to the binary grid of --quantize-uv; index for index under --keep-order) and index
 # for index with what `qsp decompress` writes.
@@ -95,6 +96,7 @@ encode_tex spot_uv "$root/testdata/keenan_spot_quadrangulated.obj"
 encode_tex spot_uv12 "$root/testdata/keenan_spot_quadrangulated.obj" --quantize-uv 12  # (../shared's copy too)
 encode_tex fedora_uv "$root/testdata/mh_fedora.obj"
 encode_tex fedora_uv_keep_order "$root/testdata/mh_fedora.obj" --keep-order
+encode_tex fedora_uv12 "$root/testdata/mh_fedora.obj" --quantize-uv 12   # charts that follow the surface
 encode fedora "$root/testdata/mh_fedora.obj"                     # decimal grid, lossless
 encode fedora_q14 "$root/testdata/mh_fedora.obj" --quantize 14
 encode spot_q14 "$root/testdata/keenan_spot_quadrangulated.obj" --quantize 14

@@ -435,7 +435,7 @@ FLOAT_FROM_ZERO = True    # a float prediction's binary64 sum starts from +0.0, 
                           # predicts +0.0 (the text does not say; qsp does so: texgen.py's `u`)
 
 
-def decode_texcoords(payload, nverts, faces, has_order):
+def decode_texcoords(payload, positions, faces, has_order):
     """The texture coordinates section over the output mesh of the other sections (faces in
     canonical order, corners from each face's first): (values, names, original, modes) with
     values[i] the K components of value i as binary32 bits, names[f][k] the value corner k of face f
@@ -445,10 +445,12 @@ def decode_texcoords(payload, nverts, faces, has_order):
     flags = payload[0]
     K = flags & 3
     need(K != 0, 'texture coordinates with 0 components')
-    need(flags >> 4 == 0, 'reserved texture coordinates flag bits set')
+    need(flags >> 5 == 0, 'reserved texture coordinates flag bits set')
     kept = bool(flags & 4)
     corrections = bool(flags & 8)
-    seen('tex: corrections flag %d' % corrections)
+    shapes = bool(flags & 16)
+    need(not (corrections and shapes), 'texture coordinates flag bits 3 and 4 both set')
+    seen('tex: flag %s' % ('corrections' if corrections else 'shapes' if shapes else 'neither'))
     need(kept == has_order, 'texture coordinates order bit %d, order section %s' % (kept, has_order))
     T, pos = g.read_varint(payload, 1)
     need(T <= (1 << 31) - 1, 'more than 2^31 - 1 texture coordinates')
@@ -483,7 +485,7 @@ def decode_texcoords(payload, nverts, faces, has_order):
         for p, v in enumerate(f):
             corners.append((fi, p, len(f)))
             verts.append(v)
-    S = [[] for _ in range(nverts)]
+    S = [[] for _ in range(len(positions))]
     name = []
     creator = []
     n = 0
@@ -560,8 +562,28 @@ def decode_texcoords(payload, nverts, faces, has_order):
             seen('tex: y * 10^k not an integer' if mode < 17 else 'tex: y * 2^b not an integer')
         return r
 
+    def shape(A, B, O, C):
+        """(alpha, beta) fitting the face's 3D corners ("Shapes"), every step one binary64 operation."""
+        PA, PB, PO, PC = ([g.bits_f32(u) for u in positions[verts[cc]]] for cc in (A, B, O, C))
+        ea = [PA[t] - PO[t] for t in range(3)]
+        eb = [PB[t] - PO[t] for t in range(3)]
+        ec = [PC[t] - PO[t] for t in range(3)]
+        dot = lambda x_, y_: (x_[0] * y_[0] + x_[1] * y_[1]) + x_[2] * y_[2]
+        aa, bb, ab, ac, bc = dot(ea, ea), dot(eb, eb), dot(ea, eb), dot(ea, ec), dot(eb, ec)
+        det = aa * bb - ab * ab
+        if det > 2.0 ** -40 * (aa * bb):
+            al = (ac * bb - bc * ab) / det
+            be = (bc * aa - ac * ab) / det
+            if abs(al) <= 4 and abs(be) <= 4:
+                seen('tex: shape fitted')
+                return al, be
+            seen('tex: shape far from a parallelogram')
+        else:
+            seen('tex: shape of a degenerate face')
+        return 1.0, 1.0
+
     for i in range(T):
-        x, terms = 2, None               # terms: (value index, weight)
+        x, terms, para = 2, None, None   # terms: (value index, weight); para: (a, b, o, alpha, beta)
         if i < T - U:
             c = creator[i]
             fi, p, d = corners[c]
@@ -596,7 +618,7 @@ def decode_texcoords(payload, nverts, faces, has_order):
             b = name[B] if known(B) else None
             o = name[O] if known(O) else None
             if a is not None and b is not None and o is not None:
-                x, terms = 0, [(a, 2), (b, 2), (o, -2)]
+                x, terms, para = 0, [], (a, b, o) + (shape(A, B, O, c) if shapes else (1.0, 1.0))
                 if corrections:
                     l, m = across_oa(), across_bo()
                     w = 1 if l and m else 2
@@ -621,6 +643,9 @@ def decode_texcoords(payload, nverts, faces, has_order):
                     seen('tex: grid line in a face of degree > 4')
         if terms is None:
             terms = [(i - 1, 2)] if i else []
+            para = None
+        elif x in (1, 4):
+            para = None
         seen('tex: x=%d' % x)
         val, vint = [], []
         for k in range(K):
@@ -628,11 +653,19 @@ def decode_texcoords(payload, nverts, faces, has_order):
             r = residual(K * x + k)
             if mode:
                 S_ = sum(w * ints[j][k] for j, w in terms)
-                pred = g.clamp((S_ + 1) >> 1, -LIM, LIM) if terms else 0
-                if terms and pred != (S_ + 1) >> 1:
-                    seen('tex: clamped prediction')
                 if S_ & 1:
                     seen('tex: odd integer sum')
+                if para:
+                    qa, qb, qo = (ints[j][k] for j in para[:3])
+                    al, be = para[3:]
+                    p_ = math.floor((((float(S_) + float(2 * qo)) / 2 + (al * (float(qa) - float(qo)) + be * (float(qb) - float(qo)))) + 0.5))
+                    if (al, be) == (1.0, 1.0) and p_ != (S_ + 1) // 2 + qa + qb - qo:
+                        seen('tex: binary64 parallelogram not exact')
+                elif terms:
+                    p_ = (S_ + 1) >> 1
+                pred = g.clamp(p_, -LIM, LIM) if terms or para else 0
+                if (terms or para) and pred != p_:
+                    seen('tex: clamped prediction')
                 q = pred + r
                 need(-LIM <= q <= LIM, 'texture coordinate integer %d outside (-2^40, 2^40)' % q)
                 den = 1 << (mode - 16) if mode >= 17 else 10 ** (mode - 1)
@@ -640,15 +673,25 @@ def decode_texcoords(payload, nverts, faces, has_order):
                 val.append(u)
                 vint.append(integer_of(u, mode))
             else:
-                if terms:
+                if terms or para:
                     acc = 0.0 if FLOAT_FROM_ZERO else None
                     for j, w in terms:
                         v = w * g.bits_f32(vals[j][k])
                         acc = v if acc is None else acc + v
-                    pb = g.f32_bits_of_double(acc / 2)
+                    if para:
+                        fa, fb_, fo = (g.bits_f32(vals[j][k]) for j in para[:3])
+                        al, be = para[3:]
+                        pd = (fo + al * (fa - fo)) + be * (fb_ - fo)
+                        if acc is not None:
+                            pd = pd + acc / 2
+                        pb = g.f32_bits_of_double(pd)
+                        first = vals[para[0]][k]
+                    else:
+                        pb = g.f32_bits_of_double(acc / 2)
+                        first = vals[terms[0][0]][k]
                     if pb & 0x7FFFFFFF == 0x7F800000:
                         seen('tex: infinite prediction')
-                        pb = vals[terms[0][0]][k]
+                        pb = first
                 else:
                     pb = 0                 # 0.0
                 im = g.image(pb) + r
@@ -735,7 +778,7 @@ def decode_file(data):
     tex = None
     if 0x06 in secs:
         need(data[9] >= 2, 'a texture coordinates section in a %d.%d file' % (data[8], data[9]))
-        values, names, original, modes = decode_texcoords(secs[0x06], len(pos), faces, 0x04 in secs)
+        values, names, original, modes = decode_texcoords(secs[0x06], pos, faces, 0x04 in secs)
         if original is not None:
             out_values = [None] * len(values)
             for i, j in enumerate(original):
