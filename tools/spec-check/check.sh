@@ -17,10 +17,9 @@
 # names, float extremes, decimal values halfway between two grid integers), with and without
 # --keep-order, and of texgen.py's smoothly bent grid (the corrections, grid lines, chords of
 # hexagons), lossless and with --quantize-uv 12 and 7 (spot, fedora (the shapes) and bishop with 12
-# too), are decoded
-# whole by qsppoly.py and compared with their .obj (every corner's position and texture coordinate
-# bits, rounded to the binary grid of --quantize-uv; index for index under --keep-order) and index
-# for index with what `qsp decompress` writes.
+# too), are decoded whole by qsppoly.py and compared with their .obj (every corner's position and
+# texture coordinate bits, rounded to the binary grid of --quantize-uv; index for index under
+# --keep-order) and index for index with what `qsp decompress` writes.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}

@@ -489,18 +489,25 @@ def decode_texcoords(payload, positions, faces, has_order):
     name = []
     creator = []
     n = 0
+    e = 0                          # an earlier corner of this face took a value other than its vertex's first
     for c, v in enumerate(verts):
+        if corners[c][1] == 0:
+            e = 0
         Sv = S[v]
-        s = min(len(Sv), 2)
+        s = 2 * min(len(Sv), 2) + e
         if bit('is_new', s):
             seen('tex: new')
+            if Sv:
+                e = 1
             Sv.append(n)
             creator.append(c)
             name.append(n)
             n += 1
             need(n <= T - U, 'more named texture coordinates than T - U')
         elif Sv and bit('is_seen', s):
-            j = rd.integer(t('pick')) if len(Sv) >= 2 else 0
+            j = rd.integer(t('pick%d' % e)) if len(Sv) >= 2 else 0
+            if j >= 1:
+                e = 1
             seen('tex: seen, pick' if len(Sv) >= 2 else 'tex: seen')
             need(j < len(Sv), 'pick %d past S(v) of %d' % (j, len(Sv)))
             name.append(Sv[j])
@@ -514,6 +521,7 @@ def decode_texcoords(payload, positions, faces, has_order):
             if m in Sv:   # the encoder would have said seen; a decoder need not check it
                 seen('tex: far to a value of S(v)')
             seen('tex: far')
+            e = 1
             Sv.append(m)
             name.append(m)
     need(n == T - U, 'named texture coordinates %d, T - U = %d' % (n, T - U))
@@ -562,7 +570,7 @@ def decode_texcoords(payload, positions, faces, has_order):
             seen('tex: y * 10^k not an integer' if mode < 17 else 'tex: y * 2^b not an integer')
         return r
 
-    def shape(A, B, O, C):
+    def shape(A, B, O, C, unfitted=(1.0, 1.0)):
         """(alpha, beta) fitting the face's 3D corners ("Shapes"), every step one binary64 operation."""
         PA, PB, PO, PC = ([g.bits_f32(u) for u in positions[verts[cc]]] for cc in (A, B, O, C))
         ea = [PA[t] - PO[t] for t in range(3)]
@@ -575,12 +583,12 @@ def decode_texcoords(payload, positions, faces, has_order):
             al = (ac * bb - bc * ab) / det
             be = (bc * aa - ac * ab) / det
             if abs(al) <= 4 and abs(be) <= 4:
-                seen('tex: shape fitted')
+                seen('tex: shape fitted%s' % (' (grid line)' if unfitted[0] == 0 else ''))
                 return al, be
             seen('tex: shape far from a parallelogram')
         else:
             seen('tex: shape of a degenerate face')
-        return 1.0, 1.0
+        return unfitted
 
     for i in range(T):
         x, terms, para = 2, None, None   # terms: (value index, weight); para: (a, b, o, alpha, beta)
@@ -590,6 +598,8 @@ def decode_texcoords(payload, positions, faces, has_order):
             A, B = corner_at(fi, p - 1), corner_at(fi, p + 1)
             O = corner_at(fi, p + 2) if d >= 4 else None
             known = lambda cc: cc is not None and name[cc] is not None and name[cc] < i
+
+            across_corners = []              # the corners of the last quad across found
 
             def across(X, Y):
                 """The quad across the edge X -> Y: the values (q0, q1, q2, q3), or None."""
@@ -609,6 +619,7 @@ def decode_texcoords(payload, positions, faces, has_order):
                     seen('tex: quad across is the face itself')
                 if d > 4 and Y == A:
                     seen('tex: quad across the chord O -> A of a face of degree %s' % ('5' if d == 5 else '> 5'))
+                across_corners[:] = qs
                 return [name[cc] for cc in qs]
 
             # (O -> A is an edge of the face only if d = 4; the text finds the quad across by names)
@@ -631,20 +642,28 @@ def decode_texcoords(payload, positions, faces, has_order):
                         seen('tex: corrections %s' % ('both' if l and m else 'l' if l else 'm'))
                 if d > 4:
                     seen('tex: parallelogram in a face of degree > 4')
-            elif a is not None:
-                l = across_oa() if o is not None else None
-                x, terms = (4, [(a, 4), (l[3], -2)]) if l else (1, [(a, 2)])
+            elif a is not None:       # the grid line: a parallelogram with origin A, O in the place
+                l = across_oa() if o is not None else None   # of A and l3's corner in the place of B
+                if l:
+                    L3 = across_corners[3]
+                    x, terms, para = 4, [], (o, l[3], a) + (shape(O, L3, A, c, (0.0, -1.0)) if shapes else (0.0, -1.0))
+                else:
+                    x, terms = 1, [(a, 2)]
                 if l and d > 4:
                     seen('tex: grid line in a face of degree > 4')
             elif b is not None:
                 m = across_bo() if o is not None else None
-                x, terms = (4, [(b, 4), (m[2], -2)]) if m else (1, [(b, 2)])
+                if m:
+                    M2 = across_corners[2]
+                    x, terms, para = 4, [], (o, m[2], b) + (shape(O, M2, B, c, (0.0, -1.0)) if shapes else (0.0, -1.0))
+                else:
+                    x, terms = 1, [(b, 2)]
                 if m and d > 4:
                     seen('tex: grid line in a face of degree > 4')
         if terms is None:
             terms = [(i - 1, 2)] if i else []
             para = None
-        elif x in (1, 4):
+        elif x == 1:
             para = None
         seen('tex: x=%d' % x)
         val, vint = [], []
