@@ -217,11 +217,31 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
                                            std::to_string(mesh.corner_texcoords[c]) + " of " +
                                            std::to_string(count));
   }
-  FaceMap map;
-  std::string bytes = encode_faces(mesh, options, map);
-  if (!texcoords) return bytes;
-  return container::with_section(bytes, container::kTagTexcoords,
-                                 texcoords_section(mesh, map, options, bytes), kFormatMinorTexcoords);
+  const auto whole = [&](const EncodeOptions& o) {
+    FaceMap map;
+    std::string bytes = encode_faces(mesh, o, map);
+    if (!texcoords) return bytes;
+    return container::with_section(bytes, container::kTagTexcoords, texcoords_section(mesh, map, o, bytes),
+                                   kFormatMinorTexcoords);
+  };
+  // The levels that try every partition keep the smallest whole file: with texture coordinates the
+  // partition that codes the faces smallest need not be the one whose corner order codes the UVs best.
+  if (!texcoords || options.partition || !level_effort(options.level, mesh.vertex_count()).all_partitions)
+    return whole(options);
+  std::string best;
+  for (PartitionMode m : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
+    EncodeOptions one = options;
+    one.partition = m;
+    std::string bytes;
+    try {
+      bytes = whole(one);
+    } catch (const Error& e) {
+      if (e.code() != ErrorCode::kInternal || m == PartitionMode::kMotorcycle) throw;
+      continue;
+    }
+    if (best.empty() || bytes.size() < best.size()) best = std::move(bytes);
+  }
+  return best;
 }
 
 }  // namespace qsp
