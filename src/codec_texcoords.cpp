@@ -1,14 +1,12 @@
 // The texture coordinates section (format 3.2; format-spec/qsp_format.md, "Texture coordinates
 // section"): which value each corner names, as the corners first name them (new, one its vertex has
-// named, none, or an earlier one), then the values predicted across their creating corner's face,
-// exactly (decimal grids or float bits), then with --keep-order the input numbering.
+// named, none, or an earlier one), then the values predicted from their creating corner's face (the
+// parallelogram, corrected by the quads across or fitted to the face's 3D corners; a grid line), exactly
+// (decimal grids or float bits) or on binary grids, then with --keep-order the input numbering.
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -48,7 +46,7 @@ struct Named {
     for (std::uint32_t v : corner_vertices) ++start[v + 1];
     std::partial_sum(start.begin(), start.end(), start.begin());
   }
-  std::span<const std::uint32_t> of(std::uint32_t v) const { return {&slots[start[v]], size[v]}; }
+  std::span<const std::uint32_t> of(std::uint32_t v) const { return {slots.data() + start[v], size[v]}; }
   void add(std::uint32_t v, std::uint32_t value) { slots[start[v] + size[v]++] = value; }
 };
 
@@ -61,7 +59,8 @@ struct SymbolModels {
   IntModel pick[2], far;
 };
 
-// A prediction: (sum of weight * value) / 2 over up to 11 terms, and its context.
+// A prediction: (sum of weight * value) / 2 over up to 8 terms, or a parallelogram plus half of that sum,
+// and its context.
 struct Prediction {
   int context = 2;
   int count = 0;
