@@ -191,12 +191,9 @@ int main(int argc, char** argv) {
       // A polygon mesh (faces not quads, non-manifold, mis-oriented): format 3.1 files with the polygons
       // section, with and without the order section.
       try {
-        const qsp::Mesh pm =
-            ext == ".obj" ? qsp::read_obj_mesh(bytes, p.string()) : qsp::read_off_mesh(bytes, p.string());
-        qsp::PolygonMesh poly;
-        poly.positions = pm.positions.f32;
-        poly.face_offsets = pm.face_offsets;
-        poly.corners = pm.corner_vertices;
+        const qsp::PolygonMesh poly = qsp::to_polygon_mesh(
+            ext == ".obj" ? qsp::read_obj_mesh(bytes, p.string()) : qsp::read_off_mesh(bytes, p.string()),
+            false);
         for (int keep = 0; keep < 2; ++keep) {
           qsp::EncodeOptions o;
           o.keep_order = keep == 1;

@@ -392,6 +392,20 @@ Extras drop(Mesh& m, unsigned c) {
   return dropped;
 }
 
+PolygonMesh to_polygon_mesh(Mesh m, bool texcoords) {
+  PolygonMesh out;
+  out.positions = std::move(m.positions.f32);
+  if (!m.face_offsets.empty()) out.face_offsets = std::move(m.face_offsets);
+  out.corners = std::move(m.corner_vertices);
+  if (texcoords && !m.texcoords.empty()) {
+    out.texcoord_components = m.texcoord_components;
+    out.texcoords = std::move(m.texcoords.f32);
+    out.corner_texcoords = std::move(m.corner_texcoords);
+    if (out.corner_texcoords.empty()) out.corner_texcoords.assign(out.corners.size(), kInvalid);
+  }
+  return out;
+}
+
 QuadMesh to_quad_mesh(const Mesh& m) {
   std::uint64_t non_quads = 0;
   std::string examples;

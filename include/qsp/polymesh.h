@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "qsp/mesh.h"
+#include "qsp/submesh.h"
 
 namespace qsp {
 
@@ -253,6 +254,11 @@ Extras drop(Mesh& mesh, unsigned categories);
 // Throws kNotQuad when a face is not a quad (naming the first ones, counting all), kBadNumber when a
 // position is beyond float32's range.
 QuadMesh to_quad_mesh(const Mesh& mesh);
+
+// The mesh as the codec takes it: the float32 mirror of the positions, the faces as they are, and with
+// `texcoords` its texture coordinates (float32; every corner naming one or kInvalid, also when the file
+// has values but no corner names one); every other attribute ignored. Never throws but for memory.
+PolygonMesh to_polygon_mesh(Mesh mesh, bool texcoords);
 
 // A Mesh with exactly the QuadMesh's float32 positions and quads.
 Mesh from_quad_mesh(QuadMesh mesh);

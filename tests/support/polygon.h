@@ -19,29 +19,18 @@
 #include <utility>
 #include <vector>
 
+#include "files.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/polymesh.h"
 #include "qsp/submesh.h"
-#include "files.h"
 
 namespace qsp::testing {
 
 // An OBJ file as qsp's exact reader gives it, as a PolygonMesh: float32 positions, faces as read, and
 // the texture coordinates (every corner naming one or kInvalid) when the file has any.
 inline PolygonMesh read_obj_polygons(const std::filesystem::path& path) {
-  Mesh m = read_obj_mesh(slurp(path), path.string());
-  PolygonMesh out;
-  out.positions = std::move(m.positions.f32);
-  out.face_offsets = std::move(m.face_offsets);
-  out.corners = std::move(m.corner_vertices);
-  if (!m.texcoords.empty()) {
-    out.texcoord_components = m.texcoord_components;
-    out.texcoords = std::move(m.texcoords.f32);
-    out.corner_texcoords = std::move(m.corner_texcoords);
-    if (out.corner_texcoords.empty()) out.corner_texcoords.assign(out.corners.size(), kInvalid);
-  }
-  return out;
+  return to_polygon_mesh(read_obj_mesh(slurp(path), path.string()), true);
 }
 
 // A polygon mesh as the plain arrays the API takes.

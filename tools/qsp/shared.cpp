@@ -342,19 +342,11 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
   // The leading comment block, as the quad readers report it (PLY: the header's comments).
   in.report.leading_comments = format == MeshFormat::kPly ? m.comments : leading_comments(bytes);
   in.report.comments = in.report.leading_comments.size();
-  in.polygons.positions = std::move(m.positions.f32);
-  if (!m.face_offsets.empty()) in.polygons.face_offsets = std::move(m.face_offsets);
-  in.polygons.corners = std::move(m.corner_vertices);
-  if (keep_texcoords && !m.texcoords.empty()) {
+  if (keep_texcoords)
     for (std::size_t i = 0; i < m.texcoords.size(); ++i)
       in.rounded_texcoords +=
           m.texcoords.precision != Precision::kFloat32 && m.texcoords.approx(i) != m.texcoords.f32[i];
-    in.polygons.texcoord_components = m.texcoord_components;
-    in.polygons.texcoords = std::move(m.texcoords.f32);
-    in.polygons.corner_texcoords = std::move(m.corner_texcoords);
-    if (in.polygons.corner_texcoords.empty())
-      in.polygons.corner_texcoords.assign(in.polygons.corners.size(), kInvalid);
-  }
+  in.polygons = to_polygon_mesh(std::move(m), keep_texcoords);
 }
 
 // A .qsp: a polygon mesh (its polygons section, 3.1) is decoded, so that every subcommand taking polygon
