@@ -44,6 +44,25 @@ std::uint32_t interior_bits(std::uint32_t bits, double layout_extent, double int
   return bits;
 }
 
+// The smallest of the three partitions' files (the first on a tie), as for quad meshes: `one(mode)`
+// writes one; `keep()` is called when it is the smallest so far. A partition that breaks an invariant
+// (kInternal) is passed over, but for the motorcycle graph.
+template <class One, class Keep>
+std::string smallest_partition(const One& one, const Keep& keep) {
+  std::string best;
+  for (PartitionMode m : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
+    std::string bytes;
+    try {
+      bytes = one(m);
+    } catch (const Error& e) {
+      if (e.code() != ErrorCode::kInternal || m == PartitionMode::kMotorcycle) throw;
+      continue;
+    }
+    if (best.empty() || bytes.size() < best.size()) best = std::move(bytes), keep();
+  }
+  return best;
+}
+
 // Where each input face went: output face face[f], whose corner c is the input's corner (c + r) mod d.
 struct FaceMap {
   std::vector<std::uint32_t> face, rotation;
@@ -137,21 +156,11 @@ std::string encode_faces(const PolygonMesh& mesh, const EncodeOptions& options, 
   const Effort effort = level_effort(options.level, s.mesh.vertex_count());
   if (options.partition || !effort.all_partitions)
     return encode_cut(mesh, s, options.partition.value_or(PartitionMode::kMotorcycle), options, effort, map);
-  // The highest levels keep the smallest of the three partitions' files (the first on a tie), as for
-  // quad meshes.
-  std::string best;
-  for (PartitionMode m : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
-    std::string bytes;
-    FaceMap this_map;
-    try {
-      bytes = encode_cut(mesh, s, m, options, effort, this_map);
-    } catch (const Error& e) {
-      if (e.code() != ErrorCode::kInternal || m == PartitionMode::kMotorcycle) throw;
-      continue;
-    }
-    if (best.empty() || bytes.size() < best.size()) best = std::move(bytes), map = std::move(this_map);
-  }
-  return best;
+  // The highest levels keep the smallest of the three partitions' files.
+  FaceMap this_map;
+  return smallest_partition(
+      [&](PartitionMode m) { return encode_cut(mesh, s, m, options, effort, this_map); },
+      [&] { map = std::move(this_map); });
 }
 
 // The texture coordinates section of `mesh` whose faces went where `map` says: the corners in the
@@ -228,20 +237,13 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
   // partition that codes the faces smallest need not be the one whose corner order codes the UVs best.
   if (!texcoords || options.partition || !level_effort(options.level, mesh.vertex_count()).all_partitions)
     return whole(options);
-  std::string best;
-  for (PartitionMode m : {PartitionMode::kMotorcycle, PartitionMode::kGreedy, PartitionMode::kMerge}) {
-    EncodeOptions one = options;
-    one.partition = m;
-    std::string bytes;
-    try {
-      bytes = whole(one);
-    } catch (const Error& e) {
-      if (e.code() != ErrorCode::kInternal || m == PartitionMode::kMotorcycle) throw;
-      continue;
-    }
-    if (best.empty() || bytes.size() < best.size()) best = std::move(bytes);
-  }
-  return best;
+  return smallest_partition(
+      [&](PartitionMode m) {
+        EncodeOptions one = options;
+        one.partition = m;
+        return whole(one);
+      },
+      [] {});
 }
 
 }  // namespace qsp
