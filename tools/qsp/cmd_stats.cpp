@@ -99,6 +99,7 @@ Row info_row(const std::string& file, const std::string& bytes, const char* part
   r.edges = info.edges;
   r.faces = info.faces;
   r.components = info.components.size();
+  r.polygon = info.polygons;  // its polygons section (quads with texture coordinates are not)
   r.extraordinary = info.extraordinary;
   r.unreferenced = info.unreferenced;
   for (const auto& c : info.components) {
@@ -367,7 +368,6 @@ void register_stats(CLI::App& app, int& rc) {
       }
       if (!bytes.empty()) {
         rows.push_back(info_row(f, bytes, "stored"));
-        rows.back().polygon = inspect(bytes).polygons;  // else quads with texture coordinates
         rows.back().polygons = s.counts;
         if (!partition_given) return;
       }
