@@ -101,6 +101,17 @@ def bent():
         return '%.9g %.9g' % (f32(u), f32(w))
     return lines, faces, corners, uv
 
+def write_obj(lines, vts, faces, names):
+    """The mesh's v lines, its values as vt lines in a shuffled order, and faces naming them (None: none)."""
+    order = list(range(len(vts)))
+    random.shuffle(order)
+    at = {old: new for new, old in enumerate(order)}
+    with open(out, 'w') as o:
+        o.writelines(lines)
+        for old in order:
+            o.write('vt %s\n' % vts[old])
+        for f, nm in zip(faces, names):
+            o.write('f %s\n' % ' '.join('%d' % v if x is None else '%d/%d' % (v, at[x] + 1) for v, x in zip(f, nm)))
 
 if mode == 'bent':
     lines, faces, corners, uv = bent()
@@ -112,15 +123,7 @@ if mode == 'bent':
                 vts.append(uv(*vc))
     names = [[None] * len(f) if cs is None else [at_value[vc] for vc in cs] for f, cs in zip(faces, corners)]
     vts += ['%.9g %.9g' % (f32(random.random()), f32(random.random())), '0.5 1.17549435e-38']  # (v: float bits)
-    order = list(range(len(vts)))
-    random.shuffle(order)
-    at = {old: new for new, old in enumerate(order)}
-    with open(out, 'w') as o:
-        o.writelines(lines)
-        for old in order:
-            o.write('vt %s\n' % vts[old])
-        for f, nm in zip(faces, names):
-            o.write('f %s\n' % ' '.join('%d' % v if x is None else '%d/%d' % (v, at[x] + 1) for v, x in zip(f, nm)))
+    write_obj(lines, vts, faces, names)
     sys.exit(0)
 kinds = {'uv': ['dec3', 'float'], 'u': ['extreme'], 'uvw': ['extreme', 'big', 'dec2'], 'uh': ['float', 'half']}[mode]
 lines, pos, faces = [], [], []
@@ -159,12 +162,4 @@ for fi, f in enumerate(faces):
     names.append(nm)
 for _ in range(3):  # values no corner names
     vts.append(' '.join(component(k, random.random(), random.random()) for k in kinds))
-order = list(range(len(vts)))
-random.shuffle(order)
-at = {old: new for new, old in enumerate(order)}
-with open(out, 'w') as o:
-    o.writelines(lines)
-    for old in order:
-        o.write('vt %s\n' % vts[old])
-    for f, nm in zip(faces, names):
-        o.write('f %s\n' % ' '.join('%d' % v if x is None else '%d/%d' % (v, at[x] + 1) for v, x in zip(f, nm)))
+write_obj(lines, vts, faces, names)
