@@ -83,15 +83,17 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   PolygonInput input = read_polygon_input(in, format, QspInput::kRefused, keep_uv);
   const ReadReport report = std::move(input.report);
   const std::uint64_t rounded_uv = input.rounded_texcoords;
+  const std::string first_rounded_uv = input.first_rounded_texcoord;
   const PolygonMesh mesh = polygons_of(std::move(input));
   const bool quiet = o.verbosity.quiet;
   const std::string dropped = refuse_extra_data(in, report, ".qsp", o.drop, quiet, kCategoryUv);
   if (!o.quantize) refuse_rounding(in, report, "a lossless .qsp", o.float32, quiet, "--quantize BITS");
   if (rounded_uv && !o.float32)
-    throw Error(ErrorCode::kUnsupported,
-                in + ": " + std::to_string(rounded_uv) +
-                    " texture coordinate values have more digits than float32 holds; a .qsp keeps float32 "
-                    "texture coordinates: pass --float32 to round them, or --drop uv");
+    throw Error(
+        ErrorCode::kUnsupported,
+        in + ": " + std::to_string(rounded_uv) +
+            " texture coordinate values have more digits than float32 holds (the first: " + first_rounded_uv +
+            "); a .qsp keeps float32 texture coordinates: pass --float32 to round them, or --drop uv");
   if (rounded_uv && !quiet)
     std::fprintf(stderr, "qsp: %s: rounded %llu texture coordinate values to float32 (--float32)\n",
                  in.c_str(), static_cast<unsigned long long>(rounded_uv));

@@ -343,9 +343,17 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
   in.report.leading_comments = format == MeshFormat::kPly ? m.comments : leading_comments(bytes);
   in.report.comments = in.report.leading_comments.size();
   if (keep_texcoords)
-    for (std::size_t i = 0; i < m.texcoords.size(); ++i)
-      in.rounded_texcoords +=
-          m.texcoords.precision != Precision::kFloat32 && m.texcoords.approx(i) != m.texcoords.f32[i];
+    for (std::size_t i = 0; i < m.texcoords.size(); ++i) {
+      if (m.texcoords.precision == Precision::kFloat32 || m.texcoords.approx(i) == m.texcoords.f32[i])
+        continue;
+      if (in.rounded_texcoords++ == 0) {
+        char value[32];
+        const auto end = std::to_chars(value, value + sizeof value, m.texcoords.approx(i)).ptr;  // shortest
+        const std::size_t t = i / m.texcoord_components;
+        in.first_rounded_texcoord = "texture coordinate " + std::to_string(t) + " (OBJ `vt` " +
+                                    std::to_string(t + 1) + ") has " + std::string(value, end);
+      }
+    }
   in.polygons = to_polygon_mesh(std::move(m), keep_texcoords);
 }
 
