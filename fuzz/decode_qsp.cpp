@@ -5,6 +5,7 @@
 // Properties: no crash, no sanitizer report, no internal error, memory bounded by the limits below;
 // a file that decodes gives a valid manifold quad mesh that inspect() agrees with and that
 // round-trips through encode/decode.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -50,6 +51,21 @@ void check_polygons(std::string_view bytes, const qsp::DecodeLimits& limits) {
       fuzz::finding("decoded a corner naming a texture coordinate out of range");
   for (const float x : m.texcoords)
     if (!std::isfinite(x)) fuzz::finding("decoded a texture coordinate that is not finite");
+  // Face labels (3.3): one per face or none, in range, names distinct and without line breaks (a name
+  // is written as a statement's text).
+  for (const FaceLabels* l : {&m.objects, &m.groups, &m.materials, &m.smoothing}) {
+    if (!l->face.empty() && l->face.size() != m.face_count())
+      fuzz::finding("decoded labels of another face count");
+    for (const std::uint32_t n : l->face)
+      if (n != kInvalid && n >= l->names.size()) fuzz::finding("decoded a face label out of range");
+    std::vector<std::string> names = l->names;
+    std::sort(names.begin(), names.end());
+    if (std::adjacent_find(names.begin(), names.end()) != names.end()) fuzz::finding("decoded a name twice");
+    for (const std::string& n : l->names)
+      if (n.find_first_of("\r\n") != std::string::npos) fuzz::finding("a label name holds a line break");
+  }
+  for (const std::string& n : m.material_libraries)
+    if (n.find_first_of("\r\n") != std::string::npos) fuzz::finding("a material library holds a line break");
   std::vector<std::uint32_t> seen(m.vertex_count(), ~0u);
   for (std::size_t f = 0; f < m.face_count(); ++f) {
     if (m.face_offsets[f + 1] < m.face_offsets[f] + 3)

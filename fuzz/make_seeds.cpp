@@ -192,8 +192,7 @@ int main(int argc, char** argv) {
       // section, with and without the order section.
       try {
         const qsp::PolygonMesh poly = qsp::to_polygon_mesh(
-            ext == ".obj" ? qsp::read_obj_mesh(bytes, p.string()) : qsp::read_off_mesh(bytes, p.string()),
-            false);
+            ext == ".obj" ? qsp::read_obj_mesh(bytes, p.string()) : qsp::read_off_mesh(bytes, p.string()), 0);
         for (int keep = 0; keep < 2; ++keep) {
           qsp::EncodeOptions o;
           o.keep_order = keep == 1;

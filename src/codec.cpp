@@ -248,6 +248,10 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
                 "the file holds texture coordinates (section 0x06 at byte offset " +
                     std::to_string(s->offset) +
                     "), which this reader of quad meshes does not return: decode_polygons() reads them");
+  if (const Section* s = p.file.find(container::kTagLabels))
+    throw Error(ErrorCode::kNotQuad,
+                "the file holds face labels (section 0x07 at byte offset " + std::to_string(s->offset) +
+                    "), which this reader of quad meshes does not return: decode_polygons() reads them");
   return decode_quads(p);
 }
 
@@ -255,7 +259,8 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   Parsed p = parse(bytes, limits);
   const Section* poly = p.file.find(container::kTagPolygons);
   const Section* uv = p.file.find(container::kTagTexcoords);
-  if (!poly && !uv) return polygon_mesh(decode_quads(p));
+  const Section* labels = p.file.find(container::kTagLabels);
+  if (!poly && !uv && !labels) return polygon_mesh(decode_quads(p));
   // The output mesh in canonical order, then its texture coordinates, then the input's numbering.
   PolygonMesh out;
   std::uint32_t nv = 0;
@@ -278,6 +283,15 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
     out.texcoord_components = t.components;
     out.texcoords = std::move(t.values);
     out.corner_texcoords = std::move(t.corners);
+  }
+  if (labels) {
+    DecodedLabels l = decode_labels_section(labels->payload, labels->payload_offset,
+                                            static_cast<std::uint32_t>(out.face_count()));
+    out.objects = std::move(l.objects);
+    out.groups = std::move(l.groups);
+    out.materials = std::move(l.materials);
+    out.smoothing = std::move(l.smoothing);
+    out.material_libraries = std::move(l.material_libraries);
   }
   if (!p.order) return out;
   // The input's numbering: vertex j is output vertex vertex[j]; face f is output face face[f], its corner
@@ -318,12 +332,23 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   }
   in.texcoord_components = out.texcoord_components;
   in.texcoords = std::move(out.texcoords);
+  // Each face keeps its labels; the names are the decoded ones.
+  for (auto [from, to] :
+       {std::pair{&out.objects, &in.objects}, std::pair{&out.groups, &in.groups},
+        std::pair{&out.materials, &in.materials}, std::pair{&out.smoothing, &in.smoothing}}) {
+    to->names = std::move(from->names);
+    if (from->face.empty()) continue;
+    to->face.resize(nf);
+    for (std::uint32_t f = 0; f < nf; ++f) to->face[f] = from->face[order.face[f]];
+  }
+  in.material_libraries = std::move(out.material_libraries);
   return in;
 }
 
 bool holds_polygons(std::string_view bytes) {
   const container::File f = container::parse(bytes);
-  return f.find(container::kTagPolygons) != nullptr || f.find(container::kTagTexcoords) != nullptr;
+  return f.find(container::kTagPolygons) != nullptr || f.find(container::kTagTexcoords) != nullptr ||
+         f.find(container::kTagLabels) != nullptr;
 }
 
 FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits) {
@@ -390,6 +415,8 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       split_polygons_section(s, info);
     else if (s.tag == container::kTagTexcoords)
       info.texcoord_bytes += size;
+    else if (s.tag == container::kTagLabels)
+      info.label_bytes += size;
     else
       info.other_bytes += size;
   }

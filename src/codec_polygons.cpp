@@ -163,12 +163,8 @@ std::string encode_faces(const PolygonMesh& mesh, const EncodeOptions& options, 
       [&] { map = std::move(this_map); });
 }
 
-// The texture coordinates section of `mesh` whose faces went where `map` says: the corners in the
-// decoder's output order, named by input vertex (the decoder's vertices are the same up to numbering).
-// `file` is the file without it: the positions its decoder predicts from are that file's.
-std::string texcoords_section(const PolygonMesh& mesh, const FaceMap& map, const EncodeOptions& options,
-                              std::string_view file) {
-  const std::size_t nf = mesh.face_count();
+// Per output face (the decoder's order before any order section), the input face `map` sent there.
+std::vector<std::uint32_t> input_faces(const FaceMap& map, std::size_t nf) {
   if (map.face.size() != nf || map.rotation.size() != nf) internal("the face map has another face count");
   std::vector<std::uint32_t> input_face(nf, kInvalid);
   for (std::size_t f = 0; f < nf; ++f) {
@@ -176,6 +172,16 @@ std::string texcoords_section(const PolygonMesh& mesh, const FaceMap& map, const
       internal("the face map is not a permutation");
     input_face[map.face[f]] = static_cast<std::uint32_t>(f);
   }
+  return input_face;
+}
+
+// The texture coordinates section of `mesh` whose faces went where `map` says: the corners in the
+// decoder's output order, named by input vertex (the decoder's vertices are the same up to numbering).
+// `file` is the file without it: the positions its decoder predicts from are that file's.
+std::string texcoords_section(const PolygonMesh& mesh, const FaceMap& map,
+                              std::span<const std::uint32_t> input_face, const EncodeOptions& options,
+                              std::string_view file) {
+  const std::size_t nf = mesh.face_count();
   std::vector<std::uint32_t> offsets(nf + 1, 0), vertices(mesh.corners.size()),
       texcoords(mesh.corners.size());
   for (std::size_t g = 0; g < nf; ++g) {
@@ -226,12 +232,20 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
                                            std::to_string(mesh.corner_texcoords[c]) + " of " +
                                            std::to_string(count));
   }
+  const bool labels = mesh.has_labels();
   const auto whole = [&](const EncodeOptions& o) {
     FaceMap map;
     std::string bytes = encode_faces(mesh, o, map);
-    if (!texcoords) return bytes;
-    return container::with_section(bytes, container::kTagTexcoords, texcoords_section(mesh, map, o, bytes),
-                                   kFormatMinorTexcoords);
+    if (!texcoords && !labels) return bytes;
+    const std::vector<std::uint32_t> input_face = input_faces(map, mesh.face_count());
+    if (texcoords)
+      bytes =
+          container::with_section(bytes, container::kTagTexcoords,
+                                  texcoords_section(mesh, map, input_face, o, bytes), kFormatMinorTexcoords);
+    if (labels)
+      bytes = container::with_section(bytes, container::kTagLabels, encode_labels_section(mesh, input_face),
+                                      kFormatMinorLabels);
+    return bytes;
   };
   // The levels that try every partition keep the smallest whole file: with texture coordinates the
   // partition that codes the faces smallest need not be the one whose corner order codes the UVs best.

@@ -105,4 +105,19 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                                           std::uint32_t vertex_count, std::span<const float> positions,
                                           bool order_section, const DecodeLimits& limits);
 
+// The face labels section (format 3.3) of `mesh`, whose output face g (the decoder's order before any
+// order section) is input face input_face[g]. Throws Error(kUsage) for a label array of another size, a
+// label out of range or a name or library holding a line break.
+std::string encode_labels_section(const PolygonMesh& mesh, std::span<const std::uint32_t> input_face);
+
+struct DecodedLabels {
+  FaceLabels objects, groups, materials, smoothing;  // per output face, for the kinds the file has
+  std::vector<std::string> material_libraries;
+};
+// Inverse of encode_labels_section for `face_count` output faces. Throws Error(kFormat) naming what and
+// the byte offset. Safe on untrusted input: counts are checked against the bytes left before anything
+// is allocated by them; time and memory linear in the faces and the payload.
+DecodedLabels decode_labels_section(std::string_view payload, std::uint64_t base_offset,
+                                    std::uint32_t face_count);
+
 }  // namespace qsp

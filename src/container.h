@@ -23,6 +23,8 @@ inline constexpr std::uint8_t kTagCounts = 0x01, kTagTopology = 0x02, kTagGeomet
 inline constexpr std::uint8_t kTagPolygons = 0x05;
 // Format 3.2: required where the mesh has texture coordinates.
 inline constexpr std::uint8_t kTagTexcoords = 0x06;
+// Format 3.3: required where the mesh has face labels (o, g, usemtl, s) or material libraries.
+inline constexpr std::uint8_t kTagLabels = 0x07;
 inline constexpr std::uint8_t kOptionalBit = 0x80;
 inline constexpr std::uint8_t kTagComments = 0x81;  // optional, from 3.1
 

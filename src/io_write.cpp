@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -214,10 +215,36 @@ void refuse_for_obj(const Mesh& m) {
   r.throw_if_any();
 }
 
-// Faces [begin, end) with their label statements where a label changes (canonical order).
-void faces_with_labels(std::string& out, const Mesh& m, std::size_t begin, std::size_t end,
-                       std::uint32_t (&current)[4]) {
-  for (std::size_t f = begin; f < end; ++f) {
+// The order the canonical writer writes the faces in: as they are, unless a face without a label of
+// some kind comes after one with a label of that kind, which OBJ cannot say (no statement takes a
+// label away); then the faces with fewer labels first, else in order. A file's faces without a label
+// of a kind are a prefix of its faces, so those prefixes are nested and this puts each first again.
+std::vector<std::uint32_t> face_write_order(const Mesh& m) {
+  const auto nf = static_cast<std::uint32_t>(m.face_count());
+  std::vector<std::uint32_t> order(nf), missing(nf, 0);
+  bool sort = false;
+  for (int k = 0; k < 4; ++k) {
+    const FaceLabels& l = labels(m, k);
+    bool labelled = false;
+    for (std::uint32_t f = 0; f < l.face.size(); ++f) {
+      if (l.face[f] != kInvalid)
+        labelled = true;
+      else
+        ++missing[f], sort = sort || labelled;
+    }
+  }
+  for (std::uint32_t f = 0; f < nf; ++f) order[f] = f;
+  if (sort)
+    std::stable_sort(order.begin(), order.end(),
+                     [&missing](std::uint32_t a, std::uint32_t b) { return missing[a] > missing[b]; });
+  return order;
+}
+
+// The faces in `order` with their label statements where a label changes (canonical order), then the
+// names no face takes.
+void faces_with_labels(std::string& out, const Mesh& m, std::span<const std::uint32_t> order) {
+  std::uint32_t current[4] = {kInvalid, kInvalid, kInvalid, kInvalid};
+  for (const std::uint32_t f : order) {
     for (int k = 0; k < 4; ++k) {
       const FaceLabels& l = labels(m, k);
       if (l.face.empty() || l.face[f] == current[k]) continue;
@@ -230,6 +257,15 @@ void faces_with_labels(std::string& out, const Mesh& m, std::size_t begin, std::
       label_line(out, k, l.names[current[k]]);
     }
     face_line(out, m, f);
+  }
+  // Names no face takes (a `g` no face follows) after the faces, where such a statement stands.
+  for (int k = 0; k < 4; ++k) {
+    const FaceLabels& l = labels(m, k);
+    std::vector<bool> taken(l.names.size(), false);
+    for (const std::uint32_t n : l.face)
+      if (n != kInvalid) taken[n] = true;
+    for (std::size_t n = 0; n < l.names.size(); ++n)
+      if (!taken[n]) label_line(out, k, l.names[n]);
   }
 }
 
@@ -302,8 +338,7 @@ void obj_canonical(std::string& out, const Mesh& m) {
               [&m](std::string& o, std::size_t b, std::size_t e) { vertex_lines(o, m, b, e); });
   for (std::size_t t = 0; t < m.texcoords.size() / m.texcoord_components; ++t) texcoord_line(out, m, t);
   for (std::size_t n = 0; n < m.normals.size() / 3; ++n) normal_line(out, m, n);
-  std::uint32_t current[4] = {kInvalid, kInvalid, kInvalid, kInvalid};
-  faces_with_labels(out, m, 0, m.face_count(), current);
+  faces_with_labels(out, m, face_write_order(m));
   for (const Tag& t : m.tags) tag_line(out, t);
 }
 

@@ -392,12 +392,18 @@ Extras drop(Mesh& m, unsigned c) {
   return dropped;
 }
 
-PolygonMesh to_polygon_mesh(Mesh m, bool texcoords) {
+PolygonMesh to_polygon_mesh(Mesh m, unsigned categories) {
   PolygonMesh out;
   out.positions = std::move(m.positions.f32);
   if (!m.face_offsets.empty()) out.face_offsets = std::move(m.face_offsets);
   out.corners = std::move(m.corner_vertices);
-  if (texcoords && !m.texcoords.empty()) {
+  if (categories & kCategoryGroup) out.objects = std::move(m.objects), out.groups = std::move(m.groups);
+  if (categories & kCategoryMaterial) {
+    out.materials = std::move(m.materials);
+    out.material_libraries = std::move(m.material_libraries);
+  }
+  if (categories & kCategorySmoothing) out.smoothing = std::move(m.smoothing);
+  if ((categories & kCategoryUv) && !m.texcoords.empty()) {
     out.texcoord_components = m.texcoord_components;
     out.texcoords = std::move(m.texcoords.f32);
     out.corner_texcoords = std::move(m.corner_texcoords);

@@ -90,12 +90,29 @@ TEST_F(CliDrop, EachKindAloneIsRefusedByNameAndDroppedByName) {
     const std::string in = p(std::string(k.name) + ".obj"), out = p("out.qsp");
     spit(in, k.text);
     const std::string what = said(k.said, in);
-    const bool kept = std::string(k.name) == "uv";  // a .qsp keeps texture coordinates (format 3.2)
+    // A .qsp keeps texture coordinates (format 3.2) and face labels (3.3).
+    const std::string name = k.name;
+    const bool kept = name == "uv" || name == "group" || name == "material" || name == "smoothing";
     auto r = compress(in, "", out);
     if (kept) {
       ASSERT_EQ(r.exit_code, 0) << r.err;
       EXPECT_EQ(r.err, "");
-      EXPECT_EQ(decode_polygons(slurp(out)).texcoords, (std::vector<float>{0, 0, 1, 0}));
+      const PolygonMesh m = decode_polygons(slurp(out));
+      if (name == "uv") {
+        EXPECT_EQ(m.texcoords, (std::vector<float>{0, 0, 1, 0}));
+      }
+      if (name == "group") {
+        EXPECT_EQ(m.objects.names, std::vector<std::string>{"thing"});
+        EXPECT_EQ(m.groups.names, std::vector<std::string>{"a b"});
+        EXPECT_EQ(m.groups.face, std::vector<std::uint32_t>{0});
+      }
+      if (name == "material") {
+        EXPECT_EQ(m.materials.names, std::vector<std::string>{"red"});
+        EXPECT_EQ(m.material_libraries, std::vector<std::string>{"m.mtl"});
+      }
+      if (name == "smoothing") {
+        EXPECT_EQ(m.smoothing.names, std::vector<std::string>{"1"});
+      }
     } else {
       EXPECT_EQ(r.exit_code, 1);
       EXPECT_EQ(r.err, "qsp: error: " + in + ": has " + what + ", which .qsp does not keep; pass --drop " +
@@ -147,18 +164,20 @@ TEST_F(CliDrop, EveryKindMustBeDroppedAndTheNoteNamesEach) {
   spit(in,
        "# a comment\nmtllib m.mtl\nv 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 1 1 1\nvt 0 0\n"
        "vn 0 0 1\nvp 0.5\no thing\nusemtl red\ns 1\nf 1/1/1 2/1/1 3/1/1 4/1/1\nt corner 1/1/0 0 2.0\n");
-  // compress keeps the texture coordinates (format 3.2) and refuses the rest.
+  // compress keeps the texture coordinates (format 3.2) and face labels (3.3), and refuses the rest.
   const std::string all = "uv,normal,color,group,material,smoothing,tag,extra";
-  const std::string refused = "normal,color,group,material,smoothing,tag,extra";
-  const std::string uv = "1 texture coordinate, 1 face with texture coordinate indices (uv), ";
+  const std::string refused = "normal,color,tag,extra";
+  const unsigned kept = kCategoryUv | kCategoryGroup | kCategoryMaterial | kCategorySmoothing;
   const std::string described_refused =
-      "1 normal, 1 face with normal "
+      "1 normal, 1 face with normal indices (normal), 4 vertex colours (color), 1 subdivision tag (tag), 1 "
+      "line qsp keeps only as text, the first at " +
+      in + ":9: `vp` (parameter-space vertex) (extra)";
+  const std::string described =
+      "1 texture coordinate, 1 face with texture coordinate indices (uv), 1 normal, 1 face with normal "
       "indices (normal), 4 vertex colours (color), 1 group/object statement (group), 2 material statements "
       "(material), 1 smoothing group statement (smoothing), 1 subdivision tag (tag), 1 line qsp keeps only "
-      "as "
-      "text, the first at " +
+      "as text, the first at " +
       in + ":9: `vp` (parameter-space vertex) (extra)";
-  const std::string described = uv + described_refused;
   // With the leading comment dropped too: named in --drop's order, before extra.
   std::string with_comment = described;
   with_comment.insert(with_comment.find("1 line qsp keeps"), "1 leading comment line (comment), ");
@@ -168,7 +187,7 @@ TEST_F(CliDrop, EveryKindMustBeDroppedAndTheNoteNamesEach) {
                        ", which .qsp does not keep; pass --drop " + refused +
                        " (or --positions-only) to drop them\n");
   for (const CategoryName& c : kCategoryNames) {
-    if (c.category == kCategoryComment || c.category == kCategoryUv) continue;
+    if (c.category == kCategoryComment || (c.category & kept)) continue;
     SCOPED_TRACE(c.name);
     std::string list = category_list(kCategoryAll & ~c.category);
     r = compress(in, "--drop " + list, out);

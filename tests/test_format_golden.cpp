@@ -51,12 +51,13 @@ void dump(const std::string& path, std::string_view bytes) {
   std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
-// The goldens' names: testdata/golden/NAME.obj, polygons/NAME.obj for polygon meshes and
-// texcoords/NAME.obj for meshes with texture coordinates (kept out of testdata/golden itself, whose
+// The goldens' names: testdata/golden/NAME.obj, polygons/NAME.obj for polygon meshes,
+// texcoords/NAME.obj for meshes with texture coordinates and labels/NAME.obj for meshes with face
+// labels (kept out of testdata/golden itself, whose
 // meshes the test corpus reads as valid quad meshes without other data).
 std::vector<std::string> golden_names() {
   std::vector<std::string> out;
-  for (const char* dir : {"", "polygons/", "texcoords/"}) {
+  for (const char* dir : {"", "polygons/", "texcoords/", "labels/"}) {
     for (const auto& e : fs::directory_iterator(kGolden + "/" + dir)) {
       if (e.path().extension() == ".obj") out.push_back(std::string(dir) + e.path().stem().string());
     }
@@ -177,7 +178,7 @@ bool is_quad_mesh(const PolygonMesh& m) {
 std::string encode_golden(const std::string& name) {
   const std::string path = kGolden + "/" + name + ".obj";
   const PolygonMesh poly = read_polygons(path);
-  std::string bytes = is_quad_mesh(poly) && !poly.texcoord_components
+  std::string bytes = is_quad_mesh(poly) && !poly.texcoord_components && !poly.has_labels()
                           ? encode(read_mesh_file(path), options_for(name))
                           : encode_polygons(poly, options_for(name));
   if (name.find("_comments") != std::string::npos)
@@ -206,11 +207,13 @@ void expect_same_polygons(const PolygonMesh& mesh, const PolygonMesh& decoded) {
     ASSERT_NE(it, at.end()) << "vertex " << v << " has no decoded vertex at its position";
     to[v] = it->second;
   }
-  // Each corner: its vertex, then its texture coordinate's float bits (none: kInvalid).
+  // Each corner: its vertex, then its texture coordinate's float bits (none: kInvalid); each face's
+  // labels by name.
   ASSERT_EQ(decoded.texcoord_components, mesh.texcoord_components);
+  EXPECT_EQ(decoded.material_libraries, mesh.material_libraries);
   const auto faces = [](const PolygonMesh& m, const std::vector<std::uint32_t>* map) {
     using Corner = std::array<std::uint32_t, 4>;
-    std::vector<std::vector<Corner>> out;
+    std::vector<std::pair<std::vector<Corner>, std::string>> out;
     for (std::size_t f = 0; f < m.face_count(); ++f) {
       std::vector<Corner> c;
       for (std::uint32_t k = m.face_offsets[f]; k < m.face_offsets[f + 1]; ++k) {
@@ -221,7 +224,11 @@ void expect_same_polygons(const PolygonMesh& mesh, const PolygonMesh& decoded) {
         c.push_back(x);
       }
       std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
-      out.push_back(c);
+      std::string labels;
+      for (const FaceLabels* l : {&m.objects, &m.groups, &m.materials, &m.smoothing})
+        labels +=
+            (l->face.empty() || l->face[f] == qsp::kInvalid ? "-" : "'" + l->names[l->face[f]] + "'") + "|";
+      out.emplace_back(c, labels);
     }
     std::sort(out.begin(), out.end());
     return out;
@@ -232,7 +239,7 @@ void expect_same_polygons(const PolygonMesh& mesh, const PolygonMesh& decoded) {
 TEST(Golden, BytesArePinned) {
   auto names = golden_names();
   ASSERT_GE(names.size(), 5u);
-  int polygons = 0, comments = 0, texcoords = 0;
+  int polygons = 0, comments = 0, texcoords = 0, labels = 0;
   for (const auto& name : names) {
     SCOPED_TRACE(name);
     const std::string obj = kGolden + "/" + name + ".obj";
@@ -246,6 +253,28 @@ TEST(Golden, BytesArePinned) {
                                                                  : std::vector<std::string>{});
     comments += !lines.empty();
     PolygonMesh poly = read_polygons(obj);
+    if (poly.has_labels()) {
+      // Face labels: a 3.3 file, decoded to the .obj's faces with their labels (and names, libraries).
+      ++labels;
+      EXPECT_EQ(slurp(path)[9], 3) << "a file with face labels says format 3.3";
+      const PolygonMesh back = decode_polygons(slurp(path));
+      expect_same_polygons(poly, back);
+      if (options_for(name).keep_order) {
+        EXPECT_EQ(back.corners, poly.corners);
+        for (auto [a, b] :
+             {std::pair{&back.objects, &poly.objects}, std::pair{&back.groups, &poly.groups},
+              std::pair{&back.materials, &poly.materials}, std::pair{&back.smoothing, &poly.smoothing}}) {
+          ASSERT_EQ(a->face.size(), b->face.size());
+          for (std::size_t f = 0; f < a->face.size(); ++f) {
+            const auto name_of = [f](const FaceLabels* l) {
+              return l->face[f] == qsp::kInvalid ? std::string("-") : l->names[l->face[f]];
+            };
+            EXPECT_EQ(name_of(a), name_of(b));
+          }
+        }
+      }
+      continue;
+    }
     if (poly.texcoord_components) {
       // Texture coordinates: a 3.2 file, decoded to the .obj's corners and their texture coordinates.
       ++texcoords;
@@ -292,6 +321,7 @@ TEST(Golden, BytesArePinned) {
   EXPECT_GE(polygons, 1);
   EXPECT_GE(comments, 1);
   EXPECT_GE(texcoords, 2);
+  EXPECT_GE(labels, 3);
 }
 
 // One golden per combination of the geometry tools, each decoding to the mesh its natural golden gives
@@ -471,15 +501,22 @@ std::map<std::string, Crafted> crafted() {
     // A required section of a newer minor version: "upgrade qsp". The same tag in a file of this
     // version cannot come from a correct encoder.
     const std::string sections =
-        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(7, "x");
+        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(8, "x");
     Parts newer_minor = p;
     newer_minor.minor = kFormatMinor + 1;
     out["qsp_unknown_required_section_newer_minor"] = {
         seal(newer_minor, sections), "version",
-        "section 0x07 is required but unknown to this qsp, which reads "
-        "format 3.2 (upgrade qsp)"};
+        "section 0x08 is required but unknown to this qsp, which reads "
+        "format 3.3 (upgrade qsp)"};
     out["qsp_unknown_required_section"] = {seal(p, sections), "format",
-                                           "section 0x07 is required but unknown to this qsp"};
+                                           "section 0x08 is required but unknown to this qsp"};
+    // Format 3.3's face labels section in a file that says it is 3.2.
+    Parts minor2 = p;
+    minor2.minor = 2;
+    out["qsp_labels_section_in_3_2"] = {
+        seal(minor2,
+             section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(7, "x")),
+        "format", "section 0x07 (face labels) is format 3.3's, and the file says it is 3.2"};
     // Format 3.1's polygons section in a file that says it is 3.0.
     out["qsp_polygons_section_in_3_0"] = {
         seal(p, section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(5, "x")),

@@ -288,11 +288,11 @@ TEST(HostileQsp, UnknownAndMissingSections) {
   // An unknown required section is refused: "upgrade qsp" in a file of a newer minor version, a format
   // error in one of this version. So are missing, repeated and reordered ones.
   auto unknown = secs;
-  unknown.push_back({0x07, 0, 0, "x"});
+  unknown.push_back({0x08, 0, 0, "x"});
   expect_refused(craft::seal(kFormatMajor, kFormatMinor, 0, craft::join(unknown)), ErrorCode::kFormat,
-                 {"section 0x07 is required but unknown", "byte offset"});
+                 {"section 0x08 is required but unknown", "byte offset"});
   expect_refused(craft::seal(kFormatMajor, kFormatMinor + 1, 0, craft::join(unknown)), ErrorCode::kVersion,
-                 {"section 0x07 is required but unknown", "upgrade qsp", "byte offset"});
+                 {"section 0x08 is required but unknown", "upgrade qsp", "byte offset"});
   for (std::size_t drop = 0; drop < secs.size(); ++drop) {
     auto fewer = secs;
     fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(drop));
@@ -910,6 +910,28 @@ std::string expected_drop(const fs::path& f, unsigned kept = 0) {
   return category_list(kinds & ~kept);
 }
 
+// An OBJ file's face labels, read here rather than by qsp: per face its o, g, usemtl and s (the words
+// after the keyword joined by single spaces; "-" before the first statement of a kind), then one entry
+// per mtllib statement. What decompress must give back, face for face under --keep-order.
+std::vector<std::string> obj_face_labels(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<std::string> out, libraries;
+  std::string current[4] = {"-", "-", "-", "-"};
+  const char* keywords[4] = {"o", "g", "usemtl", "s"};
+  for (std::string raw; std::getline(in, raw);) {
+    const std::vector<std::string> w = testing::split_words(raw.substr(0, raw.find('#')));
+    if (w.empty()) continue;
+    std::string rest;
+    for (std::size_t i = 1; i < w.size(); ++i) rest += (i > 1 ? " " : "") + w[i];
+    if (w[0] == "f") out.push_back(current[0] + "|" + current[1] + "|" + current[2] + "|" + current[3]);
+    if (w[0] == "mtllib") libraries.push_back("mtllib " + rest);
+    for (int k = 0; k < 4; ++k)
+      if (w[0] == keywords[k]) current[k] = rest;
+  }
+  out.insert(out.end(), libraries.begin(), libraries.end());
+  return out;
+}
+
 // An OBJ file's leading '#' lines, text after the '#' and trimmed of a trailing CR, read here rather
 // than by qsp: what decompress must give back.
 std::vector<std::string> leading_hash_lines(const fs::path& path) {
@@ -932,14 +954,16 @@ std::vector<std::string> leading_hash_lines(const fs::path& path) {
 TEST_F(SharedMeshesCli, EachRoundTripsExactlyOrIsRefusedClearly) {
   QSP_NEEDS_SHARED();
   const std::vector<fs::path> files = testing::shared_meshes();
-  int round_tripped = 0, refused = 0, rounded = 0, polygon_meshes = 0;
+  int round_tripped = 0, refused = 0, rounded = 0, polygon_meshes = 0, labelled = 0;
   for (const fs::path& f : files) {
     SCOPED_TRACE(f.string());
     const std::string q = p("m.qsp"), back = p("back.obj");
     const testing::RoundedCount want = testing::count_rounded_coordinates(f);
     std::string flags = "--keep-order ";
     auto r = run_qsp("compress " + flags + quote(f.string()) + " " + quote(q));
-    const std::string drop = expected_drop(f, kCategoryUv);  // compress keeps texture coordinates
+    // compress keeps texture coordinates and face labels
+    const std::string drop =
+        expected_drop(f, kCategoryUv | kCategoryGroup | kCategoryMaterial | kCategorySmoothing);
     if (const auto at = r.err.find("pass --drop "); r.exit_code == 1 && at != std::string::npos) {
       // The refusal names exactly the kinds the file has, and dropping them is enough.
       const std::string list = r.err.substr(at + 12, r.err.find(' ', at + 12) - at - 12);
@@ -995,6 +1019,8 @@ TEST_F(SharedMeshesCli, EachRoundTripsExactlyOrIsRefusedClearly) {
     }
     if (f.extension() == ".obj") {
       EXPECT_EQ(leading_hash_lines(back), leading_hash_lines(f)) << "licence lines";
+      EXPECT_EQ(obj_face_labels(back), obj_face_labels(f)) << "face labels";
+      labelled += obj_face_labels(f).size() > 0 && obj_face_labels(f)[0] != "-|-|-|-";
     }
     ++round_tripped;
     fs::remove(q);
@@ -1005,6 +1031,7 @@ TEST_F(SharedMeshesCli, EachRoundTripsExactlyOrIsRefusedClearly) {
   EXPECT_GT(rounded, 0);  // pmp_hole_capsule.off has ten significant digits
   EXPECT_EQ(round_tripped, std::count_if(files.begin(), files.end(), testing::expected_mesh));
   EXPECT_GT(polygon_meshes, 20);
+  EXPECT_GT(labelled, 20);  // MakeHuman's groups, OpenSubdiv's smoothing groups
   EXPECT_EQ(round_tripped + refused, static_cast<int>(files.size()));
 }
 

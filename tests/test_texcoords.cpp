@@ -22,46 +22,12 @@
 #include "support/files.h"
 #include "support/mesh_text.h"
 #include "support/polygon.h"
+#include "support/section_sweep.h"
 
 namespace qsp {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The same mesh with vertices, faces and texture coordinates renumbered and corner lists rotated.
-PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  const std::size_t nv = m.vertex_count(), nf = m.face_count(), K = m.texcoord_components;
-  const std::size_t nt = K ? m.texcoords.size() / K : 0;
-  std::vector<std::uint32_t> v(nv), f(nf), t(nt);
-  std::iota(v.begin(), v.end(), 0u);
-  std::iota(f.begin(), f.end(), 0u);
-  std::iota(t.begin(), t.end(), 0u);
-  std::shuffle(v.begin(), v.end(), rng);
-  std::shuffle(f.begin(), f.end(), rng);
-  std::shuffle(t.begin(), t.end(), rng);
-  PolygonMesh out;
-  out.positions.resize(m.positions.size());
-  for (std::size_t i = 0; i < nv; ++i)
-    std::copy_n(&m.positions[3 * i], 3, &out.positions[3 * std::size_t{v[i]}]);
-  out.texcoord_components = m.texcoord_components;
-  out.texcoords.resize(m.texcoords.size());
-  for (std::size_t i = 0; i < nt; ++i) std::copy_n(&m.texcoords[K * i], K, &out.texcoords[K * t[i]]);
-  out.face_offsets.assign(1, 0);
-  for (std::size_t g = 0; g < nf; ++g) {
-    const std::uint32_t from = f[g], b = m.face_offsets[from], d = m.degree(from);
-    const std::uint32_t r = static_cast<std::uint32_t>(rng() % d);
-    for (std::uint32_t i = 0; i < d; ++i) {
-      const std::uint32_t c = b + (i + r) % d;
-      out.corners.push_back(v[m.corners[c]]);
-      if (K)
-        out.corner_texcoords.push_back(m.corner_texcoords[c] == kInvalid ? kInvalid
-                                                                         : t[m.corner_texcoords[c]]);
-    }
-    out.face_offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
-  }
-  return out;
-}
 
 // Every shared OBJ with texture coordinates, keep-order round trip through the tool: the decompressed
 // text names, face for face and corner for corner, the same position and texture coordinate values
@@ -198,11 +164,11 @@ TEST(Texcoords, RenumberedCopiesGiveTheSameBytes) {
       EncodeOptions o;
       o.level = level;
       const std::string bytes = encode_polygons(m, o);
-      EXPECT_EQ(encode_polygons(renumbered(m, 7), o), bytes);
+      EXPECT_EQ(encode_polygons(testing::renumbered(m, 7), o), bytes);
       o.quantize_bits = 12;  // the shapes then come from the decoded positions
-      EXPECT_EQ(encode_polygons(renumbered(m, 8), o), encode_polygons(m, o));
+      EXPECT_EQ(encode_polygons(testing::renumbered(m, 8), o), encode_polygons(m, o));
       o.quantize_texcoord_bits = 10;
-      EXPECT_EQ(encode_polygons(renumbered(m, 9), o), encode_polygons(m, o));
+      EXPECT_EQ(encode_polygons(testing::renumbered(m, 9), o), encode_polygons(m, o));
     }
   }
 }
@@ -214,47 +180,13 @@ TEST(Texcoords, EveryPrefixAndBitFlipIsSafe) {
     const std::string good =
         testing::slurp(std::string(QSP_TESTDATA_DIR) + "/golden/texcoords/" + name + ".qsp");
     const PolygonMesh want = decode_polygons(good);
-    for (std::size_t n = 0; n < good.size(); ++n)
-      EXPECT_THROW(decode_polygons(std::string_view(good).substr(0, n)), Error) << n;
-    for (std::size_t bit = 0; bit < 8 * good.size(); ++bit) {
-      std::string bad = good;
-      bad[bit / 8] = static_cast<char>(bad[bit / 8] ^ (1 << (bit % 8)));
-      try {
-        const PolygonMesh got = decode_polygons(bad);
-        ADD_FAILURE() << "bit " << bit << " decoded (the checksum should refuse it)";
-        (void)got;
-      } catch (const Error&) {
-      }
-    }
     EXPECT_EQ(want.corner_texcoords.size(), want.corners.size());
-    // Past the checksum: every bit of the section flipped and every cut of it, the file resealed, is
-    // refused as a format error naming a byte offset, or decodes to valid texture coordinates.
-    const container::File file = container::parse(good);
-    const container::Section* s = file.find(container::kTagTexcoords);
-    ASSERT_NE(s, nullptr);
-    const std::string payload(s->payload);
-    auto check = [&](const std::string& changed, const std::string& what) {
-      SCOPED_TRACE(what);
-      try {
-        const PolygonMesh got =
-            decode_polygons(container::with_section(good, container::kTagTexcoords, changed, 2));
-        ASSERT_EQ(got.corner_texcoords.size(), got.corners.size());
-        const std::size_t count = got.texcoords.size() / got.texcoord_components;
-        for (const std::uint32_t t : got.corner_texcoords) ASSERT_TRUE(t == kInvalid || t < count);
-        for (const float x : got.texcoords) ASSERT_TRUE(std::isfinite(x));
-      } catch (const Error& e) {
-        EXPECT_TRUE(e.code() == ErrorCode::kFormat || e.code() == ErrorCode::kLimit) << e.what();
-        EXPECT_NE(std::string(e.what()).find("byte offset"), std::string::npos) << e.what();
-      }
-    };
-    for (std::size_t bit = 0; bit < 8 * payload.size(); ++bit) {
-      std::string bad = payload;
-      bad[bit / 8] = static_cast<char>(bad[bit / 8] ^ (1 << (bit % 8)));
-      check(bad, "bit " + std::to_string(bit));
-    }
-    for (std::size_t n = 0; n < payload.size(); ++n)
-      check(payload.substr(0, n), "cut at " + std::to_string(n));
-    check(payload + std::string(1, '\0'), "a byte more");
+    testing::sweep_section(good, container::kTagTexcoords, 2, [](const PolygonMesh& got) {
+      ASSERT_EQ(got.corner_texcoords.size(), got.corners.size());
+      const std::size_t count = got.texcoords.size() / got.texcoord_components;
+      for (const std::uint32_t t : got.corner_texcoords) ASSERT_TRUE(t == kInvalid || t < count);
+      for (const float x : got.texcoords) ASSERT_TRUE(std::isfinite(x));
+    });
   }
 }
 

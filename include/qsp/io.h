@@ -187,9 +187,11 @@ struct WriteOptions {
 
 // Write a Mesh as OBJ text: the same statements in the same order when the mesh has its statement
 // order (and keep_order), else comments, mtllib, kept lines, v, vt, vn, then faces with o, g, usemtl
-// and s where they change, then tags. Numbers as the shortest text denoting their exact value.
-// Throws Error(kUnsupported) naming what OBJ cannot hold (face colours, PLY properties, a face
-// without a label after faces with one) and the --drop category that removes it; kUsage when the
+// and s where they change, then tags (the faces in their order, but where a face without a label of a
+// kind comes after faces with one, which OBJ cannot say, the faces with fewer labels first). Numbers as
+// the shortest text denoting their exact value. Throws Error(kUnsupported) naming what OBJ cannot hold
+// (face colours, PLY properties, faces whose missing labels no order can write) and the --drop
+// category that removes it; kUsage when the
 // mesh breaks an invariant of check_mesh (a face repeating a vertex is written as it is) or the
 // statement order does not match the per-face labels. Safe on any mesh.
 std::string write_obj_mesh(const Mesh& mesh, const WriteOptions& options = {});

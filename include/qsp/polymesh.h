@@ -56,15 +56,6 @@ Numbers numbers_from_float32(std::vector<float> values);
 // Numbers holding exactly these float64 values (precision kFloat64).
 Numbers numbers_from_float64(const std::vector<double>& values);
 
-// A per-face label (OBJ o, g, usemtl, s): an index per face into the distinct values.
-struct FaceLabels {
-  std::vector<std::uint32_t> face;  // per face: index into `names`, kInvalid before the file's first
-                                    // statement of this kind; empty when the file has none
-  std::vector<std::string> names;   // the values, in order of first statement (g: names separated by ' ')
-
-  bool empty() const { return face.empty() && names.empty(); }
-};
-
 // An OpenSubdiv tag: `t name nint/nfloat/nstring ints... floats... strings...`.
 struct Tag {
   std::string name;                  // crease, corner, hole, interpolateboundary, ...
@@ -255,10 +246,16 @@ Extras drop(Mesh& mesh, unsigned categories);
 // position is beyond float32's range.
 QuadMesh to_quad_mesh(const Mesh& mesh);
 
-// The mesh as the codec takes it: the float32 mirror of the positions, the faces as they are, and with
-// `texcoords` its texture coordinates (float32; every corner naming one or kInvalid, also when the file
-// has values but no corner names one); every other attribute ignored. Never throws but for memory.
-PolygonMesh to_polygon_mesh(Mesh mesh, bool texcoords);
+// The mesh as the codec takes it: the float32 mirror of the positions, the faces as they are, and of
+// `categories` what the codec keeps: kCategoryUv its texture coordinates (float32; every corner naming
+// one or kInvalid, also when the file has values but no corner names one), kCategoryGroup its objects
+// and groups, kCategoryMaterial its materials and material libraries, kCategorySmoothing its smoothing
+// groups; every other attribute ignored. Never throws but for memory.
+PolygonMesh to_polygon_mesh(Mesh mesh, unsigned categories);
+
+// The categories to_polygon_mesh carries into a PolygonMesh.
+inline constexpr unsigned kPolygonMeshCategories =
+    kCategoryUv | kCategoryGroup | kCategoryMaterial | kCategorySmoothing;
 
 // A Mesh with exactly the QuadMesh's float32 positions and quads.
 Mesh from_quad_mesh(QuadMesh mesh);

@@ -27,11 +27,21 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "qsp/mesh.h"
 
 namespace qsp {
+
+// A per-face label (OBJ o, g, usemtl, s): an index per face into the distinct values.
+struct FaceLabels {
+  std::vector<std::uint32_t> face;  // per face: index into `names`, kInvalid before the file's first
+                                    // statement of this kind; empty when the file has none
+  std::vector<std::string> names;   // the values, in order of first statement (g: names separated by ' ')
+
+  bool empty() const { return face.empty() && names.empty(); }
+};
 
 // A polygon mesh as plain arrays: faces of any degree >= 3, face f with corners
 // corners[face_offsets[f] .. face_offsets[f+1]) counter-clockwise seen from outside; it may be
@@ -45,6 +55,13 @@ struct PolygonMesh {
   std::uint8_t texcoord_components = 0;         // 0 (none), or 1 to 3 per texture coordinate
   std::vector<float> texcoords;                 // texcoord_components per texture coordinate
   std::vector<std::uint32_t> corner_texcoords;  // per corner: its texture coordinate or kInvalid
+  // Face labels (OBJ o, g, usemtl, s) and the material libraries (`mtllib` arguments); empty when none.
+  FaceLabels objects, groups, materials, smoothing;
+  std::vector<std::string> material_libraries;
+  bool has_labels() const {
+    return !objects.empty() || !groups.empty() || !materials.empty() || !smoothing.empty() ||
+           !material_libraries.empty();
+  }
   std::size_t vertex_count() const { return positions.size() / 3; }
   std::size_t face_count() const { return face_offsets.empty() ? 0 : face_offsets.size() - 1; }
   std::uint32_t degree(std::size_t f) const { return face_offsets[f + 1] - face_offsets[f]; }

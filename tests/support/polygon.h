@@ -28,9 +28,9 @@
 namespace qsp::testing {
 
 // An OBJ file as qsp's exact reader gives it, as a PolygonMesh: float32 positions, faces as read, and
-// the texture coordinates (every corner naming one or kInvalid) when the file has any.
+// the texture coordinates (every corner naming one or kInvalid) and face labels when the file has any.
 inline PolygonMesh read_obj_polygons(const std::filesystem::path& path) {
-  return to_polygon_mesh(read_obj_mesh(slurp(path), path.string()), true);
+  return to_polygon_mesh(read_obj_mesh(slurp(path), path.string()), kPolygonMeshCategories);
 }
 
 // A polygon mesh as the plain arrays the API takes.
@@ -177,6 +177,57 @@ inline Poly read_faces(const std::filesystem::path& path) {
     }
   }
   return p;
+}
+
+// The same mesh with vertices, faces, texture coordinates and label names renumbered and corner lists
+// rotated (positions, texture coordinates and labels follow).
+inline PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  const std::size_t nv = m.vertex_count(), nf = m.face_count(), K = m.texcoord_components;
+  const std::size_t nt = K ? m.texcoords.size() / K : 0;
+  std::vector<std::uint32_t> v(nv), f(nf), t(nt);
+  std::iota(v.begin(), v.end(), 0u);
+  std::iota(f.begin(), f.end(), 0u);
+  std::iota(t.begin(), t.end(), 0u);
+  std::shuffle(v.begin(), v.end(), rng);
+  std::shuffle(f.begin(), f.end(), rng);
+  std::shuffle(t.begin(), t.end(), rng);
+  PolygonMesh out;
+  out.positions.resize(m.positions.size());
+  for (std::size_t i = 0; i < nv; ++i)
+    std::copy_n(&m.positions[3 * i], 3, &out.positions[3 * std::size_t{v[i]}]);
+  out.texcoord_components = m.texcoord_components;
+  out.texcoords.resize(m.texcoords.size());
+  for (std::size_t i = 0; i < nt; ++i) std::copy_n(&m.texcoords[K * i], K, &out.texcoords[K * t[i]]);
+  out.face_offsets.assign(1, 0);
+  for (std::size_t g = 0; g < nf; ++g) {
+    const std::uint32_t from = f[g], b = m.face_offsets[from], d = m.degree(from);
+    const std::uint32_t r = static_cast<std::uint32_t>(rng() % d);
+    for (std::uint32_t i = 0; i < d; ++i) {
+      const std::uint32_t c = b + (i + r) % d;
+      out.corners.push_back(v[m.corners[c]]);
+      if (K)
+        out.corner_texcoords.push_back(m.corner_texcoords[c] == kInvalid ? kInvalid
+                                                                         : t[m.corner_texcoords[c]]);
+    }
+    out.face_offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
+  }
+  for (auto [from, to] : {std::pair{&m.objects, &out.objects}, std::pair{&m.groups, &out.groups},
+                          std::pair{&m.materials, &out.materials}, std::pair{&m.smoothing, &out.smoothing}}) {
+    std::vector<std::uint32_t> n(from->names.size());
+    std::iota(n.begin(), n.end(), 0u);
+    std::shuffle(n.begin(), n.end(), rng);
+    to->names.resize(n.size());
+    for (std::size_t i = 0; i < n.size(); ++i) to->names[n[i]] = from->names[i];
+    if (from->face.empty()) continue;
+    to->face.resize(nf);
+    for (std::size_t g = 0; g < nf; ++g) {
+      const std::uint32_t l = from->face[f[g]];
+      to->face[g] = l == kInvalid ? kInvalid : n[l];
+    }
+  }
+  out.material_libraries = m.material_libraries;
+  return out;
 }
 
 // The same mesh with vertices and faces renumbered and every corner list rotated (positions follow).

@@ -79,14 +79,14 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
     throw Error(ErrorCode::kIo,
                 "-: refusing to write compressed data to a terminal (redirect it, or give OUT)");
 
-  const bool keep_uv = !(o.drop.categories() & kCategoryUv);
-  PolygonInput input = read_polygon_input(in, format, QspInput::kRefused, keep_uv);
+  const unsigned keep = kPolygonMeshCategories & ~o.drop.categories();
+  PolygonInput input = read_polygon_input(in, format, QspInput::kRefused, keep);
   const ReadReport report = std::move(input.report);
   const std::uint64_t rounded_uv = input.rounded_texcoords;
   const std::string first_rounded_uv = input.first_rounded_texcoord;
   const PolygonMesh mesh = polygons_of(std::move(input));
   const bool quiet = o.verbosity.quiet;
-  const std::string dropped = refuse_extra_data(in, report, ".qsp", o.drop, quiet, kCategoryUv);
+  const std::string dropped = refuse_extra_data(in, report, ".qsp", o.drop, quiet, kPolygonMeshCategories);
   if (!o.quantize) refuse_rounding(in, report, "a lossless .qsp", o.float32, quiet, "--quantize BITS");
   if (rounded_uv && !o.float32)
     throw Error(

@@ -39,7 +39,7 @@ std::string mesh_text(PolygonMesh m, MeshFormat format, const std::vector<std::s
   bool quads = true;
   for (std::size_t f = 0; f < m.face_count(); ++f)
     quads = quads && m.face_offsets[f + 1] - m.face_offsets[f] == 4;
-  if (quads && m.texcoord_components == 0) {
+  if (quads && m.texcoord_components == 0 && !m.has_labels()) {
     const QuadMesh q{std::move(m.positions), std::move(m.corners)};
     return format == MeshFormat::kOff ? write_off(q, comments) : write_obj(q, comments);
   }
@@ -52,6 +52,11 @@ std::string mesh_text(PolygonMesh m, MeshFormat format, const std::vector<std::s
     out.texcoords = numbers_from_float32(std::move(m.texcoords));
     out.corner_texcoords = std::move(m.corner_texcoords);
   }
+  out.objects = std::move(m.objects);
+  out.groups = std::move(m.groups);
+  out.materials = std::move(m.materials);
+  out.smoothing = std::move(m.smoothing);
+  out.material_libraries = std::move(m.material_libraries);
   out.comments = comments;
   return format == MeshFormat::kOff ? write_off_mesh(out) : write_obj_mesh(out);
 }
@@ -85,10 +90,13 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
   } catch (const Error& e) {
     throw Error(e.code(), job.input + ": " + e.what());
   }
-  if (format == MeshFormat::kOff && mesh.texcoord_components)
+  if (format == MeshFormat::kOff && (mesh.texcoord_components || mesh.has_labels()))
     throw Error(ErrorCode::kUnsupported,
-                job.input + ": holds texture coordinates per corner, which OFF cannot hold; write OBJ (-o " +
-                    job.output.substr(0, job.output.size() - 4) + ".obj)");
+                job.input + ": holds " +
+                    (mesh.texcoord_components ? "texture coordinates per corner"
+                                              : "groups, materials or smoothing groups") +
+                    ", which OFF cannot hold; write OBJ (-o " + job.output.substr(0, job.output.size() - 4) +
+                    ".obj)");
   const std::size_t vertices = mesh.vertex_count(), faces = mesh.face_count();
   const std::string text = mesh_text(std::move(mesh), format, comments_named(bytes, job.input));
   write_output(job.output, text, {o.force, o.verbosity.quiet, other_ways(job), o.sync});

@@ -333,7 +333,7 @@ ReadReport report_of(const Mesh& m, ReadNotes&& notes, const std::string& path) 
 
 // A mesh file the quad reader refused for a face that is not a quad, parsed again by the exact reader.
 void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& path, MeshFormat format,
-                   bool keep_texcoords) {
+                   unsigned keep) {
   ReadNotes notes;
   Mesh m = format == MeshFormat::kOff   ? read_off_mesh(bytes, path, &notes)
            : format == MeshFormat::kPly ? read_ply_mesh(bytes, path, &notes)
@@ -342,7 +342,7 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
   // The leading comment block, as the quad readers report it (PLY: the header's comments).
   in.report.leading_comments = format == MeshFormat::kPly ? m.comments : leading_comments(bytes);
   in.report.comments = in.report.leading_comments.size();
-  if (keep_texcoords)
+  if (keep & kCategoryUv)
     for (std::size_t i = 0; i < m.texcoords.size(); ++i) {
       if (m.texcoords.precision == Precision::kFloat32 || m.texcoords.approx(i) == m.texcoords.f32[i])
         continue;
@@ -354,7 +354,7 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
                                     std::to_string(t + 1) + ") has " + std::string(value, end);
       }
     }
-  in.polygons = to_polygon_mesh(std::move(m), keep_texcoords);
+  in.polygons = to_polygon_mesh(std::move(m), keep);
 }
 
 // A .qsp: a polygon mesh (its polygons section, 3.1) is decoded, so that every subcommand taking polygon
@@ -386,8 +386,7 @@ void read_qsp(PolygonInput& in, std::string&& bytes, const std::string& path, Qs
 
 }  // namespace
 
-PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspInput qsp,
-                                bool keep_texcoords) {
+PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspInput qsp, unsigned keep) {
   refuse_folder(path);
   format = format_for(path, format);
   if (format == MeshFormat::kUnknown && path != "-") format = format_from_path(path);
@@ -406,15 +405,16 @@ PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspI
     in.quads = true;
   } catch (const Error& e) {
     if (e.code() != ErrorCode::kNotQuad) throw;
-    read_polygons(in, bytes, path, format, keep_texcoords);
+    read_polygons(in, bytes, path, format, keep);
     return in;
   }
-  // Texture coordinates come from the exact reader, which the quad reader's report says it needs.
-  if (keep_texcoords && (in.report.categories() & kCategoryUv)) {
+  // Texture coordinates and labels come from the exact reader, which the quad reader's report says it
+  // needs.
+  if (in.report.categories() & keep & kPolygonMeshCategories) {
     ReadReport report = std::move(in.report);  // the same kinds; its words for the quad path's messages
     in.mesh = {};
     in.quads = false;
-    read_polygons(in, bytes, path, format, true);
+    read_polygons(in, bytes, path, format, keep);
     in.report = std::move(report);
   }
   return in;

@@ -170,11 +170,11 @@ enum class QspInput { kBytes, kDecoded, kRefused };
 // read_ply_mesh; their errors), a coordinate rounding to infinity, or a nonzero one to zero, in float32
 // refused (kBadNumber) as the quad reader refuses it. A .qsp holding a polygon mesh (3.1) is decoded into
 // `polygons`, its texture coordinates counted in the report; a quad .qsp as `qsp` says. `format`
-// (--format) as for read_input. `keep_texcoords`: a mesh file's texture coordinates are read (by the
-// exact reader) into `polygons`. Throws qsp::Error as the readers and the decoder do, naming `path`.
-// Safe on untrusted input.
+// (--format) as for read_input. `keep`: the categories of a mesh file's data read (by the exact reader)
+// into `polygons` (of kPolygonMeshCategories: texture coordinates, face labels). Throws qsp::Error as the
+// readers and the decoder do, naming `path`. Safe on untrusted input.
 PolygonInput read_polygon_input(const std::string& path, MeshFormat format = MeshFormat::kUnknown,
-                                QspInput qsp = QspInput::kBytes, bool keep_texcoords = false);
+                                QspInput qsp = QspInput::kBytes, unsigned keep = 0);
 
 // The mesh of a read mesh file or decoded .qsp as a polygon mesh (its quads, or its polygons).
 PolygonMesh polygons_of(PolygonInput in);

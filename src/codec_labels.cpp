@@ -1,0 +1,190 @@
+// The face labels section (format 3.3; format-spec/qsp_format.md, "Face labels section"): each face's
+// object, groups, material and smoothing group as runs along the output face order, their names, and
+// the material libraries.
+#include <algorithm>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+#include "bytes.h"
+#include "codec_sections.h"
+#include "entropy.h"
+#include "qsp/error.h"
+
+namespace qsp {
+namespace {
+
+constexpr const char* kSection = "face labels section";
+constexpr unsigned kKinds = 4, kLibrariesBit = 1u << 4, kReservedBits = 0xE0;
+
+// The label kinds in the section's order: objects, groups, materials, smoothing groups.
+const FaceLabels& kind_of(const PolygonMesh& m, unsigned k) {
+  return k == 0 ? m.objects : k == 1 ? m.groups : k == 2 ? m.materials : m.smoothing;
+}
+FaceLabels& kind_of(DecodedLabels& d, unsigned k) {
+  return k == 0 ? d.objects : k == 1 ? d.groups : k == 2 ? d.materials : d.smoothing;
+}
+
+bool breaks_line(char c) { return c == '\n' || c == '\r'; }
+
+// One kind's models, fresh for each kind.
+struct Models {
+  BitModel same[2], is_new, is_none;
+  IntModel earlier;
+};
+
+void put_text(std::string& out, std::string_view text, const char* what, std::size_t index) {
+  if (std::any_of(text.begin(), text.end(), breaks_line))
+    throw Error(ErrorCode::kUsage,
+                std::string("encode: ") + what + " " + std::to_string(index) + " holds a line break");
+  put_varint(out, text.size());
+  out += text;
+}
+
+}  // namespace
+
+std::string encode_labels_section(const PolygonMesh& mesh, std::span<const std::uint32_t> input_face) {
+  const std::size_t nf = input_face.size();
+  std::uint8_t kinds = mesh.material_libraries.empty() ? 0 : kLibrariesBit;
+  for (unsigned k = 0; k < kKinds; ++k) {
+    const FaceLabels& l = kind_of(mesh, k);
+    if (l.empty()) continue;
+    if (!l.face.empty() && l.face.size() != nf)
+      throw Error(ErrorCode::kUsage, "encode: a face label array has " + std::to_string(l.face.size()) +
+                                         " entries for " + std::to_string(nf) + " faces");
+    kinds |= static_cast<std::uint8_t>(1u << k);
+  }
+  std::string out(1, static_cast<char>(kinds));
+  std::string stream;
+  RangeEncoder enc(stream);
+  for (unsigned k = 0; k < kKinds; ++k) {
+    if (!(kinds & (1u << k))) continue;
+    const FaceLabels& l = kind_of(mesh, k);
+    // Names numbered by the first output face that takes each, then the rest in the mesh's order.
+    std::vector<std::uint32_t> number(l.names.size(), kInvalid), order;
+    std::vector<std::uint32_t> labels(nf, kInvalid);
+    for (std::size_t g = 0; g < nf && !l.face.empty(); ++g) {
+      const std::uint32_t name = l.face[input_face[g]];
+      if (name == kInvalid) continue;
+      if (name >= l.names.size())
+        throw Error(ErrorCode::kUsage, "encode: face " + std::to_string(input_face[g]) + " has label " +
+                                           std::to_string(name) + " of " + std::to_string(l.names.size()));
+      if (number[name] == kInvalid)
+        number[name] = static_cast<std::uint32_t>(order.size()), order.push_back(name);
+      labels[g] = number[name];
+    }
+    const std::size_t taken = order.size();
+    for (std::uint32_t i = 0; i < l.names.size(); ++i)
+      if (number[i] == kInvalid) order.push_back(i);
+    put_varint(out, order.size());
+    for (const std::uint32_t i : order) put_text(out, l.names[i], "label name", i);
+
+    Models m;
+    std::uint32_t prev = kInvalid, seen = 0;
+    unsigned c = 0;
+    for (std::size_t g = 0; g < nf; ++g) {
+      const std::uint32_t label = labels[g];
+      enc.encode_bit(m.same[c], label == prev);
+      c = label == prev;
+      if (label == prev) continue;
+      enc.encode_bit(m.is_new, label == seen);
+      if (label == seen) {
+        prev = seen++;
+        continue;
+      }
+      if (prev != kInvalid) enc.encode_bit(m.is_none, label == kInvalid);
+      if (label != kInvalid) m.earlier.encode(enc, prev != kInvalid && label > prev ? label - 1 : label);
+      prev = label;
+    }
+    if (seen != taken) throw Error(ErrorCode::kInternal, "encode: face labels numbered out of order");
+  }
+  if (!mesh.material_libraries.empty()) {
+    put_varint(out, mesh.material_libraries.size());
+    for (std::size_t i = 0; i < mesh.material_libraries.size(); ++i)
+      put_text(out, mesh.material_libraries[i], "material library", i);
+  }
+  enc.finish();
+  return out + stream;
+}
+
+DecodedLabels decode_labels_section(std::string_view payload, std::uint64_t base_offset,
+                                    std::uint32_t face_count) {
+  ByteReader in(payload, base_offset, kSection);
+  std::uint64_t at = in.offset();
+  const std::uint8_t kinds = in.u8("kinds");
+  if (kinds == 0) in.fail_at("no label kind and no material library", at);
+  if (kinds & kReservedBits) in.fail_at("reserved kind bits are set (must be zero)", at);
+  // Names and libraries: each costs at least its length byte, so counts past the bytes left are refused
+  // before anything is allocated for them.
+  const auto texts = [&in](const char* count_what, const char* what, bool at_least_one) {
+    const std::uint64_t from = in.offset();
+    const std::uint64_t n = in.varint(count_what);
+    if (n > in.left() || (at_least_one && n == 0))
+      in.fail_at(std::string(count_what) + " " + std::to_string(n) + " is not " + (at_least_one ? "1" : "0") +
+                     " to the " + std::to_string(in.left()) + " bytes left",
+                 from);
+    std::vector<std::string> out;
+    out.reserve(n);
+    for (std::uint64_t i = 0; i < n; ++i) {
+      const std::uint64_t start = in.offset();
+      const std::string_view text = in.take(in.varint("text length"), what);
+      if (std::any_of(text.begin(), text.end(), breaks_line))
+        in.fail_at(std::string(what) + " " + std::to_string(i) + " holds a line break", start);
+      out.emplace_back(text);
+    }
+    return out;
+  };
+  DecodedLabels out;
+  for (unsigned k = 0; k < kKinds; ++k) {
+    if (!(kinds & (1u << k))) continue;
+    at = in.offset();
+    FaceLabels& l = kind_of(out, k);
+    l.names = texts("name count", "label name", false);
+    std::unordered_set<std::string_view> distinct;
+    for (const std::string& name : l.names)
+      if (!distinct.insert(name).second) in.fail_at("label name '" + name + "' appears twice", at);
+    l.face.assign(face_count, kInvalid);
+  }
+  if (kinds & kLibrariesBit)
+    out.material_libraries = texts("material library count", "material library", true);
+
+  const std::uint64_t stream_offset = in.offset();
+  RangeDecoder dec(in.rest(), stream_offset, kSection);
+  for (unsigned k = 0; k < kKinds; ++k) {
+    if (!(kinds & (1u << k))) continue;
+    FaceLabels& l = kind_of(out, k);
+    const auto N = static_cast<std::uint32_t>(l.names.size());
+    Models m;
+    std::uint32_t prev = kInvalid, seen = 0;
+    unsigned c = 0;
+    for (std::uint32_t f = 0; f < face_count; ++f) {
+      c = dec.decode_bit(m.same[c]);
+      if (c) {
+        l.face[f] = prev;
+        continue;
+      }
+      std::uint32_t label = kInvalid;
+      if (dec.decode_bit(m.is_new)) {
+        if (seen == N)
+          throw Error(ErrorCode::kFormat, std::string(kSection) + ": face " + std::to_string(f) +
+                                              " takes a new name but all " + std::to_string(N) +
+                                              " are taken (at byte offset " + std::to_string(dec.offset()) +
+                                              ")");
+        label = seen++;
+      } else if (prev == kInvalid || !dec.decode_bit(m.is_none)) {
+        const std::uint32_t R = seen - (prev != kInvalid), r = m.earlier.decode(dec);
+        if (r >= R)
+          throw Error(ErrorCode::kFormat, std::string(kSection) + ": face " + std::to_string(f) +
+                                              " takes earlier name " + std::to_string(r) + " of " +
+                                              std::to_string(R) + " (at byte offset " +
+                                              std::to_string(dec.offset()) + ")");
+        label = prev != kInvalid && r >= prev ? r + 1 : r;
+      }
+      l.face[f] = prev = label;
+    }
+  }
+  dec.finish();
+  return out;
+}
+
+}  // namespace qsp
