@@ -19,7 +19,14 @@
 # hexagons), lossless and with --quantize-uv 12 and 7 (spot, fedora (the shapes) and bishop with 12
 # too), are decoded whole by qsppoly.py and compared with their .obj (every corner's position and
 # texture coordinate bits, rounded to the binary grid of --quantize-uv; index for index under
-# --keep-order) and index for index with what `qsp decompress` writes.
+# --keep-order) and index for index with what `qsp decompress` writes. Files with face labels (format
+# 3.3's section: o, g, usemtl, s and mtllib, from the text too; labelgen.py first checks that decoder on
+# streams breaking each rule the text names): each of testdata/golden/labels, and fresh encodes of
+# MakeHuman's base mesh (groups, lossless, and with --keep-order) and OpenSubdiv's gregory_test2
+# (materials, smoothing groups, an mtllib, a group no face takes), are decoded whole by qsppoly.py and
+# compared with their .obj (each face's corner positions with its labels, as a multiset, or face by
+# face for a file whose name holds keep_order; the names no face takes; the mtllib lines) and face by
+# face with what `qsp decompress` writes.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -32,6 +39,9 @@ declare -A obj_of=()  # the files qsppoly.py decodes whole, and the mesh each wa
 declare -A tex_of=()  # the files with texture coordinates, and the mesh each was made from
 for f in "$root"/testdata/golden/texcoords/*.qsp; do tex_of[$f]=${f%.qsp}.obj; done
 for f in "$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp; do obj_of[$f]=${f%.qsp}.obj; done
+declare -A lab_of=()  # the files with face labels, and the mesh each was made from
+for f in "$root"/testdata/golden/labels/*.qsp; do [[ -f $f ]] && lab_of[$f]=${f%.qsp}.obj; done
+"$python" "$here/labelgen.py" --test >/dev/null || { echo "spec decoder of face labels fails its own streams" >&2; exit 1; }
 encode() {  # encode NAME MESH [OPTIONS...]: a fresh file to check
   local name=$1 mesh=$2
   shift 2
@@ -110,11 +120,24 @@ if [[ ! -f $shared/MANIFEST.tsv ]]; then
     echo "spec decoder: $shared is missing, and this run requires it (CI=true or QSP_REQUIRE_SHARED=1)" >&2
     exit 1
   fi
-  echo "spec decoder: $shared absent: its 9 real-mesh encodes are skipped"
+  echo "spec decoder: $shared absent: its 12 real-mesh encodes are skipped"
 fi
 encode_tex bishop_uv "$shared/osd_catmark_bishop.obj"                       # triangles: a polygons section
 encode_tex bishop_uv_keep_order "$shared/osd_catmark_bishop.obj" --keep-order
 encode_tex bishop_uv12 "$shared/osd_catmark_bishop.obj" --quantize-uv 12
+encode_labels() {  # encode_labels NAME MESH [OPTIONS...]: a fresh file with face labels to check
+  local name=$1 mesh=$2
+  shift 2
+  [[ -f $mesh ]] || return 0
+  if ! "$qsp" compress -f "$@" "$mesh" "$work/$name.qsp" >/dev/null 2>"$work/$name.err"; then
+    cat "$work/$name.err" >&2
+    exit 1
+  fi
+  lab_of[$work/$name.qsp]=$mesh
+}
+encode_labels mh_base_labels "$shared/mh_base.obj" --drop uv                 # 172 g statements
+encode_labels mh_base_labels_keep_order "$shared/mh_base.obj" --drop uv --keep-order
+encode_labels gregory_labels "$shared/osd_shapes/catmark_gregory_test2.obj" --drop normal
 encode gargoyle_q14 "$shared/quadriflow_gargoyle.obj" --quantize 14  # normal chaining, distorted cells
 encode gargoyle_q14_best "$shared/quadriflow_gargoyle.obj" --quantize 14 --best  # and the costly tools
 encode horse "$shared/igl_horse_quad.obj" --best
@@ -145,10 +168,22 @@ whole() {  # whole FILE MESH: the text's whole decoder against MESH and what `qs
   "$qsp" decompress -f "$f" -o "$out" >/dev/null &&
     "$python" "$here/qsppoly.py" "$f" --obj "$2" --tex-obj "$2" "${exact[@]}" --decompressed "$out"
 }
+labelled() {  # labelled FILE MESH: face labels against MESH and what `qsp decompress` writes
+  local f=$1 out exact=()
+  out="$work/$(basename "$f" .qsp)_$BASHPID.obj"
+  [[ $(basename "$f") == *keep_order* ]] && exact=(--exact)  # the original face order kept
+  "$qsp" decompress -f "$f" -o "$out" >/dev/null &&
+    "$python" "$here/qsppoly.py" "$f" --labels-obj "$2" "${exact[@]}" --labels-decompressed "$out" \
+      --decompressed "$out"
+}
 check() {  # check FILE: the text's decoder against the reference's dump (prints nothing on success)
   local f=$1 prefix
   if [[ -n ${tex_of[$f]:-} ]]; then  # (the reference's dump reads no texture coordinates)
     whole "$f" "${tex_of[$f]}" || { echo "spec decoder's mesh with texture coordinates disagrees: $f" >&2; return 1; }
+    return 0
+  fi
+  if [[ -n ${lab_of[$f]:-} ]]; then
+    labelled "$f" "${lab_of[$f]}" || { echo "spec decoder's mesh with face labels disagrees: $f" >&2; return 1; }
     return 0
   fi
   prefix="$work/$(basename "$f" .qsp)_$BASHPID"
@@ -169,7 +204,7 @@ check() {  # check FILE: the text's decoder against the reference's dump (prints
 # Files are independent: as many at once as there are cores (the Python decoder is the long pole of
 # the release suite).
 failed=0 running=0
-for f in "${!tex_of[@]}" "${files[@]}"; do
+for f in "${!lab_of[@]}" "${!tex_of[@]}" "${files[@]}"; do
   if ((running >= $(nproc))); then
     wait -n || failed=1
     running=$((running - 1))
@@ -181,5 +216,5 @@ while ((running)); do
   wait -n || failed=1
   running=$((running - 1))
 done
-echo "spec decoder: $((${#files[@]} + ${#tex_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]})) of them decoded whole against their mesh, ${#tex_of[@]} with texture coordinates"
+echo "spec decoder: $((${#files[@]} + ${#tex_of[@]} + ${#lab_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]} + ${#lab_of[@]})) of them decoded whole against their mesh, ${#tex_of[@]} with texture coordinates, ${#lab_of[@]} with face labels"
 exit $failed

@@ -1,26 +1,33 @@
 #!/usr/bin/env python3
-"""The whole mesh of a .qsp file, polygons section (0x05), texture coordinates section (0x06), order
-section (0x04) and comments section (0x81) included, written from format-spec/qsp_format.md alone
-("Grid layout", "Order section", "Polygons section", "Texture coordinates section", "Comments
-section", "Decoding a mesh") without reading the codec's C++, on top of qsplayout.py (topology,
-layout) and qspgeo.py (container, range coder, geometry).
+"""The whole mesh of a .qsp file, polygons section (0x05), texture coordinates section (0x06), face
+labels section (0x07), order section (0x04) and comments section (0x81) included, written from
+format-spec/qsp_format.md alone ("Grid layout", "Order section", "Polygons section", "Texture
+coordinates section", "Face labels section", "Comments section", "Decoding a mesh") without reading
+the codec's C++, on top of qsplayout.py (topology, layout) and qspgeo.py (container, range coder,
+geometry).
 
 usage: qsppoly.py FILE.qsp [--obj MESH.obj] [--reference PREFIX] [--tex-obj MESH.obj [--exact]]
+                  [--labels-obj MESH.obj [--exact]] [--labels-decompressed OUT.obj]
                   [--decompressed OUT.obj] [--stats]
        decodes FILE to its output mesh (vertices, faces with their corners, float bits, each corner's
-       texture coordinate, in the original order when the file has an order section) and its comment
-       lines. --obj: compares them with MESH.obj, the mesh the file was made from: the same faces with
-       the same corner cycles on the same vertices up to renumbering and face order, every position bit
-       for bit (skipped for a quantized file), and, when the file has a comments section, its lines
-       with MESH.obj's leading comment block. --reference: compares them exactly (vertex order, face
-       order, each face's first corner, float bits) with the reference decoder's output that
-       dump_stencils wrote to PREFIX.mesh and PREFIX.comments. --tex-obj: compares every corner's
-       position and texture coordinate (float32 bits; rounded to the binary grid a component's mode
-       names, as --quantize-uv rounds them) with MESH.obj's up to renumbering, face order and
-       rotation, and the texture coordinates no corner names; with --exact index for index (a file
-       written with --keep-order). --decompressed: compares positions, faces and texture coordinates
-       index for index with OUT.obj, what `qsp decompress FILE` wrote. --stats: prints how often each
-       rule of the text was met. Exit 0 if all agree, else 1.
+       texture coordinate, in the original order when the file has an order section), its face labels
+       and material libraries, and its comment lines. --obj: compares them with MESH.obj, the mesh the
+       file was made from: the same faces with the same corner cycles on the same vertices up to
+       renumbering and face order, every position bit for bit (skipped for a quantized file), and,
+       when the file has a comments section, its lines with MESH.obj's leading comment block.
+       --reference: compares them exactly (vertex order, face order, each face's first corner, float
+       bits) with the reference decoder's output that dump_stencils wrote to PREFIX.mesh and
+       PREFIX.comments. --tex-obj: compares every corner's position and texture coordinate (float32
+       bits; rounded to the binary grid a component's mode names, as --quantize-uv rounds them) with
+       MESH.obj's up to renumbering, face order and rotation, and the texture coordinates no corner
+       names; with --exact index for index (a file written with --keep-order). --decompressed:
+       compares positions, faces and texture coordinates index for index with OUT.obj, what `qsp
+       decompress FILE` wrote. --labels-obj: compares each face's object, groups, material and
+       smoothing group (the last o, g, usemtl, s statement before it in MESH.obj, none before the
+       first) with its corners' positions as a multiset of faces up to rotation (face by face with
+       --exact), the names no face takes and the mtllib lines; --labels-decompressed: the same, face
+       by face, with OUT.obj, what `qsp decompress FILE` wrote. --stats: prints how often each rule of
+       the text was met. Exit 0 if all agree, else 1.
 """
 import math
 import struct
@@ -366,6 +373,80 @@ def comments(payload):
         pos += ln
     need(pos == len(payload), 'bytes after the last comment line')
     return out
+
+
+# ---------------- "Face labels section" ----------------
+LABEL_KINDS = (b'o', b'g', b'usemtl', b's')   # kinds 0..3: objects, groups, materials, smoothing groups
+
+
+def decode_labels(payload, F):
+    """The face labels section over F output faces (before an order section): (labels, names,
+    libraries) with labels[k][f] face f's name index of kind k or None, names[k] kind k's names
+    0 .. N-1 (both only for the kinds present) and libraries the mtllib texts in order."""
+    need(len(payload) >= 1, 'empty face labels section')
+    kinds = payload[0]
+    need(kinds >> 5 == 0, 'reserved face labels kinds bits set (0x%02x)' % kinds)
+    need(kinds != 0, 'face labels kinds byte 0')
+    pos = 1
+
+    def text():
+        nonlocal pos
+        ln, pos = g.read_varint(payload, pos)
+        need(ln <= len(payload) - pos, 'face label name or library past the section')
+        t = payload[pos:pos + ln]
+        need(b'\n' not in t and b'\r' not in t, 'face label name or library with CR or LF')
+        pos += ln
+        return t
+
+    present = [k for k in range(4) if kinds >> k & 1]
+    names = {}
+    for k in present:   # (each kind's names follow its count)
+        N, pos = g.read_varint(payload, pos)
+        need(N <= len(payload) - pos, 'kind %d: %d names past the section' % (k, N))
+        names[k] = [text() for _ in range(N)]
+        need(len(set(names[k])) == N, 'kind %d: two equal names' % k)
+        seen('labels: kind %d' % k)
+    libraries = []
+    if kinds & 16:
+        L, pos = g.read_varint(payload, pos)
+        need(1 <= L <= len(payload) - pos, 'material library count %d' % L)
+        libraries = [text() for _ in range(L)]
+        seen('labels: libraries')
+    rd = g.RangeDecoder(payload[pos:])
+    labels = {}
+    for k in present:
+        T, earlier = g.Table(), g.Table()    # fresh models per kind
+        N = len(names[k])
+        m = 0
+        out = []
+        p, c = None, 0
+        for f in range(F):
+            if rd.bit(T['same', c]):
+                x, c = p, 1
+                seen('labels: same')
+            else:
+                c = 0
+                if rd.bit(T['is_new']):
+                    need(m < N, 'kind %d: face %d takes a new name past the %d names' % (k, f, N))
+                    x = m
+                    m += 1
+                    seen('labels: new')
+                elif p is not None and rd.bit(T['is_none']):
+                    x = None
+                    seen('labels: none')
+                else:
+                    R = m - 1 if p is not None else m
+                    r = rd.integer(earlier)
+                    need(r < R, 'kind %d: face %d takes earlier name %d of %d' % (k, f, r, R))
+                    x = r if p is None or r < p else r + 1   # names 0 .. m-1 without p
+                    seen('labels: earlier')
+            out.append(x)
+            p = x
+        if m < N:
+            seen('labels: names no face takes')
+        labels[k] = out
+    rd.finish()
+    return labels, names, libraries
 
 
 # ---------------- "Order section" ----------------
@@ -787,11 +868,18 @@ def canonical_mesh(data, secs):
     return out_pos, out_faces, geo[1] != 0
 
 
+KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07)
+
+
 def decode_file(data):
     """(positions as float bits per output vertex, faces, comment lines, quantized?, texture
-    coordinates) of the output mesh, the order section applied; texture coordinates are None or
-    (values as binary32 bits per component, per face the value each corner names or None)."""
+    coordinates, face labels) of the output mesh, the order section applied; texture coordinates are
+    None or (values as binary32 bits per component, per face the value each corner names or None);
+    face labels None or {'faces': {kind: per face its name or None}, 'unused': {kind: the names no
+    face takes}, 'libraries': the mtllib texts}, for the kinds present."""
     secs = g.sections(data)
+    for tag in secs:
+        need(tag & 0x80 or tag in KNOWN_REQUIRED, 'section 0x%02x is required but unknown' % tag)
     pos, faces, quantized = canonical_mesh(data, secs)
     lines = comments(secs[0x81]) if 0x81 in secs else []
     tex = None
@@ -805,9 +893,18 @@ def decode_file(data):
             names = [[None if x is None else original[x] for x in f] for f in names]
             values = out_values
         tex = [values, names, modes]
+    labels = None
+    if 0x07 in secs:
+        need(data[9] >= 3, 'section 0x07 (face labels) in a %d.%d file' % (data[8], data[9]))
+        lab, names, libraries = decode_labels(secs[0x07], len(faces))
+        labels = {'faces': {k: [None if x is None else names[k][x] for x in lab[k]] for k in lab},
+                  'unused': {k: set(names[k]) - {names[k][x] for x in lab[k] if x is not None} for k in lab},
+                  'libraries': libraries}
     if 0x04 in secs:
         seen('order section')
         cv, of = decode_order(secs[0x04], len(pos), [len(f) for f in faces])
+        if labels:
+            labels['faces'] = {k: [v[c] for c, _ in of] for k, v in labels['faces'].items()}
         back = [None] * len(pos)
         for j, c in enumerate(cv):
             back[c] = j
@@ -825,7 +922,7 @@ def decode_file(data):
         pos, faces = opos, ofaces
         if tex:
             tex[1] = onames
-    return pos, faces, lines, quantized, tex
+    return pos, faces, lines, quantized, tex, labels
 
 
 # ---------------- comparisons ----------------
@@ -918,7 +1015,7 @@ def compare_tex(mesh, other, what, exact, source=False):
     position and texture coordinate bits up to renumbering, face order and rotation, and the values
     no corner names; exact: index for index (vertex order, face order, first corners, values). source:
     the .obj the file was made from, its values rounded to the binary grids the file's modes name."""
-    pos, faces, _, quantized, tex = mesh
+    pos, faces, _, quantized, tex = mesh[:5]
     opos, ovts, ofaces, onames = other
     if tex is None:
         if ovts:
@@ -1000,6 +1097,86 @@ def compare_obj(path, mesh, obj_path):
     return bad
 
 
+def read_obj_labels(path):
+    """Positions (float32 bits), faces (0-based), per face its labels of kinds 0..3 (the name of the
+    last statement of that kind before it, None before the first; `g` names joined by single spaces),
+    the mtllib texts in order, per kind the names no face takes, and the kinds stated."""
+    pos, faces, labels, libraries = [], [], [], []
+    current = [None] * 4
+    stated = [set() for _ in range(4)]
+    for raw in open(path, 'rb').read().split(b'\n'):
+        line = raw[:-1] if raw.endswith(b'\r') else raw
+        w = line.split()
+        if not w or w[0].startswith(b'#'):
+            continue
+        rest = line.lstrip()[len(w[0]):].strip(b' \t')
+        if w[0] == b'v':
+            pos.append(tuple(f32(float(x)) for x in w[1:4]))
+        elif w[0] == b'f':
+            idx = [int(x.split(b'/')[0]) for x in w[1:]]
+            faces.append([i - 1 if i > 0 else len(pos) + i for i in idx])
+            labels.append(tuple(current))
+        elif w[0] in LABEL_KINDS:
+            k = LABEL_KINDS.index(w[0])
+            current[k] = b' '.join(w[1:]) if k == 1 else rest
+            stated[k].add(current[k])
+        elif w[0] == b'mtllib':
+            libraries.append(rest)
+    taken = [{f[k] for f in labels} for k in range(4)]
+    unused = {k: stated[k] - taken[k] for k in range(4) if stated[k]}
+    return pos, faces, labels, libraries, unused
+
+
+def compare_labels(mesh, other, what, exact):
+    """The mesh's face labels and material libraries against read_obj_labels' of an .obj: per face
+    (its corners' positions, its labels), as a multiset of faces up to rotation, or face by face when
+    exact; the names no face takes and the libraries. Positions are left out of a quantized file's."""
+    pos, faces, _, quantized, _, labels = mesh
+    opos, ofaces, olabels, olibraries, ounused = other
+    if labels is None:
+        labels = {'faces': {}, 'unused': {}, 'libraries': []}
+    bad = []
+    if sorted(labels['faces']) != sorted(ounused):
+        bad.append('label kinds %s, %s states kinds %s' % (sorted(labels['faces']), what, sorted(ounused)))
+    if len(faces) != len(ofaces):
+        return bad + ['%d faces, %s %d' % (len(faces), what, len(ofaces))]
+    key = lambda x: (0,) if x is None else (1, x)
+    mine_l = [tuple(key(labels['faces'][k][f] if k in labels['faces'] else None) for k in range(4))
+              for f in range(len(faces))]
+    theirs_l = [tuple(key(x) for x in t) for t in olabels]
+
+    def cycles(p, fs):
+        if quantized:
+            return [()] * len(fs)
+        out = []
+        for f in fs:
+            c = [p[v] for v in f]
+            out.append(tuple(c) if exact else min(tuple(c[i:] + c[:i]) for i in range(len(c))))
+        return out
+
+    mine = list(zip(cycles(pos, faces), mine_l))
+    theirs = list(zip(cycles(opos, ofaces), theirs_l))
+    if exact:
+        diff = [i for i in range(len(mine)) if mine[i] != theirs[i]]
+        if diff:
+            i = diff[0]
+            bad.append('%d faces\' corners or labels differ from %s\'s (first: face %d, labels %s, %s\'s %s%s)' % (
+                len(diff), what, i, mine_l[i], what, theirs_l[i],
+                '' if mine[i][0] == theirs[i][0] else '; corners differ'))
+    elif sorted(mine) != sorted(theirs):
+        a, b = sorted(mine), sorted(theirs)
+        i = next(i for i in range(len(a)) if a[i] != b[i])
+        bad.append('faces\' corners and labels differ from %s\'s as multisets (first: labels %s, %s\'s %s%s)' % (
+            what, a[i][1], what, b[i][1], '' if a[i][0] == b[i][0] else '; corners differ'))
+    for k in sorted(ounused):
+        if labels['unused'].get(k, set()) != ounused[k]:
+            bad.append('kind %d: names no face takes %s, %s\'s %s' % (
+                k, sorted(labels['unused'].get(k, set())), what, sorted(ounused[k])))
+    if labels['libraries'] != olibraries:
+        bad.append('material libraries %s, %s\'s %s' % (labels['libraries'], what, olibraries))
+    return bad
+
+
 def compare_reference(mesh, prefix):
     """Exactly the reference decoder's output (dump_stencils' PREFIX.mesh, PREFIX.comments; no
     PREFIX.mesh for a file with an order section: --decompressed compares those)."""
@@ -1053,6 +1230,11 @@ def main():
     if '--tex-obj' in opts:
         bad += compare_tex(mesh, read_obj_tex(opts['--tex-obj']), 'the .obj', exact='--exact' in args,
                            source=True)
+    if '--labels-obj' in opts:
+        bad += compare_labels(mesh, read_obj_labels(opts['--labels-obj']), 'the .obj', exact='--exact' in args)
+    if '--labels-decompressed' in opts:
+        bad += compare_labels(mesh, read_obj_labels(opts['--labels-decompressed']), 'qsp decompress\'s output',
+                              exact=True)
     if '--decompressed' in opts:
         bad += compare_tex(mesh, read_obj_tex(opts['--decompressed']), 'qsp decompress\'s output', exact=True)
     if '--stats' in args:

@@ -1,0 +1,228 @@
+#!/usr/bin/env python3
+"""labelgen.py: face labels sections (qsp_format.md "Face labels section") written by an encoder from
+the text, to test qsppoly.py's decoder of that section on payloads no qsp encoder writes.
+
+usage: labelgen.py --test
+       encodes label streams (runs, faces without a label, earlier names, names no face takes,
+       material libraries) and checks that qsppoly.py decodes each back; breaks each rule the text
+       names (reserved bits, kinds 0, counts past the bytes, CR or LF in a name, two equal names, a
+       new name past N, an earlier name r >= R, bytes after the stream, the section in a 3.2 file)
+       and checks that qsppoly.py refuses it; adds a section to golden files (one with an order
+       section) and checks that each output face keeps the labels of its canonical face. Exit 0 if
+       all hold, else 1.
+"""
+import os
+import sys
+
+import qspgeo as g
+import qsppoly as poly
+
+
+def symbols(labels):
+    """Per face the first rule of the text that codes its label (an index or None): ('same',),
+    ('new',), ('none',) or ('earlier', r); names numbered by the first face that takes them."""
+    out, m, p = [], 0, None
+    number = {}
+    for x in labels:
+        if x == p:
+            out.append(('same',))
+        elif x is not None and x not in number:
+            number[x] = m
+            m += 1
+            out.append(('new',))
+        elif x is None:
+            out.append(('none',))
+        else:
+            i, q = number[x], None if p is None else number[p]
+            out.append(('earlier', i if q is None or i < q else i - 1))
+        p = x
+    return out, number
+
+
+def code_kind(enc, syms):
+    """One kind's symbols, its models fresh ("The stream")."""
+    T, earlier = g.Table(), g.Table()
+    c, p_named = 0, False   # p_named: the previous face has a name
+    for s in syms:
+        enc.bit(T['same', c], int(s[0] == 'same'))
+        if s[0] == 'same':
+            c = 1
+            continue
+        c = 0
+        enc.bit(T['is_new'], int(s[0] == 'new'))
+        if s[0] == 'new':
+            p_named = True
+            continue
+        if p_named:
+            enc.bit(T['is_none'], int(s[0] == 'none'))
+        if s[0] == 'none':
+            p_named = False
+            continue
+        enc.integer(earlier, s[1])
+        p_named = True
+
+
+def text(t):
+    return g.varint(len(t)) + t
+
+
+def payload(kinds, names, syms, libraries=(), extra=b''):
+    """A section: the kinds byte, each present kind's names (after its count), the libraries and
+    the stream of each present kind's symbols."""
+    out = bytearray([kinds])
+    for k in range(4):
+        if kinds >> k & 1:
+            out += g.varint(len(names[k])) + b''.join(text(t) for t in names[k])
+    if kinds & 16:
+        out += g.varint(len(libraries)) + b''.join(text(t) for t in libraries)
+    enc = g.RangeEncoder()
+    for k in range(4):
+        if kinds >> k & 1:
+            code_kind(enc, syms[k])
+    return bytes(out) + enc.finish() + extra
+
+
+def section(per_kind, unused=None, libraries=()):
+    """The section of these labels: per_kind {k: per face a name or None}, unused {k: names no face
+    takes, in mesh order}; as the text's encoder numbers and codes them."""
+    kinds = sum(1 << k for k in per_kind) | (16 if libraries else 0)
+    names, syms = {}, {}
+    for k, labels in per_kind.items():
+        syms[k], number = symbols(labels)
+        names[k] = sorted(number, key=number.get) + list((unused or {}).get(k, []))
+    return payload(kinds, names, syms, libraries)
+
+
+FAILED = []
+
+
+def expect(ok, what):
+    if not ok:
+        FAILED.append(what)
+        print('labelgen: FAILED: %s' % what, file=sys.stderr)
+
+
+def roundtrip(per_kind, F, unused=None, libraries=()):
+    b = section(per_kind, unused, libraries)
+    labels, names, libs = poly.decode_labels(b, F)
+    got = {k: [None if x is None else names[k][x] for x in labels[k]] for k in labels}
+    expect(got == per_kind, 'round trip of %s' % per_kind)
+    expect(libs == list(libraries), 'libraries %r' % (libraries,))
+    for k in per_kind:
+        expect(set(names[k]) - set(per_kind[k]) == set((unused or {}).get(k, [])), 'unused names of kind %d' % k)
+    return b
+
+
+def refused(b, F, what):
+    try:
+        poly.decode_labels(b, F)
+    except g.FormatError:
+        return
+    expect(False, 'not refused: %s' % what)
+
+
+def test_payloads():
+    A, B, C = b'a', b'b b', b'c'
+    roundtrip({0: [A] * 5}, 5)
+    roundtrip({1: [None, None, A, A, B, None, A, C, B, B, A, None]}, 12, {1: [b'default', b'']})
+    roundtrip({2: [A, B, C, A, B, C, C, None, C]}, 9, libraries=(b'x.mtl', b'y y.mtl'))
+    roundtrip({0: [A, A, B], 1: [None, B, B], 2: [C, A, None], 3: [b'1', b'off', b'1']}, 3,
+              {3: [b'2']}, (b'',))
+    roundtrip({3: [None] * 4}, 4, {3: [b'off']})      # a kind no face takes
+    roundtrip({1: [b''] * 3}, 3)                     # a bare g: the empty name
+    b = section({}, libraries=(b'm.mtl',))             # libraries alone: no symbol, no stream byte
+    expect(b == bytes([16, 1, 5]) + b'm.mtl', 'libraries alone: %r' % b)
+    expect(poly.decode_labels(b, 7) == ({}, {}, [b'm.mtl']), 'libraries alone')
+    roundtrip({1: [A, B] * 300 + [None] * 50 + [C, A, B, C] * 40}, 810)   # long runs: models adapt
+    roundtrip({0: [], 1: []}, 0, {0: [A], 1: [B, C]})   # no faces
+
+    good = section({1: [A, B, None]}, libraries=(b'l',))
+    poly.decode_labels(good, 3)
+    refused(bytes([0x20]) + good[1:], 3, 'reserved bit 5')
+    refused(bytes([0x82]) + good[1:], 3, 'reserved bit 7')
+    refused(bytes([0]) + good[1:], 3, 'kinds 0')
+    refused(b'', 3, 'empty section')
+    refused(bytes([2, 3, 1]) + A, 3, 'name count past the bytes')
+    refused(bytes([2, 1, 5]) + A, 3, 'name past the bytes')
+    refused(payload(16, {}, {}, ()), 0, 'library count 0')
+    refused(bytes([16, 3, 1]) + A, 0, 'library count past the bytes')
+    refused(payload(2, {1: [b'a\nb']}, {1: [('new',)]}), 1, 'LF in a name')
+    refused(payload(2, {1: [b'a\r']}, {1: [('new',)]}), 1, 'CR in a name')
+    refused(payload(16, {}, {}, (b'x\n',)), 0, 'LF in a library')
+    refused(payload(1, {0: [A, A]}, {0: [('new',), ('new',)]}), 2, 'two equal names')
+    poly.decode_labels(payload(1, {0: [A, B]}, {0: [('new',), ('new',)]}), 2)
+    poly.decode_labels(payload(3, {0: [A], 1: [A]}, {0: [('new',)], 1: [('new',)]}), 1)  # equal names, two kinds
+    refused(payload(1, {0: [A]}, {0: [('new',), ('new',)]}), 2, 'is_new with m = N')
+    refused(payload(1, {0: []}, {0: [('new',)]}), 1, 'is_new with N = 0')
+    poly.decode_labels(payload(1, {0: [A, B]}, {0: [('new',), ('new',), ('earlier', 0)]}), 3)
+    refused(payload(1, {0: [A, B]}, {0: [('new',), ('new',), ('earlier', 1)]}), 3, 'r = R after a name')
+    refused(payload(1, {0: [A]}, {0: [('earlier', 0)]}), 1, 'earlier with m = 0')
+    poly.decode_labels(payload(1, {0: [A, B]}, {0: [('new',), ('none',), ('earlier', 0)]}), 3)
+    refused(payload(1, {0: [A, B]}, {0: [('new',), ('none',), ('earlier', 1)]}), 3, 'r = R after none')
+    poly.decode_labels(payload(1, {0: [A, B, C]}, {0: [('new',), ('new',), ('new',), ('earlier', 1)]}), 4)
+    refused(payload(1, {0: [A, B, C]}, {0: [('new',), ('new',), ('new',), ('earlier', 2)]}), 4, 'r = R = m - 1')
+    refused(good + b'\0', 3, 'a byte after the stream')
+    refused(section({1: [A, B, None]}), 2, 'symbols for fewer faces than coded')
+    refused(section({}, libraries=(b'l',)) + b'\1', 1, 'a stream byte with no kind present')
+    # the non-first rules an encoder would not use still decode: same coded as earlier
+    labels, names, _ = poly.decode_labels(payload(1, {0: [A, B]}, {0: [('new',), ('new',), ('earlier', 0), ('earlier', 0)]}), 4)
+    expect(labels[0] == [0, 1, 0, 1], 'earlier without p: %s' % labels[0])
+
+
+def with_labels(path, make, minor=3):
+    """The golden file at path with a face labels section made by make(faces before the order
+    section, positions) and its minor version set."""
+    data = open(path, 'rb').read()
+    secs = g.sections(data)
+    pos, faces, _ = poly.canonical_mesh(data, secs)
+    secs[0x07] = make(faces, pos)
+    return g.container(data[:9] + bytes([minor]) + data[10:11], secs)
+
+
+def test_files(root):
+    def by_corners(faces, pos):   # each face's name: its corners' positions, so renumbering shows
+        names = [b' '.join(b'%08x' % u for v in sorted(f, key=lambda v: pos[v]) for u in pos[v]) for f in faces]
+        return section({0: names, 2: [None] + names[1:]}, libraries=(b'a.mtl',))
+
+    for name in ('l_tromino_keep_order', 'quad', 'polygons/polygons_mixed', 'texcoords/grid_seam_keep_order',
+                 'texcoords/polygon_uv'):
+        path = os.path.join(root, 'testdata/golden', name + '.qsp')
+        if not os.path.exists(path):
+            expect(False, 'missing %s' % path)
+            continue
+        data = with_labels(path, by_corners)
+        pos, faces, _, _, _, labels = poly.decode_file(data)
+        want = [b' '.join(b'%08x' % u for v in sorted(f, key=lambda v: pos[v]) for u in pos[v]) for f in faces]
+        expect(labels['faces'][0] == want, '%s: a face has another face\'s object' % name)
+        mats = labels['faces'][2]
+        expect(mats.count(None) == 1 and all(m is None or m == o for o, m in zip(want, mats)),
+               '%s: a face has another face\'s material' % name)
+        expect(labels['libraries'] == [b'a.mtl'], '%s: libraries' % name)
+        try:
+            poly.decode_file(with_labels(path, by_corners, minor=2))
+            expect(False, '%s: section 0x07 in a 3.2 file not refused' % name)
+        except g.FormatError:
+            pass
+    try:   # a required tag past those the text defines
+        path = os.path.join(root, 'testdata/golden/quad.qsp')
+        data = open(path, 'rb').read()
+        secs = g.sections(data)
+        secs[0x08] = b''
+        poly.decode_file(g.container(data[:9] + bytes([3]) + data[10:11], secs))
+        expect(False, 'unknown required section 0x08 not refused')
+    except g.FormatError:
+        pass
+
+
+def main():
+    if sys.argv[1:] != ['--test']:
+        print(__doc__, file=sys.stderr)
+        return 2
+    test_payloads()
+    test_files(os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..'))
+    print('labelgen: %s' % ('%d failed' % len(FAILED) if FAILED else 'all hold'))
+    return 1 if FAILED else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
