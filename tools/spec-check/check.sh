@@ -22,7 +22,8 @@
 # --keep-order) and index for index with what `qsp decompress` writes. Files with face labels (format
 # 3.3's section: o, g, usemtl, s and mtllib, from the text too; labelgen.py first checks that decoder on
 # streams breaking each rule the text names): each of testdata/golden/labels, and fresh encodes of
-# MakeHuman's base mesh (groups, lossless, and with --keep-order) and OpenSubdiv's gregory_test2
+# polygon meshes (one with texture coordinates, one with --keep-order) given statements by labelgen.py,
+# of MakeHuman's base mesh (groups, lossless, and with --keep-order) and OpenSubdiv's gregory_test2
 # (materials, smoothing groups, an mtllib, a group no face takes), are decoded whole by qsppoly.py and
 # compared with their .obj (each face's corner positions with its labels, as a multiset, or face by
 # face for a file whose name holds keep_order; the names no face takes; the mtllib lines) and face by
@@ -96,6 +97,23 @@ for t in "1 uv" "2 u" "3 uvw" "1 uh" "2 uv --keep-order" "3 uvw --keep-order"; d
   "$python" "$here/texgen.py" "$work/polygons_$seed.obj" "$work/$name.obj" "$seed" "$mode"
   encode_tex "$name" "$work/$name.obj" --float32 $keep
 done
+encode_labels() {  # encode_labels NAME MESH [OPTIONS...]: a fresh file with face labels to check
+  local name=$1 mesh=$2
+  shift 2
+  [[ -f $mesh ]] || return 0
+  if ! "$qsp" compress -f "$@" "$mesh" "$work/$name.qsp" >/dev/null 2>"$work/$name.err"; then
+    cat "$work/$name.err" >&2
+    exit 1
+  fi
+  lab_of[$work/$name.qsp]=$mesh
+}
+for t in "polygons_1" "polygons_2 --keep-order" "tex_1_uv --float32"; do  # labelgen.py's statements
+  read -r mesh opts <<<"$t"                                                  # among their faces
+  name=labels_$mesh${opts:+_${opts#--}}
+  name=${name//-/_}
+  "$python" "$here/labelgen.py" "$work/$mesh.obj" "$work/$name.obj" 1
+  encode_labels "$name" "$work/$name.obj" $opts
+done
 "$python" "$here/texgen.py" - "$work/bent.obj" 1 bent  # smooth: the corrections and grid lines pay
 encode_tex bent_uv "$work/bent.obj" --float32
 encode_tex bent_uv12 "$work/bent.obj" --float32 --quantize-uv 12   # binary grids, with the corrections
@@ -125,16 +143,6 @@ fi
 encode_tex bishop_uv "$shared/osd_catmark_bishop.obj"                       # triangles: a polygons section
 encode_tex bishop_uv_keep_order "$shared/osd_catmark_bishop.obj" --keep-order
 encode_tex bishop_uv12 "$shared/osd_catmark_bishop.obj" --quantize-uv 12
-encode_labels() {  # encode_labels NAME MESH [OPTIONS...]: a fresh file with face labels to check
-  local name=$1 mesh=$2
-  shift 2
-  [[ -f $mesh ]] || return 0
-  if ! "$qsp" compress -f "$@" "$mesh" "$work/$name.qsp" >/dev/null 2>"$work/$name.err"; then
-    cat "$work/$name.err" >&2
-    exit 1
-  fi
-  lab_of[$work/$name.qsp]=$mesh
-}
 encode_labels mh_base_labels "$shared/mh_base.obj" --drop uv                 # 172 g statements
 encode_labels mh_base_labels_keep_order "$shared/mh_base.obj" --drop uv --keep-order
 encode_labels gregory_labels "$shared/osd_shapes/catmark_gregory_test2.obj" --drop normal

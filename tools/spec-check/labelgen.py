@@ -2,7 +2,12 @@
 """labelgen.py: face labels sections (qsp_format.md "Face labels section") written by an encoder from
 the text, to test qsppoly.py's decoder of that section on payloads no qsp encoder writes.
 
-usage: labelgen.py --test
+usage: labelgen.py IN.obj OUT.obj SEED
+       IN with o, g, usemtl, s and mtllib statements among its faces, for check.sh: faces before any
+       statement of a kind, runs, names taken again after others, a bare g (the empty name), g with
+       several names apart by tabs and spaces, s off, 0 and numbers, names no face takes (a g another
+       g follows, a usemtl after the last face) and two mtllib lines.
+       labelgen.py --test
        encodes label streams (runs, faces without a label, earlier names, names no face takes,
        material libraries) and checks that qsppoly.py decodes each back; breaks each rule the text
        names (reserved bits, kinds 0, counts past the bytes, CR or LF in a name, two equal names, a
@@ -214,7 +219,37 @@ def test_files(root):
         pass
 
 
+POOL = {b'o': [b'body', b'head', b'Hand.L'], b'g': [b'', b'arm', b'leg\t left', b'arm  leg', b'torso'],
+        b'usemtl': [b'skin', b'cloth', b'mat.001'], b's': [b'off', b'1', b'2', b'0']}
+
+
+def sprinkle(src, out, seed):
+    import random
+    random.seed(seed)
+    lines = open(src, 'rb').read().split(b'\n')
+    w = open(out, 'wb')
+    w.write(b'mtllib first.mtl\n')
+    nf = 0
+    for line in lines:
+        if line.startswith(b'f '):
+            nf += 1
+            if nf == 30:
+                w.write(b'g unused\n')       # a name no face takes: another g follows at once
+                w.write(b'g arm\n')
+            elif nf == 60:
+                w.write(b'mtllib second one.mtl\n')
+            elif nf > 12 and random.random() < 0.2:   # the first faces take no label
+                kw = random.choice(list(POOL))
+                name = random.choice(POOL[kw])
+                w.write(kw + (b' ' + name if name else b'') + b'\n')
+        w.write(line + (b'\n' if line else b''))
+    w.write(b'usemtl trailing\n')              # after the last face: no face takes it
+
+
 def main():
+    if len(sys.argv) == 4:
+        sprinkle(sys.argv[1], sys.argv[2], int(sys.argv[3]))
+        return 0
     if sys.argv[1:] != ['--test']:
         print(__doc__, file=sys.stderr)
         return 2
