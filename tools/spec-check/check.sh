@@ -20,8 +20,8 @@
 # too), are decoded whole by qsppoly.py and compared with their .obj (every corner's position and
 # texture coordinate bits, rounded to the binary grid of --quantize-uv; index for index under
 # --keep-order) and index for index with what `qsp decompress` writes. Files with face labels (format
-# 3.3's section: o, g, usemtl, s and mtllib, from the text too; labelgen.py first checks that decoder on
-# streams breaking each rule the text names): each of testdata/golden/labels, and fresh encodes of
+# 3.3's section: o, g, usemtl, s and mtllib, from the text too; labelgen.py first checks that decoder,
+# and qsp decompress, on streams breaking each rule the text names): each of testdata/golden/labels, and fresh encodes of
 # polygon meshes (one with texture coordinates, one with --keep-order) given statements by labelgen.py,
 # of MakeHuman's base mesh (groups, lossless, and with --keep-order) and OpenSubdiv's gregory_test2
 # (materials, smoothing groups, an mtllib, a group no face takes), are decoded whole by qsppoly.py and
@@ -42,7 +42,8 @@ for f in "$root"/testdata/golden/texcoords/*.qsp; do tex_of[$f]=${f%.qsp}.obj; d
 for f in "$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp; do obj_of[$f]=${f%.qsp}.obj; done
 declare -A lab_of=()  # the files with face labels, and the mesh each was made from
 for f in "$root"/testdata/golden/labels/*.qsp; do [[ -f $f ]] && lab_of[$f]=${f%.qsp}.obj; done
-"$python" "$here/labelgen.py" --test >/dev/null || { echo "spec decoder of face labels fails its own streams" >&2; exit 1; }
+"$python" "$here/labelgen.py" --test "$qsp" >/dev/null ||
+  { echo "face labels streams from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
 encode() {  # encode NAME MESH [OPTIONS...]: a fresh file to check
   local name=$1 mesh=$2
   shift 2

@@ -7,14 +7,15 @@ usage: labelgen.py IN.obj OUT.obj SEED
        statement of a kind, runs, names taken again after others, a bare g (the empty name), g with
        several names apart by tabs and spaces, s off, 0 and numbers, names no face takes (a g another
        g follows, a usemtl after the last face) and two mtllib lines.
-       labelgen.py --test
+       labelgen.py --test [QSP]
        encodes label streams (runs, faces without a label, earlier names, names no face takes,
        material libraries) and checks that qsppoly.py decodes each back; breaks each rule the text
        names (reserved bits, kinds 0, counts past the bytes, CR or LF in a name, two equal names, a
        new name past N, an earlier name r >= R, bytes after the stream, the section in a 3.2 file)
        and checks that qsppoly.py refuses it; adds a section to golden files (one with an order
-       section) and checks that each output face keeps the labels of its canonical face. Exit 0 if
-       all hold, else 1.
+       section) and checks that each output face keeps the labels of its canonical face. With QSP,
+       also checks that `QSP decompress` refuses each broken section in a file and writes the labels
+       of each valid one (as a multiset of faces with their labels). Exit 0 if all hold, else 1.
 """
 import os
 import sys
@@ -246,15 +247,66 @@ def sprinkle(src, out, seed):
     w.write(b'usemtl trailing\n')              # after the last face: no face takes it
 
 
+def cases(F):
+    """(what, section, valid?) over F faces, for the reference decoder."""
+    A, B, C = b'a', b'b', b'c'
+    third = F // 3
+    first = [None] * third + [A] * third + [B] * (F - 2 * third)
+    alt = [A, B, C] * (F // 3) + [A] * (F % 3)
+    yield 'runs, names no face takes, libraries', section({1: first}, {1: [b'unused']}, (b'x.mtl',)), True
+    yield 'every kind', section({0: alt, 1: first, 2: alt[::-1], 3: [b'1'] * F}, {3: [b'off']}), True
+    yield 'libraries alone', section({}, libraries=(b'l1', b'l 2')), True
+    yield 'same coded as earlier', payload(1, {0: [A, B]}, {0: [('new',), ('new',)] + [('earlier', 0), ('earlier', 0)] * ((F - 2) // 2)
+                                                              + [('earlier', 0)] * (F % 2)}), True
+    good = section({1: first}, libraries=(b'l',))
+    yield 'reserved bit 5', bytes([0x22]) + good[1:], False
+    yield 'kinds 0', bytes([0]) + good[1:], False
+    yield 'name count past the bytes', bytes([2, 9, 1]) + A, False
+    yield 'library count 0', bytes([16, 0]), False
+    yield 'LF in a name', payload(2, {1: [b'a\nb']}, {1: [('new',)] + [('same',)] * (F - 1)}), False
+    yield 'CR in a library', payload(16, {}, {}, (b'x\r',)), False
+    yield 'two equal names', payload(1, {0: [A, A]}, {0: [('new',)] * 2 + [('same',)] * (F - 2)}), False
+    yield 'is_new with m = N', payload(1, {0: [A]}, {0: [('new',)] * 2 + [('same',)] * (F - 2)}), False
+    yield 'r = R', payload(1, {0: [A, B]}, {0: [('new',), ('new',), ('earlier', 1)] + [('same',)] * (F - 3)}), False
+    yield 'earlier with m = 0', payload(1, {0: [A]}, {0: [('earlier', 0)] + [('same',)] * (F - 1)}), False
+    yield 'a byte after the stream', good + b'\0', False
+
+
+def test_qsp(qsp, root):
+    import subprocess
+    import tempfile
+    path = os.path.join(root, 'testdata/golden/l_shape.qsp')
+    data = open(path, 'rb').read()
+    F = g.counts(g.sections(data)[1])[1]
+    with tempfile.TemporaryDirectory() as tmp:
+        todo = [(w, s_, v, 3) for w, s_, v in cases(F)] + [('in a 3.2 file', section({0: [b'a'] * F}), False, 2)]
+        for i, (what, sec, valid, minor) in enumerate(todo):
+            f = os.path.join(tmp, '%d.qsp' % i)
+            out = os.path.join(tmp, '%d.obj' % i)
+            open(f, 'wb').write(with_labels(path, lambda faces, pos: sec, minor))
+            r = subprocess.run([qsp, 'decompress', '-f', f, '-o', out], capture_output=True)
+            if not valid:
+                expect(r.returncode != 0, 'qsp decompress does not refuse: %s' % what)
+                continue
+            expect(r.returncode == 0, 'qsp decompress refuses %s: %s' % (what, r.stderr.decode().strip()))
+            if r.returncode == 0:
+                bad = poly.compare_labels(poly.decode_file(open(f, 'rb').read()), poly.read_obj_labels(out),
+                                          'qsp decompress\'s output', exact=False, unused=False)
+                expect(not bad, '%s: %s' % (what, bad))
+
+
 def main():
     if len(sys.argv) == 4:
         sprinkle(sys.argv[1], sys.argv[2], int(sys.argv[3]))
         return 0
-    if sys.argv[1:] != ['--test']:
+    if sys.argv[1:2] != ['--test'] or len(sys.argv) > 3:
         print(__doc__, file=sys.stderr)
         return 2
     test_payloads()
-    test_files(os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..'))
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..')
+    test_files(root)
+    if len(sys.argv) == 3:
+        test_qsp(sys.argv[2], root)
     print('labelgen: %s' % ('%d failed' % len(FAILED) if FAILED else 'all hold'))
     return 1 if FAILED else 0
 

@@ -25,8 +25,8 @@ usage: qsppoly.py FILE.qsp [--obj MESH.obj] [--reference PREFIX] [--tex-obj MESH
        decompress FILE` wrote. --labels-obj: compares each face's object, groups, material and
        smoothing group (the last o, g, usemtl, s statement before it in MESH.obj, none before the
        first) with its corners' positions as a multiset of faces up to rotation (face by face with
-       --exact), the names no face takes and the mtllib lines; --labels-decompressed: the same, face
-       by face, with OUT.obj, what `qsp decompress FILE` wrote. --stats: prints how often each rule of
+       --exact), the names no face takes and the mtllib lines; --labels-decompressed: the same but
+       the names no face takes, face by face, with OUT.obj, what `qsp decompress FILE` wrote. --stats: prints how often each rule of
        the text was met. Exit 0 if all agree, else 1.
 """
 import math
@@ -1127,16 +1127,17 @@ def read_obj_labels(path):
     return pos, faces, labels, libraries, unused
 
 
-def compare_labels(mesh, other, what, exact):
+def compare_labels(mesh, other, what, exact, unused=True):
     """The mesh's face labels and material libraries against read_obj_labels' of an .obj: per face
     (its corners' positions, its labels), as a multiset of faces up to rotation, or face by face when
-    exact; the names no face takes and the libraries. Positions are left out of a quantized file's."""
+    exact; the libraries, and the names no face takes if unused (the text does not say that an .obj
+    writer keeps them). Positions are left out of a quantized file's."""
     pos, faces, _, quantized, _, labels = mesh
     opos, ofaces, olabels, olibraries, ounused = other
     if labels is None:
         labels = {'faces': {}, 'unused': {}, 'libraries': []}
     bad = []
-    if sorted(labels['faces']) != sorted(ounused):
+    if unused and sorted(labels['faces']) != sorted(ounused):
         bad.append('label kinds %s, %s states kinds %s' % (sorted(labels['faces']), what, sorted(ounused)))
     if len(faces) != len(ofaces):
         return bad + ['%d faces, %s %d' % (len(faces), what, len(ofaces))]
@@ -1158,7 +1159,11 @@ def compare_labels(mesh, other, what, exact):
     theirs = list(zip(cycles(opos, ofaces), theirs_l))
     if exact:
         diff = [i for i in range(len(mine)) if mine[i] != theirs[i]]
-        if diff:
+        if diff and sorted(mine) == sorted(theirs):
+            i = diff[0]
+            bad.append('%s has the same faces with the same labels in another order (%d faces moved; '
+                       'first: face %d, labels %s, there %s)' % (what, len(diff), i, mine_l[i], theirs_l[i]))
+        elif diff:
             i = diff[0]
             bad.append('%d faces\' corners or labels differ from %s\'s (first: face %d, labels %s, %s\'s %s%s)' % (
                 len(diff), what, i, mine_l[i], what, theirs_l[i],
@@ -1168,7 +1173,7 @@ def compare_labels(mesh, other, what, exact):
         i = next(i for i in range(len(a)) if a[i] != b[i])
         bad.append('faces\' corners and labels differ from %s\'s as multisets (first: labels %s, %s\'s %s%s)' % (
             what, a[i][1], what, b[i][1], '' if a[i][0] == b[i][0] else '; corners differ'))
-    for k in sorted(ounused):
+    for k in sorted(ounused) if unused else ():
         if labels['unused'].get(k, set()) != ounused[k]:
             bad.append('kind %d: names no face takes %s, %s\'s %s' % (
                 k, sorted(labels['unused'].get(k, set())), what, sorted(ounused[k])))
@@ -1234,7 +1239,7 @@ def main():
         bad += compare_labels(mesh, read_obj_labels(opts['--labels-obj']), 'the .obj', exact='--exact' in args)
     if '--labels-decompressed' in opts:
         bad += compare_labels(mesh, read_obj_labels(opts['--labels-decompressed']), 'qsp decompress\'s output',
-                              exact=True)
+                              exact=True, unused=False)
     if '--decompressed' in opts:
         bad += compare_tex(mesh, read_obj_tex(opts['--decompressed']), 'qsp decompress\'s output', exact=True)
     if '--stats' in args:
