@@ -26,8 +26,8 @@ usage: qsppoly.py FILE.qsp [--obj MESH.obj] [--reference PREFIX] [--tex-obj MESH
        smoothing group (the last o, g, usemtl, s statement before it in MESH.obj, none before the
        first) with its corners' positions as a multiset of faces up to rotation (face by face with
        --exact), the names no face takes and the mtllib lines; --labels-decompressed: the same but
-       the names no face takes, face by face, with OUT.obj, what `qsp decompress FILE` wrote. --stats: prints how often each rule of
-       the text was met. Exit 0 if all agree, else 1.
+       the names no face takes, face by face, with OUT.obj, what `qsp decompress FILE` wrote.
+       --stats: prints how often each rule of the text was met. Exit 0 if all agree, else 1.
 """
 import math
 import struct
