@@ -213,9 +213,9 @@ def test_files(root):
         path = os.path.join(root, 'testdata/golden/quad.qsp')
         data = open(path, 'rb').read()
         secs = g.sections(data)
-        secs[0x08] = b''
+        secs[0x7F] = b''
         poly.decode_file(g.container(data[:9] + bytes([3]) + data[10:11], secs))
-        expect(False, 'unknown required section 0x08 not refused')
+        expect(False, 'unknown required section 0x7f not refused')
     except g.FormatError:
         pass
 
