@@ -64,6 +64,14 @@ void check_polygons(std::string_view bytes, const qsp::DecodeLimits& limits) {
     for (const std::string& n : l->names)
       if (n.find_first_of("\r\n") != std::string::npos) fuzz::finding("a label name holds a line break");
   }
+  // Subdivision tags (3.4): crease, corner and hole name vertices and faces of the output.
+  for (const SubdivisionTag& t : m.tags) {
+    const bool faces = t.name == "hole";
+    if (t.name != "crease" && t.name != "corner" && !faces) continue;
+    for (const std::int64_t i : t.ints)
+      if (i < 0 || static_cast<std::uint64_t>(i) >= (faces ? m.face_count() : m.vertex_count()))
+        fuzz::finding("decoded a tag index out of range");
+  }
   for (const std::string& n : m.material_libraries)
     if (n.find_first_of("\r\n") != std::string::npos) fuzz::finding("a material library holds a line break");
   std::vector<std::uint32_t> seen(m.vertex_count(), ~0u);

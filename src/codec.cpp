@@ -252,6 +252,10 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
     throw Error(ErrorCode::kNotQuad,
                 "the file holds face labels (section 0x07 at byte offset " + std::to_string(s->offset) +
                     "), which this reader of quad meshes does not return: decode_polygons() reads them");
+  if (const Section* s = p.file.find(container::kTagTags))
+    throw Error(ErrorCode::kNotQuad,
+                "the file holds subdivision tags (section 0x08 at byte offset " + std::to_string(s->offset) +
+                    "), which this reader of quad meshes does not return: decode_polygons() reads them");
   return decode_quads(p);
 }
 
@@ -260,7 +264,8 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   const Section* poly = p.file.find(container::kTagPolygons);
   const Section* uv = p.file.find(container::kTagTexcoords);
   const Section* labels = p.file.find(container::kTagLabels);
-  if (!poly && !uv && !labels) return polygon_mesh(decode_quads(p));
+  const Section* tags = p.file.find(container::kTagTags);
+  if (!poly && !uv && !labels && !tags) return polygon_mesh(decode_quads(p));
   // The output mesh in canonical order, then its texture coordinates, then the input's numbering.
   PolygonMesh out;
   std::uint32_t nv = 0;
@@ -293,6 +298,10 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
     out.smoothing = std::move(l.smoothing);
     out.material_libraries = std::move(l.material_libraries);
   }
+  // Tags index the output as it is returned: the order section does not change them.
+  if (tags)
+    out.tags = decode_tags_section(tags->payload, tags->payload_offset, out.vertex_count(), out.face_count(),
+                                   p.order != nullptr);
   if (!p.order) return out;
   // The input's numbering: vertex j is output vertex vertex[j]; face f is output face face[f], its corner
   // (i + rotation[f]) mod d output corner i.
@@ -342,13 +351,14 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
     for (std::uint32_t f = 0; f < nf; ++f) to->face[f] = from->face[order.face[f]];
   }
   in.material_libraries = std::move(out.material_libraries);
+  in.tags = std::move(out.tags);
   return in;
 }
 
 bool holds_polygons(std::string_view bytes) {
   const container::File f = container::parse(bytes);
   return f.find(container::kTagPolygons) != nullptr || f.find(container::kTagTexcoords) != nullptr ||
-         f.find(container::kTagLabels) != nullptr;
+         f.find(container::kTagLabels) != nullptr || f.find(container::kTagTags) != nullptr;
 }
 
 FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits) {
@@ -417,6 +427,8 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       info.texcoord_bytes += size;
     else if (s.tag == container::kTagLabels)
       info.label_bytes += size;
+    else if (s.tag == container::kTagTags)
+      info.tag_bytes += size;
     else
       info.other_bytes += size;
   }

@@ -63,9 +63,10 @@ std::string smallest_partition(const One& one, const Keep& keep) {
   return best;
 }
 
-// Where each input face went: output face face[f], whose corner c is the input's corner (c + r) mod d.
+// Where each input face went: output face face[f], whose corner c is the input's corner (c + r) mod d;
+// and each input vertex: output vertex vertex[v].
 struct FaceMap {
-  std::vector<std::uint32_t> face, rotation;
+  std::vector<std::uint32_t> face, rotation, vertex;
 };
 
 // One partition's 3.1 file of the mesh cut into `s`.
@@ -114,6 +115,7 @@ std::string encode_cut(const PolygonMesh& mesh, const QuadSubmesh& s, PartitionM
   }
   map.face = r.face;
   map.rotation = r.rotation;
+  map.vertex = r.vertex;
   EncodeOptions quads = options;
   quads.keep_order = false;
   return encode_canonical(s.mesh, r.quads, quads, effort, {}, nullptr, {}, polygons, order);
@@ -143,6 +145,7 @@ std::string encode_faces(const PolygonMesh& mesh, const EncodeOptions& options, 
       std::string bytes = encode(QuadMesh{mesh.positions, mesh.corners}, options, &order);
       map.face = std::move(order.face);
       map.rotation.assign(order.rotation.begin(), order.rotation.end());
+      map.vertex = std::move(order.vertex);
       return bytes;
     } catch (const Error& e) {
       if (e.code() != ErrorCode::kNonManifold && e.code() != ErrorCode::kOrientation) throw;
@@ -236,7 +239,7 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
   const auto whole = [&](const EncodeOptions& o) {
     FaceMap map;
     std::string bytes = encode_faces(mesh, o, map);
-    if (!texcoords && !labels) return bytes;
+    if (!texcoords && !labels && mesh.tags.empty()) return bytes;
     const std::vector<std::uint32_t> input_face = input_faces(map, mesh.face_count());
     if (texcoords)
       bytes =
@@ -245,6 +248,10 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     if (labels)
       bytes = container::with_section(bytes, container::kTagLabels, encode_labels_section(mesh, input_face),
                                       kFormatMinorLabels);
+    if (!mesh.tags.empty())
+      bytes = container::with_section(bytes, container::kTagTags,
+                                      encode_tags_section(mesh.tags, map.vertex, map.face, o.keep_order),
+                                      kFormatMinorTags);
     return bytes;
   };
   // The levels that try every partition keep the smallest whole file: with texture coordinates the

@@ -120,4 +120,19 @@ struct DecodedLabels {
 DecodedLabels decode_labels_section(std::string_view payload, std::uint64_t base_offset,
                                     std::uint32_t face_count);
 
+// The subdivision tags section (format 3.4) of `tags`: the indices of crease, corner and hole through
+// `vertex` and `face` (input index -> output index) unless `keep_order` (the file then has an order
+// section and outputs the input's numbering). Throws Error(kUsage) for a name or string that is not one
+// word, an index out of range, an odd crease, a float binary32 does not hold without float64, a float
+// that is not finite, or a tag qsp cannot renumber without keep_order.
+std::string encode_tags_section(std::span<const SubdivisionTag> tags, std::span<const std::uint32_t> vertex,
+                                std::span<const std::uint32_t> face, bool keep_order);
+
+// Inverse of encode_tags_section for an output of `vertex_count` vertices and `face_count` faces;
+// `order_section` says whether the file has one. Throws Error(kFormat) naming what and the byte offset.
+// Safe on untrusted input: every count is checked against the bytes left before it allocates.
+std::vector<SubdivisionTag> decode_tags_section(std::string_view payload, std::uint64_t base_offset,
+                                                std::uint64_t vertex_count, std::uint64_t face_count,
+                                                bool order_section);
+
 }  // namespace qsp

@@ -25,6 +25,8 @@ inline constexpr std::uint8_t kTagPolygons = 0x05;
 inline constexpr std::uint8_t kTagTexcoords = 0x06;
 // Format 3.3: required where the mesh has face labels (o, g, usemtl, s) or material libraries.
 inline constexpr std::uint8_t kTagLabels = 0x07;
+// Format 3.4: required where the mesh has OpenSubdiv tags.
+inline constexpr std::uint8_t kTagTags = 0x08;
 inline constexpr std::uint8_t kOptionalBit = 0x80;
 inline constexpr std::uint8_t kTagComments = 0x81;  // optional, from 3.1
 

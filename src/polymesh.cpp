@@ -403,6 +403,16 @@ PolygonMesh to_polygon_mesh(Mesh m, unsigned categories) {
     out.material_libraries = std::move(m.material_libraries);
   }
   if (categories & kCategorySmoothing) out.smoothing = std::move(m.smoothing);
+  if (categories & kCategoryTag) {
+    for (Tag& t : m.tags) {
+      SubdivisionTag& s = out.tags.emplace_back();
+      s.name = std::move(t.name);
+      s.ints = std::move(t.ints);
+      s.float64 = t.floats.precision != Precision::kFloat32;
+      for (std::size_t i = 0; i < t.floats.size(); ++i) s.floats.push_back(t.floats.approx(i));
+      s.strings = std::move(t.strings);
+    }
+  }
   if ((categories & kCategoryUv) && !m.texcoords.empty()) {
     out.texcoord_components = m.texcoord_components;
     out.texcoords = std::move(m.texcoords.f32);

@@ -92,7 +92,8 @@ TEST_F(CliDrop, EachKindAloneIsRefusedByNameAndDroppedByName) {
     const std::string what = said(k.said, in);
     // A .qsp keeps texture coordinates (format 3.2) and face labels (3.3).
     const std::string name = k.name;
-    const bool kept = name == "uv" || name == "group" || name == "material" || name == "smoothing";
+    const bool kept =
+        name == "uv" || name == "group" || name == "material" || name == "smoothing" || name == "tag";
     auto r = compress(in, "", out);
     if (kept) {
       ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -112,6 +113,12 @@ TEST_F(CliDrop, EachKindAloneIsRefusedByNameAndDroppedByName) {
       }
       if (name == "smoothing") {
         EXPECT_EQ(m.smoothing.names, std::vector<std::string>{"1"});
+      }
+      if (name == "tag") {
+        ASSERT_EQ(m.tags.size(), 2u);
+        EXPECT_EQ(m.tags[0].name, "corner");
+        EXPECT_EQ(m.tags[0].floats, std::vector<double>{2.0});
+        EXPECT_EQ(m.tags[1].ints, std::vector<std::int64_t>{1});
       }
     } else {
       EXPECT_EQ(r.exit_code, 1);
@@ -164,12 +171,13 @@ TEST_F(CliDrop, EveryKindMustBeDroppedAndTheNoteNamesEach) {
   spit(in,
        "# a comment\nmtllib m.mtl\nv 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 1 1 1\nvt 0 0\n"
        "vn 0 0 1\nvp 0.5\no thing\nusemtl red\ns 1\nf 1/1/1 2/1/1 3/1/1 4/1/1\nt corner 1/1/0 0 2.0\n");
-  // compress keeps the texture coordinates (format 3.2) and face labels (3.3), and refuses the rest.
+  // compress keeps the texture coordinates (format 3.2), face labels (3.3) and tags (3.4), and refuses
+  // the rest.
   const std::string all = "uv,normal,color,group,material,smoothing,tag,extra";
-  const std::string refused = "normal,color,tag,extra";
-  const unsigned kept = kCategoryUv | kCategoryGroup | kCategoryMaterial | kCategorySmoothing;
+  const std::string refused = "normal,color,extra";
+  const unsigned kept = kCategoryUv | kCategoryGroup | kCategoryMaterial | kCategorySmoothing | kCategoryTag;
   const std::string described_refused =
-      "1 normal, 1 face with normal indices (normal), 4 vertex colours (color), 1 subdivision tag (tag), 1 "
+      "1 normal, 1 face with normal indices (normal), 4 vertex colours (color), 1 "
       "line qsp keeps only as text, the first at " +
       in + ":9: `vp` (parameter-space vertex) (extra)";
   const std::string described =

@@ -57,7 +57,7 @@ void dump(const std::string& path, std::string_view bytes) {
 // meshes the test corpus reads as valid quad meshes without other data).
 std::vector<std::string> golden_names() {
   std::vector<std::string> out;
-  for (const char* dir : {"", "polygons/", "texcoords/", "labels/"}) {
+  for (const char* dir : {"", "polygons/", "texcoords/", "labels/", "tags/"}) {
     for (const auto& e : fs::directory_iterator(kGolden + "/" + dir)) {
       if (e.path().extension() == ".obj") out.push_back(std::string(dir) + e.path().stem().string());
     }
@@ -178,9 +178,10 @@ bool is_quad_mesh(const PolygonMesh& m) {
 std::string encode_golden(const std::string& name) {
   const std::string path = kGolden + "/" + name + ".obj";
   const PolygonMesh poly = read_polygons(path);
-  std::string bytes = is_quad_mesh(poly) && !poly.texcoord_components && !poly.has_labels()
-                          ? encode(read_mesh_file(path), options_for(name))
-                          : encode_polygons(poly, options_for(name));
+  std::string bytes =
+      is_quad_mesh(poly) && !poly.texcoord_components && !poly.has_labels() && poly.tags.empty()
+          ? encode(read_mesh_file(path), options_for(name))
+          : encode_polygons(poly, options_for(name));
   if (name.find("_comments") != std::string::npos)
     bytes = with_comments(bytes, leading_comments(slurp(path)));
   return bytes;
@@ -239,7 +240,7 @@ void expect_same_polygons(const PolygonMesh& mesh, const PolygonMesh& decoded) {
 TEST(Golden, BytesArePinned) {
   auto names = golden_names();
   ASSERT_GE(names.size(), 5u);
-  int polygons = 0, comments = 0, texcoords = 0, labels = 0;
+  int polygons = 0, comments = 0, texcoords = 0, labels = 0, tags = 0;
   for (const auto& name : names) {
     SCOPED_TRACE(name);
     const std::string obj = kGolden + "/" + name + ".obj";
@@ -253,6 +254,20 @@ TEST(Golden, BytesArePinned) {
                                                                  : std::vector<std::string>{});
     comments += !lines.empty();
     PolygonMesh poly = read_polygons(obj);
+    if (!poly.tags.empty()) {
+      // Subdivision tags: a 3.4 file, decoded to the .obj's faces and its tags, their indices naming the
+      // same vertices and faces (by position) in the decoder's numbering.
+      ++tags;
+      EXPECT_EQ(slurp(path)[9], 4) << "a file with subdivision tags says format 3.4";
+      const PolygonMesh back = decode_polygons(slurp(path));
+      expect_same_polygons(poly, back);
+      EXPECT_EQ(testing::tags_by_position(back), testing::tags_by_position(poly));
+      if (options_for(name).keep_order) {
+        ASSERT_EQ(back.tags.size(), poly.tags.size());
+        for (std::size_t t = 0; t < poly.tags.size(); ++t) EXPECT_EQ(back.tags[t].ints, poly.tags[t].ints);
+      }
+      continue;
+    }
     if (poly.has_labels()) {
       // Face labels: a 3.3 file, decoded to the .obj's faces with their labels (and names, libraries).
       ++labels;
@@ -322,6 +337,7 @@ TEST(Golden, BytesArePinned) {
   EXPECT_GE(comments, 1);
   EXPECT_GE(texcoords, 2);
   EXPECT_GE(labels, 3);
+  EXPECT_GE(tags, 3);
 }
 
 // One golden per combination of the geometry tools, each decoding to the mesh its natural golden gives
@@ -501,22 +517,33 @@ std::map<std::string, Crafted> crafted() {
     // A required section of a newer minor version: "upgrade qsp". The same tag in a file of this
     // version cannot come from a correct encoder.
     const std::string sections =
-        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(8, "x");
+        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(9, "x");
     Parts newer_minor = p;
     newer_minor.minor = kFormatMinor + 1;
     out["qsp_unknown_required_section_newer_minor"] = {
         seal(newer_minor, sections), "version",
-        "section 0x08 is required but unknown to this qsp, which reads "
-        "format 3.3 (upgrade qsp)"};
+        "section 0x09 is required but unknown to this qsp, which reads "
+        "format 3.4 (upgrade qsp)"};
     out["qsp_unknown_required_section"] = {seal(p, sections), "format",
-                                           "section 0x08 is required but unknown to this qsp"};
-    // Format 3.3's face labels section in a file that says it is 3.2.
-    Parts minor2 = p;
-    minor2.minor = 2;
-    out["qsp_labels_section_in_3_2"] = {
-        seal(minor2,
-             section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(7, "x")),
-        "format", "section 0x07 (face labels) is format 3.3's, and the file says it is 3.2"};
+                                           "section 0x09 is required but unknown to this qsp"};
+    // A section of a later minor version in a file that says it is the one before: 3.3's face labels,
+    // 3.4's subdivision tags.
+    struct Later {
+      const char* name;
+      std::uint8_t tag, minor;
+      const char* message;
+    };
+    for (const Later& l :
+         {Later{"qsp_labels_section_in_3_2", 7, 2,
+                "section 0x07 (face labels) is format 3.3's, and the file says it is 3.2"},
+          Later{"qsp_tags_section_in_3_3", 8, 3,
+                "section 0x08 (subdivision tags) is format 3.4's, and the file says it is 3.3"}}) {
+      Parts earlier = p;
+      earlier.minor = l.minor;
+      out[l.name] = {seal(earlier, section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) +
+                                       section(l.tag, "x")),
+                     "format", l.message};
+    }
     // Format 3.1's polygons section in a file that says it is 3.0.
     out["qsp_polygons_section_in_3_0"] = {
         seal(p, section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(5, "x")),

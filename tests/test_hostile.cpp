@@ -288,11 +288,11 @@ TEST(HostileQsp, UnknownAndMissingSections) {
   // An unknown required section is refused: "upgrade qsp" in a file of a newer minor version, a format
   // error in one of this version. So are missing, repeated and reordered ones.
   auto unknown = secs;
-  unknown.push_back({0x08, 0, 0, "x"});
+  unknown.push_back({0x09, 0, 0, "x"});
   expect_refused(craft::seal(kFormatMajor, kFormatMinor, 0, craft::join(unknown)), ErrorCode::kFormat,
-                 {"section 0x08 is required but unknown", "byte offset"});
+                 {"section 0x09 is required but unknown", "byte offset"});
   expect_refused(craft::seal(kFormatMajor, kFormatMinor + 1, 0, craft::join(unknown)), ErrorCode::kVersion,
-                 {"section 0x08 is required but unknown", "upgrade qsp", "byte offset"});
+                 {"section 0x09 is required but unknown", "upgrade qsp", "byte offset"});
   for (std::size_t drop = 0; drop < secs.size(); ++drop) {
     auto fewer = secs;
     fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(drop));
@@ -912,7 +912,8 @@ std::string expected_drop(const fs::path& f, unsigned kept = 0) {
 
 // An OBJ file's face labels, read here rather than by qsp: per face its o, g, usemtl and s (the words
 // after the keyword joined by single spaces; "-" before the first statement of a kind), then one entry
-// per mtllib statement. What decompress must give back, face for face under --keep-order.
+// per mtllib statement and one per subdivision tag (its floats by value: "5.0" is written back "5"). What
+// decompress must give back, face for face under --keep-order.
 std::vector<std::string> obj_face_labels(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::vector<std::string> out, libraries;
@@ -925,6 +926,19 @@ std::vector<std::string> obj_face_labels(const fs::path& path) {
     for (std::size_t i = 1; i < w.size(); ++i) rest += (i > 1 ? " " : "") + w[i];
     if (w[0] == "f") out.push_back(current[0] + "|" + current[1] + "|" + current[2] + "|" + current[3]);
     if (w[0] == "mtllib") libraries.push_back("mtllib " + rest);
+    if (w[0] == "t") {  // the name, the counts, the integers and strings as written, the floats' values
+      std::string tag = "t";
+      long n[3] = {};
+      const bool counts = w.size() >= 3 && std::sscanf(w[2].c_str(), "%ld/%ld/%ld", &n[0], &n[1], &n[2]) == 3;
+      for (std::size_t i = 1; i < w.size(); ++i) {
+        const bool is_float = counts && i >= 3 + static_cast<std::size_t>(n[0]) &&
+                              i < 3 + static_cast<std::size_t>(n[0] + n[1]);
+        char value[40];
+        std::snprintf(value, sizeof value, "%.17g", std::strtod(w[i].c_str(), nullptr));
+        tag += " " + (is_float ? std::string(value) : w[i]);
+      }
+      libraries.push_back(tag);
+    }
     for (int k = 0; k < 4; ++k)
       if (w[0] == keywords[k]) current[k] = rest;
   }
@@ -962,8 +976,8 @@ TEST_F(SharedMeshesCli, EachRoundTripsExactlyOrIsRefusedClearly) {
     std::string flags = "--keep-order ";
     auto r = run_qsp("compress " + flags + quote(f.string()) + " " + quote(q));
     // compress keeps texture coordinates and face labels
-    const std::string drop =
-        expected_drop(f, kCategoryUv | kCategoryGroup | kCategoryMaterial | kCategorySmoothing);
+    const std::string drop = expected_drop(
+        f, kCategoryUv | kCategoryGroup | kCategoryMaterial | kCategorySmoothing | kCategoryTag);
     if (const auto at = r.err.find("pass --drop "); r.exit_code == 1 && at != std::string::npos) {
       // The refusal names exactly the kinds the file has, and dropping them is enough.
       const std::string list = r.err.substr(at + 12, r.err.find(' ', at + 12) - at - 12);

@@ -43,6 +43,15 @@ struct FaceLabels {
   bool empty() const { return face.empty() && names.empty(); }
 };
 
+// An OpenSubdiv tag (OBJ `t name nint/nfloat/nstring ints floats strings`) as the codec keeps it.
+struct SubdivisionTag {
+  std::string name;                  // crease, corner, hole, interpolateboundary, ...
+  std::vector<std::int64_t> ints;    // vertex indices (crease: pairs; corner), face indices (hole), or as is
+  std::vector<double> floats;        // each a binary32 value unless float64
+  bool float64 = false;              // some float needs binary64
+  std::vector<std::string> strings;  // creasemethod's "chaikin", ...
+};
+
 // A polygon mesh as plain arrays: faces of any degree >= 3, face f with corners
 // corners[face_offsets[f] .. face_offsets[f+1]) counter-clockwise seen from outside; it may be
 // non-manifold and have pieces of either orientation. What the codec (encode_polygons) and matching
@@ -58,6 +67,7 @@ struct PolygonMesh {
   // Face labels (OBJ o, g, usemtl, s) and the material libraries (`mtllib` arguments); empty when none.
   FaceLabels objects, groups, materials, smoothing;
   std::vector<std::string> material_libraries;
+  std::vector<SubdivisionTag> tags;  // OpenSubdiv tags in file order; indices in this mesh's numbering
   bool has_labels() const {
     return !objects.empty() || !groups.empty() || !materials.empty() || !smoothing.empty() ||
            !material_libraries.empty();

@@ -179,8 +179,43 @@ inline Poly read_faces(const std::filesystem::path& path) {
   return p;
 }
 
+// Each subdivision tag as text whatever the numbering: its name, each vertex index (crease, corner) as
+// the vertex's position, each face index (hole) as its corners' positions from the smallest, the
+// floats' values and float64 flag, the strings; other tags' integers as they are.
+inline std::vector<std::string> tags_by_position(const PolygonMesh& m) {
+  const auto at = [&m](std::int64_t v) {
+    std::ostringstream o;
+    o << '(' << m.positions[3 * v] << ' ' << m.positions[3 * v + 1] << ' ' << m.positions[3 * v + 2] << ')';
+    return o.str();
+  };
+  std::vector<std::string> out;
+  for (const SubdivisionTag& t : m.tags) {
+    std::ostringstream o;
+    o << t.name << (t.float64 ? " f64" : " f32");
+    for (const std::int64_t i : t.ints) {
+      if (t.name == "crease" || t.name == "corner") {
+        o << ' ' << at(i);
+      } else if (t.name == "hole") {
+        std::vector<std::string> c;
+        for (std::uint32_t k = m.face_offsets[i]; k < m.face_offsets[i + 1]; ++k)
+          c.push_back(at(m.corners[k]));
+        std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+        o << " [";
+        for (const std::string& s : c) o << s;
+        o << ']';
+      } else {
+        o << ' ' << i;
+      }
+    }
+    for (const double x : t.floats) o << ' ' << std::hexfloat << x << std::defaultfloat;
+    for (const std::string& s : t.strings) o << " '" << s << "'";
+    out.push_back(o.str());
+  }
+  return out;
+}
+
 // The same mesh with vertices, faces, texture coordinates and label names renumbered and corner lists
-// rotated (positions, texture coordinates and labels follow).
+// rotated (positions, texture coordinates, labels and tags follow).
 inline PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
   std::mt19937 rng(seed);
   const std::size_t nv = m.vertex_count(), nf = m.face_count(), K = m.texcoord_components;
@@ -227,6 +262,15 @@ inline PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
     }
   }
   out.material_libraries = m.material_libraries;
+  std::vector<std::uint32_t> face_to(nf);
+  for (std::uint32_t g = 0; g < nf; ++g) face_to[f[g]] = g;
+  for (SubdivisionTag tag : m.tags) {
+    for (std::int64_t& i : tag.ints) {
+      if (tag.name == "crease" || tag.name == "corner") i = v[static_cast<std::size_t>(i)];
+      if (tag.name == "hole") i = face_to[static_cast<std::size_t>(i)];
+    }
+    out.tags.push_back(std::move(tag));
+  }
   return out;
 }
 

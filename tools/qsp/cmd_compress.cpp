@@ -100,7 +100,18 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   if (mesh.face_count() == 0 && !quiet)
     std::fprintf(stderr, "qsp: warning: %s: has no faces (%zu vertices); writing an empty mesh\n", in.c_str(),
                  mesh.vertex_count());
-  const EncodeOptions eo = encode_options(o);
+  EncodeOptions eo = encode_options(o);
+  // A tag whose indices qsp cannot renumber (OpenSubdiv's vertexedit, edgeedit, faceedit) keeps the
+  // original order, as --keep-order does.
+  for (const SubdivisionTag& t : mesh.tags) {
+    if (eo.keep_order || tag_indices(t.name) != TagIndices::kUnknown) continue;
+    eo.keep_order = true;
+    if (!quiet)
+      std::fprintf(stderr,
+                   "qsp: %s: keeping the original order (as --keep-order): tag '%s' indexes what qsp "
+                   "cannot renumber\n",
+                   in.c_str(), t.name.c_str());
+  }
   std::string bytes;
   std::uint64_t lossless_size = 0;
   try {

@@ -39,7 +39,7 @@ std::string mesh_text(PolygonMesh m, MeshFormat format, const std::vector<std::s
   bool quads = true;
   for (std::size_t f = 0; f < m.face_count(); ++f)
     quads = quads && m.face_offsets[f + 1] - m.face_offsets[f] == 4;
-  if (quads && m.texcoord_components == 0 && !m.has_labels()) {
+  if (quads && m.texcoord_components == 0 && !m.has_labels() && m.tags.empty()) {
     const QuadMesh q{std::move(m.positions), std::move(m.corners)};
     return format == MeshFormat::kOff ? write_off(q, comments) : write_obj(q, comments);
   }
@@ -57,6 +57,17 @@ std::string mesh_text(PolygonMesh m, MeshFormat format, const std::vector<std::s
   out.materials = std::move(m.materials);
   out.smoothing = std::move(m.smoothing);
   out.material_libraries = std::move(m.material_libraries);
+  for (SubdivisionTag& t : m.tags) {
+    Tag& w = out.tags.emplace_back();
+    w.name = std::move(t.name);
+    w.ints = std::move(t.ints);
+    if (t.float64) {
+      w.floats = numbers_from_float64(t.floats);
+    } else {
+      w.floats = numbers_from_float32(std::vector<float>(t.floats.begin(), t.floats.end()));
+    }
+    w.strings = std::move(t.strings);
+  }
   out.comments = comments;
   return format == MeshFormat::kOff ? write_off_mesh(out) : write_obj_mesh(out);
 }
@@ -90,13 +101,13 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
   } catch (const Error& e) {
     throw Error(e.code(), job.input + ": " + e.what());
   }
-  if (format == MeshFormat::kOff && (mesh.texcoord_components || mesh.has_labels()))
-    throw Error(ErrorCode::kUnsupported,
-                job.input + ": holds " +
-                    (mesh.texcoord_components ? "texture coordinates per corner"
-                                              : "groups, materials or smoothing groups") +
-                    ", which OFF cannot hold; write OBJ (-o " + job.output.substr(0, job.output.size() - 4) +
-                    ".obj)");
+  if (format == MeshFormat::kOff && (mesh.texcoord_components || mesh.has_labels() || !mesh.tags.empty()))
+    throw Error(ErrorCode::kUnsupported, job.input + ": holds " +
+                                             (mesh.texcoord_components ? "texture coordinates per corner"
+                                              : mesh.has_labels() ? "groups, materials or smoothing groups"
+                                                                  : "subdivision tags") +
+                                             ", which OFF cannot hold; write OBJ (-o " +
+                                             job.output.substr(0, job.output.size() - 4) + ".obj)");
   const std::size_t vertices = mesh.vertex_count(), faces = mesh.face_count();
   const std::string text = mesh_text(std::move(mesh), format, comments_named(bytes, job.input));
   write_output(job.output, text, {o.force, o.verbosity.quiet, other_ways(job), o.sync});

@@ -354,6 +354,13 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
                                     std::to_string(t + 1) + ") has " + std::string(value, end);
       }
     }
+  if (keep & kCategoryTag)
+    for (std::size_t t = 0; t < m.tags.size(); ++t)
+      if (m.tags[t].floats.precision == Precision::kDecimal)
+        throw Error(ErrorCode::kUnsupported,
+                    path + ": tag " + std::to_string(t) + " ('" + m.tags[t].name +
+                        "') has a value of more digits than float64 holds; a .qsp keeps binary64 tag values: "
+                        "pass --drop tag");
   in.polygons = to_polygon_mesh(std::move(m), keep);
 }
 
