@@ -27,7 +27,12 @@
 # (materials, smoothing groups, an mtllib, a group no face takes), are decoded whole by qsppoly.py and
 # compared with their .obj (each face's corner positions with its labels, as a multiset, or face by
 # face for a file whose name holds keep_order; the names no face takes; the mtllib lines) and face by
-# face with what `qsp decompress` writes.
+# face with what `qsp decompress` writes. Files with OpenSubdiv tags (format 3.4's section, from the
+# text too): each of testdata/golden/tags, and fresh encodes of OpenSubdiv's catmark_cube_creases1 and
+# catmark_torus_creases0 (with and without --keep-order) and catmark_square_hedit0 (vertexedit: qsp
+# keeps the original order for it), are decoded whole by qsppoly.py and compared tag for tag with their
+# .obj (crease and corner vertices by position, hole faces by their corners, index for index for a file
+# with an order section; floats by value) and with what `qsp decompress` writes.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -42,6 +47,12 @@ for f in "$root"/testdata/golden/texcoords/*.qsp; do tex_of[$f]=${f%.qsp}.obj; d
 for f in "$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp; do obj_of[$f]=${f%.qsp}.obj; done
 declare -A lab_of=()  # the files with face labels, and the mesh each was made from
 for f in "$root"/testdata/golden/labels/*.qsp; do [[ -f $f ]] && lab_of[$f]=${f%.qsp}.obj; done
+declare -A tag_of=() tag_exact=()  # the files with subdivision tags, the mesh each was made from, and
+for f in "$root"/testdata/golden/tags/*.qsp; do  # those with an order section (compared index for index)
+  [[ -f $f ]] || continue
+  tag_of[$f]=${f%.qsp}.obj
+  [[ $(basename "$f") == *keep_order* ]] && tag_exact[$f]=1
+done
 "$python" "$here/labelgen.py" --test "$qsp" >/dev/null ||
   { echo "face labels streams from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
 encode() {  # encode NAME MESH [OPTIONS...]: a fresh file to check
@@ -139,7 +150,7 @@ if [[ ! -f $shared/MANIFEST.tsv ]]; then
     echo "spec decoder: $shared is missing, and this run requires it (CI=true or QSP_REQUIRE_SHARED=1)" >&2
     exit 1
   fi
-  echo "spec decoder: $shared absent: its 12 real-mesh encodes are skipped"
+  echo "spec decoder: $shared absent: its 17 real-mesh encodes are skipped"
 fi
 encode_tex bishop_uv "$shared/osd_catmark_bishop.obj"                       # triangles: a polygons section
 encode_tex bishop_uv_keep_order "$shared/osd_catmark_bishop.obj" --keep-order
@@ -147,6 +158,23 @@ encode_tex bishop_uv12 "$shared/osd_catmark_bishop.obj" --quantize-uv 12
 encode_labels mh_base_labels "$shared/mh_base.obj" --drop uv                 # 172 g statements
 encode_labels mh_base_labels_keep_order "$shared/mh_base.obj" --drop uv --keep-order
 encode_labels gregory_labels "$shared/osd_shapes/catmark_gregory_test2.obj" --drop normal
+encode_tags() {  # encode_tags NAME MESH EXACT [OPTIONS...]: a fresh file with tags to check
+  local name=$1 mesh=$2 exact=$3
+  shift 3
+  [[ -f $mesh ]] || return 0
+  if ! "$qsp" compress -f --drop normal "$@" "$mesh" "$work/$name.qsp" >/dev/null 2>"$work/$name.err"; then
+    cat "$work/$name.err" >&2
+    exit 1
+  fi
+  tag_of[$work/$name.qsp]=$mesh
+  [[ $exact == 1 ]] && tag_exact[$work/$name.qsp]=1
+  return 0
+}
+encode_tags cube_creases1_tags "$shared/osd_shapes/catmark_cube_creases1.obj" 0
+encode_tags cube_creases1_tags_keep_order "$shared/osd_shapes/catmark_cube_creases1.obj" 1 --keep-order
+encode_tags torus_creases0_tags "$shared/osd_shapes/catmark_torus_creases0.obj" 0
+encode_tags torus_creases0_tags_keep_order "$shared/osd_shapes/catmark_torus_creases0.obj" 1 --keep-order
+encode_tags square_hedit0_tags "$shared/osd_shapes/catmark_square_hedit0.obj" 1  # order kept for vertexedit
 encode gargoyle_q14 "$shared/quadriflow_gargoyle.obj" --quantize 14  # normal chaining, distorted cells
 encode gargoyle_q14_best "$shared/quadriflow_gargoyle.obj" --quantize 14 --best  # and the costly tools
 encode horse "$shared/igl_horse_quad.obj" --best
@@ -185,8 +213,20 @@ labelled() {  # labelled FILE MESH: face labels against MESH and what `qsp decom
     "$python" "$here/qsppoly.py" "$f" --labels-obj "$2" "${exact[@]}" --labels-decompressed "$out" \
       --decompressed "$out"
 }
+tagged() {  # tagged FILE MESH: the whole mesh, labels and tags against MESH and what `qsp decompress` writes
+  local f=$1 out exact=()
+  out="$work/$(basename "$f" .qsp)_$BASHPID.obj"
+  [[ -n ${tag_exact[$f]:-} ]] && exact=(--exact)
+  "$qsp" decompress -f "$f" -o "$out" >/dev/null &&
+    "$python" "$here/qsppoly.py" "$f" --obj "$2" --tex-obj "$2" --labels-obj "$2" --tags-obj "$2" "${exact[@]}" \
+      --decompressed "$out" --labels-decompressed "$out" --tags-decompressed "$out"
+}
 check() {  # check FILE: the text's decoder against the reference's dump (prints nothing on success)
   local f=$1 prefix
+  if [[ -n ${tag_of[$f]:-} ]]; then
+    tagged "$f" "${tag_of[$f]}" || { echo "spec decoder's mesh with subdivision tags disagrees: $f" >&2; return 1; }
+    return 0
+  fi
   if [[ -n ${tex_of[$f]:-} ]]; then  # (the reference's dump reads no texture coordinates)
     whole "$f" "${tex_of[$f]}" || { echo "spec decoder's mesh with texture coordinates disagrees: $f" >&2; return 1; }
     return 0
@@ -213,7 +253,7 @@ check() {  # check FILE: the text's decoder against the reference's dump (prints
 # Files are independent: as many at once as there are cores (the Python decoder is the long pole of
 # the release suite).
 failed=0 running=0
-for f in "${!lab_of[@]}" "${!tex_of[@]}" "${files[@]}"; do
+for f in "${!tag_of[@]}" "${!lab_of[@]}" "${!tex_of[@]}" "${files[@]}"; do
   if ((running >= $(nproc))); then
     wait -n || failed=1
     running=$((running - 1))
@@ -225,5 +265,5 @@ while ((running)); do
   wait -n || failed=1
   running=$((running - 1))
 done
-echo "spec decoder: $((${#files[@]} + ${#tex_of[@]} + ${#lab_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]} + ${#lab_of[@]})) of them decoded whole against their mesh, ${#tex_of[@]} with texture coordinates, ${#lab_of[@]} with face labels"
+echo "spec decoder: $((${#files[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]})) of them decoded whole against their mesh, ${#tex_of[@]} with texture coordinates, ${#lab_of[@]} with face labels, ${#tag_of[@]} with subdivision tags"
 exit $failed

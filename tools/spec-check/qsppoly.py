@@ -450,6 +450,74 @@ def decode_labels(payload, F):
     return labels, names, libraries
 
 
+# ---------------- "Subdivision tags section" ----------------
+TAG_VERTICES = (b'crease', b'corner')   # tags whose integers are output vertices
+TAG_FACES = (b'hole',)                  # ... output faces
+TAG_SETTINGS = (b'interpolateboundary', b'facevaryinginterpolateboundary', b'facevaryingpropagatecorners',
+                b'creasemethod', b'smoothtriangles')   # integers index nothing
+
+
+def decode_tags(payload, V, F, has_order):
+    """The subdivision tags section of a mesh whose output has V vertices and F faces: the tags in
+    order, each (name, ints, floats as Python floats, strings, float width or None)."""
+    pos = 0
+
+    def count(what, low=0):
+        nonlocal pos
+        n, pos = g.read_varint(payload, pos)
+        need(low <= n <= len(payload) - pos, '%s %d (%d bytes left)' % (what, n, len(payload) - pos))
+        return n
+
+    def text(what):
+        nonlocal pos
+        n = count(what + ' length', 1)
+        t = payload[pos:pos + n]
+        need(all(c > 0x20 for c in t), '%s %r with a byte <= 0x20' % (what, t))
+        pos += n
+        return t
+
+    tags = []
+    for _ in range(count('tag count', 1)):
+        name = text('tag name')
+        ni = count('%s: int count' % name.decode('latin-1'))
+        nf = count('%s: float count' % name.decode('latin-1'))
+        ns = count('%s: string count' % name.decode('latin-1'))
+        ints = []
+        for _ in range(ni):
+            z, pos = g.read_varint(payload, pos)
+            ints.append(z >> 1 if not z & 1 else -(z >> 1) - 1)   # unzigzag
+        width = None
+        floats = []
+        if nf:
+            need(pos < len(payload), 'float width past the section')
+            width = payload[pos]
+            pos += 1
+            need(width in (4, 8), 'float width %d' % width)
+            need(nf * width <= len(payload) - pos, '%d floats past the section' % nf)
+            fmt = '<f' if width == 4 else '<d'
+            for _ in range(nf):
+                x = struct.unpack(fmt, payload[pos:pos + width])[0]
+                need(math.isfinite(x), 'tag float %r' % x)
+                floats.append(x)
+                pos += width
+            seen('tags: binary%d' % (8 * width))
+        strings = [text('tag string') for _ in range(ns)]
+        if name in TAG_VERTICES or name in TAG_FACES:
+            n = V if name in TAG_VERTICES else F
+            # (negative indices are not "below the count" in any sense an index can be: refused)
+            need(all(0 <= i < n for i in ints), '%s index out of 0 .. %d' % (name.decode(), n - 1))
+            need(name != b'crease' or len(ints) % 2 == 0, 'crease with %d integers' % len(ints))
+            seen('tags: ' + name.decode())
+        elif name in TAG_SETTINGS:
+            seen('tags: setting')
+        else:
+            need(has_order, 'tag %r indexes the mesh file\'s numbering, and the file has no order section' % name)
+            seen('tags: other name, order kept')
+        tags.append((name, ints, floats, strings, width))
+    need(pos == len(payload), 'bytes after the last tag')
+    return tags
+
+
 # ---------------- "Order section" ----------------
 def decode_order(payload, V, degrees):
     """The order section over a mesh of V vertices and faces of these degrees (canonical order):
@@ -869,7 +937,7 @@ def canonical_mesh(data, secs):
     return out_pos, out_faces, geo[1] != 0
 
 
-KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07)
+KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08)
 
 
 def decode_file(data):
@@ -901,6 +969,10 @@ def decode_file(data):
         labels = {'faces': {k: [None if x is None else names[k][x] for x in lab[k]] for k in lab},
                   'unused': {k: set(names[k]) - {names[k][x] for x in lab[k] if x is not None} for k in lab},
                   'libraries': libraries}
+    tags = None
+    if 0x08 in secs:   # its indices are the output's already: the order section leaves them be
+        need(data[9] >= 4, 'section 0x08 (subdivision tags) in a %d.%d file' % (data[8], data[9]))
+        tags = decode_tags(secs[0x08], len(pos), len(faces), 0x04 in secs)
     if 0x04 in secs:
         seen('order section')
         cv, of = decode_order(secs[0x04], len(pos), [len(f) for f in faces])
@@ -923,7 +995,7 @@ def decode_file(data):
         pos, faces = opos, ofaces
         if tex:
             tex[1] = onames
-    return pos, faces, lines, quantized, tex, labels
+    return pos, faces, lines, quantized, tex, labels, tags
 
 
 # ---------------- comparisons ----------------
@@ -1133,7 +1205,7 @@ def compare_labels(mesh, other, what, exact, unused=True):
     (its corners' positions, its labels), as a multiset of faces up to rotation, or face by face when
     exact; the libraries, and the names no face takes if unused (the text does not say that an .obj
     writer keeps them). Positions are left out of a quantized file's."""
-    pos, faces, _, quantized, _, labels = mesh
+    pos, faces, _, quantized, _, labels = mesh[:6]
     opos, ofaces, olabels, olibraries, ounused = other
     if labels is None:
         labels = {'faces': {}, 'unused': {}, 'libraries': []}
@@ -1183,6 +1255,75 @@ def compare_labels(mesh, other, what, exact, unused=True):
     return bad
 
 
+def read_obj_tags(path):
+    """Positions (float32 bits), faces (0-based) and `t` tags (name, ints, float texts, strings) of
+    an .obj, in file order."""
+    pos, faces, tags = [], [], []
+    for raw in open(path, 'rb').read().split(b'\n'):
+        w = raw.split()
+        if not w or w[0].startswith(b'#'):
+            continue
+        if w[0] == b'v':
+            pos.append(tuple(f32(float(x)) for x in w[1:4]))
+        elif w[0] == b'f':
+            idx = [int(x.split(b'/')[0]) for x in w[1:]]
+            faces.append([i - 1 if i > 0 else len(pos) + i for i in idx])
+        elif w[0] == b't':
+            ni, nf, ns = (int(x) for x in w[2].split(b'/'))
+            args = w[3:]
+            need(len(args) == ni + nf + ns, '%s: t %s with %d arguments, not %d' % (path, w[1], len(args), ni + nf + ns))
+            tags.append((w[1], [int(x) for x in args[:ni]], args[ni:ni + nf], args[ni + nf:]))
+    return pos, faces, tags
+
+
+def compare_tags(mesh, other, what, exact):
+    """The mesh's tags against read_obj_tags' of an .obj, tag for tag: names, strings, floats by
+    value (a binary32 one against the text read as binary32), and integers; those of crease and
+    corner as the vertices they name (their positions, or index for index when exact), those of hole
+    as the faces (their corner cycles up to rotation, by the same vertex keys)."""
+    pos, faces = mesh[:2]
+    tags = mesh[6] or []
+    opos, ofaces, otags = other
+
+    def keys(p, fs):
+        vk = list(range(len(p))) if exact else p
+        return vk, [canon_face([vk[v] for v in f]) for f in fs]
+
+    vk, fk = keys(pos, faces)
+    ovk, ofk = keys(opos, ofaces)
+
+    def named(name, ints, vk, fk):
+        try:
+            if name in TAG_VERTICES:
+                return [vk[i] for i in ints]
+            if name in TAG_FACES:
+                return [fk[i] for i in ints]
+        except IndexError:
+            return ['index out of range', ints]
+        return ints
+
+    bad = []
+    if len(tags) != len(otags):
+        bad.append('%d tags, %s %d' % (len(tags), what, len(otags)))
+    for k, (t, o) in enumerate(zip(tags, otags)):
+        name, ints, floats, strings, width = t
+        oname, oints, ofloats, ostrings = o
+        if name != oname:
+            bad.append('tag %d: %s, %s\'s %s' % (k, name, what, oname))
+            continue
+        if named(name, ints, vk, fk) != named(oname, oints, ovk, ofk):
+            bad.append('tag %d (%s): integers %s, %s\'s %s (or what they name differs)' % (
+                k, name.decode(), ints, what, oints))
+        read = (lambda x: f32(float(x))) if width == 4 else float
+        mine = [f32(x) for x in floats] if width == 4 else floats
+        if mine != [read(x) for x in ofloats]:
+            bad.append('tag %d (%s): floats %s (binary%s), %s\'s %s' % (
+                k, name.decode(), floats, 8 * (width or 0), what, [x.decode() for x in ofloats]))
+        if strings != ostrings:
+            bad.append('tag %d (%s): strings %s, %s\'s %s' % (k, name.decode(), strings, what, ostrings))
+    return bad
+
+
 OBJ_UNLABELLED_FIRST = True   # the text does not say how an OBJ writer orders faces when a label goes
                                # back to none (OBJ has no statement for none): qsp puts the faces with
                                # more kinds unlabelled first, keeping the order among equal ones
@@ -1191,7 +1332,7 @@ OBJ_UNLABELLED_FIRST = True   # the text does not say how an OBJ writer orders f
 def as_obj_writes(mesh):
     """The mesh with its faces in the order an OBJ writer can label them: stably, the faces with
     more kinds unlabelled first (the decoder's order whenever no label goes back to none)."""
-    pos, faces, lines, quantized, tex, labels = mesh
+    pos, faces, lines, quantized, tex, labels = mesh[:6]
     if not labels or not labels['faces']:
         return mesh
     none = [sum(v[f] is None for v in labels['faces'].values()) for f in range(len(faces))]
@@ -1201,7 +1342,7 @@ def as_obj_writes(mesh):
     labels = dict(labels, faces={k: [v[f] for f in order] for k, v in labels['faces'].items()})
     if tex:
         tex = [tex[0], [tex[1][f] for f in order], tex[2]]
-    return pos, [faces[f] for f in order], lines, quantized, tex, labels
+    return (pos, [faces[f] for f in order], lines, quantized, tex, labels) + tuple(mesh[6:])
 
 
 def compare_reference(mesh, prefix):
@@ -1265,6 +1406,11 @@ def main():
                               exact=True)
     if '--decompressed' in opts:
         bad += compare_tex(written, read_obj_tex(opts['--decompressed']), 'qsp decompress\'s output', exact=True)
+    if '--tags-obj' in opts:
+        bad += compare_tags(mesh, read_obj_tags(opts['--tags-obj']), 'the .obj', exact='--exact' in args)
+    if '--tags-decompressed' in opts:   # the same numbering as this decoder's output (faces maybe moved)
+        bad += compare_tags(written, read_obj_tags(opts['--tags-decompressed']), 'qsp decompress\'s output',
+                            exact=True)
     if '--stats' in args:
         print(' '.join('%s=%d' % kv for kv in sorted(STATS.items())))
     if 'tex: unreferenced values not sorted (an encoder rule)' in STATS:
