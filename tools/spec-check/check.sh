@@ -28,7 +28,8 @@
 # compared with their .obj (each face's corner positions with its labels, as a multiset, or face by
 # face for a file whose name holds keep_order; the names no face takes; the mtllib lines) and face by
 # face with what `qsp decompress` writes. Files with OpenSubdiv tags (format 3.4's section, from the
-# text too): each of testdata/golden/tags, and fresh encodes of OpenSubdiv's catmark_cube_creases1 and
+# text too; tagsgen.py first checks that decoder, and qsp decompress, on sections breaking each rule the
+# text names): each of testdata/golden/tags, and fresh encodes of OpenSubdiv's catmark_cube_creases1 and
 # catmark_torus_creases0 (with and without --keep-order) and catmark_square_hedit0 (vertexedit: qsp
 # keeps the original order for it), are decoded whole by qsppoly.py and compared tag for tag with their
 # .obj (crease and corner vertices by position, hole faces by their corners, index for index for a file
@@ -55,6 +56,8 @@ for f in "$root"/testdata/golden/tags/*.qsp; do  # those with an order section (
 done
 "$python" "$here/labelgen.py" --test "$qsp" >/dev/null ||
   { echo "face labels streams from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
+"$python" "$here/tagsgen.py" "$qsp" >/dev/null ||
+  { echo "subdivision tags sections from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
 encode() {  # encode NAME MESH [OPTIONS...]: a fresh file to check
   local name=$1 mesh=$2
   shift 2

@@ -1,20 +1,22 @@
 #!/usr/bin/env python3
 """The whole mesh of a .qsp file, polygons section (0x05), texture coordinates section (0x06), face
-labels section (0x07), order section (0x04) and comments section (0x81) included, written from
-format-spec/qsp_format.md alone ("Grid layout", "Order section", "Polygons section", "Texture
-coordinates section", "Face labels section", "Comments section", "Decoding a mesh") without reading
-the codec's C++, on top of qsplayout.py (topology, layout) and qspgeo.py (container, range coder,
-geometry).
+labels section (0x07), subdivision tags section (0x08), order section (0x04) and comments section
+(0x81) included, written from format-spec/qsp_format.md alone ("Grid layout", "Order section",
+"Polygons section", "Texture coordinates section", "Face labels section", "Subdivision tags section",
+"Comments section", "Decoding a mesh") without reading the codec's C++, on top of qsplayout.py
+(topology, layout) and qspgeo.py (container, range coder, geometry).
 
 usage: qsppoly.py FILE.qsp [--obj MESH.obj] [--reference PREFIX] [--tex-obj MESH.obj [--exact]]
                   [--labels-obj MESH.obj [--exact]] [--labels-decompressed OUT.obj]
+                  [--tags-obj MESH.obj [--exact]] [--tags-decompressed OUT.obj]
                   [--decompressed OUT.obj] [--stats]
        decodes FILE to its output mesh (vertices, faces with their corners, float bits, each corner's
        texture coordinate, in the original order when the file has an order section), its face labels
-       and material libraries, and its comment lines. --obj: compares them with MESH.obj, the mesh the
-       file was made from: the same faces with the same corner cycles on the same vertices up to
-       renumbering and face order, every position bit for bit (skipped for a quantized file), and,
-       when the file has a comments section, its lines with MESH.obj's leading comment block.
+       and material libraries, its subdivision tags, and its comment lines. --obj: compares them
+       with MESH.obj, the mesh the file was made from: the same faces with the same corner cycles on
+       the same vertices up to renumbering and face order, every position bit for bit (skipped for a
+       quantized file), and, when the file has a comments section, its lines with MESH.obj's leading
+       comment block.
        --reference: compares them exactly (vertex order, face order, each face's first corner, float
        bits) with the reference decoder's output that dump_stencils wrote to PREFIX.mesh and
        PREFIX.comments. --tex-obj: compares every corner's position and texture coordinate (float32
@@ -28,6 +30,10 @@ usage: qsppoly.py FILE.qsp [--obj MESH.obj] [--reference PREFIX] [--tex-obj MESH
        --exact), the names no face takes and the mtllib lines; --labels-decompressed: the same,
        face by face, with OUT.obj, what `qsp decompress FILE` wrote (OBJ_UNLABELLED_FIRST: faces
        with more kinds unlabelled first).
+       --tags-obj: compares the tags, tag for tag, with MESH.obj's `t` lines: names, strings, floats
+       by value (a binary32 one with the text read as binary32), integers; crease and corner ones as
+       the vertices' positions, hole ones as the faces' corner positions (index for index with
+       --exact). --tags-decompressed: the same, index for index, with OUT.obj.
        --stats: prints how often each rule of the text was met. Exit 0 if all agree, else 1.
 """
 import math
@@ -511,7 +517,8 @@ def decode_tags(payload, V, F, has_order):
         elif name in TAG_SETTINGS:
             seen('tags: setting')
         else:
-            need(has_order, 'tag %r indexes the mesh file\'s numbering, and the file has no order section' % name)
+            need(has_order, 'tag %r indexes the mesh file\'s numbering, and the file has no order section'
+                 % name)
             seen('tags: other name, order kept')
         tags.append((name, ints, floats, strings, width))
     need(pos == len(payload), 'bytes after the last tag')
@@ -1271,7 +1278,8 @@ def read_obj_tags(path):
         elif w[0] == b't':
             ni, nf, ns = (int(x) for x in w[2].split(b'/'))
             args = w[3:]
-            need(len(args) == ni + nf + ns, '%s: t %s with %d arguments, not %d' % (path, w[1], len(args), ni + nf + ns))
+            need(len(args) == ni + nf + ns,
+                 '%s: t %s with %d arguments, not %d' % (path, w[1], len(args), ni + nf + ns))
             tags.append((w[1], [int(x) for x in args[:ni]], args[ni:ni + nf], args[ni + nf:]))
     return pos, faces, tags
 
