@@ -64,6 +64,14 @@ void check_polygons(std::string_view bytes, const qsp::DecodeLimits& limits) {
     for (const std::string& n : l->names)
       if (n.find_first_of("\r\n") != std::string::npos) fuzz::finding("a label name holds a line break");
   }
+  // Normals (3.5): every corner names one of them or none; every value is finite.
+  if (m.normals.size() % 3 != 0 || (!m.corner_normals.empty() && m.corner_normals.size() != m.corners.size()))
+    fuzz::finding("decoded normal arrays disagree");
+  for (const std::uint32_t n : m.corner_normals)
+    if (n != kInvalid && std::size_t{n} * 3 >= m.normals.size())
+      fuzz::finding("decoded a normal out of range");
+  for (const float x : m.normals)
+    if (!std::isfinite(x)) fuzz::finding("decoded a normal that is not finite");
   // Subdivision tags (3.4): crease, corner and hole name vertices and faces of the output.
   for (const SubdivisionTag& t : m.tags) {
     const bool faces = t.name == "hole";

@@ -252,6 +252,10 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
     throw Error(ErrorCode::kNotQuad,
                 "the file holds face labels (section 0x07 at byte offset " + std::to_string(s->offset) +
                     "), which this reader of quad meshes does not return: decode_polygons() reads them");
+  if (const Section* s = p.file.find(container::kTagNormals))
+    throw Error(ErrorCode::kNotQuad,
+                "the file holds normals (section 0x09 at byte offset " + std::to_string(s->offset) +
+                    "), which this reader of quad meshes does not return: decode_polygons() reads them");
   if (const Section* s = p.file.find(container::kTagTags))
     throw Error(ErrorCode::kNotQuad,
                 "the file holds subdivision tags (section 0x08 at byte offset " + std::to_string(s->offset) +
@@ -265,7 +269,8 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   const Section* uv = p.file.find(container::kTagTexcoords);
   const Section* labels = p.file.find(container::kTagLabels);
   const Section* tags = p.file.find(container::kTagTags);
-  if (!poly && !uv && !labels && !tags) return polygon_mesh(decode_quads(p));
+  const Section* normals = p.file.find(container::kTagNormals);
+  if (!poly && !uv && !labels && !tags && !normals) return polygon_mesh(decode_quads(p));
   // The output mesh in canonical order, then its texture coordinates, then the input's numbering.
   PolygonMesh out;
   std::uint32_t nv = 0;
@@ -288,6 +293,13 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
     out.texcoord_components = t.components;
     out.texcoords = std::move(t.values);
     out.corner_texcoords = std::move(t.corners);
+  }
+  if (normals) {
+    DecodedTexcoords n =
+        decode_texcoords_section(normals->payload, normals->payload_offset, out.face_offsets, out.corners, nv,
+                                 out.positions, p.order != nullptr, limits, kNormalWords);
+    out.normals = std::move(n.values);
+    out.corner_normals = std::move(n.corners);
   }
   if (labels) {
     DecodedLabels l = decode_labels_section(labels->payload, labels->payload_offset,
@@ -329,18 +341,21 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   for (std::uint32_t f = 0; f < nf; ++f)
     in.face_offsets.push_back(in.face_offsets.back() + degree[order.face[f]]);
   in.corners.resize(out.corners.size());
-  const bool texcoords = !out.corner_texcoords.empty();
+  const bool texcoords = !out.corner_texcoords.empty(), with_normals = !out.corner_normals.empty();
   if (texcoords) in.corner_texcoords.resize(out.corners.size());
+  if (with_normals) in.corner_normals.resize(out.corners.size());
   for (std::uint32_t f = 0; f < nf; ++f) {
     const std::uint32_t g = order.face[f], dg = degree[g];
     for (std::uint32_t i = 0; i < dg; ++i) {
       const std::uint32_t to = in.face_offsets[f] + (i + order.rotation[f]) % dg;
       in.corners[to] = output_to_input[out.corners[fo[g] + i]];
       if (texcoords) in.corner_texcoords[to] = out.corner_texcoords[fo[g] + i];
+      if (with_normals) in.corner_normals[to] = out.corner_normals[fo[g] + i];
     }
   }
   in.texcoord_components = out.texcoord_components;
   in.texcoords = std::move(out.texcoords);
+  in.normals = std::move(out.normals);
   // Each face keeps its labels; the names are the decoded ones.
   for (auto [from, to] :
        {std::pair{&out.objects, &in.objects}, std::pair{&out.groups, &in.groups},
@@ -358,7 +373,8 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
 bool holds_polygons(std::string_view bytes) {
   const container::File f = container::parse(bytes);
   return f.find(container::kTagPolygons) != nullptr || f.find(container::kTagTexcoords) != nullptr ||
-         f.find(container::kTagLabels) != nullptr || f.find(container::kTagTags) != nullptr;
+         f.find(container::kTagLabels) != nullptr || f.find(container::kTagTags) != nullptr ||
+         f.find(container::kTagNormals) != nullptr;
 }
 
 FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits) {
@@ -429,6 +445,8 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       info.label_bytes += size;
     else if (s.tag == container::kTagTags)
       info.tag_bytes += size;
+    else if (s.tag == container::kTagNormals)
+      info.normal_bytes += size;
     else
       info.other_bytes += size;
   }

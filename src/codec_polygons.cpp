@@ -178,45 +178,60 @@ std::vector<std::uint32_t> input_faces(const FaceMap& map, std::size_t nf) {
   return input_face;
 }
 
-// The texture coordinates section of `mesh` whose faces went where `map` says: the corners in the
-// decoder's output order, named by input vertex (the decoder's vertices are the same up to numbering).
-// `file` is the file without it: the positions its decoder predicts from are that file's.
-std::string texcoords_section(const PolygonMesh& mesh, const FaceMap& map,
-                              std::span<const std::uint32_t> input_face, const EncodeOptions& options,
-                              std::string_view file) {
+// The output corners (the decoder's order before any order section) of `mesh` whose faces went where
+// `map` says: face offsets, each corner's input vertex (the decoder's vertices are the same up to
+// numbering) and input corner.
+struct OutputCorners {
+  std::vector<std::uint32_t> offsets, vertices, input;
+};
+OutputCorners output_corners(const PolygonMesh& mesh, const FaceMap& map,
+                             std::span<const std::uint32_t> input_face) {
   const std::size_t nf = mesh.face_count();
-  std::vector<std::uint32_t> offsets(nf + 1, 0), vertices(mesh.corners.size()),
-      texcoords(mesh.corners.size());
+  OutputCorners out;
+  out.offsets.assign(nf + 1, 0);
+  out.vertices.resize(mesh.corners.size());
+  out.input.resize(mesh.corners.size());
   for (std::size_t g = 0; g < nf; ++g) {
     const std::uint32_t f = input_face[g], b = mesh.face_offsets[f], d = mesh.degree(f);
-    offsets[g + 1] = offsets[g] + d;
+    out.offsets[g + 1] = out.offsets[g] + d;
     for (std::uint32_t c = 0; c < d; ++c) {
       const std::uint32_t from = b + (c + map.rotation[f]) % d;
-      vertices[offsets[g] + c] = mesh.corners[from];
-      texcoords[offsets[g] + c] = mesh.corner_texcoords[from];
+      out.vertices[out.offsets[g] + c] = mesh.corners[from];
+      out.input[out.offsets[g] + c] = from;
     }
   }
-  // Lossless positions are the input's; quantized ones as the decoder rebuilds them, per input vertex.
-  std::vector<float> decoded;
-  if (options.quantize_bits) {
-    DecodeLimits all;
-    all.max_vertices = kMaxVertices;
-    all.max_faces = kMaxFaces;
-    const PolygonMesh d = decode_polygons(file, all);
-    if (d.corners.size() != vertices.size() || d.positions.size() != mesh.positions.size())
-      internal("the decoded mesh has another size");
-    if (options.keep_order) {
-      decoded = d.positions;  // numbered as the input
-    } else {                  // numbered by the decoder: its corners are the output corners
-      decoded.resize(mesh.positions.size());
-      for (std::size_t k = 0; k < vertices.size(); ++k)
-        std::copy_n(&d.positions[3 * std::size_t{d.corners[k]}], 3, &decoded[3 * std::size_t{vertices[k]}]);
-    }
-  }
-  return encode_texcoords_section(offsets, vertices, static_cast<std::uint32_t>(mesh.vertex_count()),
-                                  options.quantize_bits ? decoded : mesh.positions, mesh.texcoord_components,
-                                  mesh.texcoords, texcoords, options.keep_order,
-                                  options.quantize_texcoord_bits);
+  return out;
+}
+
+// The positions the decoder of `file` predicts corner values from, per input vertex: lossless ones are
+// the input's; quantized ones as the decoder rebuilds them.
+std::vector<float> decoder_positions(const PolygonMesh& mesh, const OutputCorners& oc,
+                                     const EncodeOptions& options, std::string_view file) {
+  if (!options.quantize_bits) return mesh.positions;
+  DecodeLimits all;
+  all.max_vertices = kMaxVertices;
+  all.max_faces = kMaxFaces;
+  const PolygonMesh d = decode_polygons(file, all);
+  if (d.corners.size() != oc.vertices.size() || d.positions.size() != mesh.positions.size())
+    internal("the decoded mesh has another size");
+  if (options.keep_order) return d.positions;         // numbered as the input
+  std::vector<float> decoded(mesh.positions.size());  // numbered by the decoder: its corners are the output's
+  for (std::size_t k = 0; k < oc.vertices.size(); ++k)
+    std::copy_n(&d.positions[3 * std::size_t{d.corners[k]}], 3, &decoded[3 * std::size_t{oc.vertices[k]}]);
+  return decoded;
+}
+
+// A section of values per corner (texture coordinates, normals) over the output corners.
+std::string corner_values_section(const PolygonMesh& mesh, const OutputCorners& oc,
+                                  std::span<const float> positions, std::uint8_t components,
+                                  std::span<const float> values, std::span<const std::uint32_t> corner_values,
+                                  const EncodeOptions& options, std::uint32_t quantize_bits,
+                                  const CornerValueWords& words) {
+  std::vector<std::uint32_t> named(oc.input.size());
+  for (std::size_t k = 0; k < oc.input.size(); ++k) named[k] = corner_values[oc.input[k]];
+  return encode_texcoords_section(oc.offsets, oc.vertices, static_cast<std::uint32_t>(mesh.vertex_count()),
+                                  positions, components, values, named, options.keep_order, quantize_bits,
+                                  words);
 }
 
 }  // namespace
@@ -236,15 +251,28 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
                                            std::to_string(count));
   }
   const bool labels = mesh.has_labels();
+  const bool normals = !mesh.normals.empty() || !mesh.corner_normals.empty();
+  if (normals && (mesh.normals.size() % 3 != 0 || mesh.corner_normals.size() != mesh.corners.size()))
+    throw Error(ErrorCode::kUsage, "encode: normal arrays disagree with the corners");
+  for (std::size_t c = 0; c < mesh.corner_normals.size(); ++c)
+    if (mesh.corner_normals[c] != kInvalid && mesh.corner_normals[c] >= mesh.normals.size() / 3)
+      throw Error(ErrorCode::kUsage, "encode: corner " + std::to_string(c) + " names normal " +
+                                         std::to_string(mesh.corner_normals[c]) + " of " +
+                                         std::to_string(mesh.normals.size() / 3));
   const auto whole = [&](const EncodeOptions& o) {
     FaceMap map;
     std::string bytes = encode_faces(mesh, o, map);
-    if (!texcoords && !labels && mesh.tags.empty()) return bytes;
+    if (!texcoords && !normals && !labels && mesh.tags.empty()) return bytes;
     const std::vector<std::uint32_t> input_face = input_faces(map, mesh.face_count());
+    const OutputCorners oc = texcoords || normals ? output_corners(mesh, map, input_face) : OutputCorners{};
+    const std::vector<float> positions =
+        texcoords || normals ? decoder_positions(mesh, oc, o, bytes) : std::vector<float>{};
     if (texcoords)
-      bytes =
-          container::with_section(bytes, container::kTagTexcoords,
-                                  texcoords_section(mesh, map, input_face, o, bytes), kFormatMinorTexcoords);
+      bytes = container::with_section(
+          bytes, container::kTagTexcoords,
+          corner_values_section(mesh, oc, positions, mesh.texcoord_components, mesh.texcoords,
+                                mesh.corner_texcoords, o, o.quantize_texcoord_bits, kTexcoordWords),
+          kFormatMinorTexcoords);
     if (labels)
       bytes = container::with_section(bytes, container::kTagLabels, encode_labels_section(mesh, input_face),
                                       kFormatMinorLabels);
@@ -252,6 +280,11 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
       bytes = container::with_section(bytes, container::kTagTags,
                                       encode_tags_section(mesh.tags, map.vertex, map.face, o.keep_order),
                                       kFormatMinorTags);
+    if (normals)
+      bytes = container::with_section(bytes, container::kTagNormals,
+                                      corner_values_section(mesh, oc, positions, 3, mesh.normals,
+                                                            mesh.corner_normals, o, 0, kNormalWords),
+                                      kFormatMinorNormals);
     return bytes;
   };
   // The levels that try every partition keep the smallest whole file: with texture coordinates the

@@ -74,6 +74,21 @@ DecodedPolygons decode_polygons_section(std::string_view payload, std::uint64_t 
                                         const Adjacency& layout_adjacency,
                                         std::span<const float> layout_positions, const DecodeLimits& limits);
 
+// What a section of values per corner calls itself in messages, and its fixed component count (0: 1 to
+// 3 as the flags say): the texture coordinates section's values, or the normals section's, which codes
+// normals as the texture coordinates section codes its values.
+struct CornerValueWords {
+  const char* section;
+  const char* one;
+  const char* many;
+  unsigned components;
+  std::uint64_t DecodeLimits::*limit;  // the decoder's limit on their count
+};
+inline constexpr CornerValueWords kTexcoordWords{"texture coordinates section", "texture coordinate",
+                                                 "texture coordinates", 0, &DecodeLimits::max_texcoords};
+inline constexpr CornerValueWords kNormalWords{"normals section", "normal", "normals", 3,
+                                               &DecodeLimits::max_normals};
+
 // The texture coordinates section (format 3.2) of the output mesh whose faces are `face_offsets` (one
 // more than faces) and whose corners' vertices are `corner_vertices` (below `vertex_count`, at
 // `positions` as the decoder decodes them: 3 per vertex), in the order
@@ -88,7 +103,8 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
                                      std::uint32_t vertex_count, std::span<const float> positions,
                                      std::uint8_t components, std::span<const float> values,
                                      std::span<const std::uint32_t> corner_texcoords, bool keep_order,
-                                     std::uint32_t quantize_bits);
+                                     std::uint32_t quantize_bits,
+                                     const CornerValueWords& words = kTexcoordWords);
 
 struct DecodedTexcoords {
   std::uint8_t components = 0;
@@ -103,7 +119,8 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                                           std::span<const std::uint32_t> face_offsets,
                                           std::span<const std::uint32_t> corner_vertices,
                                           std::uint32_t vertex_count, std::span<const float> positions,
-                                          bool order_section, const DecodeLimits& limits);
+                                          bool order_section, const DecodeLimits& limits,
+                                          const CornerValueWords& words = kTexcoordWords);
 
 // The face labels section (format 3.3) of `mesh`, whose output face g (the decoder's order before any
 // order section) is input face input_face[g]. Throws Error(kUsage) for a label array of another size, a

@@ -21,7 +21,6 @@
 namespace qsp {
 namespace {
 
-constexpr const char* kSection = "texture coordinates section";
 constexpr std::uint8_t kComponentsMask = 0x03, kOrderBit = 0x04, kCorrectionBit = 0x08, kShapeBit = 0x10,
                        kReservedBits = 0xE0;
 constexpr std::uint8_t kModeFloat = 0;  // 1 + k: decimal grid of k decimals; kModeGrid + b: step 2^-b
@@ -33,9 +32,9 @@ constexpr std::uint32_t kEscape = 0xFFFFFFFEu;
 constexpr unsigned kWideHalf = 21;  // w < 2^42 follows an escape as two 21-bit halves
 
 [[noreturn]] void internal(const std::string& what) { throw Error(ErrorCode::kInternal, "encode: " + what); }
-[[noreturn]] void format_error(const std::string& what, std::uint64_t offset) {
+[[noreturn]] void format_error(const CornerValueWords& w, const std::string& what, std::uint64_t offset) {
   throw Error(ErrorCode::kFormat,
-              std::string(kSection) + ": " + what + " (near byte offset " + std::to_string(offset) + ")");
+              std::string(w.section) + ": " + what + " (near byte offset " + std::to_string(offset) + ")");
 }
 
 // Per vertex, the values its corners have named, in one slot per corner (S(v) in the spec).
@@ -307,16 +306,16 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
                                      std::uint32_t vertex_count, std::span<const float> positions,
                                      std::uint8_t components, std::span<const float> values,
                                      std::span<const std::uint32_t> corner_texcoords, bool keep_order,
-                                     std::uint32_t quantize_bits) {
+                                     std::uint32_t quantize_bits, const CornerValueWords& w) {
   const unsigned K = components;
   if (K < 1 || K > 3 || values.size() % K != 0 || corner_texcoords.size() != corner_vertices.size() ||
       positions.size() != 3 * std::size_t{vertex_count} || face_offsets.empty() ||
       face_offsets.back() != corner_vertices.size())
-    internal("texture coordinate arrays disagree with the mesh");
+    internal(std::string(w.one) + " arrays disagree with the mesh");
   const auto T = static_cast<std::uint32_t>(values.size() / K);
   for (std::size_t i = 0; i < values.size(); ++i)
     if (!std::isfinite(values[i]))
-      throw Error(ErrorCode::kBadNumber, "texture coordinate " + std::to_string(i / K) + " is not finite");
+      throw Error(ErrorCode::kBadNumber, std::string(w.one) + " " + std::to_string(i / K) + " is not finite");
 
   if (quantize_bits > kMaxGridBits)
     throw Error(ErrorCode::kUsage, "encode: texture coordinate quantization bits " +
@@ -340,7 +339,7 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     for (std::size_t c = 0; c < corner_vertices.size(); ++c) {
       while (face_offsets[face] <= c) ++face, seam = 0;
       const std::uint32_t v = corner_vertices[c], t = corner_texcoords[c];
-      if (t != kInvalid && t >= T) internal("a corner names texture coordinate " + std::to_string(t));
+      if (t != kInvalid && t >= T) internal("a corner names " + std::string(w.one) + " " + std::to_string(t));
       const auto seen = named.of(v);
       const auto s = static_cast<std::uint8_t>(2 * std::min<std::size_t>(seen.size(), 2) + seam);
       if (t != kInvalid && output[t] == kInvalid) {
@@ -452,12 +451,16 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                                           std::span<const std::uint32_t> face_offsets,
                                           std::span<const std::uint32_t> corner_vertices,
                                           std::uint32_t vertex_count, std::span<const float> positions,
-                                          bool order_section, const DecodeLimits& limits) {
-  ByteReader in(payload, base_offset, kSection);
+                                          bool order_section, const DecodeLimits& limits,
+                                          const CornerValueWords& w) {
+  ByteReader in(payload, base_offset, w.section);
   std::uint64_t at = in.offset();
   const std::uint8_t flags = in.u8("flags");
   const unsigned K = flags & kComponentsMask;
-  if (K == 0) in.fail_at("0 components per texture coordinate (1 to 3)", at);
+  if (K == 0 || (w.components && K != w.components))
+    in.fail_at(std::to_string(K) + " components per " + w.one + " (" +
+                   (w.components ? std::to_string(w.components) : std::string("1 to 3")) + ")",
+               at);
   if (flags & kReservedBits) in.fail_at("reserved flag bits are set (must be zero)", at);
   if ((flags & kCorrectionBit) && (flags & kShapeBit)) in.fail_at("corrections and shapes are both set", at);
   if (((flags & kOrderBit) != 0) != order_section)
@@ -465,25 +468,27 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                              : "the order bit is set but the file has no order section",
                at);
   at = in.offset();
-  const std::uint64_t T = in.varint("texture coordinate count");
-  if (T > kMaxVertices) in.fail_at("texture coordinate count exceeds the format's 2^31 - 1", at);
-  if (T > limits.max_texcoords)
-    throw Error(ErrorCode::kLimit, "texture coordinate count " + std::to_string(T) + " exceeds the limit " +
-                                       std::to_string(limits.max_texcoords) + " (at byte offset " +
+  const std::string count_what = std::string(w.one) + " count";
+  const std::uint64_t T = in.varint(count_what.c_str());
+  if (T > kMaxVertices) in.fail_at(count_what + " exceeds the format's 2^31 - 1", at);
+  if (T > limits.*w.limit)
+    throw Error(ErrorCode::kLimit, count_what + " " + std::to_string(T) + " exceeds the limit " +
+                                       std::to_string(limits.*w.limit) + " (at byte offset " +
                                        std::to_string(at) + ")");
   at = in.offset();
-  const std::uint64_t U = in.varint("unreferenced texture coordinate count");
-  if (U > T) in.fail_at("more unreferenced texture coordinates than texture coordinates", at);
+  const std::string unreferenced_what = "unreferenced " + count_what;
+  const std::uint64_t U = in.varint(unreferenced_what.c_str());
+  if (U > T) in.fail_at(std::string("more unreferenced ") + w.many + " than " + w.many, at);
   if (T - U > corner_vertices.size())
-    in.fail_at(std::to_string(T - U) + " referenced texture coordinates but only " +
+    in.fail_at(std::to_string(T - U) + " referenced " + w.many + " but only " +
                    std::to_string(corner_vertices.size()) + " corners",
                at);
   // Every value costs at least one decision of its residual's model, and no decision less than
   // log2(65536 / 65465) bits: a tiny section declaring millions of values is refused unallocated.
   if (T > kMaxValuesPerByte * (in.left() + 8))
-    in.fail_at(std::to_string(T) + " texture coordinates cannot fit in the " + std::to_string(in.left()) +
-                   " bytes left",
-               at);
+    in.fail_at(
+        std::to_string(T) + " " + w.many + " cannot fit in the " + std::to_string(in.left()) + " bytes left",
+        at);
   std::array<Domain, 3> domain{};
   for (unsigned c = 0; c < K; ++c) {
     at = in.offset();
@@ -493,7 +498,7 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
       in.fail_at("component mode " + std::to_string(domain[c].mode) + " (0 to 10, or 17 to 40)", at);
   }
   const std::uint64_t stream_offset = in.offset();
-  RangeDecoder dec(payload.substr(in.pos()), stream_offset, kSection);
+  RangeDecoder dec(payload.substr(in.pos()), stream_offset, w.section);
 
   DecodedTexcoords out;
   out.components = static_cast<std::uint8_t>(K);
@@ -512,7 +517,8 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     const unsigned s = 2 * static_cast<unsigned>(std::min<std::size_t>(seen.size(), 2)) + seam;
     if (dec.decode_bit(m.is_new[s])) {
       if (n >= T - U)
-        format_error("more texture coordinates named than the " + std::to_string(T - U) + " declared",
+        format_error(w,
+                     std::string("more ") + w.many + " named than the " + std::to_string(T - U) + " declared",
                      dec.offset());
       if (!seen.empty()) seam = 1;
       creating.push_back(static_cast<std::uint32_t>(c));
@@ -523,7 +529,8 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     if (!seen.empty() && dec.decode_bit(m.is_seen[s])) {
       const std::uint32_t j = seen.size() >= 2 ? m.pick[seam].decode(dec) : 0;
       if (j >= seen.size())
-        format_error("corner " + std::to_string(c) + " picks value " + std::to_string(j) +
+        format_error(w,
+                     "corner " + std::to_string(c) + " picks value " + std::to_string(j) +
                          " of its vertex's " + std::to_string(seen.size()),
                      dec.offset());
       out.corners[c] = seen[j];
@@ -533,14 +540,15 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     if (dec.decode_bit(m.is_none)) continue;
     const std::uint32_t back = m.far.decode(dec);
     if (back >= n)
-      format_error("corner " + std::to_string(c) + " names a texture coordinate before the first",
+      format_error(w, "corner " + std::to_string(c) + " names a " + w.one + " before the first",
                    dec.offset());
     out.corners[c] = n - 1 - back;
     named.add(v, out.corners[c]);
     seam = 1;
   }
   if (n != T - U)
-    format_error("the corners name " + std::to_string(n) + " texture coordinates, not the " +
+    format_error(w,
+                 "the corners name " + std::to_string(n) + " " + w.many + ", not the " +
                      std::to_string(T - U) + " declared",
                  dec.offset());
 
@@ -559,12 +567,13 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
       const std::int64_t value = predicted + decode_residual(dec, residual[K * p.context + c]);
       if (domain[c].mode == kModeFloat ? value < 0 || value > std::int64_t{0xFFFFFFFF}
                                        : value <= -kDecimalLimit || value >= kDecimalLimit)
-        format_error(domain[c].mode == kModeFloat ? "a float image outside 32 bits"
+        format_error(w,
+                     domain[c].mode == kModeFloat ? "a float image outside 32 bits"
                                                   : "an integer outside (-2^40, 2^40)",
                      dec.offset());
       const float x = domain[c].value(value);
       if (!std::isfinite(x))
-        format_error("texture coordinate " + std::to_string(i) + " is not finite", dec.offset());
+        format_error(w, std::string(w.one) + " " + std::to_string(i) + " is not finite", dec.offset());
       out.values[std::size_t{i} * K + c] = x;
       integers[std::size_t{i} * K + c] = domain[c].integer(x);
     }
@@ -572,11 +581,11 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   if (order_section) {
     // Output value i had input index input[i]: give the values and the corners the input numbering.
     PermutationCoder perm;
-    perm.section = kSection;
+    perm.section = w.section;
     std::vector<std::uint8_t> used(T, 0);
     std::vector<std::uint32_t> input(T);
     for (std::uint32_t i = 0; i < T; ++i)
-      input[i] = perm.decode(dec, static_cast<std::uint32_t>(T), used, "texture coordinate");
+      input[i] = perm.decode(dec, static_cast<std::uint32_t>(T), used, w.one);
     std::vector<float> values(out.values.size());
     for (std::uint32_t i = 0; i < T; ++i)
       std::copy_n(&out.values[std::size_t{i} * K], K, &values[std::size_t{input[i]} * K]);

@@ -131,13 +131,18 @@ File parse(std::string_view file) {
       format_error(
           "section 0x07 (face labels) is format 3.3's, and the file says it is " + version(f.major, f.minor),
           sec.offset);
+    if (sec.tag == kTagNormals && f.minor < 5)
+      format_error(
+          "section 0x09 (normals) is format 3.5's, and the file says it is " + version(f.major, f.minor),
+          sec.offset);
     if (sec.tag == kTagTags && f.minor < 4)
       format_error("section 0x08 (subdivision tags) is format 3.4's, and the file says it is " +
                        version(f.major, f.minor),
                    sec.offset);
     const bool known = sec.tag == kTagCounts || sec.tag == kTagTopology || sec.tag == kTagGeometry ||
                        sec.tag == kTagOrder || sec.tag == kTagPolygons || sec.tag == kTagTexcoords ||
-                       sec.tag == kTagLabels || sec.tag == kTagTags || (sec.tag & kOptionalBit);
+                       sec.tag == kTagLabels || sec.tag == kTagTags || sec.tag == kTagNormals ||
+                       (sec.tag & kOptionalBit);
     if (!known) {
       const std::string what = "section " + tag_name(sec.tag) +
                                " is required but unknown to this qsp, which reads format " +

@@ -27,6 +27,8 @@ inline constexpr std::uint8_t kTagTexcoords = 0x06;
 inline constexpr std::uint8_t kTagLabels = 0x07;
 // Format 3.4: required where the mesh has OpenSubdiv tags.
 inline constexpr std::uint8_t kTagTags = 0x08;
+// Format 3.5: required where the mesh has normals.
+inline constexpr std::uint8_t kTagNormals = 0x09;
 inline constexpr std::uint8_t kOptionalBit = 0x80;
 inline constexpr std::uint8_t kTagComments = 0x81;  // optional, from 3.1
 

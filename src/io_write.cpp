@@ -338,8 +338,21 @@ void obj_canonical(std::string& out, const Mesh& m) {
               [&m](std::string& o, std::size_t b, std::size_t e) { vertex_lines(o, m, b, e); });
   for (std::size_t t = 0; t < m.texcoords.size() / m.texcoord_components; ++t) texcoord_line(out, m, t);
   for (std::size_t n = 0; n < m.normals.size() / 3; ++n) normal_line(out, m, n);
-  faces_with_labels(out, m, face_write_order(m));
-  for (const Tag& t : m.tags) tag_line(out, t);
+  const std::vector<std::uint32_t> order = face_write_order(m);
+  faces_with_labels(out, m, order);
+  // A face index (hole) names the face where it is written.
+  std::vector<std::uint32_t> written(order.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) written[order[i]] = i;
+  for (const Tag& t : m.tags) {
+    if (tag_indices(t.name) != TagIndices::kFaces) {
+      tag_line(out, t);
+      continue;
+    }
+    Tag moved = t;
+    for (std::int64_t& f : moved.ints)
+      if (f >= 0 && static_cast<std::uint64_t>(f) < written.size()) f = written[static_cast<std::size_t>(f)];
+    tag_line(out, moved);
+  }
 }
 
 std::size_t expected_size(const Mesh& m) {

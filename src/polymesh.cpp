@@ -403,6 +403,11 @@ PolygonMesh to_polygon_mesh(Mesh m, unsigned categories) {
     out.material_libraries = std::move(m.material_libraries);
   }
   if (categories & kCategorySmoothing) out.smoothing = std::move(m.smoothing);
+  if ((categories & kCategoryNormal) && !m.normals.empty()) {
+    out.normals = std::move(m.normals.f32);
+    out.corner_normals = std::move(m.corner_normals);
+    if (out.corner_normals.empty()) out.corner_normals.assign(out.corners.size(), kInvalid);
+  }
   if (categories & kCategoryTag) {
     for (Tag& t : m.tags) {
       SubdivisionTag& s = out.tags.emplace_back();

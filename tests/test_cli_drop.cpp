@@ -92,8 +92,8 @@ TEST_F(CliDrop, EachKindAloneIsRefusedByNameAndDroppedByName) {
     const std::string what = said(k.said, in);
     // A .qsp keeps texture coordinates (format 3.2) and face labels (3.3).
     const std::string name = k.name;
-    const bool kept =
-        name == "uv" || name == "group" || name == "material" || name == "smoothing" || name == "tag";
+    const bool kept = name == "uv" || name == "normal" || name == "group" || name == "material" ||
+                      name == "smoothing" || name == "tag";
     auto r = compress(in, "", out);
     if (kept) {
       ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -114,6 +114,10 @@ TEST_F(CliDrop, EachKindAloneIsRefusedByNameAndDroppedByName) {
       if (name == "smoothing") {
         EXPECT_EQ(m.smoothing.names, std::vector<std::string>{"1"});
       }
+      if (name == "normal") {
+        EXPECT_EQ(m.normals, (std::vector<float>{0, 0, 1}));
+        EXPECT_EQ(m.corner_normals, (std::vector<std::uint32_t>{0, 0, 0, 0}));
+      }
       if (name == "tag") {
         ASSERT_EQ(m.tags.size(), 2u);
         EXPECT_EQ(m.tags[0].name, "corner");
@@ -127,7 +131,7 @@ TEST_F(CliDrop, EachKindAloneIsRefusedByNameAndDroppedByName) {
       EXPECT_FALSE(fs::exists(out));
     }
     // Dropping another kind does not help.
-    const std::string other = kept ? "normal" : "uv";
+    const std::string other = kept ? "color" : "uv";
     r = compress(in, "--drop " + other, out);
     EXPECT_EQ(r.exit_code, kept ? 0 : 1);
     if (!kept) {
@@ -174,12 +178,12 @@ TEST_F(CliDrop, EveryKindMustBeDroppedAndTheNoteNamesEach) {
   // compress keeps the texture coordinates (format 3.2), face labels (3.3) and tags (3.4), and refuses
   // the rest.
   const std::string all = "uv,normal,color,group,material,smoothing,tag,extra";
-  const std::string refused = "normal,color,extra";
-  const unsigned kept = kCategoryUv | kCategoryGroup | kCategoryMaterial | kCategorySmoothing | kCategoryTag;
+  const std::string refused = "color,extra";
+  const unsigned kept =
+      kCategoryUv | kCategoryNormal | kCategoryGroup | kCategoryMaterial | kCategorySmoothing | kCategoryTag;
   const std::string described_refused =
-      "1 normal, 1 face with normal indices (normal), 4 vertex colours (color), 1 "
-      "line qsp keeps only as text, the first at " +
-      in + ":9: `vp` (parameter-space vertex) (extra)";
+      "4 vertex colours (color), 1 line qsp keeps only as text, the first at " + in +
+      ":9: `vp` (parameter-space vertex) (extra)";
   const std::string described =
       "1 texture coordinate, 1 face with texture coordinate indices (uv), 1 normal, 1 face with normal "
       "indices (normal), 4 vertex colours (color), 1 group/object statement (group), 2 material statements "

@@ -448,10 +448,10 @@ TEST_F(CliFiles, MessagesNameTheWayOut) {
   r = run_qsp("stats --jsn " + quote(a));
   EXPECT_NE(r.err.find("did you mean --json?"), std::string::npos) << r.err;
   // Extra data: the refusal names the --drop that drops it (tests/test_cli_drop.cpp has the rest).
-  const std::string normal = add_bytes("normal.obj", slurp(a) + "vn 0 0 1\n");
+  const std::string normal = add_bytes("normal.obj", slurp(a) + "v 0 0 0 1 0 0\n");  // a vertex colour
   r = run_qsp("compress " + quote(normal));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("pass --drop normal (or --positions-only)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("pass --drop color (or --positions-only)"), std::string::npos) << r.err;
   // reorder and match name the files, not A and B.
   const std::string two = add("multi_component.obj", "two.obj");
   r = run_qsp("reorder --like " + quote(a) + " " + quote(two) + " -o " + quote(p("out.obj")));

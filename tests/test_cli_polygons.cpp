@@ -111,11 +111,11 @@ TEST_F(CliPolygons, WhatIsNotAMeshKeepsItsMessage) {
   EXPECT_NE(d.err.find("repeat.obj:6:"), std::string::npos) << d.err;
   EXPECT_NE(d.err.find("repeats vertex"), std::string::npos) << d.err;
   // Other data than positions is refused unless dropped, as for quad meshes.
-  testing::spit(p("normal.obj"), std::string(kPolygonObj) + "vn 0 0 1\n");
-  const auto u = run_qsp("compress " + quote(p("normal.obj")));
+  testing::spit(p("prose.obj"), std::string(kPolygonObj) + "vp 0.5\n");
+  const auto u = run_qsp("compress " + quote(p("prose.obj")));
   EXPECT_NE(u.exit_code, 0);
-  EXPECT_NE(u.err.find("--drop normal"), std::string::npos) << u.err;
-  EXPECT_EQ(run_qsp("compress -q --drop normal " + quote(p("normal.obj"))).exit_code, 0);
+  EXPECT_NE(u.err.find("--drop extra"), std::string::npos) << u.err;
+  EXPECT_EQ(run_qsp("compress -q --drop extra " + quote(p("prose.obj"))).exit_code, 0);
 }
 
 // A polygon .qsp is the mesh it was compressed from for every subcommand that reads polygon meshes:

@@ -57,7 +57,7 @@ void dump(const std::string& path, std::string_view bytes) {
 // meshes the test corpus reads as valid quad meshes without other data).
 std::vector<std::string> golden_names() {
   std::vector<std::string> out;
-  for (const char* dir : {"", "polygons/", "texcoords/", "labels/", "tags/"}) {
+  for (const char* dir : {"", "polygons/", "texcoords/", "labels/", "tags/", "normals/"}) {
     for (const auto& e : fs::directory_iterator(kGolden + "/" + dir)) {
       if (e.path().extension() == ".obj") out.push_back(std::string(dir) + e.path().stem().string());
     }
@@ -178,10 +178,10 @@ bool is_quad_mesh(const PolygonMesh& m) {
 std::string encode_golden(const std::string& name) {
   const std::string path = kGolden + "/" + name + ".obj";
   const PolygonMesh poly = read_polygons(path);
-  std::string bytes =
-      is_quad_mesh(poly) && !poly.texcoord_components && !poly.has_labels() && poly.tags.empty()
-          ? encode(read_mesh_file(path), options_for(name))
-          : encode_polygons(poly, options_for(name));
+  std::string bytes = is_quad_mesh(poly) && !poly.texcoord_components && !poly.has_labels() &&
+                              poly.tags.empty() && poly.corner_normals.empty()
+                          ? encode(read_mesh_file(path), options_for(name))
+                          : encode_polygons(poly, options_for(name));
   if (name.find("_comments") != std::string::npos)
     bytes = with_comments(bytes, leading_comments(slurp(path)));
   return bytes;
@@ -213,15 +213,19 @@ void expect_same_polygons(const PolygonMesh& mesh, const PolygonMesh& decoded) {
   ASSERT_EQ(decoded.texcoord_components, mesh.texcoord_components);
   EXPECT_EQ(decoded.material_libraries, mesh.material_libraries);
   const auto faces = [](const PolygonMesh& m, const std::vector<std::uint32_t>* map) {
-    using Corner = std::array<std::uint32_t, 4>;
+    using Corner = std::array<std::uint32_t, 7>;
     std::vector<std::pair<std::vector<Corner>, std::string>> out;
     for (std::size_t f = 0; f < m.face_count(); ++f) {
       std::vector<Corner> c;
       for (std::uint32_t k = m.face_offsets[f]; k < m.face_offsets[f + 1]; ++k) {
-        Corner x{map ? (*map)[m.corners[k]] : m.corners[k], qsp::kInvalid, qsp::kInvalid, qsp::kInvalid};
+        Corner x;
+        x.fill(qsp::kInvalid);
+        x[0] = map ? (*map)[m.corners[k]] : m.corners[k];
         const std::uint32_t t = m.corner_texcoords.empty() ? qsp::kInvalid : m.corner_texcoords[k];
         for (std::uint32_t i = 0; t != qsp::kInvalid && i < m.texcoord_components; ++i)
           std::memcpy(&x[1 + i], &m.texcoords[std::size_t{t} * m.texcoord_components + i], 4);
+        const std::uint32_t n = m.corner_normals.empty() ? qsp::kInvalid : m.corner_normals[k];
+        if (n != qsp::kInvalid) std::memcpy(&x[4], &m.normals[3 * std::size_t{n}], 12);
         c.push_back(x);
       }
       std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
@@ -240,7 +244,7 @@ void expect_same_polygons(const PolygonMesh& mesh, const PolygonMesh& decoded) {
 TEST(Golden, BytesArePinned) {
   auto names = golden_names();
   ASSERT_GE(names.size(), 5u);
-  int polygons = 0, comments = 0, texcoords = 0, labels = 0, tags = 0;
+  int polygons = 0, comments = 0, texcoords = 0, labels = 0, tags = 0, normals = 0;
   for (const auto& name : names) {
     SCOPED_TRACE(name);
     const std::string obj = kGolden + "/" + name + ".obj";
@@ -254,6 +258,19 @@ TEST(Golden, BytesArePinned) {
                                                                  : std::vector<std::string>{});
     comments += !lines.empty();
     PolygonMesh poly = read_polygons(obj);
+    if (!poly.corner_normals.empty()) {
+      // Normals: a 3.5 file, decoded to the .obj's corners with their normals (and texture coordinates)
+      // bit for bit; index for index with the order kept.
+      ++normals;
+      EXPECT_EQ(slurp(path)[9], 5) << "a file with normals says format 3.5";
+      const PolygonMesh back = decode_polygons(slurp(path));
+      expect_same_polygons(poly, back);
+      if (options_for(name).keep_order) {
+        EXPECT_EQ(back.corner_normals, poly.corner_normals);
+        EXPECT_EQ(std::memcmp(back.normals.data(), poly.normals.data(), 4 * poly.normals.size()), 0);
+      }
+      continue;
+    }
     if (!poly.tags.empty()) {
       // Subdivision tags: a 3.4 file, decoded to the .obj's faces and its tags, their indices naming the
       // same vertices and faces (by position) in the decoder's numbering.
@@ -338,6 +355,7 @@ TEST(Golden, BytesArePinned) {
   EXPECT_GE(texcoords, 2);
   EXPECT_GE(labels, 3);
   EXPECT_GE(tags, 3);
+  EXPECT_GE(normals, 2);
 }
 
 // One golden per combination of the geometry tools, each decoding to the mesh its natural golden gives
@@ -517,15 +535,15 @@ std::map<std::string, Crafted> crafted() {
     // A required section of a newer minor version: "upgrade qsp". The same tag in a file of this
     // version cannot come from a correct encoder.
     const std::string sections =
-        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(9, "x");
+        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(10, "x");
     Parts newer_minor = p;
     newer_minor.minor = kFormatMinor + 1;
     out["qsp_unknown_required_section_newer_minor"] = {
         seal(newer_minor, sections), "version",
-        "section 0x09 is required but unknown to this qsp, which reads "
-        "format 3.4 (upgrade qsp)"};
+        "section 0x0a is required but unknown to this qsp, which reads "
+        "format 3.5 (upgrade qsp)"};
     out["qsp_unknown_required_section"] = {seal(p, sections), "format",
-                                           "section 0x09 is required but unknown to this qsp"};
+                                           "section 0x0a is required but unknown to this qsp"};
     // A section of a later minor version in a file that says it is the one before: 3.3's face labels,
     // 3.4's subdivision tags.
     struct Later {
@@ -537,7 +555,9 @@ std::map<std::string, Crafted> crafted() {
          {Later{"qsp_labels_section_in_3_2", 7, 2,
                 "section 0x07 (face labels) is format 3.3's, and the file says it is 3.2"},
           Later{"qsp_tags_section_in_3_3", 8, 3,
-                "section 0x08 (subdivision tags) is format 3.4's, and the file says it is 3.3"}}) {
+                "section 0x08 (subdivision tags) is format 3.4's, and the file says it is 3.3"},
+          Later{"qsp_normals_section_in_3_4", 9, 4,
+                "section 0x09 (normals) is format 3.5's, and the file says it is 3.4"}}) {
       Parts earlier = p;
       earlier.minor = l.minor;
       out[l.name] = {seal(earlier, section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) +

@@ -17,15 +17,16 @@
 
 namespace qsp {
 
-// The format version this library writes: the lowest whose sections the file holds. 3.4 for a mesh with
-// OpenSubdiv tags, 3.3 for a mesh with face labels or material libraries, 3.2 for a mesh with texture
-// coordinates, 3.1 for a polygon mesh (its polygons section) or a file with a comments section, 3.0, the
-// first release format, for a manifold, consistently oriented all-quad mesh otherwise (the same bytes as
-// before 3.1). It reads every 3.x file (the required sections a newer minor may add excepted, which it
-// refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
+// The format version this library writes: the lowest whose sections the file holds. 3.5 for a mesh with
+// normals, 3.4 for a mesh with OpenSubdiv tags, 3.3 for a mesh with face labels or material libraries, 3.2
+// for a mesh with texture coordinates, 3.1 for a polygon mesh (its polygons section) or a file with a
+// comments section, 3.0, the first release format, for a manifold, consistently oriented all-quad mesh
+// otherwise (the same bytes as before 3.1). It reads every 3.x file (the required sections a newer minor may
+// add excepted, which it refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
 // (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 4;
+inline constexpr std::uint8_t kFormatMinor = 5;
+inline constexpr std::uint8_t kFormatMinorNormals = 5;
 inline constexpr std::uint8_t kFormatMinorTags = 4;
 inline constexpr std::uint8_t kFormatMinorLabels = 3;
 inline constexpr std::uint8_t kFormatMinorTexcoords = 2;
@@ -81,6 +82,7 @@ struct DecodeLimits {
   std::uint64_t max_vertices = std::uint64_t{1} << 26;
   std::uint64_t max_faces = std::uint64_t{1} << 26;
   std::uint64_t max_texcoords = std::uint64_t{1} << 26;  // texture coordinates (format 3.2)
+  std::uint64_t max_normals = std::uint64_t{1} << 26;    // normals (format 3.5)
 };
 
 // The keep-order permutations, as the encoder stores them: for each original vertex its canonical
@@ -138,24 +140,26 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits = {});
 // holding a line break. OpenSubdiv tags go into the subdivision tags section (format 3.4), the indices
 // of crease, corner and hole renumbered with the mesh: Error(kUsage) for an index out of range, a tag
 // qsp cannot renumber (vertexedit, ...) without options.keep_order, or a name or string that is not one
-// word.
+// word. Normals (3 per normal, each corner naming one or kInvalid) go into the normals section (format
+// 3.5), coded exactly as texture coordinates are: the same errors for their arrays and values.
 std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& options = {});
 
-// Decodes any .qsp, 3.0 to 3.4: a 3.0 file gives its quads (as decode()), a 3.1 file the polygon mesh:
+// Decodes any .qsp, 3.0 to 3.5: a 3.0 file gives its quads (as decode()), a 3.1 file the polygon mesh:
 // the same faces, each with its corner cycle (rotated), on the same vertices up to renumbering; positions
 // as stored (exact, or quantized); a file with texture coordinates (3.2) also every corner's, in their
 // original order with an order section; a file with face labels (3.3) each face's labels and the
-// material libraries; a file with subdivision tags (3.4) the tags. Same errors as decode(), kLimit also for
+// material libraries; a file with subdivision tags (3.4) the tags; a file with normals (3.5) every
+// corner's, as texture coordinates. Same errors as decode(), kLimit also for
 // more vertices (interior ones included) or faces than `limits`. Safe on untrusted input: every count is
 // checked against the bytes left and `limits` before anything is allocated by it; time and memory linear in
 // the file and limits.
 PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits = {});
 
 // Whether a .qsp needs decode_polygons(): it holds a polygon mesh (the polygons section, 3.1), texture
-// coordinates (3.2), face labels (3.3) or subdivision tags (3.4), which decode() refuses with kNotQuad; from
-// its container alone (magic, version, size, checksum, sections' framing), decoding nothing, so a caller can
-// choose its reader before decoding once. Throws what decode() throws for a malformed container (kFormat,
-// kVersion, kChecksum). Safe on untrusted input.
+// coordinates (3.2), face labels (3.3), subdivision tags (3.4) or normals (3.5), which decode() refuses with
+// kNotQuad; from its container alone (magic, version, size, checksum, sections' framing), decoding nothing,
+// so a caller can choose its reader before decoding once. Throws what decode() throws for a malformed
+// container (kFormat, kVersion, kChecksum). Safe on untrusted input.
 bool holds_polygons(std::string_view bytes);
 
 struct SectionInfo {
@@ -186,6 +190,7 @@ struct FileInfo {
   std::uint64_t texcoord_bytes = 0;  // the texture coordinates section (3.2; 0 if absent)
   std::uint64_t label_bytes = 0;     // the face labels section (3.3; 0 if absent)
   std::uint64_t tag_bytes = 0;       // the subdivision tags section (3.4; 0 if absent)
+  std::uint64_t normal_bytes = 0;    // the normals section (3.5; 0 if absent)
   std::uint64_t other_bytes = 0;     // optional sections this decoder skipped
   std::uint8_t geometry_tools = 0;   // qsp/geometry.h's geometry_tool bits (geometry_tool_names() says them)
   std::uint8_t quantize_bits = 0;    // 0: lossless positions; 1..30: quantized to that many bits

@@ -250,14 +250,14 @@ QuadMesh to_quad_mesh(const Mesh& mesh);
 // `categories` what the codec keeps: kCategoryUv its texture coordinates (float32; every corner naming
 // one or kInvalid, also when the file has values but no corner names one), kCategoryGroup its objects
 // and groups, kCategoryMaterial its materials and material libraries, kCategorySmoothing its smoothing
-// groups, kCategoryTag its OpenSubdiv tags (their floats as binary32 values where the list is kFloat32,
-// else as the nearest binary64: a kDecimal list is not held exactly); every other attribute ignored.
-// Never throws but for memory.
+// groups, kCategoryNormal its normals (float32, as texture coordinates), kCategoryTag its OpenSubdiv tags
+// (their floats as binary32 values where the list is kFloat32, else as the nearest binary64: a kDecimal list
+// is not held exactly); every other attribute ignored. Never throws but for memory.
 PolygonMesh to_polygon_mesh(Mesh mesh, unsigned categories);
 
 // The categories to_polygon_mesh carries into a PolygonMesh.
 inline constexpr unsigned kPolygonMeshCategories =
-    kCategoryUv | kCategoryGroup | kCategoryMaterial | kCategorySmoothing | kCategoryTag;
+    kCategoryUv | kCategoryNormal | kCategoryGroup | kCategoryMaterial | kCategorySmoothing | kCategoryTag;
 
 // A Mesh with exactly the QuadMesh's float32 positions and quads.
 Mesh from_quad_mesh(QuadMesh mesh);

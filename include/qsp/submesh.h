@@ -64,6 +64,9 @@ struct PolygonMesh {
   std::uint8_t texcoord_components = 0;         // 0 (none), or 1 to 3 per texture coordinate
   std::vector<float> texcoords;                 // texcoord_components per texture coordinate
   std::vector<std::uint32_t> corner_texcoords;  // per corner: its texture coordinate or kInvalid
+  // Normals (OBJ `vn`) in their own index space, as texture coordinates; both empty when none.
+  std::vector<float> normals;                 // 3 per normal
+  std::vector<std::uint32_t> corner_normals;  // per corner: its normal or kInvalid
   // Face labels (OBJ o, g, usemtl, s) and the material libraries (`mtllib` arguments); empty when none.
   FaceLabels objects, groups, materials, smoothing;
   std::vector<std::string> material_libraries;

@@ -214,8 +214,8 @@ inline std::vector<std::string> tags_by_position(const PolygonMesh& m) {
   return out;
 }
 
-// The same mesh with vertices, faces, texture coordinates and label names renumbered and corner lists
-// rotated (positions, texture coordinates, labels and tags follow).
+// The same mesh with vertices, faces, texture coordinates, normals and label names renumbered and corner
+// lists rotated (positions, texture coordinates, normals, labels and tags follow).
 inline PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
   std::mt19937 rng(seed);
   const std::size_t nv = m.vertex_count(), nf = m.face_count(), K = m.texcoord_components;
@@ -227,7 +227,12 @@ inline PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
   std::shuffle(v.begin(), v.end(), rng);
   std::shuffle(f.begin(), f.end(), rng);
   std::shuffle(t.begin(), t.end(), rng);
+  std::vector<std::uint32_t> nn(m.normals.size() / 3);
+  std::iota(nn.begin(), nn.end(), 0u);
+  std::shuffle(nn.begin(), nn.end(), rng);
   PolygonMesh out;
+  out.normals.resize(m.normals.size());
+  for (std::size_t i = 0; i < nn.size(); ++i) std::copy_n(&m.normals[3 * i], 3, &out.normals[3 * nn[i]]);
   out.positions.resize(m.positions.size());
   for (std::size_t i = 0; i < nv; ++i)
     std::copy_n(&m.positions[3 * i], 3, &out.positions[3 * std::size_t{v[i]}]);
@@ -244,6 +249,8 @@ inline PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
       if (K)
         out.corner_texcoords.push_back(m.corner_texcoords[c] == kInvalid ? kInvalid
                                                                          : t[m.corner_texcoords[c]]);
+      if (!m.corner_normals.empty())
+        out.corner_normals.push_back(m.corner_normals[c] == kInvalid ? kInvalid : nn[m.corner_normals[c]]);
     }
     out.face_offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
   }

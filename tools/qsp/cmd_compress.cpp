@@ -88,15 +88,18 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   const bool quiet = o.verbosity.quiet;
   const std::string dropped = refuse_extra_data(in, report, ".qsp", o.drop, quiet, kPolygonMeshCategories);
   if (!o.quantize) refuse_rounding(in, report, "a lossless .qsp", o.float32, quiet, "--quantize BITS");
+  // Texture coordinates and normals, named by the first that float32 does not hold.
+  const bool normal_first = first_rounded_uv.starts_with("normal");
+  const std::string what = normal_first ? "normal" : "texture coordinate";
   if (rounded_uv && !o.float32)
-    throw Error(
-        ErrorCode::kUnsupported,
-        in + ": " + std::to_string(rounded_uv) +
-            " texture coordinate values have more digits than float32 holds (the first: " + first_rounded_uv +
-            "); a .qsp keeps float32 texture coordinates: pass --float32 to round them, or --drop uv");
+    throw Error(ErrorCode::kUnsupported,
+                in + ": " + std::to_string(rounded_uv) + " " + what +
+                    " values have more digits than float32 holds (the first: " + first_rounded_uv +
+                    "); a .qsp keeps float32 " + what + "s: pass --float32 to round them, or --drop " +
+                    (normal_first ? "normal" : "uv"));
   if (rounded_uv && !quiet)
-    std::fprintf(stderr, "qsp: %s: rounded %llu texture coordinate values to float32 (--float32)\n",
-                 in.c_str(), static_cast<unsigned long long>(rounded_uv));
+    std::fprintf(stderr, "qsp: %s: rounded %llu %s values to float32 (--float32)\n", in.c_str(),
+                 static_cast<unsigned long long>(rounded_uv), what.c_str());
   if (mesh.face_count() == 0 && !quiet)
     std::fprintf(stderr, "qsp: warning: %s: has no faces (%zu vertices); writing an empty mesh\n", in.c_str(),
                  mesh.vertex_count());

@@ -39,7 +39,7 @@ std::string mesh_text(PolygonMesh m, MeshFormat format, const std::vector<std::s
   bool quads = true;
   for (std::size_t f = 0; f < m.face_count(); ++f)
     quads = quads && m.face_offsets[f + 1] - m.face_offsets[f] == 4;
-  if (quads && m.texcoord_components == 0 && !m.has_labels() && m.tags.empty()) {
+  if (quads && m.texcoord_components == 0 && m.corner_normals.empty() && !m.has_labels() && m.tags.empty()) {
     const QuadMesh q{std::move(m.positions), std::move(m.corners)};
     return format == MeshFormat::kOff ? write_off(q, comments) : write_obj(q, comments);
   }
@@ -51,6 +51,10 @@ std::string mesh_text(PolygonMesh m, MeshFormat format, const std::vector<std::s
     out.texcoord_components = m.texcoord_components;
     out.texcoords = numbers_from_float32(std::move(m.texcoords));
     out.corner_texcoords = std::move(m.corner_texcoords);
+  }
+  if (!m.normals.empty() || !m.corner_normals.empty()) {
+    out.normals = numbers_from_float32(std::move(m.normals));
+    out.corner_normals = std::move(m.corner_normals);
   }
   out.objects = std::move(m.objects);
   out.groups = std::move(m.groups);
@@ -101,9 +105,11 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
   } catch (const Error& e) {
     throw Error(e.code(), job.input + ": " + e.what());
   }
-  if (format == MeshFormat::kOff && (mesh.texcoord_components || mesh.has_labels() || !mesh.tags.empty()))
+  if (format == MeshFormat::kOff &&
+      (mesh.texcoord_components || !mesh.corner_normals.empty() || mesh.has_labels() || !mesh.tags.empty()))
     throw Error(ErrorCode::kUnsupported, job.input + ": holds " +
                                              (mesh.texcoord_components ? "texture coordinates per corner"
+                                              : !mesh.corner_normals.empty() ? "normals per corner"
                                               : mesh.has_labels() ? "groups, materials or smoothing groups"
                                                                   : "subdivision tags") +
                                              ", which OFF cannot hold; write OBJ (-o " +
