@@ -33,7 +33,13 @@
 # catmark_torus_creases0 (with and without --keep-order) and catmark_square_hedit0 (vertexedit: qsp
 # keeps the original order for it), are decoded whole by qsppoly.py and compared tag for tag with their
 # .obj (crease and corner vertices by position, hole faces by their corners, index for index for a file
-# with an order section; floats by value) and with what `qsp decompress` writes.
+# with an order section; floats by value) and with what `qsp decompress` writes. Files with normals
+# (format 3.5's section, the texture coordinates section's payload with three components, from the text
+# too; a normals section in a 3.4 file and one with other than three components are refused, by both
+# decoders): each of testdata/golden/normals, and fresh encodes of pmp_suzanne and OpenSubdiv's
+# catmark_chaikin0 (with and without --keep-order), are decoded whole by qsppoly.py and compared with
+# their .obj (every corner's position and normal, float32 bits; index for index for a file with an
+# order section; its texture coordinates, labels and tags too) and with what `qsp decompress` writes.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -54,6 +60,46 @@ for f in "$root"/testdata/golden/tags/*.qsp; do  # those with an order section (
   tag_of[$f]=${f%.qsp}.obj
   [[ $(basename "$f") == *keep_order* ]] && tag_exact[$f]=1
 done
+declare -A nrm_of=() nrm_exact=()  # the files with normals, the mesh each was made from, and those
+for f in "$root"/testdata/golden/normals/*.qsp; do  # with an order section (compared index for index)
+  [[ -f $f ]] || continue
+  nrm_of[$f]=${f%.qsp}.obj
+  [[ $(basename "$f") == *keep_order* ]] && nrm_exact[$f]=1
+done
+if [[ -f $root/testdata/golden/normals/cube_normals.qsp ]]; then  # the normals section's own refusals
+  "$python" - "$here" "$root/testdata/golden/normals/cube_normals.qsp" "$qsp" "$work" <<'PY' ||
+import subprocess, sys
+sys.path.insert(0, sys.argv[1])
+import qspgeo as g
+import qsppoly as poly
+path, qsp, work = sys.argv[2:]
+data = open(path, 'rb').read()
+secs = g.sections(data)
+cases = [('the file itself', data, True),
+         ('a normals section in a 3.4 file', g.container(data[:9] + bytes([4]) + data[10:11], secs), False)]
+for K in (0, 1, 2):
+    sec = bytes([secs[0x09][0] & ~3 | K]) + secs[0x09][1:]
+    cases.append(('normals with K = %d' % K, g.container(data, {**secs, 0x09: sec}), False))
+failed = []
+for what, b, valid in cases:
+    try:
+        poly.decode_file(b)
+        ok = True
+    except g.FormatError:
+        ok = False
+    if ok != valid:
+        failed.append('qsppoly.py %s %s' % ('refuses' if valid else 'does not refuse', what))
+    f = '%s/normals_case.qsp' % work
+    open(f, 'wb').write(b)
+    r = subprocess.run([qsp, 'decompress', '-f', f, '-o', f + '.obj'], capture_output=True)
+    if (r.returncode == 0) != valid:
+        failed.append('qsp decompress %s %s' % ('refuses' if valid else 'does not refuse', what))
+for x in failed:
+    print(x, file=sys.stderr)
+sys.exit(1 if failed else 0)
+PY
+    { echo "normals sections from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
+fi
 "$python" "$here/labelgen.py" --test "$qsp" >/dev/null ||
   { echo "face labels streams from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
 "$python" "$here/tagsgen.py" "$qsp" >/dev/null ||
@@ -153,7 +199,7 @@ if [[ ! -f $shared/MANIFEST.tsv ]]; then
     echo "spec decoder: $shared is missing, and this run requires it (CI=true or QSP_REQUIRE_SHARED=1)" >&2
     exit 1
   fi
-  echo "spec decoder: $shared absent: its 17 real-mesh encodes are skipped"
+  echo "spec decoder: $shared absent: its 21 real-mesh encodes are skipped"
 fi
 encode_tex bishop_uv "$shared/osd_catmark_bishop.obj"                       # triangles: a polygons section
 encode_tex bishop_uv_keep_order "$shared/osd_catmark_bishop.obj" --keep-order
@@ -178,6 +224,22 @@ encode_tags cube_creases1_tags_keep_order "$shared/osd_shapes/catmark_cube_creas
 encode_tags torus_creases0_tags "$shared/osd_shapes/catmark_torus_creases0.obj" 0
 encode_tags torus_creases0_tags_keep_order "$shared/osd_shapes/catmark_torus_creases0.obj" 1 --keep-order
 encode_tags square_hedit0_tags "$shared/osd_shapes/catmark_square_hedit0.obj" 1  # order kept for vertexedit
+encode_normals() {  # encode_normals NAME MESH EXACT [OPTIONS...]: a fresh file with normals to check
+  local name=$1 mesh=$2 exact=$3
+  shift 3
+  [[ -f $mesh ]] || return 0
+  if ! "$qsp" compress -f "$@" "$mesh" "$work/$name.qsp" >/dev/null 2>"$work/$name.err"; then
+    cat "$work/$name.err" >&2
+    exit 1
+  fi
+  nrm_of[$work/$name.qsp]=$mesh
+  [[ $exact == 1 ]] && nrm_exact[$work/$name.qsp]=1
+  return 0
+}
+encode_normals suzanne_normals "$shared/pmp_suzanne.obj" 0                   # o, s, usemtl, mtllib too
+encode_normals suzanne_normals_keep_order "$shared/pmp_suzanne.obj" 1 --keep-order
+encode_normals chaikin0_normals "$shared/osd_shapes/catmark_chaikin0.obj" 0  # vt and crease tags too
+encode_normals chaikin0_normals_keep_order "$shared/osd_shapes/catmark_chaikin0.obj" 1 --keep-order
 encode gargoyle_q14 "$shared/quadriflow_gargoyle.obj" --quantize 14  # normal chaining, distorted cells
 encode gargoyle_q14_best "$shared/quadriflow_gargoyle.obj" --quantize 14 --best  # and the costly tools
 encode horse "$shared/igl_horse_quad.obj" --best
@@ -224,8 +286,21 @@ tagged() {  # tagged FILE MESH: the whole mesh, labels and tags against MESH and
     "$python" "$here/qsppoly.py" "$f" --obj "$2" --tex-obj "$2" --labels-obj "$2" --tags-obj "$2" "${exact[@]}" \
       --decompressed "$out" --labels-decompressed "$out" --tags-decompressed "$out"
 }
+normalled() {  # normalled FILE MESH: the whole mesh, normals included, against MESH and what `qsp decompress` writes
+  local f=$1 out exact=()
+  out="$work/$(basename "$f" .qsp)_$BASHPID.obj"
+  [[ -n ${nrm_exact[$f]:-} ]] && exact=(--exact)
+  "$qsp" decompress -f "$f" -o "$out" >/dev/null &&
+    "$python" "$here/qsppoly.py" "$f" --obj "$2" --tex-obj "$2" --labels-obj "$2" --tags-obj "$2" --normals-obj "$2" \
+      "${exact[@]}" --decompressed "$out" --labels-decompressed "$out" --tags-decompressed "$out" \
+      --normals-decompressed "$out"
+}
 check() {  # check FILE: the text's decoder against the reference's dump (prints nothing on success)
   local f=$1 prefix
+  if [[ -n ${nrm_of[$f]:-} ]]; then
+    normalled "$f" "${nrm_of[$f]}" || { echo "spec decoder's mesh with normals disagrees: $f" >&2; return 1; }
+    return 0
+  fi
   if [[ -n ${tag_of[$f]:-} ]]; then
     tagged "$f" "${tag_of[$f]}" || { echo "spec decoder's mesh with subdivision tags disagrees: $f" >&2; return 1; }
     return 0
@@ -256,7 +331,7 @@ check() {  # check FILE: the text's decoder against the reference's dump (prints
 # Files are independent: as many at once as there are cores (the Python decoder is the long pole of
 # the release suite).
 failed=0 running=0
-for f in "${!tag_of[@]}" "${!lab_of[@]}" "${!tex_of[@]}" "${files[@]}"; do
+for f in "${!nrm_of[@]}" "${!tag_of[@]}" "${!lab_of[@]}" "${!tex_of[@]}" "${files[@]}"; do
   if ((running >= $(nproc))); then
     wait -n || failed=1
     running=$((running - 1))
@@ -268,5 +343,5 @@ while ((running)); do
   wait -n || failed=1
   running=$((running - 1))
 done
-echo "spec decoder: $((${#files[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]})) of them decoded whole against their mesh, ${#tex_of[@]} with texture coordinates, ${#lab_of[@]} with face labels, ${#tag_of[@]} with subdivision tags"
+echo "spec decoder: $((${#files[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) of them decoded whole against their mesh, ${#tex_of[@]} with texture coordinates, ${#lab_of[@]} with face labels, ${#tag_of[@]} with subdivision tags, ${#nrm_of[@]} with normals"
 exit $failed

@@ -1,22 +1,25 @@
 #!/usr/bin/env python3
 """The whole mesh of a .qsp file, polygons section (0x05), texture coordinates section (0x06), face
-labels section (0x07), subdivision tags section (0x08), order section (0x04) and comments section
-(0x81) included, written from format-spec/qsp_format.md alone ("Grid layout", "Order section",
-"Polygons section", "Texture coordinates section", "Face labels section", "Subdivision tags section",
-"Comments section", "Decoding a mesh") without reading the codec's C++, on top of qsplayout.py
-(topology, layout) and qspgeo.py (container, range coder, geometry).
+labels section (0x07), subdivision tags section (0x08), normals section (0x09), order section (0x04)
+and comments section (0x81) included, written from format-spec/qsp_format.md alone ("Grid layout",
+"Order section", "Polygons section", "Texture coordinates section", "Face labels section",
+"Subdivision tags section", "Normals section", "Comments section", "Decoding a mesh") without reading
+the codec's C++, on top of qsplayout.py (topology, layout) and qspgeo.py (container, range coder,
+geometry).
 
 usage: qsppoly.py FILE.qsp [--obj MESH.obj] [--reference PREFIX] [--tex-obj MESH.obj [--exact]]
                   [--labels-obj MESH.obj [--exact]] [--labels-decompressed OUT.obj]
                   [--tags-obj MESH.obj [--exact]] [--tags-decompressed OUT.obj]
+                  [--normals-obj MESH.obj [--exact]] [--normals-decompressed OUT.obj]
                   [--decompressed OUT.obj] [--stats]
        decodes FILE to its output mesh (vertices, faces with their corners, float bits, each corner's
-       texture coordinate, in the original order when the file has an order section), its face labels
-       and material libraries, its subdivision tags, and its comment lines. --obj: compares them
-       with MESH.obj, the mesh the file was made from: the same faces with the same corner cycles on
-       the same vertices up to renumbering and face order, every position bit for bit (skipped for a
-       quantized file), and, when the file has a comments section, its lines with MESH.obj's leading
-       comment block.
+       texture coordinate and normal, in the original order when the file has an order section), its
+       face labels and material libraries, its subdivision tags, and its comment lines. --obj:
+       compares them with MESH.obj, the mesh the file was made from: the same faces with the same
+       corner cycles on the same vertices up to renumbering and face order (as cycles of corner
+       positions when two of MESH.obj's vertices share a position), every position bit for bit
+       (skipped for a quantized file), and, when the file has a comments section, its lines with
+       MESH.obj's leading comment block.
        --reference: compares them exactly (vertex order, face order, each face's first corner, float
        bits) with the reference decoder's output that dump_stencils wrote to PREFIX.mesh and
        PREFIX.comments. --tex-obj: compares every corner's position and texture coordinate (float32
@@ -34,6 +37,10 @@ usage: qsppoly.py FILE.qsp [--obj MESH.obj] [--reference PREFIX] [--tex-obj MESH
        by value (a binary32 one with the text read as binary32), integers; crease and corner ones as
        the vertices' positions, hole ones as the faces' corner positions (index for index with
        --exact). --tags-decompressed: the same, index for index, with OUT.obj.
+       --normals-obj: compares every corner's position and normal (float32 bits, the third field of
+       `f v/vt/vn`) with MESH.obj's up to renumbering, face order and rotation, and the normals no
+       corner names; with --exact index for index. --normals-decompressed: the same, index for index,
+       with OUT.obj.
        --stats: prints how often each rule of the text was met. Exit 0 if all agree, else 1.
 """
 import math
@@ -146,6 +153,9 @@ STATS = {}  # what a decode used: how much of the text the files exercise
 
 def seen(what):
     STATS[what] = STATS.get(what, 0) + 1
+
+
+_seen = seen
 
 
 def decode_polygons(payload, V, quads, limit_faces=None):
@@ -576,6 +586,7 @@ def decode_order(payload, V, degrees):
 
 # ---------------- "Texture coordinates section" ----------------
 MAX_TEXCOORDS = 1 << 26           # the reference decoder's default max_texcoords
+MAX_NORMALS = 1 << 26             # ... and max_normals
 ACROSS_ANY_DEGREE = True          # the quad across O -> A in a face of degree > 4 too, where O -> A is a
                                   # chord (the text's E(x, y) goes by names; qsp does so)
 
@@ -592,16 +603,27 @@ FLOAT_FROM_ZERO = True    # a float prediction's binary64 sum starts from +0.0, 
                           # predicts +0.0 (the text does not say; qsp does so: texgen.py's `u`)
 
 
-def decode_texcoords(payload, positions, faces, has_order):
+def decode_texcoords(payload, positions, faces, has_order, normals=False):
     """The texture coordinates section over the output mesh of the other sections (faces in
     canonical order, corners from each face's first): (values, names, original, modes) with
     values[i] the K components of value i as binary32 bits, names[f][k] the value corner k of face f
     names (None: none), original[i] value i's original index (None without bit 2), modes the K
-    components' modes."""
+    components' modes. normals: the normals section ("Normals section": the same payload with models
+    of its own, which each call's are, K = 3 and T bounded by max_normals)."""
+    noun, prefix = ('normal', 'normals: ') if normals else ('texture coordinate', 'tex: ')
+
+    def need(ok, msg):
+        g.need(ok, msg.replace('texture coordinate', noun))
+
+    def seen(what):
+        _seen(what.replace('tex: ', prefix, 1))
+
     need(len(payload) >= 1, 'empty texture coordinates section')
     flags = payload[0]
     K = flags & 3
     need(K != 0, 'texture coordinates with 0 components')
+    if normals:
+        need(K == 3, 'normals with %d components (flags bits 0-1), not 3' % K)
     need(flags >> 5 == 0, 'reserved texture coordinates flag bits set')
     kept = bool(flags & 4)
     corrections = bool(flags & 8)
@@ -611,7 +633,10 @@ def decode_texcoords(payload, positions, faces, has_order):
     need(kept == has_order, 'texture coordinates order bit %d, order section %s' % (kept, has_order))
     T, pos = g.read_varint(payload, 1)
     need(T <= (1 << 31) - 1, 'more than 2^31 - 1 texture coordinates')
-    need(T <= MAX_TEXCOORDS, 'texture coordinates past max_texcoords')
+    if normals:
+        need(T <= MAX_NORMALS, 'normals past max_normals')
+    else:
+        need(T <= MAX_TEXCOORDS, 'texture coordinates past max_texcoords')
     need(T <= 2048 * (len(payload) - pos + 8), '%d texture coordinates in %d bytes' % (T, len(payload) - pos))
     U, pos = g.read_varint(payload, pos)
     need(U <= T, 'more unreferenced texture coordinates than values')
@@ -944,7 +969,7 @@ def canonical_mesh(data, secs):
     return out_pos, out_faces, geo[1] != 0
 
 
-KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08)
+KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09)
 
 
 def decode_file(data):
@@ -952,7 +977,9 @@ def decode_file(data):
     coordinates, face labels) of the output mesh, the order section applied; texture coordinates are
     None or (values as binary32 bits per component, per face the value each corner names or None);
     face labels None or {'faces': {kind: per face its name or None}, 'unused': {kind: the names no
-    face takes}, 'libraries': the mtllib texts}, for the kinds present."""
+    face takes}, 'libraries': the mtllib texts}, for the kinds present; subdivision tags; normals None
+    or [values as binary32 bits, per face the normal each corner names or None, modes], as texture
+    coordinates are."""
     secs = g.sections(data)
     for tag in secs:
         need(tag & 0x80 or tag in KNOWN_REQUIRED, 'section 0x%02x is required but unknown' % tag)
@@ -969,6 +996,17 @@ def decode_file(data):
             names = [[None if x is None else original[x] for x in f] for f in names]
             values = out_values
         tex = [values, names, modes]
+    nrm = None
+    if 0x09 in secs:   # "Normals section": the texture coordinates section's payload, K = 3
+        need(data[9] >= 5, 'section 0x09 (normals) in a %d.%d file' % (data[8], data[9]))
+        values, names, original, modes = decode_texcoords(secs[0x09], pos, faces, 0x04 in secs, normals=True)
+        if original is not None:
+            out_values = [None] * len(values)
+            for i, j in enumerate(original):
+                out_values[j] = values[i]
+            names = [[None if x is None else original[x] for x in f] for f in names]
+            values = out_values
+        nrm = [values, names, modes]
     labels = None
     if 0x07 in secs:
         need(data[9] >= 3, 'section 0x07 (face labels) in a %d.%d file' % (data[8], data[9]))
@@ -989,20 +1027,25 @@ def decode_file(data):
         for j, c in enumerate(cv):
             back[c] = j
         opos = [pos[c] for c in cv]
-        ofaces, onames = [], []
+        ofaces, onames, onormals = [], [], []
         for c, r in of:
             d = len(faces[c])
-            f, nm = [None] * d, [None] * d
+            f, nm, nn = [None] * d, [None] * d, [None] * d
             for k in range(d):
                 f[(k + r) % d] = back[faces[c][k]]
                 if tex:
                     nm[(k + r) % d] = tex[1][c][k]
+                if nrm:
+                    nn[(k + r) % d] = nrm[1][c][k]
             ofaces.append(f)
             onames.append(nm)
+            onormals.append(nn)
         pos, faces = opos, ofaces
         if tex:
             tex[1] = onames
-    return pos, faces, lines, quantized, tex, labels, tags
+        if nrm:
+            nrm[1] = onormals
+    return pos, faces, lines, quantized, tex, labels, tags, nrm
 
 
 # ---------------- comparisons ----------------
@@ -1063,6 +1106,42 @@ def read_obj_tex(path):
             faces.append(f)
             names.append(nm)
     return pos, vts, faces, names
+
+
+def read_obj_normals(path):
+    """Positions, normals (float32 bits per component) and faces with, per corner, its vertex and
+    the normal it names (0-based, the third field of `v/vt/vn`, None for none) of an .obj."""
+    pos, vns, faces, names = [], [], [], []
+    for raw in open(path, 'rb').read().split(b'\n'):
+        w = raw.split()
+        if not w or w[0].startswith(b'#'):
+            continue
+        if w[0] == b'v':
+            pos.append(tuple(f32(float(x)) for x in w[1:4]))
+        elif w[0] == b'vn':
+            vns.append(tuple(f32(float(x)) for x in w[1:4]))
+        elif w[0] == b'f':
+            f, nm = [], []
+            for x in w[1:]:
+                parts = x.split(b'/')
+                i = int(parts[0])
+                f.append(i - 1 if i > 0 else len(pos) + i)
+                if len(parts) > 2 and parts[2]:
+                    k = int(parts[2])
+                    nm.append(k - 1 if k > 0 else len(vns) + k)
+                else:
+                    nm.append(None)
+            faces.append(f)
+            names.append(nm)
+    return pos, vns, faces, names
+
+
+def compare_normals(mesh, other, what, exact):
+    """The mesh's normals against read_obj_normals' of an .obj, as compare_tex compares texture
+    coordinates: every corner's position and normal bits up to renumbering, face order and rotation,
+    and the normals no corner names; exact: index for index."""
+    as_tex = tuple(mesh[:4]) + (mesh[7],)
+    return [b.replace('texture coordinate', 'normal') for b in compare_tex(as_tex, other, what, exact)]
 
 
 def on_grid(u, mode):
@@ -1152,10 +1231,17 @@ def compare_obj(path, mesh, obj_path):
     bad = []
     if len(pos) != len(opos) or len(faces) != len(ofaces):
         return ['%d vertices and %d faces, the .obj %d and %d' % (len(pos), len(faces), len(opos), len(ofaces))]
-    if not quantized:
+    if not quantized and len(set(opos)) < len(opos):   # two vertices at one position (pmp_suzanne):
+        seen('obj: coincident vertices')               # the faces as cycles of corner positions
+        cyc = lambda p, fs: sorted(min(tuple(c[k:] + c[:k]) for k in range(len(c)))
+                                   for c in ([p[v] for v in f] for f in fs))
+        if sorted(pos) != sorted(opos):
+            bad.append('positions differ from the .obj\'s (as multisets)')
+        elif cyc(pos, faces) != cyc(opos, ofaces):
+            bad.append('faces\' corner positions differ from the .obj\'s')
+    elif not quantized:
         by_pos = {}
         for i, p in enumerate(opos):
-            need(p not in by_pos, '%s: two vertices at one position: cannot match by position' % obj_path)
             by_pos[p] = i
         to = []
         for i, p in enumerate(pos):
@@ -1350,7 +1436,10 @@ def as_obj_writes(mesh):
     labels = dict(labels, faces={k: [v[f] for f in order] for k, v in labels['faces'].items()})
     if tex:
         tex = [tex[0], [tex[1][f] for f in order], tex[2]]
-    return (pos, [faces[f] for f in order], lines, quantized, tex, labels) + tuple(mesh[6:])
+    tags, nrm = mesh[6:8]
+    if nrm:
+        nrm = [nrm[0], [nrm[1][f] for f in order], nrm[2]]
+    return (pos, [faces[f] for f in order], lines, quantized, tex, labels, tags, nrm)
 
 
 def compare_reference(mesh, prefix):
@@ -1419,10 +1508,17 @@ def main():
     if '--tags-decompressed' in opts:   # the same numbering as this decoder's output (faces maybe moved)
         bad += compare_tags(written, read_obj_tags(opts['--tags-decompressed']), 'qsp decompress\'s output',
                             exact=True)
+    if '--normals-obj' in opts:
+        bad += compare_normals(mesh, read_obj_normals(opts['--normals-obj']), 'the .obj', exact='--exact' in args)
+    if '--normals-decompressed' in opts:
+        bad += compare_normals(written, read_obj_normals(opts['--normals-decompressed']), 'qsp decompress\'s output',
+                               exact=True)
     if '--stats' in args:
         print(' '.join('%s=%d' % kv for kv in sorted(STATS.items())))
     if 'tex: unreferenced values not sorted (an encoder rule)' in STATS:
         bad.append('texture coordinates no corner names are not sorted by their bits, as the encoder writes them')
+    if 'normals: unreferenced values not sorted (an encoder rule)' in STATS:
+        bad.append('normals no corner names are not sorted by their bits, as the encoder writes them')
     for b in bad:
         print('%s: %s' % (path, b))
     return 1 if bad else 0
