@@ -188,7 +188,7 @@ void register_compress(CLI::App& app, int& rc) {
                   "whatever their range, so a few far-off ones cost only themselves")
       ->check(CLI::Range(1, 24));
   sub->add_flag("--keep-order", opt->keep_order, "Also store the vertex order, face order and first corners");
-  add_drop_options(sub, opt->drop, "");
+  add_drop_options(sub, opt->drop, "", kPolygonMeshCategories);
   sub->add_flag("--float32", opt->float32,
                 "Round coordinates with more digits than float32 holds to the nearest float32 instead of "
                 "refusing (the file is then lossless for those float32 values)");

@@ -452,11 +452,15 @@ unsigned DropOptions::categories() const {
   return (positions_only ? unsigned{kCategoryAll} : 0u) | (list.empty() ? 0u : parse_categories(list));
 }
 
-void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose) {
+void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose, unsigned kept) {
+  // What the subcommand keeps unless dropped is said first: it refuses only the rest.
+  const std::string keeps = kept ? category_list(kept, ", ") + " and comment are kept unless dropped; " : "";
   cmd->add_option("--drop", drop.list,
-                  "Drop " + whose + "data of these kinds instead of refusing the file (comma-separated: " +
-                      category_list(kCategoryAll, ", ") +
-                      "). extra: lines qsp keeps only as text (vp, cstype, a stray line of prose), vertex "
+                  "Drop " + whose +
+                      "data of these kinds (comma-separated: " + category_list(kCategoryAll, ", ") + "); " +
+                      keeps + (kept ? "a file with any of the others" : "a file with any of them") +
+                      " is refused unless they are dropped. extra: lines qsp keeps only as text (vp, cstype, "
+                      "a stray line of prose), vertex "
                       "weights, other PLY properties. comment: the leading comment block (licence lines), "
                       "which is kept unless dropped; later comments are never kept")
       ->type_name("LIST")

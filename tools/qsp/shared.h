@@ -197,8 +197,9 @@ struct DropOptions {
 };
 
 // Adds --drop LIST (checked: an unknown item is a usage error naming the valid ones) and
-// --positions-only to `cmd`; `whose` ("", "IN's ") for the help.
-void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose);
+// --positions-only to `cmd`; `whose` ("", "IN's ") and `kept` (the categories the subcommand keeps
+// unless dropped) for the help.
+void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose, unsigned kept = 0);
 
 // Data a mesh file had beside positions and faces (texture coordinates, normals, groups, ...), which
 // `what` (".qsp", "reorder") cannot keep: refused (kUnsupported, naming each kind not dropped with its
