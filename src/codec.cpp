@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <future>
+#include <iterator>
 #include <optional>
 #include <string>
 #include <system_error>
@@ -243,23 +244,16 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
                 "the file holds a polygon mesh (faces that are not quads, or a non-manifold or mis-oriented "
                 "mesh: section 0x05 at byte offset " +
                     std::to_string(s->offset) + "), which this reader of quad meshes does not take");
-  if (const Section* s = p.file.find(container::kTagTexcoords))
-    throw Error(ErrorCode::kNotQuad,
-                "the file holds texture coordinates (section 0x06 at byte offset " +
-                    std::to_string(s->offset) +
-                    "), which this reader of quad meshes does not return: decode_polygons() reads them");
-  if (const Section* s = p.file.find(container::kTagLabels))
-    throw Error(ErrorCode::kNotQuad,
-                "the file holds face labels (section 0x07 at byte offset " + std::to_string(s->offset) +
-                    "), which this reader of quad meshes does not return: decode_polygons() reads them");
-  if (const Section* s = p.file.find(container::kTagNormals))
-    throw Error(ErrorCode::kNotQuad,
-                "the file holds normals (section 0x09 at byte offset " + std::to_string(s->offset) +
-                    "), which this reader of quad meshes does not return: decode_polygons() reads them");
-  if (const Section* s = p.file.find(container::kTagTags))
-    throw Error(ErrorCode::kNotQuad,
-                "the file holds subdivision tags (section 0x08 at byte offset " + std::to_string(s->offset) +
-                    "), which this reader of quad meshes does not return: decode_polygons() reads them");
+  // The polygons section says the mesh itself is not a quad mesh; every other section a minor version
+  // added holds data a quad mesh has no place for.
+  for (const container::SectionKind& k : container::kSections) {
+    const Section* s = container::added_required(k) ? p.file.find(k.tag) : nullptr;
+    if (s)
+      throw Error(ErrorCode::kNotQuad,
+                  "the file holds " + std::string(k.name) + " (section " + container::tag_name(k.tag) +
+                      " at byte offset " + std::to_string(s->offset) +
+                      "), which this reader of quad meshes does not return: decode_polygons() reads them");
+  }
   return decode_quads(p);
 }
 
@@ -372,9 +366,10 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
 
 bool holds_polygons(std::string_view bytes) {
   const container::File f = container::parse(bytes);
-  return f.find(container::kTagPolygons) != nullptr || f.find(container::kTagTexcoords) != nullptr ||
-         f.find(container::kTagLabels) != nullptr || f.find(container::kTagTags) != nullptr ||
-         f.find(container::kTagNormals) != nullptr;
+  return std::any_of(std::begin(container::kSections), std::end(container::kSections),
+                     [&](const container::SectionKind& k) {
+                       return container::added_required(k) && f.find(k.tag) != nullptr;
+                     });
 }
 
 FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits) {

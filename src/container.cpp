@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <iterator>
 
 #include "bytes.h"
 #include "qsp/error.h"
@@ -19,12 +20,6 @@ std::string at(std::uint64_t offset) { return " (at byte offset " + std::to_stri
 
 [[noreturn]] void format_error(const std::string& what, std::uint64_t offset) {
   throw Error(ErrorCode::kFormat, what + at(offset));
-}
-
-std::string tag_name(std::uint8_t tag) {
-  char buf[8];
-  std::snprintf(buf, sizeof buf, "0x%02x", tag);
-  return buf;
 }
 
 std::string version(std::uint8_t major, std::uint8_t minor) {
@@ -58,6 +53,12 @@ void check_version(std::uint8_t major, std::uint8_t minor) {
 }
 
 }  // namespace
+
+std::string tag_name(std::uint8_t tag) {
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "0x%02x", tag);
+  return buf;
+}
 
 const Section* File::find(std::uint8_t tag) const {
   for (const Section& s : sections)
@@ -119,30 +120,14 @@ File parse(std::string_view file) {
                        " (sections come in increasing tag order, each once)",
                    sec.offset);
     }
-    if (sec.tag == kTagPolygons && f.minor < 1)
-      format_error(
-          "section 0x05 (polygons) is format 3.1's, and the file says it is " + version(f.major, f.minor),
-          sec.offset);
-    if (sec.tag == kTagTexcoords && f.minor < 2)
-      format_error("section 0x06 (texture coordinates) is format 3.2's, and the file says it is " +
+    const auto kind = std::find_if(std::begin(kSections), std::end(kSections),
+                                   [&](const SectionKind& k) { return k.tag == sec.tag; });
+    const bool known = kind != std::end(kSections) || (sec.tag & kOptionalBit);
+    if (kind != std::end(kSections) && added_required(*kind) && f.minor < kind->minor)
+      format_error("section " + tag_name(sec.tag) + " (" + std::string(kind->name) + ") is format " +
+                       version(kFormatMajor, kind->minor) + "'s, and the file says it is " +
                        version(f.major, f.minor),
                    sec.offset);
-    if (sec.tag == kTagLabels && f.minor < 3)
-      format_error(
-          "section 0x07 (face labels) is format 3.3's, and the file says it is " + version(f.major, f.minor),
-          sec.offset);
-    if (sec.tag == kTagNormals && f.minor < 5)
-      format_error(
-          "section 0x09 (normals) is format 3.5's, and the file says it is " + version(f.major, f.minor),
-          sec.offset);
-    if (sec.tag == kTagTags && f.minor < 4)
-      format_error("section 0x08 (subdivision tags) is format 3.4's, and the file says it is " +
-                       version(f.major, f.minor),
-                   sec.offset);
-    const bool known = sec.tag == kTagCounts || sec.tag == kTagTopology || sec.tag == kTagGeometry ||
-                       sec.tag == kTagOrder || sec.tag == kTagPolygons || sec.tag == kTagTexcoords ||
-                       sec.tag == kTagLabels || sec.tag == kTagTags || sec.tag == kTagNormals ||
-                       (sec.tag & kOptionalBit);
     if (!known) {
       const std::string what = "section " + tag_name(sec.tag) +
                                " is required but unknown to this qsp, which reads format " +

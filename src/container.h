@@ -32,6 +32,37 @@ inline constexpr std::uint8_t kTagNormals = 0x09;
 inline constexpr std::uint8_t kOptionalBit = 0x80;
 inline constexpr std::uint8_t kTagComments = 0x81;  // optional, from 3.1
 
+// A section tag, the format minor version that defines it, and its name in messages.
+struct SectionKind {
+  std::uint8_t tag;
+  std::uint8_t minor;
+  std::string_view name;
+};
+// Every section this qsp knows, in tag order (a new section is a row here, beside its coder). parse()
+// refuses a required tag not in it and a required section in a file of a lower minor version than its
+// row's; decode() refuses, and holds_polygons() looks for, the required ones added after 3.0
+// (added_required), which only decode_polygons() reads.
+inline constexpr SectionKind kSections[] = {
+    {kTagCounts, kFormatMinorQuads, "counts"},
+    {kTagTopology, kFormatMinorQuads, "topology"},
+    {kTagGeometry, kFormatMinorQuads, "geometry"},
+    {kTagOrder, kFormatMinorQuads, "order"},
+    {kTagPolygons, kFormatMinorPolygons, "polygons"},
+    {kTagTexcoords, kFormatMinorTexcoords, "texture coordinates"},
+    {kTagLabels, kFormatMinorLabels, "face labels"},
+    {kTagTags, kFormatMinorTags, "subdivision tags"},
+    {kTagNormals, kFormatMinorNormals, "normals"},
+    {kTagComments, kFormatMinorPolygons, "comments"},
+};
+
+// Whether the section is a required one added after 3.0 (a file holding it is not a 3.0 quad file).
+constexpr bool added_required(const SectionKind& k) {
+  return k.minor > kFormatMinorQuads && !(k.tag & kOptionalBit);
+}
+
+// The tag as the messages write it: "0x05".
+std::string tag_name(std::uint8_t tag);
+
 // The encoder byte: the compression level in bits 0-3 (0 = not said, 1-9), bits 4-7 reserved.
 inline constexpr std::uint8_t kLevelMask = 0x0F, kMaxLevelValue = 9;
 

@@ -116,7 +116,8 @@ std::string with_comments(std::string_view file, const std::vector<std::string>&
 std::vector<std::string> file_comments(std::string_view bytes);
 
 // Decodes a whole .qsp of a quad mesh. Returns the mesh in canonical order (or the original order when
-// the file has an order section). A file with a polygons section (3.1) or texture coordinates (3.2) is
+// the file has an order section). A file with a polygons section (3.1) or another required section added
+// after 3.0 (texture coordinates, face labels, subdivision tags, normals; the first in tag order is named) is
 // refused with Error(kNotQuad): decode_polygons reads it. Throws Error with kFormat (malformed, truncated,
 // trailing bytes), kVersion (newer major), kChecksum, kLimit (past `limits`); the message says what and at
 // which byte offset. The checksum is verified before anything is decoded. Safe on untrusted input.
