@@ -6,6 +6,7 @@
 // a file that decodes gives a valid manifold quad mesh that inspect() agrees with and that
 // round-trips through encode/decode.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -72,6 +73,14 @@ void check_polygons(std::string_view bytes, const qsp::DecodeLimits& limits) {
       fuzz::finding("decoded a normal out of range");
   for (const float x : m.normals)
     if (!std::isfinite(x)) fuzz::finding("decoded a normal that is not finite");
+  // Exact positions (3.6): none, or each coordinate's finite float64, which rounds to its float32.
+  if (!m.positions64.empty() && m.positions64.size() != m.positions.size())
+    fuzz::finding("decoded exact positions of another vertex count");
+  for (std::size_t i = 0; i < m.positions64.size(); ++i)
+    if (!std::isfinite(m.positions64[i]) ||
+        std::bit_cast<std::uint32_t>(static_cast<float>(m.positions64[i])) !=
+            std::bit_cast<std::uint32_t>(m.positions[i]))
+      fuzz::finding("decoded an exact position that does not round to its float32 position");
   // Subdivision tags (3.4): crease, corner and hole name vertices and faces of the output.
   for (const SubdivisionTag& t : m.tags) {
     const bool faces = t.name == "hole";

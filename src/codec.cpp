@@ -264,7 +264,8 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   const Section* labels = p.file.find(container::kTagLabels);
   const Section* tags = p.file.find(container::kTagTags);
   const Section* normals = p.file.find(container::kTagNormals);
-  if (!poly && !uv && !labels && !tags && !normals) return polygon_mesh(decode_quads(p));
+  const Section* exact = p.file.find(container::kTagExact);
+  if (!poly && !uv && !labels && !tags && !normals && !exact) return polygon_mesh(decode_quads(p));
   // The output mesh in canonical order, then its texture coordinates, then the input's numbering.
   PolygonMesh out;
   std::uint32_t nv = 0;
@@ -280,6 +281,12 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   } else {
     out = polygon_mesh(decode_layout(p));
     nv = static_cast<std::uint32_t>(p.counts.vertices);
+  }
+  if (exact) {
+    if (geometry_quantize_bits(p.geometry->payload, p.geometry->payload_offset) != 0)
+      throw Error(ErrorCode::kFormat, "exact positions section: the geometry is quantized (at byte offset " +
+                                          std::to_string(exact->payload_offset) + ")");
+    out.positions64 = decode_exact_section(exact->payload, exact->payload_offset, out.positions);
   }
   if (uv) {
     DecodedTexcoords t = decode_texcoords_section(uv->payload, uv->payload_offset, out.face_offsets,
@@ -327,9 +334,12 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   std::vector<std::uint32_t> output_to_input(nv);
   PolygonMesh in;
   in.positions.resize(out.positions.size());
+  in.positions64.resize(out.positions64.size());
   for (std::uint32_t j = 0; j < nv; ++j) {
     output_to_input[order.vertex[j]] = j;
     std::copy_n(&out.positions[3 * std::size_t{order.vertex[j]}], 3, &in.positions[3 * std::size_t{j}]);
+    if (exact)
+      std::copy_n(&out.positions64[3 * std::size_t{order.vertex[j]}], 3, &in.positions64[3 * std::size_t{j}]);
   }
   in.face_offsets.assign(1, 0);
   for (std::uint32_t f = 0; f < nf; ++f)
@@ -442,6 +452,8 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       info.tag_bytes += size;
     else if (s.tag == container::kTagNormals)
       info.normal_bytes += size;
+    else if (s.tag == container::kTagExact)
+      info.exact_bytes += size;
     else
       info.other_bytes += size;
   }

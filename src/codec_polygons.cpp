@@ -221,6 +221,21 @@ std::vector<float> decoder_positions(const PolygonMesh& mesh, const OutputCorner
   return decoded;
 }
 
+// The exact positions section: each input vertex's binary32 and exact values at its output vertex.
+std::string exact_section(const PolygonMesh& mesh, const FaceMap& map) {
+  const std::size_t nv = mesh.vertex_count();
+  if (map.vertex.size() != nv) internal("the vertex map has another vertex count");
+  std::vector<float> positions(3 * nv);
+  std::vector<double> exact(3 * nv);
+  for (std::size_t v = 0; v < nv; ++v) {
+    const std::size_t o = map.vertex[v];
+    if (o >= nv) internal("the vertex map names a vertex out of range");
+    std::copy_n(&mesh.positions[3 * v], 3, &positions[3 * o]);
+    std::copy_n(&mesh.positions64[3 * v], 3, &exact[3 * o]);
+  }
+  return encode_exact_section(positions, exact);
+}
+
 // A section of values per corner (texture coordinates, normals) over the output corners.
 std::string corner_values_section(const PolygonMesh& mesh, const OutputCorners& oc,
                                   std::span<const float> positions, std::uint8_t components,
@@ -250,6 +265,8 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
                                            std::to_string(mesh.corner_texcoords[c]) + " of " +
                                            std::to_string(count));
   }
+  if (!mesh.positions64.empty() && mesh.positions64.size() != mesh.positions.size())
+    throw Error(ErrorCode::kUsage, "encode: exact positions are not 3 per vertex");
   const bool labels = mesh.has_labels();
   const bool normals = !mesh.normals.empty() || !mesh.corner_normals.empty();
   if (normals && (mesh.normals.size() % 3 != 0 || mesh.corner_normals.size() != mesh.corners.size()))
@@ -262,7 +279,8 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
   const auto whole = [&](const EncodeOptions& o) {
     FaceMap map;
     std::string bytes = encode_faces(mesh, o, map);
-    if (!texcoords && !normals && !labels && mesh.tags.empty()) return bytes;
+    const bool exact = !mesh.positions64.empty() && o.quantize_bits == 0;
+    if (!texcoords && !normals && !labels && mesh.tags.empty() && !exact) return bytes;
     const std::vector<std::uint32_t> input_face = input_faces(map, mesh.face_count());
     const OutputCorners oc = texcoords || normals ? output_corners(mesh, map, input_face) : OutputCorners{};
     const std::vector<float> positions =
@@ -285,6 +303,9 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
                                       corner_values_section(mesh, oc, positions, 3, mesh.normals,
                                                             mesh.corner_normals, o, 0, kNormalWords),
                                       kFormatMinorNormals);
+    if (exact)
+      bytes =
+          container::with_section(bytes, container::kTagExact, exact_section(mesh, map), kFormatMinorExact);
     return bytes;
   };
   // The levels that try every partition keep the smallest whole file: with texture coordinates the

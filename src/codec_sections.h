@@ -122,6 +122,15 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                                           bool order_section, const DecodeLimits& limits,
                                           const CornerValueWords& words = kTexcoordWords);
 
+// The exact positions section (format 3.6) of the output vertices whose binary32 positions are
+// `positions` and exact values `exact` (3 per vertex each, the decoder's output order before any order
+// section). Throws Error(kUsage) for an exact value that is not finite or does not round to its position.
+std::string encode_exact_section(std::span<const float> positions, std::span<const double> exact);
+// Inverse of encode_exact_section over the decoded `positions`. Throws Error(kFormat) naming what and the
+// byte offset. Safe on untrusted input: the payload's size is checked against the vertex count and the
+// widths before anything is allocated; time and memory linear in the vertices.
+std::vector<double> decode_exact_section(std::string_view payload, std::uint64_t base_offset,
+                                         std::span<const float> positions);
 // The face labels section (format 3.3) of `mesh`, whose output face g (the decoder's order before any
 // order section) is input face input_face[g]. Throws Error(kUsage) for a label array of another size, a
 // label out of range or a name or library holding a line break.

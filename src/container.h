@@ -29,6 +29,7 @@ inline constexpr std::uint8_t kTagLabels = 0x07;
 inline constexpr std::uint8_t kTagTags = 0x08;
 // Format 3.5: required where the mesh has normals.
 inline constexpr std::uint8_t kTagNormals = 0x09;
+inline constexpr std::uint8_t kTagExact = 0x0a;  // exact positions, from 3.6
 inline constexpr std::uint8_t kOptionalBit = 0x80;
 inline constexpr std::uint8_t kTagComments = 0x81;  // optional, from 3.1
 
@@ -52,6 +53,7 @@ inline constexpr SectionKind kSections[] = {
     {kTagLabels, kFormatMinorLabels, "face labels"},
     {kTagTags, kFormatMinorTags, "subdivision tags"},
     {kTagNormals, kFormatMinorNormals, "normals"},
+    {kTagExact, kFormatMinorExact, "exact positions"},
     {kTagComments, kFormatMinorPolygons, "comments"},
 };
 

@@ -395,6 +395,7 @@ Extras drop(Mesh& m, unsigned c) {
 PolygonMesh to_polygon_mesh(Mesh m, unsigned categories) {
   PolygonMesh out;
   out.positions = std::move(m.positions.f32);
+  if (m.positions.precision != Precision::kFloat32) out.positions64 = std::move(m.positions.f64);
   if (!m.face_offsets.empty()) out.face_offsets = std::move(m.face_offsets);
   out.corners = std::move(m.corner_vertices);
   if (categories & kCategoryGroup) out.objects = std::move(m.objects), out.groups = std::move(m.groups);

@@ -57,7 +57,7 @@ void dump(const std::string& path, std::string_view bytes) {
 // meshes the test corpus reads as valid quad meshes without other data).
 std::vector<std::string> golden_names() {
   std::vector<std::string> out;
-  for (const char* dir : {"", "polygons/", "texcoords/", "labels/", "tags/", "normals/"}) {
+  for (const char* dir : {"", "polygons/", "texcoords/", "labels/", "tags/", "normals/", "exact/"}) {
     for (const auto& e : fs::directory_iterator(kGolden + "/" + dir)) {
       if (e.path().extension() == ".obj") out.push_back(std::string(dir) + e.path().stem().string());
     }
@@ -179,7 +179,7 @@ std::string encode_golden(const std::string& name) {
   const std::string path = kGolden + "/" + name + ".obj";
   const PolygonMesh poly = read_polygons(path);
   std::string bytes = is_quad_mesh(poly) && !poly.texcoord_components && !poly.has_labels() &&
-                              poly.tags.empty() && poly.corner_normals.empty()
+                              poly.tags.empty() && poly.corner_normals.empty() && poly.positions64.empty()
                           ? encode(read_mesh_file(path), options_for(name))
                           : encode_polygons(poly, options_for(name));
   if (name.find("_comments") != std::string::npos)
@@ -244,7 +244,7 @@ void expect_same_polygons(const PolygonMesh& mesh, const PolygonMesh& decoded) {
 TEST(Golden, BytesArePinned) {
   auto names = golden_names();
   ASSERT_GE(names.size(), 5u);
-  int polygons = 0, comments = 0, texcoords = 0, labels = 0, tags = 0, normals = 0;
+  int polygons = 0, comments = 0, texcoords = 0, labels = 0, tags = 0, normals = 0, exact = 0;
   for (const auto& name : names) {
     SCOPED_TRACE(name);
     const std::string obj = kGolden + "/" + name + ".obj";
@@ -258,6 +258,32 @@ TEST(Golden, BytesArePinned) {
                                                                  : std::vector<std::string>{});
     comments += !lines.empty();
     PolygonMesh poly = read_polygons(obj);
+    if (!poly.positions64.empty()) {
+      // Exact positions: a 3.6 file, decoded to the .obj's faces with each coordinate's binary64 value
+      // (found by its binary32 position), index for index with the order kept.
+      ++exact;
+      EXPECT_EQ(slurp(path)[9], 6) << "a file with exact positions says format 3.6";
+      const PolygonMesh back = decode_polygons(slurp(path));
+      expect_same_polygons(poly, back);
+      ASSERT_EQ(back.positions64.size(), back.positions.size());
+      std::map<std::array<std::uint32_t, 3>, std::array<std::uint64_t, 3>> exact_at;
+      const auto bits = [](const PolygonMesh& m, std::size_t v) {
+        std::array<std::uint32_t, 3> f;
+        std::array<std::uint64_t, 3> d;
+        std::memcpy(f.data(), &m.positions[3 * v], 12);
+        std::memcpy(d.data(), &m.positions64[3 * v], 24);
+        return std::pair{f, d};
+      };
+      for (std::size_t v = 0; v < back.vertex_count(); ++v) exact_at.insert(bits(back, v));
+      for (std::size_t v = 0; v < poly.vertex_count(); ++v)
+        EXPECT_EQ(exact_at[bits(poly, v).first], bits(poly, v).second) << "vertex " << v;
+      if (options_for(name).keep_order) {
+        EXPECT_EQ(back.corners, poly.corners);
+        EXPECT_EQ(std::memcmp(back.positions64.data(), poly.positions64.data(), 8 * poly.positions64.size()),
+                  0);
+      }
+      continue;
+    }
     if (!poly.corner_normals.empty()) {
       // Normals: a 3.5 file, decoded to the .obj's corners with their normals (and texture coordinates)
       // bit for bit; index for index with the order kept.
@@ -356,6 +382,7 @@ TEST(Golden, BytesArePinned) {
   EXPECT_GE(labels, 3);
   EXPECT_GE(tags, 3);
   EXPECT_GE(normals, 2);
+  EXPECT_GE(exact, 2);
 }
 
 // One golden per combination of the geometry tools, each decoding to the mesh its natural golden gives
@@ -535,17 +562,17 @@ std::map<std::string, Crafted> crafted() {
     // A required section of a newer minor version: "upgrade qsp". The same tag in a file of this
     // version cannot come from a correct encoder.
     const std::string sections =
-        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(10, "x");
+        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(11, "x");
     Parts newer_minor = p;
     newer_minor.minor = kFormatMinor + 1;
     out["qsp_unknown_required_section_newer_minor"] = {
         seal(newer_minor, sections), "version",
-        "section 0x0a is required but unknown to this qsp, which reads "
-        "format 3.5 (upgrade qsp)"};
+        "section 0x0b is required but unknown to this qsp, which reads "
+        "format 3.6 (upgrade qsp)"};
     out["qsp_unknown_required_section"] = {seal(p, sections), "format",
-                                           "section 0x0a is required but unknown to this qsp"};
+                                           "section 0x0b is required but unknown to this qsp"};
     // A section of a later minor version in a file that says it is the one before: 3.3's face labels,
-    // 3.4's subdivision tags.
+    // 3.4's subdivision tags, 3.5's normals, 3.6's exact positions.
     struct Later {
       const char* name;
       std::uint8_t tag, minor;
@@ -557,7 +584,9 @@ std::map<std::string, Crafted> crafted() {
           Later{"qsp_tags_section_in_3_3", 8, 3,
                 "section 0x08 (subdivision tags) is format 3.4's, and the file says it is 3.3"},
           Later{"qsp_normals_section_in_3_4", 9, 4,
-                "section 0x09 (normals) is format 3.5's, and the file says it is 3.4"}}) {
+                "section 0x09 (normals) is format 3.5's, and the file says it is 3.4"},
+          Later{"qsp_exact_section_in_3_5", 10, 5,
+                "section 0x0a (exact positions) is format 3.6's, and the file says it is 3.5"}}) {
       Parts earlier = p;
       earlier.minor = l.minor;
       out[l.name] = {seal(earlier, section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) +

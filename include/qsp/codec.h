@@ -17,15 +17,17 @@
 
 namespace qsp {
 
-// The format version this library writes: the lowest whose sections the file holds. 3.5 for a mesh with
-// normals, 3.4 for a mesh with OpenSubdiv tags, 3.3 for a mesh with face labels or material libraries, 3.2
-// for a mesh with texture coordinates, 3.1 for a polygon mesh (its polygons section) or a file with a
-// comments section, 3.0, the first release format, for a manifold, consistently oriented all-quad mesh
-// otherwise (the same bytes as before 3.1). It reads every 3.x file (the required sections a newer minor may
-// add excepted, which it refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
+// The format version this library writes: the lowest whose sections the file holds. 3.6 for a lossless
+// mesh with coordinates binary32 does not hold (PolygonMesh::positions64), 3.5 for a mesh with normals, 3.4
+// for a mesh with OpenSubdiv tags, 3.3 for a mesh with face labels or material libraries, 3.2 for a mesh with
+// texture coordinates, 3.1 for a polygon mesh (its polygons section) or a file with a comments section, 3.0,
+// the first release format, for a manifold, consistently oriented all-quad mesh otherwise (the same bytes as
+// before 3.1). It reads every 3.x file (the required sections a newer minor may add excepted, which it
+// refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
 // (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 5;
+inline constexpr std::uint8_t kFormatMinor = 6;
+inline constexpr std::uint8_t kFormatMinorExact = 6;
 inline constexpr std::uint8_t kFormatMinorNormals = 5;
 inline constexpr std::uint8_t kFormatMinorTags = 4;
 inline constexpr std::uint8_t kFormatMinorLabels = 3;
@@ -192,6 +194,7 @@ struct FileInfo {
   std::uint64_t label_bytes = 0;     // the face labels section (3.3; 0 if absent)
   std::uint64_t tag_bytes = 0;       // the subdivision tags section (3.4; 0 if absent)
   std::uint64_t normal_bytes = 0;    // the normals section (3.5; 0 if absent)
+  std::uint64_t exact_bytes = 0;     // the exact positions section (3.6; 0 if absent)
   std::uint64_t other_bytes = 0;     // optional sections this decoder skipped
   std::uint8_t geometry_tools = 0;   // qsp/geometry.h's geometry_tool bits (geometry_tool_names() says them)
   std::uint8_t quantize_bits = 0;    // 0: lossless positions; 1..30: quantized to that many bits

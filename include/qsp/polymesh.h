@@ -246,7 +246,8 @@ Extras drop(Mesh& mesh, unsigned categories);
 // position is beyond float32's range.
 QuadMesh to_quad_mesh(const Mesh& mesh);
 
-// The mesh as the codec takes it: the float32 mirror of the positions, the faces as they are, and of
+// The mesh as the codec takes it: the float32 mirror of the positions (and their float64 values where
+// float32 does not hold them all: a kDecimal list's nearest float64s), the faces as they are, and of
 // `categories` what the codec keeps: kCategoryUv its texture coordinates (float32; every corner naming
 // one or kInvalid, also when the file has values but no corner names one), kCategoryGroup its objects
 // and groups, kCategoryMaterial its materials and material libraries, kCategorySmoothing its smoothing

@@ -57,7 +57,10 @@ struct SubdivisionTag {
 // non-manifold and have pieces of either orientation. What the codec (encode_polygons) and matching
 // (prepare_polygon_match) take.
 struct PolygonMesh {
-  std::vector<float> positions;                // 3 per vertex
+  std::vector<float> positions;  // 3 per vertex
+  // The exact values, where binary32 does not hold them all: empty, or 3 per vertex, each rounding to
+  // its `positions` value (which then is its nearest binary32). Kept by lossless encodes only.
+  std::vector<double> positions64;
   std::vector<std::uint32_t> face_offsets{0};  // per face and one more: its first corner
   std::vector<std::uint32_t> corners;          // per corner: its vertex
   // Texture coordinates (OBJ `vt`) in their own index space, so seams are kept; all empty when none.

@@ -215,7 +215,7 @@ inline std::vector<std::string> tags_by_position(const PolygonMesh& m) {
 }
 
 // The same mesh with vertices, faces, texture coordinates, normals and label names renumbered and corner
-// lists rotated (positions, texture coordinates, normals, labels and tags follow).
+// lists rotated (positions, exact positions, texture coordinates, normals, labels and tags follow).
 inline PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
   std::mt19937 rng(seed);
   const std::size_t nv = m.vertex_count(), nf = m.face_count(), K = m.texcoord_components;
@@ -236,6 +236,9 @@ inline PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
   out.positions.resize(m.positions.size());
   for (std::size_t i = 0; i < nv; ++i)
     std::copy_n(&m.positions[3 * i], 3, &out.positions[3 * std::size_t{v[i]}]);
+  out.positions64.resize(m.positions64.size());
+  for (std::size_t i = 0; i < m.positions64.size() / 3; ++i)
+    std::copy_n(&m.positions64[3 * i], 3, &out.positions64[3 * std::size_t{v[i]}]);
   out.texcoord_components = m.texcoord_components;
   out.texcoords.resize(m.texcoords.size());
   for (std::size_t i = 0; i < nt; ++i) std::copy_n(&m.texcoords[K * i], K, &out.texcoords[K * t[i]]);

@@ -84,10 +84,23 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   const ReadReport report = std::move(input.report);
   const std::uint64_t rounded_uv = input.rounded_texcoords;
   const std::string first_rounded_uv = input.first_rounded_texcoord;
-  const PolygonMesh mesh = polygons_of(std::move(input));
+  const std::uint64_t beyond_float64 = input.beyond_float64;
+  const std::string first_beyond_float64 = input.first_beyond_float64;
+  PolygonMesh mesh = polygons_of(std::move(input));
   const bool quiet = o.verbosity.quiet;
   const std::string dropped = refuse_extra_data(in, report, ".qsp", o.drop, quiet, kPolygonMeshCategories);
-  if (!o.quantize) refuse_rounding(in, report, "a lossless .qsp", o.float32, quiet, "--quantize BITS");
+  // Coordinates float32 does not hold are kept as float64 (the exact positions section) unless quantized
+  // or rounded on request; float64 holds every text of up to 17 significant digits.
+  if (o.quantize || o.float32) mesh.positions64.clear();
+  if (!o.quantize && !o.float32 && beyond_float64)
+    throw Error(
+        ErrorCode::kUnsupported,
+        in + ": " + first_beyond_float64 +
+            (beyond_float64 > 1 ? " (and " + std::to_string(beyond_float64 - 1) + " more coordinates like it)"
+                                : std::string()) +
+            ", more digits than float64 holds; a lossless .qsp keeps float64 coordinates: pass --float32 "
+            "to round them to float32, or --quantize BITS");
+  if (!o.quantize && o.float32) refuse_rounding(in, report, "a lossless .qsp", true, quiet, "");
   // Texture coordinates and normals, named by the first that float32 does not hold.
   const bool normal_first = first_rounded_uv.starts_with("normal");
   const std::string what = normal_first ? "normal" : "texture coordinate";
@@ -189,9 +202,11 @@ void register_compress(CLI::App& app, int& rc) {
       ->check(CLI::Range(1, 24));
   sub->add_flag("--keep-order", opt->keep_order, "Also store the vertex order, face order and first corners");
   add_drop_options(sub, opt->drop, "", kPolygonMeshCategories);
-  sub->add_flag("--float32", opt->float32,
-                "Round coordinates with more digits than float32 holds to the nearest float32 instead of "
-                "refusing (the file is then lossless for those float32 values)");
+  sub->add_flag(
+      "--float32", opt->float32,
+      "Round coordinates with more digits than float32 holds to the nearest float32 instead of keeping "
+      "them as float64 (a smaller file, lossless for those float32 values); needed for text of more "
+      "than 17 significant digits, which float64 does not hold");
   // gzip's and zstd's spelling: -1 fastest .. -9 smallest, --fast = -1, --best = -9.
   for (int l = kMinLevel; l <= kMaxLevel; ++l) {
     const std::string name = "-" + std::to_string(l);

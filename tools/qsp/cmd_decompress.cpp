@@ -39,12 +39,14 @@ std::string mesh_text(PolygonMesh m, MeshFormat format, const std::vector<std::s
   bool quads = true;
   for (std::size_t f = 0; f < m.face_count(); ++f)
     quads = quads && m.face_offsets[f + 1] - m.face_offsets[f] == 4;
-  if (quads && m.texcoord_components == 0 && m.corner_normals.empty() && !m.has_labels() && m.tags.empty()) {
+  if (quads && m.texcoord_components == 0 && m.corner_normals.empty() && !m.has_labels() && m.tags.empty() &&
+      m.positions64.empty()) {
     const QuadMesh q{std::move(m.positions), std::move(m.corners)};
     return format == MeshFormat::kOff ? write_off(q, comments) : write_obj(q, comments);
   }
   Mesh out;
-  out.positions = numbers_from_float32(std::move(m.positions));
+  out.positions = m.positions64.empty() ? numbers_from_float32(std::move(m.positions))
+                                        : numbers_from_float64(m.positions64);
   out.face_offsets = std::move(m.face_offsets);
   out.corner_vertices = std::move(m.corners);
   if (m.texcoord_components) {

@@ -365,6 +365,13 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
                     path + ": tag " + std::to_string(t) + " ('" + m.tags[t].name +
                         "') has a value of more digits than float64 holds; a .qsp keeps binary64 tag values: "
                         "pass --drop tag");
+  // Positions are kept as float64 where float32 does not hold them: count those float64 does not hold.
+  for (const DecimalNumber& d : m.positions.decimals) {
+    if (in.beyond_float64++) continue;
+    in.first_beyond_float64 = "vertex " + std::to_string(d.index / 3) + " has " + (d.negative ? "-" : "") +
+                              d.digits.substr(0, 1) + "." + d.digits.substr(1) + "e" +
+                              std::to_string(d.exponent + static_cast<std::int32_t>(d.digits.size()) - 1);
+  }
   in.polygons = to_polygon_mesh(std::move(m), keep);
 }
 
@@ -419,9 +426,9 @@ PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspI
     read_polygons(in, bytes, path, format, keep);
     return in;
   }
-  // Texture coordinates and labels come from the exact reader, which the quad reader's report says it
-  // needs.
-  if (in.report.categories() & keep & kPolygonMeshCategories) {
+  // Texture coordinates, labels and coordinates float32 does not hold come from the exact reader, which
+  // the quad reader's report says it needs.
+  if ((in.report.categories() & keep & kPolygonMeshCategories) || in.report.rounded_coordinates) {
     ReadReport report = std::move(in.report);  // the same kinds; its words for the quad path's messages
     in.mesh = {};
     in.quads = false;

@@ -1,0 +1,230 @@
+// The exact positions section (format 3.6; format-spec/qsp_format.md, "Exact positions section"): per
+// coordinate the residual between its exact value and the binary32 the geometry holds, in decimal or
+// binary64 steps, packed at a fixed width per axis.
+#include <array>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "codec_sections.h"
+#include "qsp/error.h"
+
+namespace qsp {
+namespace {
+
+constexpr const char* kSection = "exact positions section";
+constexpr std::uint8_t kMostDecimals = 22, kBinary64 = 64;
+constexpr double kProductBound = 4611686018427387904.0;  // 2^62
+using Wide = __int128;
+constexpr Wide kIntBound = Wide{1} << 63;
+
+// 10^k for k <= 22: every one is exact in binary64.
+constexpr std::array<double, kMostDecimals + 1> kPow10 = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                                          1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                                          1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
+std::uint64_t zigzag(Wide r) { return r >= 0 ? std::uint64_t(r) << 1 : (std::uint64_t(-(r + 1)) << 1) | 1; }
+Wide unzigzag(std::uint64_t u) { return (u & 1) ? -Wide(u >> 1) - 1 : Wide(u >> 1); }
+unsigned width(std::uint64_t u) { return static_cast<unsigned>(std::bit_width(u)); }
+
+// Binary64 bits as an integer that increases with the value: -0 is -1, +0 is 0.
+Wide ord(double x) {
+  const auto u = std::bit_cast<std::uint64_t>(x);
+  return u >> 63 ? -1 - Wide(u & ~(std::uint64_t{1} << 63)) : Wide(u);
+}
+double from_ord(Wide o) {
+  return std::bit_cast<double>(o >= 0 ? std::uint64_t(o) : std::uint64_t(-1 - o) | (std::uint64_t{1} << 63));
+}
+
+bool same_bits(float a, float b) {
+  return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b);
+}
+
+// M: f times 10^k rounded to the nearest integer, halves away from zero; false past 2^62.
+bool nearest_scaled(float f, unsigned k, std::int64_t& m) {
+  const double p = static_cast<double>(f) * kPow10[k];
+  if (!(std::fabs(p) < kProductBound)) return false;
+  m = static_cast<std::int64_t>(std::round(p));
+  return true;
+}
+
+// The binary64 nearest the decimal n * 10^-k (what reading the text "Ne-k" gives).
+double decimal_value(Wide n, unsigned k, float f) {
+  if (n == 0) return std::copysign(0.0, static_cast<double>(f));
+  std::string text = n < 0 ? "-" : "";
+  text += std::to_string(std::uint64_t(n < 0 ? -n : n));
+  text += "e-";
+  text += std::to_string(k);
+  double v = 0;
+  std::from_chars(text.data(), text.data() + text.size(), v);
+  return v;
+}
+
+// A value's shortest text as digits * 10^exponent; decimals() is how many digits follow the point.
+struct Shortest {
+  std::uint64_t digits = 0;
+  int exponent = 0;  // of the last digit
+  int decimals() const { return exponent < 0 ? -exponent : 0; }
+};
+Shortest shortest(double d) {
+  char text[40];
+  const char* end = std::to_chars(text, text + sizeof text, d, std::chars_format::scientific).ptr;
+  Shortest s;
+  const char* p = text + (*text == '-');
+  int digits_after_point = 0;
+  bool after_point = false;
+  for (; p < end && *p != 'e'; ++p) {
+    if (*p == '.') {
+      after_point = true;
+      continue;
+    }
+    s.digits = 10 * s.digits + static_cast<std::uint64_t>(*p - '0');
+    digits_after_point += after_point;
+  }
+  int e = 0;
+  std::from_chars(p + 1 + (p[1] == '+'), end, e);
+  s.exponent = e - digits_after_point;
+  return s;
+}
+
+// The residuals of one axis in decimal steps of 10^-k; false if one does not fit.
+bool decimal_residuals(std::span<const float> f, std::span<const double> d, std::size_t axis, unsigned k,
+                       std::vector<std::uint64_t>& out) {
+  const std::size_t n = f.size() / 3;
+  out.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Shortest s = shortest(d[3 * i + axis]);
+    Wide value = s.digits;
+    for (int e = s.exponent + static_cast<int>(k); e > 0; --e) {
+      value *= 10;
+      if (value >= kIntBound) return false;
+    }
+    if (d[3 * i + axis] < 0) value = -value;
+    std::int64_t m = 0;
+    if (!nearest_scaled(f[3 * i + axis], k, m)) return false;
+    const Wide r = value - m;
+    if (r >= kIntBound || r < -kIntBound) return false;
+    out[i] = zigzag(r);
+  }
+  return true;
+}
+
+void put_bits(std::string& out, std::uint64_t& acc, unsigned& used, std::uint64_t value, unsigned bits) {
+  for (unsigned b = 0; b < bits; ++b) {
+    acc |= ((value >> b) & 1u) << used;
+    if (++used == 8) out.push_back(static_cast<char>(acc)), acc = 0, used = 0;
+  }
+}
+
+}  // namespace
+
+std::string encode_exact_section(std::span<const float> positions, std::span<const double> exact) {
+  if (positions.size() != exact.size() || positions.size() % 3 != 0)
+    throw Error(ErrorCode::kInternal, "encode: exact positions do not match the positions");
+  for (std::size_t i = 0; i < exact.size(); ++i)
+    if (!std::isfinite(exact[i]) || !same_bits(static_cast<float>(exact[i]), positions[i]))
+      throw Error(ErrorCode::kUsage, "encode: exact coordinate " + std::to_string(i) +
+                                         " is not finite or does not round to its binary32 position");
+  const std::size_t n = positions.size() / 3;
+  std::array<std::uint8_t, 3> mode{}, bits{};
+  std::array<std::vector<std::uint64_t>, 3> fields;
+  for (std::size_t a = 0; a < 3; ++a) {
+    std::vector<std::uint64_t> binary(n);
+    std::uint64_t most = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Wide r = ord(exact[3 * i + a]) - ord(static_cast<double>(positions[3 * i + a]));
+      most |= binary[i] = zigzag(r);  // |r| < 2^62 between finite values rounding to one binary32
+    }
+    mode[a] = kBinary64, bits[a] = static_cast<std::uint8_t>(width(most)), fields[a] = std::move(binary);
+    int k = 0;
+    for (std::size_t i = 0; i < n; ++i) k = std::max(k, shortest(exact[3 * i + a]).decimals());
+    std::vector<std::uint64_t> decimal;
+    if (k > kMostDecimals || !decimal_residuals(positions, exact, a, static_cast<unsigned>(k), decimal))
+      continue;
+    std::uint64_t most_decimal = 0;
+    for (std::uint64_t u : decimal) most_decimal |= u;
+    if (width(most_decimal) > bits[a]) continue;
+    mode[a] = static_cast<std::uint8_t>(k), bits[a] = static_cast<std::uint8_t>(width(most_decimal));
+    fields[a] = std::move(decimal);
+  }
+  std::string out(mode.begin(), mode.end());
+  out.append(bits.begin(), bits.end());
+  std::uint64_t acc = 0;
+  unsigned used = 0;
+  for (std::size_t a = 0; a < 3; ++a)
+    for (std::uint64_t u : fields[a]) put_bits(out, acc, used, u, bits[a]);
+  if (used) out.push_back(static_cast<char>(acc));
+  return out;
+}
+
+std::vector<double> decode_exact_section(std::string_view payload, std::uint64_t base_offset,
+                                         std::span<const float> positions) {
+  const auto fail = [&](const std::string& what, std::uint64_t at) {
+    throw Error(ErrorCode::kFormat, std::string(kSection) + ": " + what + " (at byte offset " +
+                                        std::to_string(base_offset + at) + ")");
+  };
+  if (payload.size() < 6) fail("the section ends before its modes and widths", payload.size());
+  const auto byte = [&](std::size_t i) { return static_cast<std::uint8_t>(payload[i]); };
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (byte(a) > kMostDecimals && byte(a) != kBinary64)
+      fail("axis " + std::to_string(a) + " has mode " + std::to_string(byte(a)) + " (0-22 or 64)", a);
+    if (byte(3 + a) > 64)
+      fail("axis " + std::to_string(a) + " has residuals of " + std::to_string(byte(3 + a)) + " bits (0-64)",
+           3 + a);
+  }
+  const std::uint64_t n = positions.size() / 3;
+  const std::uint64_t total = n * (std::uint64_t{byte(3)} + byte(4) + byte(5));
+  const std::uint64_t need = (total + 7) / 8;
+  if (payload.size() - 6 != need)
+    fail("the residuals take " + std::to_string(need) + " bytes, the section has " +
+             std::to_string(payload.size() - 6),
+         6);
+  if (total % 8 && (byte(6 + total / 8) >> (total % 8)) != 0)
+    fail("bits after the last residual are not 0", 6 + total / 8);
+  std::vector<double> out(positions.size());
+  std::uint64_t at = 0;  // bit position after the widths
+  const auto read = [&](unsigned bits) {
+    std::uint64_t u = 0;
+    for (unsigned b = 0; b < bits; ++b, ++at) u |= std::uint64_t((byte(6 + at / 8) >> (at % 8)) & 1u) << b;
+    return u;
+  };
+  for (std::size_t a = 0; a < 3; ++a) {
+    const unsigned mode = byte(a), bits = byte(3 + a);
+    for (std::uint64_t i = 0; i < n; ++i) {
+      const std::uint64_t field_at = 6 + at / 8;
+      const Wide r = unzigzag(read(bits));
+      const float f = positions[3 * i + a];
+      double v = 0;
+      if (mode == kBinary64) {
+        const Wide o = ord(static_cast<double>(f)) + r;
+        if (o > ord(std::numeric_limits<double>::max()) || o < ord(-std::numeric_limits<double>::max()))
+          fail("vertex " + std::to_string(i) + " axis " + std::to_string(a) + " is not a finite number",
+               field_at);
+        v = from_ord(o);
+      } else {
+        std::int64_t m = 0;
+        if (!nearest_scaled(f, mode, m))
+          fail("vertex " + std::to_string(i) + " axis " + std::to_string(a) + ": its binary32 times 10^" +
+                   std::to_string(mode) + " is not below 2^62",
+               field_at);
+        const Wide value = m + r;
+        if (value >= kIntBound || value <= -kIntBound)
+          fail("vertex " + std::to_string(i) + " axis " + std::to_string(a) + " has a decimal beyond 2^63",
+               field_at);
+        v = decimal_value(value, mode, f);
+      }
+      if (!same_bits(static_cast<float>(v), f))
+        fail("vertex " + std::to_string(i) + " axis " + std::to_string(a) +
+                 " has a value whose nearest binary32 is not its position's",
+             field_at);
+      out[3 * i + a] = v;
+    }
+  }
+  return out;
+}
+
+}  // namespace qsp
