@@ -1,4 +1,5 @@
-// The polygon mesh model: its invariants, dropping categories of data, and the bridge to QuadMesh.
+// The polygon mesh model: its invariants, dropping categories of data, and the bridges to QuadMesh and
+// the codec's PolygonMesh.
 #include "qsp/polymesh.h"
 
 #include <algorithm>
@@ -424,6 +425,40 @@ PolygonMesh to_polygon_mesh(Mesh m, unsigned categories) {
     out.texcoords = std::move(m.texcoords.f32);
     out.corner_texcoords = std::move(m.corner_texcoords);
     if (out.corner_texcoords.empty()) out.corner_texcoords.assign(out.corners.size(), kInvalid);
+  }
+  return out;
+}
+
+Mesh from_polygon_mesh(PolygonMesh m) {
+  Mesh out;
+  out.positions = m.positions64.empty() ? numbers_from_float32(std::move(m.positions))
+                                        : numbers_from_float64(m.positions64);
+  out.face_offsets = std::move(m.face_offsets);
+  out.corner_vertices = std::move(m.corners);
+  if (m.texcoord_components) {
+    out.texcoord_components = m.texcoord_components;
+    out.texcoords = numbers_from_float32(std::move(m.texcoords));
+    out.corner_texcoords = std::move(m.corner_texcoords);
+  }
+  if (!m.normals.empty() || !m.corner_normals.empty()) {
+    out.normals = numbers_from_float32(std::move(m.normals));
+    out.corner_normals = std::move(m.corner_normals);
+  }
+  out.objects = std::move(m.objects);
+  out.groups = std::move(m.groups);
+  out.materials = std::move(m.materials);
+  out.smoothing = std::move(m.smoothing);
+  out.material_libraries = std::move(m.material_libraries);
+  for (SubdivisionTag& t : m.tags) {
+    Tag& w = out.tags.emplace_back();
+    w.name = std::move(t.name);
+    w.ints = std::move(t.ints);
+    if (t.float64) {
+      w.floats = numbers_from_float64(t.floats);
+    } else {
+      w.floats = numbers_from_float32(std::vector<float>(t.floats.begin(), t.floats.end()));
+    }
+    w.strings = std::move(t.strings);
   }
   return out;
 }

@@ -1043,6 +1043,32 @@ TEST(MeshModel, QuadMeshBridgeAndChecks) {
   expect_error([&] { qsp::write_obj_mesh(bad); }, qsp::ErrorCode::kUsage);
 }
 
+// The codec's PolygonMesh and back: every mesh of testdata/ (golden/'s subfolders of textured, labelled,
+// tagged and normal files included) that carries what the codec keeps gives back its positions, faces,
+// texture coordinates, normals, labels, material libraries and tags, numbers bit for bit.
+TEST(MeshModel, PolygonMeshBridgeGivesBackTheArrays) {
+  constexpr unsigned kKept = qsp::kPolygonMeshCategories;
+  int checked = 0;
+  for (const auto& e : fs::recursive_directory_iterator(QSP_TESTDATA_DIR)) {
+    const fs::path& p = e.path();
+    if (p.extension() != ".obj" || p.string().find("invalid") != std::string::npos) continue;
+    SCOPED_TRACE(p.string());
+    qsp::Mesh m = qsp::read_mesh(p.string());
+    if (!qsp::extras(m, kKept).any()) continue;
+    // What to_polygon_mesh keeps, in the canonical order; these files' numbers are all float32.
+    qsp::drop(m, qsp::kCategoryAll & ~kKept);
+    m.statements.clear();
+    ASSERT_EQ(m.positions.precision, qsp::Precision::kFloat32);
+    ASSERT_EQ(m.texcoords.precision, qsp::Precision::kFloat32);
+    ASSERT_EQ(m.normals.precision, qsp::Precision::kFloat32);
+    const qsp::Mesh back = qsp::from_polygon_mesh(qsp::to_polygon_mesh(m, kKept));
+    expect_same_mesh(m, back);
+    ++checked;
+    if (HasFailure()) break;  // one file's report is enough
+  }
+  EXPECT_GE(checked, 17);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Hostile input
 
