@@ -141,16 +141,26 @@ encode polygons_1_q12 "$work/polygons_1.obj" --quantize 12
 obj_of[$work/polygons_1_q12.qsp]=$work/polygons_1.obj
 encode polygons_3_keep_order "$work/polygons_3.obj" --keep-order   # the order section over a polygon mesh
 obj_of[$work/polygons_3_keep_order.qsp]=$work/polygons_3.obj
-encode_tex() {  # encode_tex NAME MESH [OPTIONS...]: a fresh file with texture coordinates to check
-  local name=$1 mesh=$2
-  shift 2
+# encode_kept KIND NAME MESH EXACT [OPTIONS...]: a fresh file to check as KIND (tex, lab, tag or nrm):
+# KIND_of[FILE]=MESH, and KIND_exact[FILE]=1 (compared index for index) when EXACT is 1.
+encode_kept() {
+  local kind=$1 name=$2 mesh=$3 exact=$4
+  shift 4
   [[ -f $mesh ]] || return 0
-  if ! "$qsp" compress -f --drop normal,group,material,smoothing,tag,extra "$@" "$mesh" "$work/$name.qsp" \
-       >/dev/null 2>"$work/$name.err"; then  # (its notes on rounding and dropped data are not news)
-    cat "$work/$name.err" >&2
+  if ! "$qsp" compress -f "$@" "$mesh" "$work/$name.qsp" >/dev/null 2>"$work/$name.err"; then
+    cat "$work/$name.err" >&2  # (its notes on rounding and dropped data are not news)
     exit 1
   fi
-  tex_of[$work/$name.qsp]=$mesh
+  local -n of=${kind}_of
+  of[$work/$name.qsp]=$mesh
+  if [[ $exact == 1 ]]; then
+    local -n exact_of=${kind}_exact
+    exact_of[$work/$name.qsp]=1
+  fi
+  return 0
+}
+encode_tex() {  # encode_tex NAME MESH [OPTIONS...]: a fresh file with texture coordinates to check
+  encode_kept tex "$1" "$2" 0 --drop normal,group,material,smoothing,tag,extra "${@:3}"
 }
 for t in "1 uv" "2 u" "3 uvw" "1 uh" "2 uv --keep-order" "3 uvw --keep-order"; do  # polygon meshes with texture coordinates
   read -r seed mode keep <<<"$t"
@@ -159,14 +169,7 @@ for t in "1 uv" "2 u" "3 uvw" "1 uh" "2 uv --keep-order" "3 uvw --keep-order"; d
   encode_tex "$name" "$work/$name.obj" --float32 $keep
 done
 encode_labels() {  # encode_labels NAME MESH [OPTIONS...]: a fresh file with face labels to check
-  local name=$1 mesh=$2
-  shift 2
-  [[ -f $mesh ]] || return 0
-  if ! "$qsp" compress -f "$@" "$mesh" "$work/$name.qsp" >/dev/null 2>"$work/$name.err"; then
-    cat "$work/$name.err" >&2
-    exit 1
-  fi
-  lab_of[$work/$name.qsp]=$mesh
+  encode_kept lab "$1" "$2" 0 "${@:3}"
 }
 for t in "polygons_1" "polygons_2 --keep-order" "tex_1_uv --float32"; do  # labelgen.py's statements
   read -r mesh opts <<<"$t"                                                  # among their faces
@@ -208,16 +211,7 @@ encode_labels mh_base_labels "$shared/mh_base.obj" --drop uv                 # 1
 encode_labels mh_base_labels_keep_order "$shared/mh_base.obj" --drop uv --keep-order
 encode_labels gregory_labels "$shared/osd_shapes/catmark_gregory_test2.obj" --drop normal
 encode_tags() {  # encode_tags NAME MESH EXACT [OPTIONS...]: a fresh file with tags to check
-  local name=$1 mesh=$2 exact=$3
-  shift 3
-  [[ -f $mesh ]] || return 0
-  if ! "$qsp" compress -f --drop normal "$@" "$mesh" "$work/$name.qsp" >/dev/null 2>"$work/$name.err"; then
-    cat "$work/$name.err" >&2
-    exit 1
-  fi
-  tag_of[$work/$name.qsp]=$mesh
-  [[ $exact == 1 ]] && tag_exact[$work/$name.qsp]=1
-  return 0
+  encode_kept tag "$1" "$2" "$3" --drop normal "${@:4}"
 }
 encode_tags cube_creases1_tags "$shared/osd_shapes/catmark_cube_creases1.obj" 0
 encode_tags cube_creases1_tags_keep_order "$shared/osd_shapes/catmark_cube_creases1.obj" 1 --keep-order
@@ -225,16 +219,7 @@ encode_tags torus_creases0_tags "$shared/osd_shapes/catmark_torus_creases0.obj" 
 encode_tags torus_creases0_tags_keep_order "$shared/osd_shapes/catmark_torus_creases0.obj" 1 --keep-order
 encode_tags square_hedit0_tags "$shared/osd_shapes/catmark_square_hedit0.obj" 1  # order kept for vertexedit
 encode_normals() {  # encode_normals NAME MESH EXACT [OPTIONS...]: a fresh file with normals to check
-  local name=$1 mesh=$2 exact=$3
-  shift 3
-  [[ -f $mesh ]] || return 0
-  if ! "$qsp" compress -f "$@" "$mesh" "$work/$name.qsp" >/dev/null 2>"$work/$name.err"; then
-    cat "$work/$name.err" >&2
-    exit 1
-  fi
-  nrm_of[$work/$name.qsp]=$mesh
-  [[ $exact == 1 ]] && nrm_exact[$work/$name.qsp]=1
-  return 0
+  encode_kept nrm "$@"
 }
 encode_normals suzanne_normals "$shared/pmp_suzanne.obj" 0                   # o, s, usemtl, mtllib too
 encode_normals suzanne_normals_keep_order "$shared/pmp_suzanne.obj" 1 --keep-order

@@ -1080,66 +1080,40 @@ def read_obj(path):
     return pos, faces, lead
 
 
-def read_obj_tex(path):
-    """Positions, texture coordinates (float32 bits per component) and faces with, per corner, its
-    vertex and the texture coordinate it names (0-based, None for none) of an .obj."""
-    pos, vts, faces, names = [], [], [], []
+def read_obj_corner_values(path, field):
+    """Positions, the values one field of a corner's `v/vt/vn` names (field 1: texture coordinates,
+    `vt`, every component; field 2: normals, `vn`, three components), as float32 bits per component,
+    and faces with, per corner, its vertex and the value it names (0-based, None for none) of an .obj."""
+    keyword, width = {1: (b'vt', None), 2: (b'vn', 3)}[field]
+    pos, vals, faces, names = [], [], [], []
     for raw in open(path, 'rb').read().split(b'\n'):
         w = raw.split()
         if not w or w[0].startswith(b'#'):
             continue
         if w[0] == b'v':
             pos.append(tuple(f32(float(x)) for x in w[1:4]))
-        elif w[0] == b'vt':
-            vts.append(tuple(f32(float(x)) for x in w[1:]))
+        elif w[0] == keyword:
+            vals.append(tuple(f32(float(x)) for x in w[1:][:width]))
         elif w[0] == b'f':
             f, nm = [], []
             for x in w[1:]:
                 parts = x.split(b'/')
                 i = int(parts[0])
                 f.append(i - 1 if i > 0 else len(pos) + i)
-                if len(parts) > 1 and parts[1]:
-                    k = int(parts[1])
-                    nm.append(k - 1 if k > 0 else len(vts) + k)
+                if len(parts) > field and parts[field]:
+                    k = int(parts[field])
+                    nm.append(k - 1 if k > 0 else len(vals) + k)
                 else:
                     nm.append(None)
             faces.append(f)
             names.append(nm)
-    return pos, vts, faces, names
-
-
-def read_obj_normals(path):
-    """Positions, normals (float32 bits per component) and faces with, per corner, its vertex and
-    the normal it names (0-based, the third field of `v/vt/vn`, None for none) of an .obj."""
-    pos, vns, faces, names = [], [], [], []
-    for raw in open(path, 'rb').read().split(b'\n'):
-        w = raw.split()
-        if not w or w[0].startswith(b'#'):
-            continue
-        if w[0] == b'v':
-            pos.append(tuple(f32(float(x)) for x in w[1:4]))
-        elif w[0] == b'vn':
-            vns.append(tuple(f32(float(x)) for x in w[1:4]))
-        elif w[0] == b'f':
-            f, nm = [], []
-            for x in w[1:]:
-                parts = x.split(b'/')
-                i = int(parts[0])
-                f.append(i - 1 if i > 0 else len(pos) + i)
-                if len(parts) > 2 and parts[2]:
-                    k = int(parts[2])
-                    nm.append(k - 1 if k > 0 else len(vns) + k)
-                else:
-                    nm.append(None)
-            faces.append(f)
-            names.append(nm)
-    return pos, vns, faces, names
+    return pos, vals, faces, names
 
 
 def compare_normals(mesh, other, what, exact):
-    """The mesh's normals against read_obj_normals' of an .obj, as compare_tex compares texture
-    coordinates: every corner's position and normal bits up to renumbering, face order and rotation,
-    and the normals no corner names; exact: index for index."""
+    """The mesh's normals against read_obj_corner_values(path, 2) of an .obj, as compare_tex compares
+    texture coordinates: every corner's position and normal bits up to renumbering, face order and
+    rotation, and the normals no corner names; exact: index for index."""
     as_tex = tuple(mesh[:4]) + (mesh[7],)
     return [b.replace('texture coordinate', 'normal') for b in compare_tex(as_tex, other, what, exact)]
 
@@ -1493,8 +1467,8 @@ def main():
     if '--reference' in opts:
         bad += compare_reference(mesh, opts['--reference'])
     if '--tex-obj' in opts:
-        bad += compare_tex(mesh, read_obj_tex(opts['--tex-obj']), 'the .obj', exact='--exact' in args,
-                           source=True)
+        bad += compare_tex(mesh, read_obj_corner_values(opts['--tex-obj'], 1), 'the .obj',
+                           exact='--exact' in args, source=True)
     if '--labels-obj' in opts:
         bad += compare_labels(mesh, read_obj_labels(opts['--labels-obj']), 'the .obj', exact='--exact' in args)
     written = as_obj_writes(mesh) if OBJ_UNLABELLED_FIRST else mesh
@@ -1502,17 +1476,19 @@ def main():
         bad += compare_labels(written, read_obj_labels(opts['--labels-decompressed']), 'qsp decompress\'s output',
                               exact=True)
     if '--decompressed' in opts:
-        bad += compare_tex(written, read_obj_tex(opts['--decompressed']), 'qsp decompress\'s output', exact=True)
+        bad += compare_tex(written, read_obj_corner_values(opts['--decompressed'], 1),
+                           'qsp decompress\'s output', exact=True)
     if '--tags-obj' in opts:
         bad += compare_tags(mesh, read_obj_tags(opts['--tags-obj']), 'the .obj', exact='--exact' in args)
     if '--tags-decompressed' in opts:   # the same numbering as this decoder's output (faces maybe moved)
         bad += compare_tags(written, read_obj_tags(opts['--tags-decompressed']), 'qsp decompress\'s output',
                             exact=True)
     if '--normals-obj' in opts:
-        bad += compare_normals(mesh, read_obj_normals(opts['--normals-obj']), 'the .obj', exact='--exact' in args)
+        bad += compare_normals(mesh, read_obj_corner_values(opts['--normals-obj'], 2), 'the .obj',
+                               exact='--exact' in args)
     if '--normals-decompressed' in opts:
-        bad += compare_normals(written, read_obj_normals(opts['--normals-decompressed']), 'qsp decompress\'s output',
-                               exact=True)
+        bad += compare_normals(written, read_obj_corner_values(opts['--normals-decompressed'], 2),
+                               'qsp decompress\'s output', exact=True)
     if '--stats' in args:
         print(' '.join('%s=%d' % kv for kv in sorted(STATS.items())))
     if 'tex: unreferenced values not sorted (an encoder rule)' in STATS:
