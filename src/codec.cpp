@@ -265,7 +265,8 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   const Section* tags = p.file.find(container::kTagTags);
   const Section* normals = p.file.find(container::kTagNormals);
   const Section* exact = p.file.find(container::kTagExact);
-  if (!poly && !uv && !labels && !tags && !normals && !exact) return polygon_mesh(decode_quads(p));
+  const Section* kept = p.file.find(container::kTagKeptLines);
+  if (!poly && !uv && !labels && !tags && !normals && !exact && !kept) return polygon_mesh(decode_quads(p));
   // The output mesh in canonical order, then its texture coordinates, then the input's numbering.
   PolygonMesh out;
   std::uint32_t nv = 0;
@@ -282,6 +283,7 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
     out = polygon_mesh(decode_layout(p));
     nv = static_cast<std::uint32_t>(p.counts.vertices);
   }
+  if (kept) out.kept_lines = decode_kept_lines_section(kept->payload, kept->payload_offset);
   if (exact) {
     if (geometry_quantize_bits(p.geometry->payload, p.geometry->payload_offset) != 0)
       throw Error(ErrorCode::kFormat, "exact positions section: the geometry is quantized (at byte offset " +
@@ -371,6 +373,7 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   }
   in.material_libraries = std::move(out.material_libraries);
   in.tags = std::move(out.tags);
+  in.kept_lines = std::move(out.kept_lines);
   return in;
 }
 
@@ -379,7 +382,8 @@ bool holds_polygons(std::string_view bytes) {
   return std::any_of(std::begin(container::kSections), std::end(container::kSections),
                      [&](const container::SectionKind& k) {
                        return container::added_required(k) && f.find(k.tag) != nullptr;
-                     });
+                     }) ||
+         f.find(container::kTagKeptLines) != nullptr;
 }
 
 FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits) {

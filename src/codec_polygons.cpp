@@ -280,7 +280,8 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     FaceMap map;
     std::string bytes = encode_faces(mesh, o, map);
     const bool exact = !mesh.positions64.empty() && o.quantize_bits == 0;
-    if (!texcoords && !normals && !labels && mesh.tags.empty() && !exact) return bytes;
+    if (!texcoords && !normals && !labels && mesh.tags.empty() && !exact && mesh.kept_lines.empty())
+      return bytes;
     const std::vector<std::uint32_t> input_face = input_faces(map, mesh.face_count());
     const OutputCorners oc = texcoords || normals ? output_corners(mesh, map, input_face) : OutputCorners{};
     const std::vector<float> positions =
@@ -306,6 +307,9 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     if (exact)
       bytes =
           container::with_section(bytes, container::kTagExact, exact_section(mesh, map), kFormatMinorExact);
+    if (!mesh.kept_lines.empty())
+      bytes = container::with_section(bytes, container::kTagKeptLines,
+                                      encode_kept_lines_section(mesh.kept_lines), kFormatMinorKeptLines);
     return bytes;
   };
   // The levels that try every partition keep the smallest whole file: with texture coordinates the

@@ -31,7 +31,8 @@ inline constexpr std::uint8_t kTagTags = 0x08;
 inline constexpr std::uint8_t kTagNormals = 0x09;
 inline constexpr std::uint8_t kTagExact = 0x0a;  // exact positions, from 3.6
 inline constexpr std::uint8_t kOptionalBit = 0x80;
-inline constexpr std::uint8_t kTagComments = 0x81;  // optional, from 3.1
+inline constexpr std::uint8_t kTagComments = 0x81;   // optional, from 3.1
+inline constexpr std::uint8_t kTagKeptLines = 0x82;  // optional, from 3.7
 
 // A section tag, the format minor version that defines it, and its name in messages.
 struct SectionKind {
@@ -55,6 +56,7 @@ inline constexpr SectionKind kSections[] = {
     {kTagNormals, kFormatMinorNormals, "normals"},
     {kTagExact, kFormatMinorExact, "exact positions"},
     {kTagComments, kFormatMinorPolygons, "comments"},
+    {kTagKeptLines, kFormatMinorKeptLines, "kept lines"},
 };
 
 // Whether the section is a required one added after 3.0 (a file holding it is not a 3.0 quad file).

@@ -396,7 +396,14 @@ Extras drop(Mesh& m, unsigned c) {
 PolygonMesh to_polygon_mesh(Mesh m, unsigned categories) {
   PolygonMesh out;
   out.positions = std::move(m.positions.f32);
-  if (m.positions.precision != Precision::kFloat32) out.positions64 = std::move(m.positions.f64);
+  if (m.positions.precision != Precision::kFloat32) {
+    // The float32 of each float64 value: the text's own nearest float32 differs where the float64 lies
+    // exactly halfway between two float32s (1.0000000596046448 reads as 1 + 2^-24).
+    out.positions64 = std::move(m.positions.f64);
+    for (std::size_t i = 0; i < out.positions64.size(); ++i)
+      out.positions[i] = static_cast<float>(out.positions64[i]);
+  }
+  if (categories & kCategoryExtra) out.kept_lines = std::move(m.verbatim);
   if (!m.face_offsets.empty()) out.face_offsets = std::move(m.face_offsets);
   out.corners = std::move(m.corner_vertices);
   if (categories & kCategoryGroup) out.objects = std::move(m.objects), out.groups = std::move(m.groups);
@@ -433,6 +440,7 @@ Mesh from_polygon_mesh(PolygonMesh m) {
   Mesh out;
   out.positions = m.positions64.empty() ? numbers_from_float32(std::move(m.positions))
                                         : numbers_from_float64(m.positions64);
+  out.verbatim = std::move(m.kept_lines);
   out.face_offsets = std::move(m.face_offsets);
   out.corner_vertices = std::move(m.corners);
   if (m.texcoord_components) {

@@ -108,14 +108,16 @@ TEST_F(CliTest, RefusesToOverwrite) {
 TEST_F(CliTest, ExtraDataIsRefusedUnlessDropped) {
   {
     std::ofstream o(p("uv.obj"));
-    o << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\ng quad\nvn 0 0 1\nf 1/1/1 "
-         "2/2/1 3/3/1 4/4/1\nvp 0.5\n";
+    o << "v 0 0 0 1\nv 1 0 0 1\nv 1 1 0 1\nv 0 1 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\ng quad\nvn 0 0 1\n"
+         "f 1/1/1 2/2/1 3/3/1 4/4/1\nvp 0.5\n";
   }
-  // Texture coordinates, the group and the normal are kept; the `vp` line is refused until dropped.
+  // Texture coordinates, the group, the normal and the `vp` line (as text) are kept; the vertex weights
+  // are refused until dropped.
   CliRun r = run_cli("compress " + p("uv.obj"));
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("--drop extra (or --positions-only)"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("`vp`"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("vertex weights"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("`vp`"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("texture"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("normal"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("group"), std::string::npos) << r.err;

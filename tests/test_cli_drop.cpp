@@ -34,7 +34,8 @@ struct Kind {
   const char* said;
 };
 
-// Each kind compress does not keep, alone on a one-quad mesh; the line numbers are the files'.
+// Each kind, alone on a one-quad mesh (extra: vertex weights, which compress does not keep; the lines
+// it keeps as text have a test of their own below).
 std::vector<Kind> kinds() {
   return {
       {"uv", kSquare + "vt 0 0\nvt 1 0\nf 1/1 2/2 3/1 4/2\n",
@@ -49,8 +50,8 @@ std::vector<Kind> kinds() {
       {"smoothing", kSquare + "s 1\nf 1 2 3 4\n", "1 smoothing group statement (smoothing)"},
       {"tag", kSquare + "f 1 2 3 4\nt corner 1/1/0 0 2.0\nt interpolateboundary 1/0/0 1\n",
        "2 subdivision tags (tag)"},
-      {"extra", kSquare + "This line is prose\nf 1 2 3 4\n",
-       "1 line qsp keeps only as text, the first at IN:5: unknown statement 'This' (extra)"},
+      {"extra", "v 0 0 0 1\nv 1 0 0 1\nv 1 1 0 1\nv 0 1 0 0.5\nf 1 2 3 4\n",
+       "4 vertex weights (v x y z w) (extra)"},
   };
 }
 
@@ -178,12 +179,11 @@ TEST_F(CliDrop, EveryKindMustBeDroppedAndTheNoteNamesEach) {
   // compress keeps the texture coordinates (format 3.2), face labels (3.3) and tags (3.4), and refuses
   // the rest.
   const std::string all = "uv,normal,color,group,material,smoothing,tag,extra";
-  const std::string refused = "color,extra";
+  const std::string refused = "color";
   const unsigned kept =
       kCategoryUv | kCategoryNormal | kCategoryGroup | kCategoryMaterial | kCategorySmoothing | kCategoryTag;
-  const std::string described_refused =
-      "4 vertex colours (color), 1 line qsp keeps only as text, the first at " + in +
-      ":9: `vp` (parameter-space vertex) (extra)";
+  // compress keeps the vp line as text (extra's other kinds it refuses, but this file has none).
+  const std::string described_refused = "4 vertex colours (color)";
   const std::string described =
       "1 texture coordinate, 1 face with texture coordinate indices (uv), 1 normal, 1 face with normal "
       "indices (normal), 4 vertex colours (color), 1 group/object statement (group), 2 material statements "
@@ -199,13 +199,15 @@ TEST_F(CliDrop, EveryKindMustBeDroppedAndTheNoteNamesEach) {
                        ", which .qsp does not keep; pass --drop " + refused +
                        " (or --positions-only) to drop them\n");
   for (const CategoryName& c : kCategoryNames) {
-    if (c.category == kCategoryComment || (c.category & kept)) continue;
+    if (c.category == kCategoryComment || c.category == kCategoryExtra || (c.category & kept)) continue;
     SCOPED_TRACE(c.name);
     std::string list = category_list(kCategoryAll & ~c.category);
     r = compress(in, "--drop " + list, out);
     EXPECT_EQ(r.exit_code, 1);
-    EXPECT_NE(r.err.find(in_parens(c.name) + ", which .qsp does not keep; pass --drop " + refused + " (or"),
-              std::string::npos)
+    // The list names every kind .qsp then does not keep: extra too, as it is being dropped.
+    EXPECT_NE(
+        r.err.find(in_parens(c.name) + ", which .qsp does not keep; pass --drop " + refused + ",extra (or"),
+        std::string::npos)
         << r.err;
     for (const CategoryName& other : kCategoryNames) {  // the others are not named
       if (other.category != c.category) {
@@ -281,9 +283,11 @@ TEST_F(CliDrop, TheLeadingCommentBlockIsKeptUnlessDropped) {
 }
 
 // Issue 19's MakeHuman case: a stray line of prose between the licence comments and the vertices. Read
-// (stats and the like accept it), refused by compress and reorder until `extra` is dropped, named at its
-// line; then the .qsp is the untouched file's, byte for byte, and reorder's OBJ too.
-TEST_F(CliDrop, AStrayLineOfProseInAMakeHumanHeaderIsExtra) {
+// (stats and the like accept it), kept by compress with a warning naming it at its line and written back
+// by decompress before the vertices (format 3.7's kept lines section); --drop extra drops it, and then the
+// .qsp is the untouched file's, byte for byte. reorder refuses it until dropped, and its OBJ is then the
+// untouched file's.
+TEST_F(CliDrop, AStrayLineOfProseInAMakeHumanHeaderIsKept) {
   const std::string fedora = slurp(fs::path(QSP_TESTDATA_DIR) / "mh_fedora.obj");
   const std::size_t first_v = fedora.find("\nv ") + 1;
   ASSERT_NE(fedora.substr(0, first_v).find("# "), std::string::npos);  // after the header comments
@@ -299,11 +303,20 @@ TEST_F(CliDrop, AStrayLineOfProseInAMakeHumanHeaderIsExtra) {
   for (auto at = as_plain.find(hat); at != std::string::npos; at = as_plain.find(hat, at))
     as_plain.replace(at, hat.size(), plain);
   EXPECT_EQ(as_plain, run_qsp("stats --json " + quote(plain)).out);
-  r = compress(hat, "--drop uv", p("hat.qsp"));
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, "qsp: error: " + hat + ": has 1 line qsp keeps only as text, the first at " + where +
-                       " (extra), which .qsp does not keep; pass --drop extra (or --positions-only) to drop "
-                       "them\n");
+  r = compress(hat, "", p("hat.qsp"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "qsp: warning: " + hat + ": keeping 1 line qsp keeps only as text, the first at " + where +
+                       " (extra); decompress writes them back before the vertices\n");
+  EXPECT_EQ(decode_polygons(slurp(p("hat.qsp"))).kept_lines,
+            std::vector<std::string>{"This asset was converted by hand"});
+  EXPECT_EQ(static_cast<int>(slurp(p("hat.qsp"))[9]), 7) << "a file with kept lines says format 3.7";
+  r = run_qsp("decompress -c " + quote(p("hat.qsp")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::size_t prose = r.out.find("\nThis asset was converted by hand\n");
+  EXPECT_NE(prose, std::string::npos);
+  EXPECT_LT(prose, r.out.find("\nv ")) << "before the vertices";
+  EXPECT_GT(prose, r.out.find("\n#")) << "after the licence comments";
+  EXPECT_EQ(compress(hat, "-q", p("hat.qsp")).err, "");
   r = compress(hat, "--drop uv,extra", p("hat.qsp"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(

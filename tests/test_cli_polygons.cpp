@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "qsp/codec.h"
 #include "support/cli.h"
 #include "support/files.h"
 #include "support/mesh_text.h"
@@ -110,12 +112,23 @@ TEST_F(CliPolygons, WhatIsNotAMeshKeepsItsMessage) {
   EXPECT_NE(d.exit_code, 0);
   EXPECT_NE(d.err.find("repeat.obj:6:"), std::string::npos) << d.err;
   EXPECT_NE(d.err.find("repeats vertex"), std::string::npos) << d.err;
-  // Other data than positions is refused unless dropped, as for quad meshes.
-  testing::spit(p("prose.obj"), std::string(kPolygonObj) + "vp 0.5\n");
-  const auto u = run_qsp("compress " + quote(p("prose.obj")));
+  // Data a .qsp does not keep is refused unless dropped, as for quad meshes; a line kept as text is kept.
+  std::string weighted;  // every vertex with a weight: v x y z w
+  for (std::size_t at = 0, end = 0; (end = std::string_view(kPolygonObj).find('\n', at)) != std::string::npos;
+       at = end + 1) {
+    const std::string line(kPolygonObj + at, end - at);
+    weighted += line + (line.starts_with("v ") ? " 1\n" : "\n");
+  }
+  testing::spit(p("weights.obj"), weighted + "vp 0.5\n");
+  const auto u = run_qsp("compress " + quote(p("weights.obj")));
   EXPECT_NE(u.exit_code, 0);
+  EXPECT_NE(u.err.find("vertex weight"), std::string::npos) << u.err;
   EXPECT_NE(u.err.find("--drop extra"), std::string::npos) << u.err;
-  EXPECT_EQ(run_qsp("compress -q --drop extra " + quote(p("prose.obj"))).exit_code, 0);
+  EXPECT_EQ(run_qsp("compress -q --drop extra " + quote(p("weights.obj"))).exit_code, 0);
+  testing::spit(p("prose.obj"), std::string(kPolygonObj) + "vp 0.5\n");
+  ASSERT_EQ(run_qsp("compress -q " + quote(p("prose.obj"))).exit_code, 0);
+  EXPECT_EQ(decode_polygons(testing::slurp(p("prose.obj.qsp"))).kept_lines,
+            std::vector<std::string>{"vp 0.5"});
 }
 
 // A polygon .qsp is the mesh it was compressed from for every subcommand that reads polygon meshes:

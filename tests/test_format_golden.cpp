@@ -57,7 +57,7 @@ void dump(const std::string& path, std::string_view bytes) {
 // meshes the test corpus reads as valid quad meshes without other data).
 std::vector<std::string> golden_names() {
   std::vector<std::string> out;
-  for (const char* dir : {"", "polygons/", "texcoords/", "labels/", "tags/", "normals/", "exact/"}) {
+  for (const char* dir : {"", "polygons/", "texcoords/", "labels/", "tags/", "normals/", "exact/", "kept/"}) {
     for (const auto& e : fs::directory_iterator(kGolden + "/" + dir)) {
       if (e.path().extension() == ".obj") out.push_back(std::string(dir) + e.path().stem().string());
     }
@@ -166,6 +166,9 @@ std::vector<std::string> golden_paths() {
 // A golden's .obj as any polygon mesh (float32 positions, faces as read, texture coordinates).
 PolygonMesh read_polygons(const std::string& path) { return testing::read_obj_polygons(path); }
 
+// The corners of a decoded all-quad PolygonMesh, as a QuadMesh's quads.
+std::vector<std::uint32_t> polygon_faces_as_quads(const PolygonMesh& m) { return m.corners; }
+
 bool is_quad_mesh(const PolygonMesh& m) {
   for (std::size_t f = 0; f < m.face_count(); ++f)
     if (m.degree(f) != 4) return false;
@@ -179,7 +182,8 @@ std::string encode_golden(const std::string& name) {
   const std::string path = kGolden + "/" + name + ".obj";
   const PolygonMesh poly = read_polygons(path);
   std::string bytes = is_quad_mesh(poly) && !poly.texcoord_components && !poly.has_labels() &&
-                              poly.tags.empty() && poly.corner_normals.empty() && poly.positions64.empty()
+                              poly.tags.empty() && poly.corner_normals.empty() && poly.positions64.empty() &&
+                              poly.kept_lines.empty()
                           ? encode(read_mesh_file(path), options_for(name))
                           : encode_polygons(poly, options_for(name));
   if (name.find("_comments") != std::string::npos)
@@ -244,7 +248,7 @@ void expect_same_polygons(const PolygonMesh& mesh, const PolygonMesh& decoded) {
 TEST(Golden, BytesArePinned) {
   auto names = golden_names();
   ASSERT_GE(names.size(), 5u);
-  int polygons = 0, comments = 0, texcoords = 0, labels = 0, tags = 0, normals = 0, exact = 0;
+  int polygons = 0, comments = 0, texcoords = 0, labels = 0, tags = 0, normals = 0, exact = 0, kept = 0;
   for (const auto& name : names) {
     SCOPED_TRACE(name);
     const std::string obj = kGolden + "/" + name + ".obj";
@@ -258,6 +262,17 @@ TEST(Golden, BytesArePinned) {
                                                                  : std::vector<std::string>{});
     comments += !lines.empty();
     PolygonMesh poly = read_polygons(obj);
+    if (!poly.kept_lines.empty()) {
+      // Kept lines: a 3.7 file (the section is optional), decoded to the .obj's faces and its lines kept
+      // as text, in order; decode() skips them.
+      ++kept;
+      EXPECT_EQ(slurp(path)[9], 7) << "a file with kept lines says format 3.7";
+      const PolygonMesh back = decode_polygons(slurp(path));
+      expect_same_polygons(poly, back);
+      EXPECT_EQ(back.kept_lines, poly.kept_lines);
+      EXPECT_EQ(decode(slurp(path)).quads, polygon_faces_as_quads(back));
+      continue;
+    }
     if (!poly.positions64.empty()) {
       // Exact positions: a 3.6 file, decoded to the .obj's faces with each coordinate's binary64 value
       // (found by its binary32 position), index for index with the order kept.
@@ -383,6 +398,7 @@ TEST(Golden, BytesArePinned) {
   EXPECT_GE(tags, 3);
   EXPECT_GE(normals, 2);
   EXPECT_GE(exact, 2);
+  EXPECT_GE(kept, 1);
 }
 
 // One golden per combination of the geometry tools, each decoding to the mesh its natural golden gives
@@ -568,7 +584,7 @@ std::map<std::string, Crafted> crafted() {
     out["qsp_unknown_required_section_newer_minor"] = {
         seal(newer_minor, sections), "version",
         "section 0x0b is required but unknown to this qsp, which reads "
-        "format 3.6 (upgrade qsp)"};
+        "format 3.7 (upgrade qsp)"};
     out["qsp_unknown_required_section"] = {seal(p, sections), "format",
                                            "section 0x0b is required but unknown to this qsp"};
     // A section of a later minor version in a file that says it is the one before: 3.3's face labels,

@@ -17,7 +17,8 @@
 
 namespace qsp {
 
-// The format version this library writes: the lowest whose sections the file holds. 3.6 for a lossless
+// The format version this library writes: the lowest whose sections the file holds. 3.7 for a mesh with
+// kept lines (PolygonMesh::kept_lines), 3.6 for a lossless
 // mesh with coordinates binary32 does not hold (PolygonMesh::positions64), 3.5 for a mesh with normals, 3.4
 // for a mesh with OpenSubdiv tags, 3.3 for a mesh with face labels or material libraries, 3.2 for a mesh with
 // texture coordinates, 3.1 for a polygon mesh (its polygons section) or a file with a comments section, 3.0,
@@ -26,7 +27,8 @@ namespace qsp {
 // refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
 // (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 6;
+inline constexpr std::uint8_t kFormatMinor = 7;
+inline constexpr std::uint8_t kFormatMinorKeptLines = 7;
 inline constexpr std::uint8_t kFormatMinorExact = 6;
 inline constexpr std::uint8_t kFormatMinorNormals = 5;
 inline constexpr std::uint8_t kFormatMinorTags = 4;
@@ -117,6 +119,12 @@ std::string with_comments(std::string_view file, const std::vector<std::string>&
 // cannot hold, a line with a CR or LF, bytes left over). Safe on untrusted input.
 std::vector<std::string> file_comments(std::string_view bytes);
 
+// Why an OBJ line kept as text (PolygonMesh::kept_lines) cannot be stored in the kept lines section
+// (format 3.7): written back it would not read as a line kept as text (empty, a control byte, a leading
+// '#', a trailing backslash, or a first word that is a statement qsp reads, such as a malformed `t`
+// tag). Empty when it can be stored. Never throws but for memory.
+std::string kept_line_problem(std::string_view line);
+
 // Decodes a whole .qsp of a quad mesh. Returns the mesh in canonical order (or the original order when
 // the file has an order section). A file with a polygons section (3.1) or another required section added
 // after 3.0 (texture coordinates, face labels, subdivision tags, normals; the first in tag order is named) is
@@ -159,10 +167,11 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
 PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits = {});
 
 // Whether a .qsp needs decode_polygons(): it holds a polygon mesh (the polygons section, 3.1), texture
-// coordinates (3.2), face labels (3.3), subdivision tags (3.4) or normals (3.5), which decode() refuses with
-// kNotQuad; from its container alone (magic, version, size, checksum, sections' framing), decoding nothing,
-// so a caller can choose its reader before decoding once. Throws what decode() throws for a malformed
-// container (kFormat, kVersion, kChecksum). Safe on untrusted input.
+// coordinates (3.2), face labels (3.3), subdivision tags (3.4), normals (3.5) or exact positions (3.6),
+// which decode() refuses with kNotQuad, or kept lines (3.7, optional: decode() skips them); from its
+// container alone (magic, version, size, checksum, sections' framing), decoding nothing, so a caller can
+// choose its reader before decoding once. Throws what decode() throws for a malformed container (kFormat,
+// kVersion, kChecksum). Safe on untrusted input.
 bool holds_polygons(std::string_view bytes);
 
 struct SectionInfo {

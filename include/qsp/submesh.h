@@ -73,7 +73,8 @@ struct PolygonMesh {
   // Face labels (OBJ o, g, usemtl, s) and the material libraries (`mtllib` arguments); empty when none.
   FaceLabels objects, groups, materials, smoothing;
   std::vector<std::string> material_libraries;
-  std::vector<SubdivisionTag> tags;  // OpenSubdiv tags in file order; indices in this mesh's numbering
+  std::vector<SubdivisionTag> tags;     // OpenSubdiv tags in file order; indices in this mesh's numbering
+  std::vector<std::string> kept_lines;  // OBJ lines kept as text (vp, cstype, prose), file order
   bool has_labels() const {
     return !objects.empty() || !groups.empty() || !materials.empty() || !smoothing.empty() ||
            !material_libraries.empty();

@@ -27,10 +27,11 @@
 
 namespace qsp::testing {
 
-// An OBJ file as qsp's exact reader gives it, as a PolygonMesh: float32 positions, faces as read, and
-// the texture coordinates (every corner naming one or kInvalid) and face labels when the file has any.
+// An OBJ file as qsp's exact reader gives it, as a PolygonMesh: positions (float64 too where float32
+// does not hold them), faces as read, and the texture coordinates (every corner naming one or kInvalid),
+// normals, face labels, tags and lines kept as text when the file has any.
 inline PolygonMesh read_obj_polygons(const std::filesystem::path& path) {
-  return to_polygon_mesh(read_obj_mesh(slurp(path), path.string()), kPolygonMeshCategories);
+  return to_polygon_mesh(read_obj_mesh(slurp(path), path.string()), kPolygonMeshCategories | kCategoryExtra);
 }
 
 // A polygon mesh as the plain arrays the API takes.

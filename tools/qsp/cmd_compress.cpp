@@ -79,7 +79,9 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
     throw Error(ErrorCode::kIo,
                 "-: refusing to write compressed data to a terminal (redirect it, or give OUT)");
 
-  const unsigned keep = kPolygonMeshCategories & ~o.drop.categories();
+  // Lines kept as text (vp, cstype, prose) are kept too, unless extra is dropped; the rest of extra
+  // (vertex weights, PLY properties) is not.
+  const unsigned keep = (kPolygonMeshCategories | kCategoryExtra) & ~o.drop.categories();
   PolygonInput input = read_polygon_input(in, format, QspInput::kRefused, keep);
   const ReadReport report = std::move(input.report);
   const std::uint64_t rounded_uv = input.rounded_texcoords;
@@ -88,7 +90,22 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   const std::string first_beyond_float64 = input.first_beyond_float64;
   PolygonMesh mesh = polygons_of(std::move(input));
   const bool quiet = o.verbosity.quiet;
-  const std::string dropped = refuse_extra_data(in, report, ".qsp", o.drop, quiet, kPolygonMeshCategories);
+  ReadReport refusable = report;
+  if (keep & kCategoryExtra) refusable.kept_lines = 0;
+  const std::string dropped = refuse_extra_data(in, refusable, ".qsp", o.drop, quiet, kPolygonMeshCategories);
+  // Text with no vertex, only lines qsp does not understand, is not a mesh at all.
+  if (mesh.vertex_count() == 0 && !mesh.kept_lines.empty())
+    throw Error(ErrorCode::kParse,
+                in + ": not a mesh: no vertex, only " + report.describe_extra_data(in, kCategoryExtra));
+  for (const std::string& line : mesh.kept_lines)
+    if (const std::string why = kept_line_problem(line); !why.empty())
+      throw Error(ErrorCode::kUnsupported,
+                  in + ": a line kept as text, '" + line + "', " + why +
+                      ", which .qsp cannot keep as text; pass --drop extra to drop the " +
+                      "lines kept as text");
+  if (!mesh.kept_lines.empty() && !quiet)
+    std::fprintf(stderr, "qsp: warning: %s: keeping %s; decompress writes them back before the vertices\n",
+                 in.c_str(), report.describe_extra_data(in, kCategoryExtra).c_str());
   // Coordinates float32 does not hold are kept as float64 (the exact positions section) unless quantized
   // or rounded on request; float64 holds every text of up to 17 significant digits.
   if (o.quantize || o.float32) mesh.positions64.clear();

@@ -428,7 +428,8 @@ PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspI
   }
   // Texture coordinates, labels and coordinates float32 does not hold come from the exact reader, which
   // the quad reader's report says it needs.
-  if ((in.report.categories() & keep & kPolygonMeshCategories) || in.report.rounded_coordinates) {
+  if ((in.report.categories() & keep & kPolygonMeshCategories) || in.report.rounded_coordinates ||
+      (in.report.kept_lines && (keep & kCategoryExtra))) {
     ReadReport report = std::move(in.report);  // the same kinds; its words for the quad path's messages
     in.mesh = {};
     in.quads = false;
