@@ -248,6 +248,73 @@ recode() {  # recode NAME: NAME.qsp under every tools byte
 }
 recode xord
 recode bumpy_mixed
+# Exact positions (format 3.6's section, from the text too: qspexact.py). exactgen.py first checks
+# that decoder, and qsp decompress once qsp says it reads 3.6, on sections put into golden files (valid
+# ones, decoded to the values they were made from, and ones breaking each rule the text names). Then
+# each of testdata/golden/exact, and meshes whose coordinates binary32 does not hold (exactgen.py
+# --digits: ten and seventeen significant digits, short decimals, -0) made from polygen.py's and
+# texgen.py's meshes (.obj and .off, one with --keep-order), the bumpy grid and exactgen.py --tricky's
+# texts (a decimal whose binary32 through its binary64 is not the one read directly, 2^62 written out,
+# more digits than binary64 holds, a value above FLT_MAX), are decoded whole by
+# qsppoly.py: every vertex's binary64 position against the value its text denotes (index for index with
+# an order section; the section byte for byte with the text's encoder choices) and against what `qsp
+# decompress` writes (the shortest text that reads back to each). Until qsp reads 3.6 those files are
+# their --float32 files with exactgen.py's section put in (--put), and qsp decompress is not asked.
+reads36=0
+if "$qsp" --version | grep -Eq 'reads 3\.0 to 3\.([6-9]|[1-9][0-9])'; then
+  reads36=1
+elif [[ -f $root/src/codec_exact.cpp ]]; then
+  echo "spec decoder: src/codec_exact.cpp is there but \`qsp --version\` does not say it reads format 3.6" >&2
+  exit 1
+fi
+"$python" "$here/exactgen.py" --test "$qsp" >/dev/null ||
+  { echo "exact positions sections from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
+declare -A exa_of=() exa_exact=()  # the files with exact positions, the mesh each was made from, and
+for f in "$root"/testdata/golden/exact/*.qsp; do  # those with an order section (compared index for index)
+  [[ -f $f ]] || continue
+  for m in "${f%.qsp}.obj" "${f%.qsp}.off"; do [[ -f $m ]] && exa_of[$f]=$m; done
+  [[ $(basename "$f") == *keep_order* ]] && exa_exact[$f]=1
+  files+=("$f")
+done
+encode_exact() {  # encode_exact NAME SOURCE.obj MESH.obj|.off [OPTIONS...]: SOURCE with more digits, to check
+  local name=$1 src=$2 mesh=$3
+  shift 3
+  "$python" "$here/exactgen.py" --digits "$src" "$mesh" "${#files[@]}"
+  if ((reads36)); then
+    "$qsp" compress -f -q "$@" "$mesh" "$work/$name.qsp"
+  else
+    "$qsp" compress -f -q --float32 "$@" "$mesh" "$work/$name.f32.qsp" &&
+      "$python" "$here/exactgen.py" --put "$work/$name.f32.qsp" "$mesh" "$work/$name.qsp"
+  fi || { echo "spec decoder: no exact positions file $name.qsp" >&2; exit 1; }
+  exa_of[$work/$name.qsp]=$mesh
+  [[ " $* " == *" --keep-order "* ]] && exa_exact[$work/$name.qsp]=1
+  files+=("$work/$name.qsp")
+}
+encode_exact digits_polygons_1 "$work/polygons_1.obj" "$work/digits_polygons_1.obj"
+encode_exact digits_polygons_2_off "$work/polygons_2.obj" "$work/digits_polygons_2.off"
+encode_exact digits_polygons_3_keep_order "$work/polygons_3.obj" "$work/digits_polygons_3.obj" --keep-order
+encode_exact digits_bumpy "$work/bumpy_float.obj" "$work/digits_bumpy.obj"
+encode_exact digits_tex_2_u "$work/tex_2_u.obj" "$work/digits_tex_2_u.obj"
+if ((reads36)); then  # texts whose binary32 must come from their binary64 (--put has no such f)
+  "$python" "$here/exactgen.py" --tricky "$work/tricky.obj"
+  "$qsp" compress -f -q "$work/tricky.obj" "$work/tricky.qsp" ||
+    { echo "spec decoder: no exact positions file tricky.qsp" >&2; exit 1; }
+  exa_of[$work/tricky.qsp]=$work/tricky.obj
+  files+=("$work/tricky.qsp")
+fi
+exacted() {  # exacted FILE MESH: binary64 positions against MESH's text and what `qsp decompress` writes
+  local f=$1 out exact=() obj=()
+  out="$work/$(basename "$f" .qsp)_$BASHPID.obj"
+  [[ -n ${exa_exact[$f]:-} ]] && exact=(--exact)
+  [[ $2 == *.obj ]] && obj=(--obj "$2" --tex-obj "$2")
+  if ((reads36)); then
+    "$qsp" decompress -f "$f" -o "$out" >/dev/null &&
+      "$python" "$here/qsppoly.py" "$f" "${obj[@]}" --exact-obj "$2" "${exact[@]}" --decompressed "$out" \
+        --exact-decompressed "$out"
+  else
+    "$python" "$here/qsppoly.py" "$f" "${obj[@]}" --exact-obj "$2" "${exact[@]}"
+  fi
+}
 whole() {  # whole FILE MESH: the text's whole decoder against MESH and what `qsp decompress` writes
   local f=$1 out exact=()
   out="$work/$(basename "$f" .qsp)_$BASHPID.obj"
@@ -282,6 +349,10 @@ normalled() {  # normalled FILE MESH: the whole mesh, normals included, against 
 }
 check() {  # check FILE: the text's decoder against the reference's dump (prints nothing on success)
   local f=$1 prefix
+  if [[ -n ${exa_of[$f]:-} ]]; then
+    exacted "$f" "${exa_of[$f]}" || { echo "spec decoder's exact positions disagree: $f" >&2; return 1; }
+    return 0
+  fi
   if [[ -n ${nrm_of[$f]:-} ]]; then
     normalled "$f" "${nrm_of[$f]}" || { echo "spec decoder's mesh with normals disagrees: $f" >&2; return 1; }
     return 0

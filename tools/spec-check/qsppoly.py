@@ -49,6 +49,7 @@ import sys
 
 import qspgeo as g
 import qsplayout as lay
+import qspexact
 
 need = g.need
 NONE = g.NONE
@@ -969,7 +970,7 @@ def canonical_mesh(data, secs):
     return out_pos, out_faces, geo[1] != 0
 
 
-KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09)
+KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0a)
 
 
 def decode_file(data):
@@ -984,6 +985,10 @@ def decode_file(data):
     for tag in secs:
         need(tag & 0x80 or tag in KNOWN_REQUIRED, 'section 0x%02x is required but unknown' % tag)
     pos, faces, quantized = canonical_mesh(data, secs)
+    exact = None   # "Exact positions section": binary64 values per output vertex, moved as positions are
+    if 0x0a in secs:
+        exact = qspexact.decode_exact(secs[0x0a], len(pos), [tuple(map(g.bits_f32, p)) for p in pos],
+                                      quantized, data[9])
     lines = comments(secs[0x81]) if 0x81 in secs else []
     tex = None
     if 0x06 in secs:
@@ -1027,6 +1032,7 @@ def decode_file(data):
         for j, c in enumerate(cv):
             back[c] = j
         opos = [pos[c] for c in cv]
+        exact = exact and [exact[c] for c in cv]
         ofaces, onames, onormals = [], [], []
         for c, r in of:
             d = len(faces[c])
@@ -1045,7 +1051,7 @@ def decode_file(data):
             tex[1] = onames
         if nrm:
             nrm[1] = onormals
-    return pos, faces, lines, quantized, tex, labels, tags, nrm
+    return pos, faces, lines, quantized, tex, labels, tags, nrm, exact
 
 
 # ---------------- comparisons ----------------
@@ -1489,6 +1495,12 @@ def main():
     if '--normals-decompressed' in opts:
         bad += compare_normals(written, read_obj_corner_values(opts['--normals-decompressed'], 2),
                                'qsp decompress\'s output', exact=True)
+    if '--exact-obj' in opts:   # binary64 positions (exact positions section) against the mesh's text
+        bad += qspexact.compare_exact(mesh, qspexact.read_mesh64(opts['--exact-obj']), 'the mesh', '--exact' in args)
+        bad += qspexact.compare_encoder(open(path, 'rb').read(), g.sections(open(path, 'rb').read()),
+                                          qspexact.exact_values(mesh))
+    if '--exact-decompressed' in opts:
+        bad += qspexact.compare_written(mesh, qspexact.read_mesh64(opts['--exact-decompressed']), 'qsp decompress\'s output')
     if '--stats' in args:
         print(' '.join('%s=%d' % kv for kv in sorted(STATS.items())))
     if 'tex: unreferenced values not sorted (an encoder rule)' in STATS:

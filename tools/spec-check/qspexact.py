@@ -1,0 +1,354 @@
+#!/usr/bin/env python3
+"""The exact positions section (0x0a, format 3.6) of a .qsp file, written from format-spec/qsp_format.md
+("Exact positions section") alone, without reading the codec's C++: the binary64 value of every output
+vertex's coordinates, from the binary32 positions the geometry (and polygons) sections give and the
+residuals this section holds.
+
+decode_exact() is what qsppoly.py calls; encode_exact() is an encoder of the section that makes the
+choices the text says the reference encoder makes (per axis decimal or binary64, the fewest bits), so
+that a file's section can be checked byte for byte against it; read_mesh64(), compare_exact() and
+compare_written() compare decoded values with the binary64 values a mesh file's text denotes and with
+the text `qsp decompress` writes (the shortest text that reads back to each value).
+
+Points where the text leaves a choice are named by the constants below the imports.
+"""
+import decimal
+import math
+import struct
+
+import qspgeo as g
+
+FormatError = g.FormatError
+need = g.need
+
+MODES = tuple(range(23)) + (64,)   # "modes": 0 to 22 decimal with that many decimals, 64 binary64
+BINARY64 = 64
+MAX_WIDTH = 64
+P_LIMIT = 1 << 62                  # |p| < 2^62
+N_LIMIT = 1 << 63                  # |N| < 2^63
+
+SAME_F_BY_BITS = True      # "a value whose nearest binary32 is not f": compared as binary32 bits, so a
+                           # value -0.0 over f = +0.0 (or +0.0 over -0.0) is refused; the text does
+                           # not say whether -0 "is" +0 there
+LAST = {}   # the last decode_exact() call's binary32 positions and values (before an order section)
+ORD_OUT_OF_RANGE_REFUSED = True  # ord(f) + r outside [-2^63, 2^63 - 1] names no binary64: refused (the
+                                 # text only says the value must be finite)
+
+
+def f32_bits(x):
+    """The binary32 nearest to binary64 x (ties to even; beyond the largest finite, an infinity), as
+    bits."""
+    return g.f32_bits_of_double(x)
+
+
+def f64_bits(x):
+    return struct.unpack('<Q', struct.pack('<d', x))[0]
+
+
+def f64_of_bits(u):
+    return struct.unpack('<d', struct.pack('<Q', u))[0]
+
+
+def ord64(x):
+    """ord(x): the bits as an unsigned integer u with the sign bit clear, -1 - (u - 2^63) with it set."""
+    u = f64_bits(x)
+    return u if u < 1 << 63 else -1 - (u - (1 << 63))
+
+
+def unord64(o):
+    """The binary64 whose ord is o (None if no binary64 has it)."""
+    if not -(1 << 63) <= o < 1 << 63:
+        return None
+    return f64_of_bits(o if o >= 0 else (1 << 63) - 1 - o)
+
+
+def round_half_away(p):
+    """A binary64 p rounded to the nearest integer, halves away from zero, exactly."""
+    n, d = abs(p).as_integer_ratio()
+    m = (2 * n + d) // (2 * d)
+    return -m if p < 0 else m
+
+
+def zigzag(r):
+    return 2 * r if r >= 0 else -2 * r - 1
+
+
+def unzigzag(u):
+    return u >> 1 if u % 2 == 0 else -((u + 1) >> 1)
+
+
+def value_of(f, mode, r):
+    """The value of a coordinate whose binary32 is f (a Python float) in mode `mode` with residual r:
+    (value, None), or (None, why) when the text makes it a format error."""
+    if mode == BINARY64:
+        if ORD_OUT_OF_RANGE_REFUSED and unord64(ord64(f) + r) is None:
+            return None, 'ord(f) + r = %d names no binary64' % (ord64(f) + r)
+        x = unord64(ord64(f) + r)
+        if not math.isfinite(x):
+            return None, 'binary64 value %r is not finite' % x
+    else:
+        k = mode
+        p = f * float(10 ** k)            # one binary64 multiplication; 10^k is exact for k <= 22
+        if not abs(p) < P_LIMIT:          # (a NaN p fails too)
+            return None, '|p| = |f * 10^%d| = %r is not below 2^62' % (k, abs(p))
+        N = round_half_away(p) + r
+        if not abs(N) < N_LIMIT:
+            return None, '|N| = %d is not below 2^63' % abs(N)
+        if N == 0:
+            x = math.copysign(0.0, f)
+        else:
+            x = float('%de-%d' % (N, k))  # the binary64 nearest N * 10^-k, ties to even
+    fb = f32_bits(f)
+    if SAME_F_BY_BITS:
+        same = f32_bits(x) == fb
+    else:
+        same = g.bits_f32(f32_bits(x)) == f
+    if not same:
+        return None, 'value %r rounds to binary32 0x%08x, not f = %r (0x%08x)' % (x, f32_bits(x), f, fb)
+    return x, None
+
+
+def decode_exact(payload, V, positions, quantized, minor):
+    """The section's binary64 values, per output vertex (x, y, z), in the order of `positions` (the
+    output vertices before an order section moves them, as binary32 values in Python floats). V is
+    the output vertex count, quantized whether the geometry section is quantized, minor the file's
+    minor version. Raises FormatError on anything the text refuses."""
+    need(minor >= 6, 'section 0x0a (exact positions) is format 3.6\'s, and the file says it is 3.%d' % minor)
+    need(not quantized, 'section 0x0a (exact positions) in a file whose geometry section is quantized')
+    need(len(positions) == V, 'exact positions: %d positions for %d output vertices' % (len(positions), V))
+    need(len(payload) >= 6, 'exact positions: %d bytes, fewer than the 6 of the modes and widths' % len(payload))
+    modes, widths = payload[0:3], payload[3:6]
+    for a in range(3):
+        need(modes[a] in MODES, 'exact positions: axis %d mode %d (neither 0..22 nor 64)' % (a, modes[a]))
+        need(widths[a] <= MAX_WIDTH, 'exact positions: axis %d width %d (above 64)' % (a, widths[a]))
+    nbits = V * sum(widths)
+    need(len(payload) - 6 == (nbits + 7) // 8,
+         'exact positions: %d bytes of residuals, %d fields of %s bits need %d' % (
+             len(payload) - 6, V, '+'.join(map(str, widths)), (nbits + 7) // 8))
+    bits = int.from_bytes(payload[6:], 'little')   # bit i of the string: bit i % 8 of byte i // 8
+    need(bits >> nbits == 0, 'exact positions: a bit after the last residual is set')
+    out = [[None] * 3 for _ in range(V)]
+    at = 0
+    for a in range(3):
+        B, mask = widths[a], (1 << widths[a]) - 1
+        for v in range(V):
+            r = unzigzag((bits >> at) & mask)
+            at += B
+            x, why = value_of(positions[v][a], modes[a], r)
+            need(why is None, 'exact positions: vertex %d axis %d: %s' % (v, a, why))
+            out[v][a] = x
+    out = [tuple(p) for p in out]
+    LAST.update(positions=[tuple(p) for p in positions], values=out)
+    return out
+
+
+# ---------------- the reference encoder's choices ("The reference encoder chooses per axis") -------
+def shortest_decimals(x):
+    """The decimals of the shortest text that reads back to binary64 x (Python's repr is such a text):
+    0 for an integer, 5 for 1e-05, 10 for 41.8544769287."""
+    e = decimal.Decimal(repr(x)).normalize().as_tuple().exponent
+    return max(0, -e)
+
+
+def scaled(x, k):
+    """x's shortest text times 10^k, an integer (k at least its decimals)."""
+    d = decimal.Decimal(repr(x)).scaleb(k)
+    assert d == d.to_integral_value()
+    return int(d)
+
+
+def residual(x, f, mode):
+    """The residual that gives value x over binary32 f in mode `mode` (None if none fits)."""
+    if mode == BINARY64:
+        return ord64(x) - ord64(f)
+    k = mode
+    p = f * float(10 ** k)
+    if not abs(p) < P_LIMIT:
+        return None
+    N = scaled(x, k)
+    if not abs(N) < N_LIMIT:
+        return None
+    return N - round_half_away(p)
+
+
+def width(rs):
+    return max((zigzag(r).bit_length() for r in rs), default=0)
+
+
+def choose_mode(xs, fs):
+    """An axis's mode, as the text says the reference encoder chooses it: decimal with k the most
+    decimals of the shortest texts of its values if k <= 22, every N fits and its width is not larger
+    than binary64's; else binary64."""
+    k = max((shortest_decimals(x) for x in xs), default=0)
+    b64 = width([residual(x, f, BINARY64) for x, f in zip(xs, fs)])
+    if k <= 22:
+        rs = [residual(x, f, k) for x, f in zip(xs, fs)]
+        if None not in rs and width(rs) <= b64:
+            return k
+    return BINARY64
+
+
+def pack(modes, residuals, widths=None):
+    """The payload: modes, widths (the fewest bits by default) and residuals[a][v] of each axis."""
+    if widths is None:
+        widths = [width(rs) for rs in residuals]
+    bits, at = 0, 0
+    for a in range(3):
+        for r in residuals[a]:
+            z = zigzag(r)
+            assert z < 1 << widths[a], (r, widths[a])
+            bits |= z << at
+            at += widths[a]
+    return bytes(modes) + bytes(widths) + bits.to_bytes((at + 7) // 8, 'little')
+
+
+def encode_exact(values, fs, modes=None):
+    """The section of binary64 values[v][a] over binary32 fs[v][a] (Python floats), with the reference
+    encoder's choices, or the given modes."""
+    if modes is None:
+        modes = [choose_mode([v[a] for v in values], [f[a] for f in fs]) for a in range(3)]
+    residuals = [[residual(v[a], f[a], modes[a]) for v, f in zip(values, fs)] for a in range(3)]
+    assert all(None not in rs for rs in residuals), 'a value this mode cannot give'
+    return pack(modes, residuals)
+
+
+def is_binary32(x):
+    """Whether binary64 x is a binary32 (its nearest binary32 is x itself, sign of a zero included)."""
+    return f64_bits(g.bits_f32(f32_bits(x))) == f64_bits(x)
+
+
+def needs_section(values):
+    """Whether values hold a coordinate that is not a binary32 (when the encoder writes the section)."""
+    return any(not is_binary32(x) for p in values for x in p if not math.isnan(x))
+
+
+# ---------------- comparisons ----------------
+def read_mesh64(path):
+    """Positions as the binary64 values their text denotes (Python's float() reads the nearest,
+    ties to even), their texts, and faces (0-based), of an .obj or an .off."""
+    lines = open(path, 'rb').read().split(b'\n')
+    pos, texts, faces = [], [], []
+    if path.endswith('.off'):
+        words = []
+        for raw in lines:
+            words.append(raw.split(b'#')[0].split())
+        words = [w for w in words if w]
+        need(words[0][0].endswith(b'OFF'), '%s: no OFF keyword' % path)
+        head = words[0][1:] or words[1]
+        body = words[1:] if words[0][1:] else words[2:]
+        nv, nf = int(head[0]), int(head[1])
+        for w in body[:nv]:
+            texts.append(tuple(x.decode() for x in w[:3]))
+            pos.append(tuple(float(x) for x in w[:3]))
+        for w in body[nv:nv + nf]:
+            d = int(w[0])
+            faces.append([int(x) for x in w[1:1 + d]])
+        return pos, texts, faces
+    for raw in lines:
+        w = raw.split()
+        if not w or w[0].startswith(b'#'):
+            continue
+        if w[0] == b'v':
+            texts.append(tuple(x.decode() for x in w[1:4]))
+            pos.append(tuple(float(x) for x in w[1:4]))
+        elif w[0] == b'f':
+            idx = [int(x.split(b'/')[0]) for x in w[1:]]
+            faces.append([i - 1 if i > 0 else len(pos) + i for i in idx])
+    return pos, texts, faces
+
+
+def exact_values(mesh):
+    """The binary64 positions of a decoded mesh (qsppoly.decode_file's): its exact positions section's
+    values, or its binary32 positions widened."""
+    if len(mesh) > 8 and mesh[8] is not None:
+        return mesh[8]
+    return [tuple(g.bits_f32(u) for u in p) for p in mesh[0]]
+
+
+def key(p):
+    return tuple(f64_bits(x) for x in p)
+
+
+def compare_exact(mesh, other, what, exact):
+    """Every output vertex's binary64 position (bits, -0 and +0 apart) against other = read_mesh64's:
+    index for index when exact, else as a multiset of positions and a multiset of faces as cycles of
+    corner positions up to rotation."""
+    pos = exact_values(mesh)
+    faces = mesh[1]
+    opos, _, ofaces = other
+    bad = []
+    if len(pos) != len(opos):
+        return ['%d vertices, %s %d' % (len(pos), what, len(opos))]
+    if exact:
+        diff = [i for i in range(len(pos)) if key(pos[i]) != key(opos[i])]
+        if diff:
+            i = diff[0]
+            bad.append('%d vertices\' binary64 positions differ from %s\'s (first: vertex %d, %r, there %r)' % (
+                len(diff), what, i, pos[i], opos[i]))
+        return bad
+    if sorted(map(key, pos)) != sorted(map(key, opos)):
+        a, b = sorted(map(key, pos)), sorted(map(key, opos))
+        i = next(i for i in range(len(a)) if a[i] != b[i])
+        bad.append('binary64 positions differ from %s\'s as multisets (first: %r, there %r)' % (
+            what, tuple(map(f64_of_bits, a[i])), tuple(map(f64_of_bits, b[i]))))
+        return bad
+
+    def cycles(p, fs):
+        return sorted(min(tuple(c[k:] + c[:k]) for k in range(len(c))) for c in ([key(p[v]) for v in f] for f in fs))
+
+    if cycles(pos, faces) != cycles(opos, ofaces):
+        bad.append('faces\' corner positions (binary64) differ from %s\'s' % what)
+    return bad
+
+
+def digits(text):
+    """The significant digits of a number's text ('' for zero)."""
+    t = text.lower().lstrip('+-')
+    t = t.split('e')[0].replace('.', '')
+    return t.strip('0')
+
+
+SHORTEST_BY_DIGITS = True   # "the shortest text that reads back to it": taken as the fewest significant
+                            # digits (repr's count); the text does not say which of two shortest texts
+                            # (or which notation: 1e-05, 0.00001) a writer picks
+
+
+def compare_written(mesh, other, what):
+    """The binary64 positions against what a decoder wrote (read_mesh64 of its output), index for
+    index, each coordinate's text the shortest that reads back to the value."""
+    bad = compare_exact(mesh, other, what, exact=True)
+    pos = exact_values(mesh)
+    _, texts, _ = other
+    long = [(i, a, t) for i, p in enumerate(texts) for a, t in enumerate(p)
+            if i < len(pos) and len(digits(t)) > len(digits(repr(pos[i][a])))]
+    if long and SHORTEST_BY_DIGITS:
+        i, a, t = long[0]
+        bad.append('%d coordinates written with more digits than the shortest text (first: vertex %d axis %d, '
+                   '%s where %r reads back)' % (len(long), i, a, t, pos[i][a]))
+    return bad
+
+
+def compare_encoder(data, secs, values):
+    """The file against the reference encoder's choices as the text states them: a section exactly when
+    a value is not a binary32, in a 3.6 file, and (from the binary32 positions and values the last
+    decode_exact() call saw, before the order section) byte for byte what encode_exact() writes:
+    modes, fewest widths and residuals (a decimal N the value's shortest text)."""
+    bad = []
+    if 0x0a not in secs:
+        if needs_section(values):
+            bad.append('no exact positions section, but a coordinate is not a binary32')
+        return bad
+    if not needs_section(values):
+        bad.append('an exact positions section, but every coordinate is a binary32 (the text writes one '
+                   'only when some value is not)')
+    if data[9] != 6:
+        bad.append('a file with an exact positions section whose minor version is %d, not 6' % data[9])
+    fs, xs = LAST['positions'], LAST['values']
+    mine = encode_exact(xs, fs)
+    theirs = bytes(secs[0x0a])
+    if mine != theirs:
+        bad.append('the section is not the one the text\'s encoder choices give: modes %s widths %s, '
+                   'the text\'s modes %s widths %s%s' % (
+                       list(theirs[:3]), list(theirs[3:6]), list(mine[:3]), list(mine[3:6]),
+                       ' (the residuals differ)' if mine[:6] == theirs[:6] else ''))
+    return bad
