@@ -252,14 +252,15 @@ recode bumpy_mixed
 # that decoder, and qsp decompress once qsp says it reads 3.6, on sections put into golden files (valid
 # ones, decoded to the values they were made from, and ones breaking each rule the text names). Then
 # each of testdata/golden/exact, and meshes whose coordinates binary32 does not hold (exactgen.py
-# --digits: ten and seventeen significant digits, short decimals, -0) made from polygen.py's and
-# texgen.py's meshes (.obj and .off, one with --keep-order), the bumpy grid and exactgen.py --tricky's
-# texts (a decimal whose binary32 through its binary64 is not the one read directly, 2^62 written out,
-# more digits than binary64 holds, a value above FLT_MAX), are decoded whole by
-# qsppoly.py: every vertex's binary64 position against the value its text denotes (index for index with
-# an order section; the section byte for byte with the text's encoder choices) and against what `qsp
-# decompress` writes (the shortest text that reads back to each). Until qsp reads 3.6 those files are
-# their --float32 files with exactgen.py's section put in (--put), and qsp decompress is not asked.
+# --digits: ten and seventeen significant digits, short decimals, -0) made from polygen.py's meshes
+# (.obj and .off, one with --keep-order), mh_fedora (texture coordinates, comments), the bumpy grid and
+# exactgen.py --tricky's texts (1.0000000596046448, whose binary32 through its binary64 is not the one
+# read directly; 2^62 written out; zeros beyond binary64's digits; a value above FLT_MAX), are decoded
+# whole by qsppoly.py: every vertex's binary64 position against the value its text denotes (index for
+# index with an order section; the section byte for byte with the text's encoder choices) and against
+# what `qsp decompress` writes (the shortest text that reads back to each). Until qsp reads 3.6 those
+# files are their --float32 files with exactgen.py's section put in (--put), and qsp decompress is not
+# asked.
 reads36=0
 if "$qsp" --version | grep -Eq 'reads 3\.0 to 3\.([6-9]|[1-9][0-9])'; then
   reads36=1
@@ -294,11 +295,11 @@ encode_exact digits_polygons_1 "$work/polygons_1.obj" "$work/digits_polygons_1.o
 encode_exact digits_polygons_2_off "$work/polygons_2.obj" "$work/digits_polygons_2.off"
 encode_exact digits_polygons_3_keep_order "$work/polygons_3.obj" "$work/digits_polygons_3.obj" --keep-order
 encode_exact digits_bumpy "$work/bumpy_float.obj" "$work/digits_bumpy.obj"
-encode_exact digits_tex_2_u "$work/tex_2_u.obj" "$work/digits_tex_2_u.obj"
+encode_exact digits_fedora "$root/testdata/mh_fedora.obj" "$work/digits_fedora.obj"  # uv, comments
 if ((reads36)); then  # texts whose binary32 must come from their binary64 (--put has no such f)
   "$python" "$here/exactgen.py" --tricky "$work/tricky.obj"
   "$qsp" compress -f -q "$work/tricky.obj" "$work/tricky.qsp" ||
-    { echo "spec decoder: no exact positions file tricky.qsp" >&2; exit 1; }
+    { echo "spec decoder: qsp compress refuses exactgen.py --tricky's mesh (its f must be the binary32 nearest each binary64 value)" >&2; exit 1; }
   exa_of[$work/tricky.qsp]=$work/tricky.obj
   files+=("$work/tricky.qsp")
 fi

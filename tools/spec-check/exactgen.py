@@ -19,8 +19,8 @@ usage: exactgen.py FILE.qsp OUTDIR
        IN's other lines, an .off only vertices and faces.
        exactgen.py --tricky OUT.obj
        a 3x2 grid whose texts need care: a decimal whose binary32 through its binary64 is not its
-       binary32 read directly, texts of more digits than binary64 holds, 2^62 written out, a value
-       above FLT_MAX that rounds to it, -0.
+       binary32 read directly, zeros beyond binary64's digits, 2^62 written out, a value above
+       FLT_MAX that rounds to it, -0.
        exactgen.py --put FILE.qsp MESH OUT.qsp
        FILE (MESH compressed with --float32) with the section the text's encoder writes for MESH's
        binary64 values, at minor version 6: a 3.6 file of MESH short of a 3.6 encoder's own choices.
@@ -315,11 +315,11 @@ def digits_mesh(src, out, seed):
 
 
 TRICKY = '''# texts whose binary64 value and binary32 f need care
-v 1.00000005960464477539062500001 0 -0
-v 2 0.50000000000000000001 0.1
+v 1.0000000596046448 0 -0
+v 2 0.5000000000000000000 0.1
 v 4611686018427387904 0.1 3.4028235e38
 v 0 1 0.30000000000000004
-v 1.0000000001 1.00000000000000000000000000001 -0.0000000001
+v 1.0000000001 1 -0.0000000001
 v 2 1 12345678.9
 f 1 2 5 4
 f 2 3 6 5
@@ -327,10 +327,11 @@ f 2 3 6 5
 
 
 def tricky(out):
-    """A 3x2 grid whose texts need care (exactgen.py --tricky): 1 + 2^-24 + 1e-29, whose binary32
-    through its binary64 (1 + 2^-24, a tie: 1.0) is not its binary32 read directly (1 + 2^-23); texts
-    of more digits than binary64 holds whose value is a binary32 (0.5, 1) or not; 2^62 written out
-    (a binary32); a value above FLT_MAX that rounds to it; 0.30000000000000004; -0."""
+    """A 3x2 grid whose texts need care (exactgen.py --tricky): 1.0000000596046448, whose binary64 is
+    1 + 2^-24 exactly, halfway between binary32 1 and 1 + 2^-23, so its f (the binary32 nearest the
+    value, ties to even) is 1.0 where reading the text to binary32 directly gives 1 + 2^-23; trailing
+    zeros beyond binary64's digits; 2^62 written out (a binary32 of a long text); 3.4028235e38, above
+    FLT_MAX and rounding to it; 0.30000000000000004; -0."""
     open(out, 'w').write(TRICKY)
 
 
@@ -388,6 +389,12 @@ def handmade(root):
     p3 = x.encode_exact(vals3, fs, [64, 64, 64])
     p3 = x.pack(list(p3[:3]), [[x.residual(v[a], f[a], 64) for v, f in zip(vals3, fs)] for a in range(3)], [64, 1, 0])
     out.append(('quad, binary64 in widths 64, 1, 0', with_section(quad, p3), vals3, fs))
+    # 1 + 2^-24, halfway between binary32 1 and 1 + 2^-23: its nearest binary32 is 1 (ties to even),
+    # the f a text such as 1.00000005960464477539062500001 has through its binary64
+    vals4 = [(0.0, 0.0, 0.0), (1 + 2.0 ** -24, 0.0, 0.0), (1 - 2.0 ** -25, 1 + 2.0 ** -24, 0.0), (0.0, 1.0, 0.0)]
+    assert all(x.f32_bits(v[a]) == x.f32_bits(f[a]) for v, f in zip(vals4, fs) for a in range(3))
+    out.append(('quad, values halfway between two binary32 (ties to even)', with_section(quad, x.encode_exact(vals4, fs)),
+                vals4, fs))
     # values near every f of other golden files (grid_normals_keep_order has an f = -0: N = 0 gives -0)
     for name, seed in (('l_tromino_keep_order', 1), ('polygons/polygons_mixed', 2),
                        ('normals/grid_normals_keep_order', 3), ('grid_3x2_comments', 4), ('tilted_noise', 5),
@@ -400,8 +407,17 @@ def handmade(root):
         fs = binary32_positions(data)
         vals = nearby(fs, seed)
         out.append((name, with_section(data, x.encode_exact(vals, fs)), vals, fs))
-        if name == 'tilted_noise':   # every axis binary64, and every axis decimal with 22 decimals where it can
+        if name == 'tilted_noise':   # every axis binary64; values halfway between two binary32
             out.append((name + ', all binary64', with_section(data, x.encode_exact(vals, fs, [64] * 3)), vals, fs))
+            even = lambda f: x.f32_bits(f) & 1 == 0
+            ties = [tuple(f[a] + ulp32(f[a]) / 2 if f[a] and even(f[a]) else f[a] for a in range(3)) for f in fs]
+            out.append((name + ', values halfway above each f of even mantissa (to even: f)',
+                        with_section(data, x.encode_exact(ties, fs)), ties, fs))
+            v, a = next((v, a) for v in range(len(fs)) for a in range(3) if fs[v][a] and not even(fs[v][a]))
+            odd = [list(f) for f in fs]
+            odd[v][a] = fs[v][a] + ulp32(fs[v][a]) / 2
+            out.append((name + ', a value halfway above an f of odd mantissa (to even: not f)',
+                        with_section(data, x.encode_exact(odd, fs, [64] * 3)), None, fs))
     return out
 
 
@@ -498,6 +514,14 @@ def test(root, qsp, tmp):
             pass
         todo.append((what, bad, False, None))
     for name, data, vals, fs in cases:
+        if vals is None:   # a broken one of its own
+            try:
+                poly.decode_file(data)
+                expect(False, 'qsppoly.py does not refuse %s' % name)
+            except g.FormatError:
+                pass
+            todo.append((name, data, False, None))
+            continue
         try:
             mesh, got = decoded(data)
         except g.FormatError as e:
