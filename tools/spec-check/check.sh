@@ -253,14 +253,14 @@ recode bumpy_mixed
 # ones, decoded to the values they were made from, and ones breaking each rule the text names). Then
 # each of testdata/golden/exact, and meshes whose coordinates binary32 does not hold (exactgen.py
 # --digits: ten and seventeen significant digits, short decimals, -0) made from polygen.py's meshes
-# (.obj and .off, one with --keep-order), mh_fedora (texture coordinates, comments), the bumpy grid and
-# exactgen.py --tricky's texts (1.0000000596046448, whose binary32 through its binary64 is not the one
-# read directly; 2^62 written out; zeros beyond binary64's digits; a value above FLT_MAX), are decoded
-# whole by qsppoly.py: every vertex's binary64 position against the value its text denotes (index for
-# index with an order section; the section byte for byte with the text's encoder choices) and against
-# what `qsp decompress` writes (the shortest text that reads back to each). Until qsp reads 3.6 those
-# files are their --float32 files with exactgen.py's section put in (--put), and qsp decompress is not
-# asked.
+# (.obj, .off and binary64 .ply, one with --keep-order), mh_fedora (texture coordinates, comments),
+# the bumpy grid and exactgen.py --tricky's texts (1.0000000596046448, whose binary32 through its
+# binary64 is not the one read directly; 2^62 written out; zeros beyond binary64's digits; a value
+# above FLT_MAX), are decoded whole by qsppoly.py: every vertex's binary64 position against the value
+# its text denotes (index for index with an order section; the section byte for byte with the text's
+# encoder choices) and against what `qsp decompress` writes (the shortest text that reads back to
+# each). Until qsp reads 3.6 those files are their --float32 files with exactgen.py's section put in
+# (--put), and qsp decompress is not asked.
 reads36=0
 if "$qsp" --version | grep -Eq 'reads 3\.0 to 3\.([6-9]|[1-9][0-9])'; then
   reads36=1
@@ -273,11 +273,11 @@ fi
 declare -A exa_of=() exa_exact=()  # the files with exact positions, the mesh each was made from, and
 for f in "$root"/testdata/golden/exact/*.qsp; do  # those with an order section (compared index for index)
   [[ -f $f ]] || continue
-  for m in "${f%.qsp}.obj" "${f%.qsp}.off"; do [[ -f $m ]] && exa_of[$f]=$m; done
+  for m in "${f%.qsp}.obj" "${f%.qsp}.off" "${f%.qsp}.ply"; do [[ -f $m ]] && exa_of[$f]=$m; done
   [[ $(basename "$f") == *keep_order* ]] && exa_exact[$f]=1
   files+=("$f")
 done
-encode_exact() {  # encode_exact NAME SOURCE.obj MESH.obj|.off [OPTIONS...]: SOURCE with more digits, to check
+encode_exact() {  # encode_exact NAME SOURCE.obj MESH.obj|.off|.ply [OPTIONS...]: SOURCE, more digits
   local name=$1 src=$2 mesh=$3
   shift 3
   "$python" "$here/exactgen.py" --digits "$src" "$mesh" "${#files[@]}"
@@ -293,13 +293,15 @@ encode_exact() {  # encode_exact NAME SOURCE.obj MESH.obj|.off [OPTIONS...]: SOU
 }
 encode_exact digits_polygons_1 "$work/polygons_1.obj" "$work/digits_polygons_1.obj"
 encode_exact digits_polygons_2_off "$work/polygons_2.obj" "$work/digits_polygons_2.off"
+encode_exact digits_polygons_1_ply "$work/polygons_1.obj" "$work/digits_polygons_1.ply"  # binary64 data
 encode_exact digits_polygons_3_keep_order "$work/polygons_3.obj" "$work/digits_polygons_3.obj" --keep-order
 encode_exact digits_bumpy "$work/bumpy_float.obj" "$work/digits_bumpy.obj"
 encode_exact digits_fedora "$root/testdata/mh_fedora.obj" "$work/digits_fedora.obj"  # uv, comments
 if ((reads36)); then  # texts whose binary32 must come from their binary64 (--put has no such f)
   "$python" "$here/exactgen.py" --tricky "$work/tricky.obj"
   "$qsp" compress -f -q "$work/tricky.obj" "$work/tricky.qsp" ||
-    { echo "spec decoder: qsp compress refuses exactgen.py --tricky's mesh (its f must be the binary32 nearest each binary64 value)" >&2; exit 1; }
+    { echo "spec decoder: qsp compress refuses exactgen.py --tricky's mesh (each f must be the" \
+           "binary32 nearest the value's binary64)" >&2; exit 1; }
   exa_of[$work/tricky.qsp]=$work/tricky.obj
   files+=("$work/tricky.qsp")
 fi

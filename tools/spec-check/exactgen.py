@@ -12,11 +12,11 @@ usage: exactgen.py FILE.qsp OUTDIR
        above 2^62 (with N below 2^63), binary64 residuals giving +-infinity and a NaN, ord(f) + r past
        the last binary64, a value -0.0 over f = +0.0, the section in a 3.5 and a 3.0 file, and one in
        a quantized golden file (tilted_noise_q14). Every one must be refused by every decoder.
-       exactgen.py --digits IN.obj OUT.obj|OUT.off SEED
+       exactgen.py --digits IN.obj OUT.obj|OUT.off|OUT.ply SEED
        IN's mesh with each `v` line's coordinates replaced by ones binary32 does not hold: ten
        significant digits (x), seventeen (y: arbitrary binary64 values), short decimals such as 0.1
        among binary32 ones and -0 (z), each within half a binary32 step of IN's value; an .obj keeps
-       IN's other lines, an .off only vertices and faces.
+       IN's other lines, an .off only vertices and faces, a .ply (binary, x y z as binary64) too.
        exactgen.py --tricky OUT.obj
        a 3x2 grid whose texts need care: a decimal whose binary32 through its binary64 is not its
        binary32 read directly, zeros beyond binary64's digits, 2^62 written out, a value above
@@ -39,6 +39,7 @@ usage: exactgen.py FILE.qsp OUTDIR
 import math
 import os
 import random
+import struct
 import subprocess
 import sys
 import tempfile
@@ -302,6 +303,15 @@ def digits_mesh(src, out, seed):
         z = [c, 0.1, -0.0, 0.5, 0.3, c][i % 6]   # binary32 ones, short decimals, a -0
         tz = repr(z) if z != c else repr(near(c, rng, 6))
         texts.append('%s %s %s' % (tx, ty, tz))
+    if out.endswith('.ply'):   # binary64 PLY data
+        head = ('ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty double x\nproperty double y\n'
+                'property double z\nelement face %d\nproperty list uchar int vertex_indices\nend_header\n' % (
+                    len(vs), len(fs)))
+        body = b''.join(struct.pack('<3d', *map(float, t.split())) for t in texts)
+        body += b''.join(struct.pack('<B%di' % len(f), len(f), *[i - 1 if i > 0 else len(vs) + i for i in f])
+                         for f in fs)
+        open(out, 'wb').write(head.encode() + body)
+        return
     with open(out, 'w') as o:
         if out.endswith('.off'):
             o.write('OFF\n%d %d 0\n' % (len(vs), len(fs)))

@@ -225,7 +225,10 @@ def needs_section(values):
 # ---------------- comparisons ----------------
 def read_mesh64(path):
     """Positions as the binary64 values their text denotes (Python's float() reads the nearest,
-    ties to even), their texts, and faces (0-based), of an .obj or an .off."""
+    ties to even), their texts, and faces (0-based), of an .obj, an .off or a .ply (binary64 data as
+    it is; a binary32 property widened)."""
+    if path.endswith('.ply'):
+        return read_ply64(path)
     lines = open(path, 'rb').read().split(b'\n')
     pos, texts, faces = [], [], []
     if path.endswith('.off'):
@@ -254,6 +257,58 @@ def read_mesh64(path):
         elif w[0] == b'f':
             idx = [int(x.split(b'/')[0]) for x in w[1:]]
             faces.append([i - 1 if i > 0 else len(pos) + i for i in idx])
+    return pos, texts, faces
+
+
+PLY_TYPES = {b'char': 'b', b'int8': 'b', b'uchar': 'B', b'uint8': 'B', b'short': 'h', b'int16': 'h',
+             b'ushort': 'H', b'uint16': 'H', b'int': 'i', b'int32': 'i', b'uint': 'I', b'uint32': 'I',
+             b'float': 'f', b'float32': 'f', b'double': 'd', b'float64': 'd'}
+
+
+def read_ply64(path):
+    """read_mesh64 of a PLY file (ascii or binary_little_endian; vertex x y z, face vertex_indices)."""
+    data = open(path, 'rb').read()
+    end = data.index(b'end_header\n') + len(b'end_header\n')
+    elements, fmt = [], None
+    for line in data[:end].split(b'\n'):
+        w = line.split()
+        if w[:1] == [b'format']:
+            fmt = w[1]
+        elif w[:1] == [b'element']:
+            elements.append((w[1], int(w[2]), []))
+        elif w[:1] == [b'property']:
+            elements[-1][2].append((w[-1], w[1:-1]))
+    need(fmt in (b'ascii', b'binary_little_endian'), '%s: PLY format %s' % (path, fmt))
+    pos, texts, faces = [], [], []
+    at = end
+    words = data[end:].split() if fmt == b'ascii' else None
+    wi = 0
+
+    def one(t):
+        nonlocal at, wi
+        if words is not None:
+            wi += 1
+            return words[wi - 1]
+        c = PLY_TYPES[t]
+        v = struct.unpack_from('<' + c, data, at)[0]
+        at += struct.calcsize(c)
+        return v
+
+    for name, n, props in elements:
+        for _ in range(n):
+            row = {}
+            for pname, ptype in props:
+                if ptype[0] == b'list':
+                    k = int(one(ptype[1]))
+                    row[pname] = [int(one(ptype[2])) for _ in range(k)]
+                else:
+                    row[pname] = one(ptype[0])
+            if name == b'vertex':
+                xyz = [row[b'x'], row[b'y'], row[b'z']]
+                texts.append(tuple(t.decode() if isinstance(t, bytes) else repr(float(t)) for t in xyz))
+                pos.append(tuple(float(t) for t in xyz))
+            elif name == b'face':
+                faces.append(row.get(b'vertex_indices', row.get(b'vertex_index')))
     return pos, texts, faces
 
 
