@@ -402,13 +402,12 @@ def compare_written(mesh, other, what):
 
 
 def compare_encoder(data, secs, values):
-    """The section against the reference encoder's choices as the text states them (from the binary32 positions and values the last
-    decode_exact() call saw, before the order section) byte for byte what encode_exact() writes:
-    modes, fewest widths and residuals (a decimal N the value's shortest text)."""
+    """The section against the reference encoder's choices as the text states them: byte for byte what
+    encode_exact() writes (modes, fewest widths, residuals with a decimal N the value's shortest text)
+    from the binary32 positions and values the last decode_exact() call saw, before the order section.
+    data, values: unused but for a file without the section (nothing to compare)."""
     bad = []
     if 0x0a not in secs:
-        if needs_section(values):
-            bad.append('no exact positions section, but a coordinate is not a binary32')
         return bad
     # (a section whose values are all binary32 is not flagged: the text says both "some coordinate's
     # value is not a binary32" and "whose text has more digits than binary32 holds", and qsp goes by the
