@@ -84,6 +84,17 @@ TEST_F(CliTest, LevelsShareOneFormat) {
   EXPECT_EQ(inspect(best).version_major, kFormatMajor);
   EXPECT_EQ(decode(best).positions, decode(dflt).positions);
   EXPECT_EQ(run_cli("compress --compat 2.1 " + golden + " " + p("x.qsp")).status, 2);
+  // One level: zstd's -19 and a -q14 meant as --quantize 14 are several one-digit levels, refused
+  // rather than read as the last of them; nothing is written.
+  for (const std::string flags : {"-19", "-q14", "-9 --best", "-1 -4"}) {
+    SCOPED_TRACE(flags);
+    const CliRun r = run_cli("compress " + flags + " " + golden + " " + p("many.qsp"));
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.err.find("levels given"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(p("many.qsp")));
+  }
+  EXPECT_NE(run_cli("compress -q14 " + golden + " " + p("many.qsp")).err.find("--quantize 14"),
+            std::string::npos);
 }
 
 TEST_F(CliTest, RefusesToOverwrite) {

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "commands.h"
 #include "qsp/codec.h"
@@ -26,10 +27,11 @@ struct CompressOptions {
   std::uint32_t quantize_uv = 0;
   bool keep_order = false;
   DropOptions drop;
-  bool float32 = false;            // round coordinates float32 does not hold instead of refusing
-  std::string partition = "auto";  // or a PartitionMode name
-  int level = kDefaultLevel;       // -1 .. -9, --fast, --best
-  unsigned threads = 0;            // 0: as the encoder sees fit
+  bool float32 = false;                   // round coordinates float32 does not hold instead of refusing
+  std::string partition = "auto";         // or a PartitionMode name
+  int level = kDefaultLevel;              // -1 .. -9, --fast, --best
+  std::vector<std::string> levels_given;  // each level flag as given, in order (-14 gives -1, -4)
+  unsigned threads = 0;                   // 0: as the encoder sees fit
 };
 
 // Up to this many vertices a quantized file is also encoded losslessly to warn when quantizing does
@@ -185,6 +187,22 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
 }
 
 void run(const CompressOptions& o, int& rc) {
+  // zstd's -19 is level 19 and -q14 reads as "quantize 14"; here both are several one-digit flags, which
+  // would silently mean the last one.
+  if (o.levels_given.size() > 1) {
+    std::string flags, digits;
+    for (const std::string& f : o.levels_given) {
+      (flags += flags.empty() ? "" : " ") += f;
+      digits += f.size() == 2 ? f.substr(1) : "";
+    }
+    const bool bits = digits.size() == o.levels_given.size() && std::stoi(digits) <= 30;
+    throw Error(
+        ErrorCode::kUsage,
+        "compress: " + std::to_string(o.levels_given.size()) + " levels given (" +
+            (digits.size() == o.levels_given.size() ? "-" + digits + " is " : std::string()) + flags +
+            "); give one, -1 to -9 (or --fast, --best)" +
+            (bits ? "; positions on a " + digits + "-bit grid are --quantize " + digits : std::string()));
+  }
   const MeshFormat format = parse_format_option(o.input_format);
   OutputNaming naming;
   naming.is_output_name = [](const std::string& p) { return format_from_path(p) == MeshFormat::kQsp; };
@@ -228,12 +246,27 @@ void register_compress(CLI::App& app, int& rc) {
   for (int l = kMinLevel; l <= kMaxLevel; ++l) {
     const std::string name = "-" + std::to_string(l);
     sub->add_flag_callback(
-        name, [opt, l] { opt->level = l; }, "Level " + std::to_string(l) + ": " + level_description(l));
+        name,
+        [opt, l] {
+          opt->level = l;
+          opt->levels_given.push_back("-" + std::to_string(l));
+        },
+        "Level " + std::to_string(l) + ": " + level_description(l));
   }
   sub->add_flag_callback(
-      "--fast", [opt] { opt->level = kMinLevel; }, "Same as -1");
+      "--fast",
+      [opt] {
+        opt->level = kMinLevel;
+        opt->levels_given.push_back("--fast");
+      },
+      "Same as -1");
   sub->add_flag_callback(
-      "--best", [opt] { opt->level = kMaxLevel; }, "Same as -9");
+      "--best",
+      [opt] {
+        opt->level = kMaxLevel;
+        opt->levels_given.push_back("--best");
+      },
+      "Same as -9");
   sub->add_option("--threads", opt->threads, "Threads to use (default 0: up to two; 1: one)");
   sub->callback([opt, &rc]() { run(*opt, rc); });
 }
