@@ -1,6 +1,7 @@
 // Writing a .qsp of any polygon mesh (format 3.1): the quad submesh coded as a quad mesh's file, and the
 // polygons section for the rest (docs/polygon_meshes.md, "Stage B-2").
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <span>
 #include <string>
@@ -267,6 +268,20 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
   }
   if (!mesh.positions64.empty() && mesh.positions64.size() != mesh.positions.size())
     throw Error(ErrorCode::kUsage, "encode: exact positions are not 3 per vertex");
+  // Lossless: the positions coded are the binary32 nearest the exact values (format-spec, "Exact
+  // positions section"), which a reader's binary32 of the text may miss by an ulp.
+  if (!mesh.positions64.empty() && !options.quantize_bits) {
+    bool nearest = true;
+    for (std::size_t i = 0; i < mesh.positions64.size() && nearest; ++i)
+      nearest = std::bit_cast<std::uint32_t>(static_cast<float>(mesh.positions64[i])) ==
+                std::bit_cast<std::uint32_t>(mesh.positions[i]);
+    if (!nearest) {
+      PolygonMesh rounded = mesh;
+      for (std::size_t i = 0; i < rounded.positions64.size(); ++i)
+        rounded.positions[i] = static_cast<float>(rounded.positions64[i]);
+      return encode_polygons(rounded, options);
+    }
+  }
   const bool labels = mesh.has_labels();
   const bool normals = !mesh.normals.empty() || !mesh.corner_normals.empty();
   if (normals && (mesh.normals.size() % 3 != 0 || mesh.corner_normals.size() != mesh.corners.size()))

@@ -396,13 +396,7 @@ Extras drop(Mesh& m, unsigned c) {
 PolygonMesh to_polygon_mesh(Mesh m, unsigned categories) {
   PolygonMesh out;
   out.positions = std::move(m.positions.f32);
-  if (m.positions.precision != Precision::kFloat32) {
-    // The float32 of each float64 value: the text's own nearest float32 differs where the float64 lies
-    // exactly halfway between two float32s (1.0000000596046448 reads as 1 + 2^-24).
-    out.positions64 = std::move(m.positions.f64);
-    for (std::size_t i = 0; i < out.positions64.size(); ++i)
-      out.positions[i] = static_cast<float>(out.positions64[i]);
-  }
+  if (m.positions.precision != Precision::kFloat32) out.positions64 = std::move(m.positions.f64);
   if (categories & kCategoryExtra) out.kept_lines = std::move(m.verbatim);
   if (!m.face_offsets.empty()) out.face_offsets = std::move(m.face_offsets);
   out.corners = std::move(m.corner_vertices);

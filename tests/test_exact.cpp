@@ -153,6 +153,26 @@ TEST(ExactPositions, FilesKeepThemAndRenumberedCopiesGiveTheSameBytes) {
   }
 }
 
+// 1.0000000596046448 reads as the float64 1 + 2^-24, halfway between the float32s 1 and 1 + 2^-23; the
+// text itself is nearer the second, which is what the reader's own float32 is. A lossless file codes
+// the float32 nearest the float64 (1, ties to even) and gives the float64 back; --float32's rounding,
+// the reader's, is the text's.
+TEST(ExactPositions, AFloat64HalfwayBetweenTwoFloat32sCodesTheNearestOfIt) {
+  const std::string text = "v 1.0000000596046448 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+  const PolygonMesh m = to_polygon_mesh(read_obj_mesh(text, "tie.obj"), kPolygonMeshCategories);
+  ASSERT_EQ(m.positions64.size(), 12u);
+  EXPECT_EQ(m.positions64[0], 1.0 + std::ldexp(1.0, -24));
+  EXPECT_EQ(m.positions[0], 1.0f + std::ldexp(1.0f, -23)) << "the reader's float32 is the text's";
+  const PolygonMesh back = decode_polygons(encode_polygons(m));
+  bool found = false;
+  for (std::size_t v = 0; v < back.vertex_count(); ++v) {
+    if (back.positions64[3 * v] != 1.0 + std::ldexp(1.0, -24)) continue;
+    found = true;
+    EXPECT_EQ(back.positions[3 * v], 1.0f);
+  }
+  EXPECT_TRUE(found);
+}
+
 TEST(ExactPositions, TheQuadReaderRefusesAFileWithThem) {
   const std::string bytes = encode_polygons(read_exact(kExact + "grid_decimals.obj"));
   try {

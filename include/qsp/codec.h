@@ -152,7 +152,11 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits = {});
 // of crease, corner and hole renumbered with the mesh: Error(kUsage) for an index out of range, a tag
 // qsp cannot renumber (vertexedit, ...) without options.keep_order, or a name or string that is not one
 // word. Normals (3 per normal, each corner naming one or kInvalid) go into the normals section (format
-// 3.5), coded exactly as texture coordinates are: the same errors for their arrays and values.
+// 3.5), coded exactly as texture coordinates are: the same errors for their arrays and values. Without
+// quantization, positions64 (when not empty) goes into the exact positions section (format 3.6) and the
+// geometry codes the binary32 nearest each value: Error(kUsage) for another length than positions or a
+// value that is not finite. Kept lines go into the kept lines section (format 3.7, optional):
+// Error(kUsage) for one kept_line_problem() refuses.
 std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& options = {});
 
 // Decodes any .qsp, 3.0 to 3.5: a 3.0 file gives its quads (as decode()), a 3.1 file the polygon mesh:

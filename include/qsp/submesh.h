@@ -58,8 +58,10 @@ struct SubdivisionTag {
 // (prepare_polygon_match) take.
 struct PolygonMesh {
   std::vector<float> positions;  // 3 per vertex
-  // The exact values, where binary32 does not hold them all: empty, or 3 per vertex, each rounding to
-  // its `positions` value (which then is its nearest binary32). Kept by lossless encodes only.
+  // The exact values, where binary32 does not hold them all: empty, or 3 per vertex. A lossless encode
+  // keeps them and codes the binary32 nearest each as its position (a reader's own binary32 of the text,
+  // in `positions`, differs by an ulp where the float64 lies halfway between two: 1.0000000596046448);
+  // a quantized one codes `positions`.
   std::vector<double> positions64;
   std::vector<std::uint32_t> face_offsets{0};  // per face and one more: its first corner
   std::vector<std::uint32_t> corners;          // per corner: its vertex
