@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "codec_sections.h"
+#include "geometry_values.h"
 #include "qsp/error.h"
 
 namespace qsp {
@@ -27,8 +28,11 @@ constexpr std::array<double, kMostDecimals + 1> kPow10 = {1e0,  1e1,  1e2,  1e3,
                                                           1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
                                                           1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
-std::uint64_t zigzag(Wide r) { return r >= 0 ? std::uint64_t(r) << 1 : (std::uint64_t(-(r + 1)) << 1) | 1; }
-Wide unzigzag(std::uint64_t u) { return (u & 1) ? -Wide(u >> 1) - 1 : Wide(u >> 1); }
+// A residual's field: the geometry coder's zigzag, for a residual checked to fit 64 bits.
+std::uint64_t zigzag(Wide r) {
+  if (r >= kIntBound || r < -kIntBound) throw Error(ErrorCode::kInternal, "encode: exact residual past 2^63");
+  return zigzag64(static_cast<std::int64_t>(r));
+}
 unsigned width(std::uint64_t u) { return static_cast<unsigned>(std::bit_width(u)); }
 
 // Binary64 bits as an integer that increases with the value: -0 is -1, +0 is 0.
@@ -107,7 +111,7 @@ bool decimal_residuals(std::span<const float> f, std::span<const double> d, std:
     std::int64_t m = 0;
     if (!nearest_scaled(f[3 * i + axis], k, m)) return false;
     const Wide r = value - m;
-    if (r >= kIntBound || r < -kIntBound) return false;
+    if (r >= kIntBound || r < -kIntBound) return false;  // decimal steps cannot say it: binary64 ones
     out[i] = zigzag(r);
   }
   return true;
@@ -196,7 +200,7 @@ std::vector<double> decode_exact_section(std::string_view payload, std::uint64_t
     const unsigned mode = byte(a), bits = byte(3 + a);
     for (std::uint64_t i = 0; i < n; ++i) {
       const std::uint64_t field_at = 6 + at / 8;
-      const Wide r = unzigzag(read(bits));
+      const Wide r = unzigzag64(read(bits));
       const float f = positions[3 * i + a];
       double v = 0;
       if (mode == kBinary64) {
