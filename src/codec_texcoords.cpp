@@ -17,19 +17,15 @@
 #include "geometry_values.h"
 #include "permutation_coder.h"
 #include "qsp/error.h"
+#include "value_domain.h"
 
 namespace qsp {
 namespace {
 
 constexpr std::uint8_t kComponentsMask = 0x03, kOrderBit = 0x04, kCorrectionBit = 0x08, kShapeBit = 0x10,
                        kReservedBits = 0xE0;
-constexpr std::uint8_t kModeFloat = 0;  // 1 + k: decimal grid of k decimals; kModeGrid + b: step 2^-b
-constexpr std::uint8_t kModeGrid = 0x10;
-constexpr std::uint32_t kMaxGridBits = 24;
 constexpr unsigned kContexts = 5;
 constexpr std::uint64_t kMaxValuesPerByte = 2048;
-constexpr std::uint32_t kEscape = 0xFFFFFFFEu;
-constexpr unsigned kWideHalf = 21;  // w < 2^42 follows an escape as two 21-bit halves
 
 [[noreturn]] void internal(const std::string& what) { throw Error(ErrorCode::kInternal, "encode: " + what); }
 [[noreturn]] void format_error(const CornerValueWords& w, const std::string& what, std::uint64_t offset) {
@@ -200,95 +196,35 @@ Prediction predict(std::uint32_t i, std::uint32_t creating, std::span<const std:
   return p;
 }
 
-// One component's domain: decimal integers (k decimals), integers on a grid of step 2^-b, or float
-// images.
-struct Domain {
-  std::uint8_t mode = kModeFloat;
-  bool grid() const { return mode > kModeGrid; }
-  // The integer a value stands for (exact for the values the encoder writes).
-  std::int64_t integer(float x) const {
-    if (mode == kModeFloat) return float_image(x);
-    if (grid()) return std::llround(std::ldexp(static_cast<double>(x), mode - kModeGrid));
-    return std::llround(static_cast<double>(x) * kPow10[mode - 1u]);
+// The prediction of component c in `domain` (`integers` holds integer() of every value before the one
+// predicted).
+std::int64_t prediction(const Domain& domain, const Prediction& p, std::span<const float> values,
+                       std::span<const std::int64_t> integers, unsigned K, unsigned c) {
+  auto value_of = [&](std::uint32_t t) { return values[std::size_t{t} * K + c]; };
+  auto integer_of = [&](std::uint32_t t) { return integers[std::size_t{t} * K + c]; };
+  if (p.count == 0 && !p.shaped) return domain.none();
+  if (domain.mode != kModeFloat) {
+    std::int64_t sum = 0;
+    for (int k = 0; k < p.count; ++k) sum += p.weight[k] * integer_of(p.value[k]);
+    if (!p.shaped) return clamp_decimal(floor_div(sum + 1, 2));
+    const std::int64_t qo = integer_of(p.o);
+    const double shape = p.alpha * static_cast<double>(integer_of(p.a) - qo) +
+                         p.beta * static_cast<double>(integer_of(p.b) - qo);
+    const double t = std::floor((static_cast<double>(sum + 2 * qo) / 2 + shape) + 0.5);
+    return static_cast<std::int64_t>(
+        std::clamp(t, -static_cast<double>(kDecimalLimit - 1), static_cast<double>(kDecimalLimit - 1)));
   }
-  // The value an integer stands for (|n| < 2^40, or a float image).
-  float value(std::int64_t n) const {
-    if (mode == kModeFloat) return image_float(static_cast<std::uint32_t>(n));
-    if (grid()) return static_cast<float>(std::ldexp(static_cast<double>(n), -(mode - kModeGrid)));
-    return decimal_grid_value(n, mode - 1);
+  double sum = 0;
+  for (int k = 0; k < p.count; ++k) sum += p.weight[k] * static_cast<double>(value_of(p.value[k]));
+  if (!p.shaped) {
+    const auto x = static_cast<float>(sum / 2);
+    return float_image(std::isfinite(x) ? x : value_of(p.value[0]));
   }
-  // `integers` holds integer() of every value before the one predicted.
-  std::int64_t predicted(const Prediction& p, std::span<const float> values,
-                         std::span<const std::int64_t> integers, unsigned K, unsigned c) const {
-    auto value_of = [&](std::uint32_t t) { return values[std::size_t{t} * K + c]; };
-    auto integer_of = [&](std::uint32_t t) { return integers[std::size_t{t} * K + c]; };
-    if (p.count == 0 && !p.shaped) return mode == kModeFloat ? float_image(0.0f) : 0;
-    if (mode != kModeFloat) {
-      std::int64_t sum = 0;
-      for (int k = 0; k < p.count; ++k) sum += p.weight[k] * integer_of(p.value[k]);
-      if (!p.shaped) return clamp_decimal(floor_div(sum + 1, 2));
-      const std::int64_t qo = integer_of(p.o);
-      const double shape = p.alpha * static_cast<double>(integer_of(p.a) - qo) +
-                           p.beta * static_cast<double>(integer_of(p.b) - qo);
-      const double t = std::floor((static_cast<double>(sum + 2 * qo) / 2 + shape) + 0.5);
-      return static_cast<std::int64_t>(
-          std::clamp(t, -static_cast<double>(kDecimalLimit - 1), static_cast<double>(kDecimalLimit - 1)));
-    }
-    double sum = 0;
-    for (int k = 0; k < p.count; ++k) sum += p.weight[k] * static_cast<double>(value_of(p.value[k]));
-    if (!p.shaped) {
-      const auto x = static_cast<float>(sum / 2);
-      return float_image(std::isfinite(x) ? x : value_of(p.value[0]));
-    }
-    const double o = value_of(p.o);
-    const auto x = static_cast<float>(((o + p.alpha * (static_cast<double>(value_of(p.a)) - o)) +
-                                       p.beta * (static_cast<double>(value_of(p.b)) - o)) +
-                                      sum / 2);
-    return float_image(std::isfinite(x) ? x : value_of(p.a));
-  }
-};
-
-// Component c's values rounded to the grid of step 2^-bits (kept as they are, and false, if one of them
-// is too large for it: |x| * 2^bits must stay below 2^40).
-bool quantize(std::span<float> values, unsigned K, unsigned c, std::uint32_t bits) {
-  const int b = static_cast<int>(bits);
-  for (std::size_t i = c; i < values.size(); i += K)
-    if (!(std::fabs(std::ldexp(static_cast<double>(values[i]), b)) < static_cast<double>(kDecimalLimit - 1)))
-      return false;
-  for (std::size_t i = c; i < values.size(); i += K)
-    values[i] =
-        static_cast<float>(std::ldexp(std::nearbyint(std::ldexp(static_cast<double>(values[i]), b)), -b)) +
-        0.0f;  // -0 becomes 0, the grid's zero
-  return true;
-}
-
-// The fewest decimals every value of component c is exactly on, or float bits.
-std::uint8_t choose_mode(std::span<const float> values, unsigned K, unsigned c) {
-  for (int k = 0; k <= kMaxDecimals; ++k) {
-    bool all = true;
-    std::int64_t n = 0;
-    for (std::size_t i = c; i < values.size() && all; i += K) all = decimal_of(values[i], k, n);
-    if (all) return static_cast<std::uint8_t>(1 + k);
-  }
-  return kModeFloat;
-}
-
-void encode_residual(RangeEncoder& enc, IntModel& model, std::int64_t r) {
-  const std::uint64_t z = zigzag64(r);
-  model.encode(enc, static_cast<std::uint32_t>(std::min<std::uint64_t>(z, kEscape)));
-  if (z < kEscape) return;
-  const std::uint64_t w = z - kEscape;
-  enc.encode_raw(static_cast<std::uint32_t>(w >> kWideHalf), kWideHalf);
-  enc.encode_raw(static_cast<std::uint32_t>(w & ((1u << kWideHalf) - 1)), kWideHalf);
-}
-
-std::int64_t decode_residual(RangeDecoder& dec, IntModel& model) {
-  std::uint64_t z = model.decode(dec);
-  if (z == kEscape) {
-    const std::uint64_t hi = dec.decode_raw(kWideHalf), lo = dec.decode_raw(kWideHalf);
-    z += (hi << kWideHalf) | lo;
-  }
-  return unzigzag64(z);
+  const double o = value_of(p.o);
+  const auto x = static_cast<float>(((o + p.alpha * (static_cast<double>(value_of(p.a)) - o)) +
+                                     p.beta * (static_cast<double>(value_of(p.b)) - o)) +
+                                    sum / 2);
+  return float_image(std::isfinite(x) ? x : value_of(p.a));
 }
 
 std::vector<std::uint32_t> faces_of_corners(std::span<const std::uint32_t> face_offsets) {
@@ -419,7 +355,7 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
                   (tools & kCorrectionBit) != 0, (tools & kShapeBit) ? &shape : nullptr);
       for (unsigned c = 0; c < K; ++c) {
         const std::int64_t r =
-            integers[std::size_t{i} * K + c] - domain[c].predicted(p, ordered, integers, K, c);
+            integers[std::size_t{i} * K + c] - prediction(domain[c], p, ordered, integers, K, c);
         encode_residual(enc, residual[K * p.context + c], r);
       }
     }
@@ -493,8 +429,7 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   for (unsigned c = 0; c < K; ++c) {
     at = in.offset();
     domain[c].mode = in.u8("component mode");
-    if (domain[c].mode > 1 + kMaxDecimals &&
-        (domain[c].mode <= kModeGrid || domain[c].mode > kModeGrid + kMaxGridBits))
+    if (!valid_mode(domain[c].mode))
       in.fail_at("component mode " + std::to_string(domain[c].mode) + " (0 to 10, or 17 to 40)", at);
   }
   const std::uint64_t stream_offset = in.offset();
@@ -563,10 +498,9 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
         predict(i, i < n ? creating[i] : kInvalid, face_of_corner, face_offsets, out.corners, edges,
                 (flags & kCorrectionBit) != 0, (flags & kShapeBit) ? &shape : nullptr);
     for (unsigned c = 0; c < K; ++c) {
-      const std::int64_t predicted = domain[c].predicted(p, out.values, integers, K, c);
+      const std::int64_t predicted = prediction(domain[c], p, out.values, integers, K, c);
       const std::int64_t value = predicted + decode_residual(dec, residual[K * p.context + c]);
-      if (domain[c].mode == kModeFloat ? value < 0 || value > std::int64_t{0xFFFFFFFF}
-                                       : value <= -kDecimalLimit || value >= kDecimalLimit)
+      if (!domain[c].holds(value))
         format_error(w,
                      domain[c].mode == kModeFloat ? "a float image outside 32 bits"
                                                   : "an integer outside (-2^40, 2^40)",

@@ -1,0 +1,63 @@
+// How a section of attribute values (texture coordinates, normals, colours) codes one component as
+// integers (format-spec/qsp_format.md, "Texture coordinates section", *Integers*): a decimal grid of k
+// decimals, a binary grid of step 2^-b, or the order-preserving image of the float bits; and the
+// residual coding those sections share.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <span>
+
+#include "entropy.h"
+#include "geometry_values.h"
+
+namespace qsp {
+
+inline constexpr std::uint8_t kModeFloat = 0;  // 1 + k: decimal grid of k decimals; kModeGrid + b: step 2^-b
+inline constexpr std::uint8_t kModeGrid = 0x10;
+inline constexpr std::uint32_t kMaxGridBits = 24;
+
+// Whether a mode byte names a mode (0 to 10, or 17 to 40).
+inline bool valid_mode(std::uint8_t mode) {
+  return mode <= 1 + kMaxDecimals || (mode > kModeGrid && mode <= kModeGrid + kMaxGridBits);
+}
+
+// One component's domain: decimal integers (k decimals), integers on a grid of step 2^-b, or float
+// images.
+struct Domain {
+  std::uint8_t mode = kModeFloat;
+  bool grid() const { return mode > kModeGrid; }
+  // The integer a value stands for (exact for the values the encoder writes).
+  std::int64_t integer(float x) const {
+    if (mode == kModeFloat) return float_image(x);
+    if (grid()) return std::llround(std::ldexp(static_cast<double>(x), mode - kModeGrid));
+    return std::llround(static_cast<double>(x) * kPow10[mode - 1u]);
+  }
+  // The value an integer stands for (|n| < 2^40, or a float image).
+  float value(std::int64_t n) const {
+    if (mode == kModeFloat) return image_float(static_cast<std::uint32_t>(n));
+    if (grid()) return static_cast<float>(std::ldexp(static_cast<double>(n), -(mode - kModeGrid)));
+    return decimal_grid_value(n, mode - 1);
+  }
+  // Whether a decoded integer is in the domain's range: an image in [0, 2^32), a grid integer in
+  // (-2^40, 2^40).
+  bool holds(std::int64_t n) const {
+    return mode == kModeFloat ? n >= 0 && n <= std::int64_t{0xFFFFFFFF}
+                              : n > -kDecimalLimit && n < kDecimalLimit;
+  }
+  // The prediction with no term: 0, or the image of +0.0.
+  std::int64_t none() const { return mode == kModeFloat ? float_image(0.0f) : 0; }
+};
+
+// Component c (of K per value) rounded to the grid of step 2^-bits (kept as it is, and false, if one of
+// its values is too large for it: |x| * 2^bits must stay below 2^40).
+bool quantize(std::span<float> values, unsigned K, unsigned c, std::uint32_t bits);
+
+// The mode of the fewest decimals every value of component c is exactly on, or float bits.
+std::uint8_t choose_mode(std::span<const float> values, unsigned K, unsigned c);
+
+// A residual as zigzag(r) through `model` (min(z, 2^32 - 2)), then 21 + 21 raw bits beyond.
+void encode_residual(RangeEncoder& enc, IntModel& model, std::int64_t r);
+std::int64_t decode_residual(RangeDecoder& dec, IntModel& model);
+
+}  // namespace qsp
