@@ -81,6 +81,14 @@ void check_polygons(std::string_view bytes, const qsp::DecodeLimits& limits) {
         std::bit_cast<std::uint32_t>(static_cast<float>(m.positions64[i])) !=
             std::bit_cast<std::uint32_t>(m.positions[i]))
       fuzz::finding("decoded an exact position that does not round to its float32 position");
+  // Colours (3.8): 3 or 4 finite values per vertex, 1, 3 or 4 per face, or none.
+  const unsigned kv = m.vertex_color_components, kf = m.face_color_components;
+  if ((kv != 0 && kv != 3 && kv != 4) || (kf != 0 && kf != 1 && kf != 3 && kf != 4) ||
+      m.vertex_colors.size() != kv * m.vertex_count() || m.face_colors.size() != kf * m.face_count())
+    fuzz::finding("decoded colour arrays disagree with the mesh");
+  for (const std::vector<float>* colors : {&m.vertex_colors, &m.face_colors})
+    for (const float x : *colors)
+      if (!std::isfinite(x)) fuzz::finding("decoded a colour that is not finite");
   // Subdivision tags (3.4): crease, corner and hole name vertices and faces of the output.
   for (const SubdivisionTag& t : m.tags) {
     const bool faces = t.name == "hole";

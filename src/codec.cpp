@@ -266,7 +266,9 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   const Section* normals = p.file.find(container::kTagNormals);
   const Section* exact = p.file.find(container::kTagExact);
   const Section* kept = p.file.find(container::kTagKeptLines);
-  if (!poly && !uv && !labels && !tags && !normals && !exact && !kept) return polygon_mesh(decode_quads(p));
+  const Section* colors = p.file.find(container::kTagColors);
+  if (!poly && !uv && !labels && !tags && !normals && !exact && !kept && !colors)
+    return polygon_mesh(decode_quads(p));
   // The output mesh in canonical order, then its texture coordinates, then the input's numbering.
   PolygonMesh out;
   std::uint32_t nv = 0;
@@ -303,6 +305,14 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
                                  out.positions, p.order != nullptr, limits, kNormalWords);
     out.normals = std::move(n.values);
     out.corner_normals = std::move(n.corners);
+  }
+  if (colors) {
+    DecodedColors c =
+        decode_colors_section(colors->payload, colors->payload_offset, out.face_offsets, out.corners, nv);
+    out.vertex_color_components = c.vertex_components;
+    out.vertex_colors = std::move(c.vertex);
+    out.face_color_components = c.face_components;
+    out.face_colors = std::move(c.face);
   }
   if (labels) {
     DecodedLabels l = decode_labels_section(labels->payload, labels->payload_offset,
@@ -343,6 +353,16 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
     if (exact)
       std::copy_n(&out.positions64[3 * std::size_t{order.vertex[j]}], 3, &in.positions64[3 * std::size_t{j}]);
   }
+  // Colours move with their vertices and faces.
+  const std::size_t kv = out.vertex_color_components, kf = out.face_color_components;
+  in.vertex_color_components = out.vertex_color_components;
+  in.vertex_colors.resize(out.vertex_colors.size());
+  for (std::uint32_t j = 0; j < nv && kv; ++j)
+    std::copy_n(&out.vertex_colors[kv * order.vertex[j]], kv, &in.vertex_colors[kv * j]);
+  in.face_color_components = out.face_color_components;
+  in.face_colors.resize(out.face_colors.size());
+  for (std::uint32_t f = 0; f < nf && kf; ++f)
+    std::copy_n(&out.face_colors[kf * order.face[f]], kf, &in.face_colors[kf * f]);
   in.face_offsets.assign(1, 0);
   for (std::uint32_t f = 0; f < nf; ++f)
     in.face_offsets.push_back(in.face_offsets.back() + degree[order.face[f]]);
@@ -458,6 +478,8 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       info.normal_bytes += size;
     else if (s.tag == container::kTagExact)
       info.exact_bytes += size;
+    else if (s.tag == container::kTagColors)
+      info.color_bytes += size;
     else
       info.other_bytes += size;
   }

@@ -237,6 +237,24 @@ std::string exact_section(const PolygonMesh& mesh, const FaceMap& map) {
   return encode_exact_section(positions, exact);
 }
 
+// The colours section: each input vertex's colour at its output vertex, each input face's at its output
+// face.
+std::string colors_section(const PolygonMesh& mesh, const FaceMap& map, const OutputCorners& oc,
+                           std::span<const std::uint32_t> input_face, std::uint32_t quantize_bits) {
+  const std::size_t nv = mesh.vertex_count(), Kv = mesh.vertex_color_components,
+                    Kf = mesh.face_color_components;
+  std::vector<float> vertex(mesh.vertex_colors.size()), face(mesh.face_colors.size());
+  for (std::size_t v = 0; v < nv && Kv; ++v)
+    std::copy_n(&mesh.vertex_colors[Kv * v], Kv, &vertex[Kv * map.vertex[v]]);
+  for (std::size_t g = 0; g < input_face.size() && Kf; ++g)
+    std::copy_n(&mesh.face_colors[Kf * input_face[g]], Kf, &face[Kf * g]);
+  std::vector<std::uint32_t> corner_vertices(oc.vertices.size());  // output vertices: the walk compares them
+  for (std::size_t k = 0; k < oc.vertices.size(); ++k) corner_vertices[k] = map.vertex[oc.vertices[k]];
+  return encode_colors_section(oc.offsets, corner_vertices, static_cast<std::uint32_t>(nv),
+                               mesh.vertex_color_components, vertex, mesh.face_color_components, face,
+                               quantize_bits);
+}
+
 // A section of values per corner (texture coordinates, normals) over the output corners.
 std::string corner_values_section(const PolygonMesh& mesh, const OutputCorners& oc,
                                   std::span<const float> positions, std::uint8_t components,
@@ -291,14 +309,20 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
       throw Error(ErrorCode::kUsage, "encode: corner " + std::to_string(c) + " names normal " +
                                          std::to_string(mesh.corner_normals[c]) + " of " +
                                          std::to_string(mesh.normals.size() / 3));
+  const bool colors = mesh.vertex_color_components != 0 || mesh.face_color_components != 0;
+  if (mesh.vertex_colors.size() != mesh.vertex_color_components * mesh.vertex_count() ||
+      mesh.face_colors.size() != mesh.face_color_components * mesh.face_count())
+    throw Error(ErrorCode::kUsage, "encode: colour arrays disagree with the vertex and face counts");
   const auto whole = [&](const EncodeOptions& o) {
     FaceMap map;
     std::string bytes = encode_faces(mesh, o, map);
     const bool exact = !mesh.positions64.empty() && o.quantize_bits == 0;
-    if (!texcoords && !normals && !labels && mesh.tags.empty() && !exact && mesh.kept_lines.empty())
+    if (!texcoords && !normals && !labels && mesh.tags.empty() && !exact && mesh.kept_lines.empty() &&
+        !colors)
       return bytes;
     const std::vector<std::uint32_t> input_face = input_faces(map, mesh.face_count());
-    const OutputCorners oc = texcoords || normals ? output_corners(mesh, map, input_face) : OutputCorners{};
+    const OutputCorners oc =
+        texcoords || normals || colors ? output_corners(mesh, map, input_face) : OutputCorners{};
     const std::vector<float> positions =
         texcoords || normals ? decoder_positions(mesh, oc, o, bytes) : std::vector<float>{};
     if (texcoords)
@@ -322,6 +346,10 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     if (exact)
       bytes =
           container::with_section(bytes, container::kTagExact, exact_section(mesh, map), kFormatMinorExact);
+    if (colors)
+      bytes = container::with_section(bytes, container::kTagColors,
+                                      colors_section(mesh, map, oc, input_face, o.quantize_color_bits),
+                                      kFormatMinorColors);
     if (!mesh.kept_lines.empty())
       bytes = container::with_section(bytes, container::kTagKeptLines,
                                       encode_kept_lines_section(mesh.kept_lines), kFormatMinorKeptLines);

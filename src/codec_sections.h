@@ -122,6 +122,30 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                                           bool order_section, const DecodeLimits& limits,
                                           const CornerValueWords& words = kTexcoordWords);
 
+// The colours section (format 3.8) of the output mesh whose faces are `face_offsets` (one more than
+// faces) and whose corners' vertices are `corner_vertices` (below `vertex_count`), in the order the
+// decoder outputs them before any order section: `vertex_components` (0, 3 or 4) values per output vertex
+// in `vertex_colors`, `face_components` (0, 1, 3 or 4) per output face in `face_colors`. `quantize_bits`
+// 1-24 rounds them to the grid of step 2^-bits (a component with a value of 2^(40 - bits) or more stays
+// exact); 0 keeps them exactly. Throws Error(kBadNumber) for a value that is not finite, Error(kUsage)
+// for more than 24 bits, component counts the format has not or arrays of other sizes.
+std::string encode_colors_section(std::span<const std::uint32_t> face_offsets,
+                                  std::span<const std::uint32_t> corner_vertices, std::uint32_t vertex_count,
+                                  std::uint8_t vertex_components, std::span<const float> vertex_colors,
+                                  std::uint8_t face_components, std::span<const float> face_colors,
+                                  std::uint32_t quantize_bits);
+struct DecodedColors {
+  std::uint8_t vertex_components = 0, face_components = 0;
+  std::vector<float> vertex, face;  // per output vertex, per output face
+};
+// Inverse of encode_colors_section. Throws Error(kFormat) naming what and the byte offset. Safe on
+// untrusted input: the component count the mesh implies is checked against the bytes before anything is
+// allocated; time and memory linear in the corners, vertices and faces.
+DecodedColors decode_colors_section(std::string_view payload, std::uint64_t base_offset,
+                                    std::span<const std::uint32_t> face_offsets,
+                                    std::span<const std::uint32_t> corner_vertices,
+                                    std::uint32_t vertex_count);
+
 // The kept lines section (format 3.7, optional): the lines in order. Throws Error(kUsage) for a line
 // kept_line_problem() refuses.
 std::string encode_kept_lines_section(const std::vector<std::string>& lines);

@@ -29,7 +29,8 @@ inline constexpr std::uint8_t kTagLabels = 0x07;
 inline constexpr std::uint8_t kTagTags = 0x08;
 // Format 3.5: required where the mesh has normals.
 inline constexpr std::uint8_t kTagNormals = 0x09;
-inline constexpr std::uint8_t kTagExact = 0x0a;  // exact positions, from 3.6
+inline constexpr std::uint8_t kTagExact = 0x0a;   // exact positions, from 3.6
+inline constexpr std::uint8_t kTagColors = 0x0b;  // vertex and face colours, from 3.8
 inline constexpr std::uint8_t kOptionalBit = 0x80;
 inline constexpr std::uint8_t kTagComments = 0x81;   // optional, from 3.1
 inline constexpr std::uint8_t kTagKeptLines = 0x82;  // optional, from 3.7
@@ -55,6 +56,7 @@ inline constexpr SectionKind kSections[] = {
     {kTagTags, kFormatMinorTags, "subdivision tags"},
     {kTagNormals, kFormatMinorNormals, "normals"},
     {kTagExact, kFormatMinorExact, "exact positions"},
+    {kTagColors, kFormatMinorColors, "colours"},
     {kTagComments, kFormatMinorPolygons, "comments"},
     {kTagKeptLines, kFormatMinorKeptLines, "kept lines"},
 };

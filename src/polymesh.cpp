@@ -427,6 +427,12 @@ PolygonMesh to_polygon_mesh(Mesh m, unsigned categories) {
     out.corner_texcoords = std::move(m.corner_texcoords);
     if (out.corner_texcoords.empty()) out.corner_texcoords.assign(out.corners.size(), kInvalid);
   }
+  if (categories & kCategoryColor) {
+    out.vertex_color_components = m.vertex_color_components;
+    out.vertex_colors = std::move(m.vertex_colors.f32);
+    out.face_color_components = m.face_color_components;
+    out.face_colors = std::move(m.face_colors.f32);
+  }
   return out;
 }
 
@@ -446,6 +452,10 @@ Mesh from_polygon_mesh(PolygonMesh m) {
     out.normals = numbers_from_float32(std::move(m.normals));
     out.corner_normals = std::move(m.corner_normals);
   }
+  out.vertex_color_components = m.vertex_color_components;
+  out.vertex_colors = numbers_from_float32(std::move(m.vertex_colors));
+  out.face_color_components = m.face_color_components;
+  out.face_colors = numbers_from_float32(std::move(m.face_colors));
   out.objects = std::move(m.objects);
   out.groups = std::move(m.groups);
   out.materials = std::move(m.materials);

@@ -61,15 +61,6 @@ std::string said(std::string s, const std::string& in) {
   return s;
 }
 
-// "(uv)", built a character at a time (GCC 12 at -O3 warns of a false overlap in "(" + name).
-std::string in_parens(std::string_view name) {
-  std::string out;
-  out += '(';
-  out.append(name);
-  out += ')';
-  return out;
-}
-
 class CliDrop : public testing::TempDirTest {
  protected:
   // The .qsp of `text` compressed with `flags` (exit code 0 asserted by the caller through `err`).
@@ -91,10 +82,10 @@ TEST_F(CliDrop, EachKindAloneIsRefusedByNameAndDroppedByName) {
     const std::string in = p(std::string(k.name) + ".obj"), out = p("out.qsp");
     spit(in, k.text);
     const std::string what = said(k.said, in);
-    // A .qsp keeps texture coordinates (format 3.2) and face labels (3.3).
+    // A .qsp keeps texture coordinates (3.2), face labels (3.3), tags (3.4), normals (3.5), colours (3.8).
     const std::string name = k.name;
-    const bool kept = name == "uv" || name == "normal" || name == "group" || name == "material" ||
-                      name == "smoothing" || name == "tag";
+    const bool kept = name == "uv" || name == "normal" || name == "color" || name == "group" ||
+                      name == "material" || name == "smoothing" || name == "tag";
     auto r = compress(in, "", out);
     if (kept) {
       ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -102,6 +93,19 @@ TEST_F(CliDrop, EachKindAloneIsRefusedByNameAndDroppedByName) {
       const PolygonMesh m = decode_polygons(slurp(out));
       if (name == "uv") {
         EXPECT_EQ(m.texcoords, (std::vector<float>{0, 0, 1, 0}));
+      }
+      if (name == "color") {  // each vertex keeps its colour, in the canonical order
+        ASSERT_EQ(m.vertex_color_components, 3);
+        ASSERT_EQ(m.vertex_colors.size(), 12u);
+        for (std::size_t v = 0; v < 4; ++v) {
+          const float x = m.positions[3 * v], y = m.positions[3 * v + 1];
+          const std::vector<float> want = x == 0 && y == 0   ? std::vector<float>{1, 0, 0}
+                                          : x == 1 && y == 0 ? std::vector<float>{0, 1, 0}
+                                          : x == 1           ? std::vector<float>{0, 0, 1}
+                                                             : std::vector<float>{1, 1, 1};
+          EXPECT_EQ(std::vector<float>(m.vertex_colors.begin() + 3 * v, m.vertex_colors.begin() + 3 * v + 3),
+                    want);
+        }
       }
       if (name == "group") {
         EXPECT_EQ(m.objects.names, std::vector<std::string>{"thing"});
@@ -132,7 +136,7 @@ TEST_F(CliDrop, EachKindAloneIsRefusedByNameAndDroppedByName) {
       EXPECT_FALSE(fs::exists(out));
     }
     // Dropping another kind does not help.
-    const std::string other = kept ? "color" : "uv";
+    const std::string other = name == "color" ? "uv" : kept ? "color" : "uv";
     r = compress(in, "--drop " + other, out);
     EXPECT_EQ(r.exit_code, kept ? 0 : 1);
     if (!kept) {
@@ -176,14 +180,7 @@ TEST_F(CliDrop, EveryKindMustBeDroppedAndTheNoteNamesEach) {
   spit(in,
        "# a comment\nmtllib m.mtl\nv 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 1 1 1\nvt 0 0\n"
        "vn 0 0 1\nvp 0.5\no thing\nusemtl red\ns 1\nf 1/1/1 2/1/1 3/1/1 4/1/1\nt corner 1/1/0 0 2.0\n");
-  // compress keeps the texture coordinates (format 3.2), face labels (3.3) and tags (3.4), and refuses
-  // the rest.
   const std::string all = "uv,normal,color,group,material,smoothing,tag,extra";
-  const std::string refused = "color";
-  const unsigned kept =
-      kCategoryUv | kCategoryNormal | kCategoryGroup | kCategoryMaterial | kCategorySmoothing | kCategoryTag;
-  // compress keeps the vp line as text (extra's other kinds it refuses, but this file has none).
-  const std::string described_refused = "4 vertex colours (color)";
   const std::string described =
       "1 texture coordinate, 1 face with texture coordinate indices (uv), 1 normal, 1 face with normal "
       "indices (normal), 4 vertex colours (color), 1 group/object statement (group), 2 material statements "
@@ -193,28 +190,16 @@ TEST_F(CliDrop, EveryKindMustBeDroppedAndTheNoteNamesEach) {
   // With the leading comment dropped too: named in --drop's order, before extra.
   std::string with_comment = described;
   with_comment.insert(with_comment.find("1 line qsp keeps"), "1 leading comment line (comment), ");
+  // Nothing is refused: every kind is kept (the vp line as text, with a warning).
   auto r = compress(in, "", out);
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(r.err, "qsp: error: " + in + ": has " + described_refused +
-                       ", which .qsp does not keep; pass --drop " + refused +
-                       " (or --positions-only) to drop them\n");
-  for (const CategoryName& c : kCategoryNames) {
-    if (c.category == kCategoryComment || c.category == kCategoryExtra || (c.category & kept)) continue;
-    SCOPED_TRACE(c.name);
-    std::string list = category_list(kCategoryAll & ~c.category);
-    r = compress(in, "--drop " + list, out);
-    EXPECT_EQ(r.exit_code, 1);
-    // The list names every kind .qsp then does not keep: extra too, as it is being dropped.
-    EXPECT_NE(
-        r.err.find(in_parens(c.name) + ", which .qsp does not keep; pass --drop " + refused + ",extra (or"),
-        std::string::npos)
-        << r.err;
-    for (const CategoryName& other : kCategoryNames) {  // the others are not named
-      if (other.category != c.category) {
-        EXPECT_EQ(r.err.find(in_parens(other.name)), std::string::npos) << r.err;
-      }
-    }
-    EXPECT_FALSE(fs::exists(out));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: " + in + ": keeping 1 line"), std::string::npos) << r.err;
+  {
+    const PolygonMesh m = decode_polygons(slurp(out));
+    EXPECT_EQ(m.vertex_color_components, 3);
+    EXPECT_EQ(m.texcoord_components, 2);
+    EXPECT_EQ(m.tags.size(), 1u);
+    EXPECT_EQ(m.kept_lines, std::vector<std::string>{"vp 0.5"});
   }
   r = compress(in, "--drop " + all, out);
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -119,7 +119,7 @@ TEST_F(CliFiles, AnOutputNameMustSayWhatItHolds) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = run_qsp("decompress " + quote(p("a.obj.qsp")) + " " + quote(p("back.txt")));
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("must end in .obj or .off"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("must end in .obj, .off or .ply"), std::string::npos) << r.err;
   fs::copy_file(p("a.obj.qsp"), p("a.bin"));
   r = run_qsp("decompress " + quote(p("a.bin")));
   EXPECT_EQ(r.exit_code, 1);
@@ -448,10 +448,17 @@ TEST_F(CliFiles, MessagesNameTheWayOut) {
   r = run_qsp("stats --jsn " + quote(a));
   EXPECT_NE(r.err.find("did you mean --json?"), std::string::npos) << r.err;
   // Extra data: the refusal names the --drop that drops it (tests/test_cli_drop.cpp has the rest).
-  const std::string normal = add_bytes("normal.obj", slurp(a) + "v 0 0 0 1 0 0\n");  // a vertex colour
+  const std::string normal = add_bytes("normal.obj", slurp(a) + "v 0 0 0 1\n");  // a vertex weight
   r = run_qsp("compress " + quote(normal));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("pass --drop color (or --positions-only)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("pass --drop extra (or --positions-only)"), std::string::npos) << r.err;
+  // Colours compress keeps, so a file where one vertex has one is refused at that vertex's line.
+  const std::string one = add_bytes("one.obj", slurp(a) + "v 0 0 0 1 0 0\n");
+  r = run_qsp("compress " + quote(one));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("one.obj:197: `v` has 6 numbers but the first vertex (line 3) has 3"),
+            std::string::npos)
+      << r.err;
   // reorder and match name the files, not A and B.
   const std::string two = add("multi_component.obj", "two.obj");
   r = run_qsp("reorder --like " + quote(a) + " " + quote(two) + " -o " + quote(p("out.obj")));
@@ -460,7 +467,7 @@ TEST_F(CliFiles, MessagesNameTheWayOut) {
   r = run_qsp("match " + quote(two) + " " + quote(a));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.out.find(two + " has 4, " + a + " has 1"), std::string::npos) << r.out;
-  EXPECT_EQ(listing(), (std::vector<std::string>{"a.obj", "meshes/", "normal.obj", "two.obj"}));
+  EXPECT_EQ(listing(), (std::vector<std::string>{"a.obj", "meshes/", "normal.obj", "one.obj", "two.obj"}));
   expect_inputs_unchanged();
 }
 

@@ -57,7 +57,8 @@ void dump(const std::string& path, std::string_view bytes) {
 // meshes the test corpus reads as valid quad meshes without other data).
 std::vector<std::string> golden_names() {
   std::vector<std::string> out;
-  for (const char* dir : {"", "polygons/", "texcoords/", "labels/", "tags/", "normals/", "exact/", "kept/"}) {
+  for (const char* dir :
+       {"", "polygons/", "texcoords/", "labels/", "tags/", "normals/", "exact/", "kept/", "colors/"}) {
     for (const auto& e : fs::directory_iterator(kGolden + "/" + dir)) {
       if (e.path().extension() == ".obj") out.push_back(std::string(dir) + e.path().stem().string());
     }
@@ -79,6 +80,8 @@ EncodeOptions options_for(const std::string& name) {
   if (name.find("_q14") != std::string::npos) o.quantize_bits = 14;
   // "_uv12": texture coordinates on the binary grid of step 2^-12.
   if (name.find("_uv12") != std::string::npos) o.quantize_texcoord_bits = 12;
+  // "_c8": colours on the binary grid of step 2^-8.
+  if (name.find("_c8") != std::string::npos) o.quantize_color_bits = 8;
   // The encoder picks patch order for every other golden; this pins the layout-order bytes.
   if (name.find("_layout_order") != std::string::npos) o.geometry_order = CodingOrder::kLayout;
   return o;
@@ -183,7 +186,8 @@ std::string encode_golden(const std::string& name) {
   const PolygonMesh poly = read_polygons(path);
   std::string bytes = is_quad_mesh(poly) && !poly.texcoord_components && !poly.has_labels() &&
                               poly.tags.empty() && poly.corner_normals.empty() && poly.positions64.empty() &&
-                              poly.kept_lines.empty()
+                              poly.kept_lines.empty() && !poly.vertex_color_components &&
+                              !poly.face_color_components
                           ? encode(read_mesh_file(path), options_for(name))
                           : encode_polygons(poly, options_for(name));
   if (name.find("_comments") != std::string::npos)
@@ -248,7 +252,8 @@ void expect_same_polygons(const PolygonMesh& mesh, const PolygonMesh& decoded) {
 TEST(Golden, BytesArePinned) {
   auto names = golden_names();
   ASSERT_GE(names.size(), 5u);
-  int polygons = 0, comments = 0, texcoords = 0, labels = 0, tags = 0, normals = 0, exact = 0, kept = 0;
+  int polygons = 0, comments = 0, texcoords = 0, labels = 0, tags = 0, normals = 0, exact = 0, kept = 0,
+      colors = 0;
   for (const auto& name : names) {
     SCOPED_TRACE(name);
     const std::string obj = kGolden + "/" + name + ".obj";
@@ -262,6 +267,33 @@ TEST(Golden, BytesArePinned) {
                                                                  : std::vector<std::string>{});
     comments += !lines.empty();
     PolygonMesh poly = read_polygons(obj);
+    if (poly.vertex_color_components) {
+      // Colours: a 3.8 file, decoded to the .obj's faces with each vertex's colour (found by its
+      // position), exactly or on the grid of step 2^-8 ("_c8"); index for index with the order kept.
+      ++colors;
+      EXPECT_EQ(slurp(path)[9], 8) << "a file with colours says format 3.8";
+      const PolygonMesh back = decode_polygons(slurp(path));
+      expect_same_polygons(poly, back);
+      if (options_for(name).quantize_color_bits)
+        for (float& x : poly.vertex_colors) x = std::ldexp(std::nearbyint(std::ldexp(x, 8)), -8) + 0.0f;
+      std::map<std::array<float, 3>, std::vector<std::uint32_t>> color_at;
+      const auto color = [](const PolygonMesh& m, std::size_t v) {
+        std::vector<std::uint32_t> bits(m.vertex_color_components);
+        std::memcpy(bits.data(), &m.vertex_colors[bits.size() * v], 4 * bits.size());
+        return std::pair{
+            std::array<float, 3>{m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]}, bits};
+      };
+      for (std::size_t v = 0; v < back.vertex_count(); ++v) color_at.insert(color(back, v));
+      for (std::size_t v = 0; v < poly.vertex_count(); ++v)
+        EXPECT_EQ(color_at[color(poly, v).first], color(poly, v).second) << "vertex " << v;
+      if (options_for(name).keep_order) {
+        EXPECT_EQ(back.corners, poly.corners);
+        EXPECT_EQ(
+            std::memcmp(back.vertex_colors.data(), poly.vertex_colors.data(), 4 * poly.vertex_colors.size()),
+            0);
+      }
+      continue;
+    }
     if (!poly.kept_lines.empty()) {
       // Kept lines: a 3.7 file (the section is optional), decoded to the .obj's faces and its lines kept
       // as text, in order; decode() skips them.
@@ -399,6 +431,7 @@ TEST(Golden, BytesArePinned) {
   EXPECT_GE(normals, 2);
   EXPECT_GE(exact, 2);
   EXPECT_GE(kept, 1);
+  EXPECT_GE(colors, 3);
 }
 
 // One golden per combination of the geometry tools, each decoding to the mesh its natural golden gives
@@ -578,17 +611,17 @@ std::map<std::string, Crafted> crafted() {
     // A required section of a newer minor version: "upgrade qsp". The same tag in a file of this
     // version cannot come from a correct encoder.
     const std::string sections =
-        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(11, "x");
+        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(12, "x");
     Parts newer_minor = p;
     newer_minor.minor = kFormatMinor + 1;
     out["qsp_unknown_required_section_newer_minor"] = {
         seal(newer_minor, sections), "version",
-        "section 0x0b is required but unknown to this qsp, which reads "
-        "format 3.7 (upgrade qsp)"};
+        "section 0x0c is required but unknown to this qsp, which reads "
+        "format 3.8 (upgrade qsp)"};
     out["qsp_unknown_required_section"] = {seal(p, sections), "format",
-                                           "section 0x0b is required but unknown to this qsp"};
+                                           "section 0x0c is required but unknown to this qsp"};
     // A section of a later minor version in a file that says it is the one before: 3.3's face labels,
-    // 3.4's subdivision tags, 3.5's normals, 3.6's exact positions.
+    // 3.4's subdivision tags, 3.5's normals, 3.6's exact positions, 3.8's colours.
     struct Later {
       const char* name;
       std::uint8_t tag, minor;
@@ -602,7 +635,9 @@ std::map<std::string, Crafted> crafted() {
           Later{"qsp_normals_section_in_3_4", 9, 4,
                 "section 0x09 (normals) is format 3.5's, and the file says it is 3.4"},
           Later{"qsp_exact_section_in_3_5", 10, 5,
-                "section 0x0a (exact positions) is format 3.6's, and the file says it is 3.5"}}) {
+                "section 0x0a (exact positions) is format 3.6's, and the file says it is 3.5"},
+          Later{"qsp_colors_section_in_3_7", 11, 7,
+                "section 0x0b (colours) is format 3.8's, and the file says it is 3.7"}}) {
       Parts earlier = p;
       earlier.minor = l.minor;
       out[l.name] = {seal(earlier, section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) +

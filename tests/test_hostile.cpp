@@ -288,11 +288,11 @@ TEST(HostileQsp, UnknownAndMissingSections) {
   // An unknown required section is refused: "upgrade qsp" in a file of a newer minor version, a format
   // error in one of this version. So are missing, repeated and reordered ones.
   auto unknown = secs;
-  unknown.push_back({0x0b, 0, 0, "x"});
+  unknown.push_back({0x0c, 0, 0, "x"});
   expect_refused(craft::seal(kFormatMajor, kFormatMinor, 0, craft::join(unknown)), ErrorCode::kFormat,
-                 {"section 0x0b is required but unknown", "byte offset"});
+                 {"section 0x0c is required but unknown", "byte offset"});
   expect_refused(craft::seal(kFormatMajor, kFormatMinor + 1, 0, craft::join(unknown)), ErrorCode::kVersion,
-                 {"section 0x0b is required but unknown", "upgrade qsp", "byte offset"});
+                 {"section 0x0c is required but unknown", "upgrade qsp", "byte offset"});
   for (std::size_t drop = 0; drop < secs.size(); ++drop) {
     auto fewer = secs;
     fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(drop));
@@ -609,7 +609,7 @@ TEST_F(CliFailures, ExitCodesFollowTheErrorType) {
   EXPECT_EQ(run_qsp("compress " + quote(p("missing.obj")) + " " + quote(p("x.qsp"))).exit_code, 3);
   fs::create_directory(p("d.obj"));
   EXPECT_EQ(run_qsp("compress " + quote(p("d.obj")) + " " + quote(p("x.qsp"))).exit_code, 3);
-  EXPECT_EQ(run_qsp("decompress " + quote(p("c.qsp")) + " " + quote(p("x.ply"))).exit_code, 1);
+  EXPECT_EQ(run_qsp("decompress " + quote(p("c.qsp")) + " -o " + quote(p("x.stl"))).exit_code, 1);
   EXPECT_EQ(run_qsp("compress " + quote(p("c.qsp")) + " " + quote(p("x.qsp"))).exit_code, 1);
   EXPECT_EQ(run_qsp("decompress").exit_code, 2);
   EXPECT_EQ(run_qsp("decompress --no-such-flag " + quote(p("c.qsp"))).exit_code, 2);

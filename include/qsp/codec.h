@@ -27,7 +27,8 @@ namespace qsp {
 // refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
 // (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 7;
+inline constexpr std::uint8_t kFormatMinor = 8;
+inline constexpr std::uint8_t kFormatMinorColors = 8;
 inline constexpr std::uint8_t kFormatMinorKeptLines = 7;
 inline constexpr std::uint8_t kFormatMinorExact = 6;
 inline constexpr std::uint8_t kFormatMinorNormals = 5;
@@ -67,6 +68,8 @@ struct EncodeOptions {
   // Texture coordinates: 0 = exact; 1..24 = rounded to the grid of step 2^-bits in texture space (12:
   // 1/4096, a texel of a 4096-wide texture), whatever other values the mesh has.
   std::uint32_t quantize_texcoord_bits = 0;
+  // Vertex and face colours: 0 = exact; 1..24 = rounded to the grid of step 2^-bits (8: 1/256).
+  std::uint32_t quantize_color_bits = 0;
   bool keep_order = false;    // also store vertex order, face order and first corners
   int level = kDefaultLevel;  // kMinLevel..kMaxLevel: how much the encoder searches (Effort)
   // Threads the encoder may use: 0 = as it sees fit (at most two), 1 = this thread only. The bytes
@@ -208,6 +211,7 @@ struct FileInfo {
   std::uint64_t tag_bytes = 0;       // the subdivision tags section (3.4; 0 if absent)
   std::uint64_t normal_bytes = 0;    // the normals section (3.5; 0 if absent)
   std::uint64_t exact_bytes = 0;     // the exact positions section (3.6; 0 if absent)
+  std::uint64_t color_bytes = 0;     // the colours section (3.8; 0 if absent)
   std::uint64_t other_bytes = 0;     // optional sections this decoder skipped
   std::uint8_t geometry_tools = 0;   // qsp/geometry.h's geometry_tool bits (geometry_tool_names() says them)
   std::uint8_t quantize_bits = 0;    // 0: lossless positions; 1..30: quantized to that many bits

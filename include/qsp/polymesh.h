@@ -249,7 +249,8 @@ QuadMesh to_quad_mesh(const Mesh& mesh);
 // The mesh as the codec takes it: the float32 mirror of the positions (and their float64 values where
 // float32 does not hold them all: a kDecimal list's nearest float64s), the faces as they are, and of
 // `categories` what the codec keeps: kCategoryUv its texture coordinates (float32; every corner naming
-// one or kInvalid, also when the file has values but no corner names one), kCategoryGroup its objects
+// one or kInvalid, also when the file has values but no corner names one), kCategoryColor its vertex and
+// face colours (float32), kCategoryGroup its objects
 // and groups, kCategoryMaterial its materials and material libraries, kCategorySmoothing its smoothing
 // groups, kCategoryNormal its normals (float32, as texture coordinates), kCategoryTag its OpenSubdiv tags
 // (their floats as binary32 values where the list is kFloat32, else as the nearest binary64: a kDecimal list
@@ -258,18 +259,19 @@ QuadMesh to_quad_mesh(const Mesh& mesh);
 PolygonMesh to_polygon_mesh(Mesh mesh, unsigned categories);
 
 // The categories to_polygon_mesh carries into a PolygonMesh.
-inline constexpr unsigned kPolygonMeshCategories =
-    kCategoryUv | kCategoryNormal | kCategoryGroup | kCategoryMaterial | kCategorySmoothing | kCategoryTag;
+inline constexpr unsigned kPolygonMeshCategories = kCategoryUv | kCategoryNormal | kCategoryColor |
+                                                   kCategoryGroup | kCategoryMaterial | kCategorySmoothing |
+                                                   kCategoryTag;
 
 // The inverse of to_polygon_mesh, as decompress writes a decoded mesh: a Mesh holding exactly the
 // PolygonMesh's positions (its float64 positions64 where it has them, else its float32 ones) and its faces,
 // its texture coordinates (when texcoord_components is not 0) and normals (when it has any) with their
-// corners, face labels, material libraries, kept lines and OpenSubdiv tags (their floats as kFloat64 Numbers
-// where the tag says float64, else as float32); nothing else, and no statements (the writers use the
-// canonical order). A Mesh whose numbers are float32 and which carries only kPolygonMeshCategories comes back
-// from to_polygon_mesh(m, kPolygonMeshCategories) with the same arrays (a corner array it left empty beside
-// values comes back as kInvalid per corner). Checks nothing (check_mesh does) and never throws but for
-// memory; safe on untrusted input, as it only moves arrays and indexes none.
+// corners, vertex and face colours (float32), face labels, material libraries, kept lines and OpenSubdiv tags
+// (their floats as kFloat64 Numbers where the tag says float64, else as float32); nothing else, and no
+// statements (the writers use the canonical order). A Mesh whose numbers are float32 and which carries only
+// kPolygonMeshCategories comes back from to_polygon_mesh(m, kPolygonMeshCategories) with the same arrays (a
+// corner array it left empty beside values comes back as kInvalid per corner). Checks nothing (check_mesh
+// does) and never throws but for memory; safe on untrusted input, as it only moves arrays and indexes none.
 Mesh from_polygon_mesh(PolygonMesh mesh);
 
 // A Mesh with exactly the QuadMesh's float32 positions and quads.

@@ -72,6 +72,11 @@ struct PolygonMesh {
   // Normals (OBJ `vn`) in their own index space, as texture coordinates; both empty when none.
   std::vector<float> normals;                 // 3 per normal
   std::vector<std::uint32_t> corner_normals;  // per corner: its normal or kInvalid
+  // Colours: vertex colours (r g b [a]) and face colours (an OFF colour-map index, or r g b [a]).
+  std::uint8_t vertex_color_components = 0;  // 0 (none), 3 or 4
+  std::vector<float> vertex_colors;          // vertex_color_components per vertex
+  std::uint8_t face_color_components = 0;    // 0 (none), 1, 3 or 4
+  std::vector<float> face_colors;            // face_color_components per face
   // Face labels (OBJ o, g, usemtl, s) and the material libraries (`mtllib` arguments); empty when none.
   FaceLabels objects, groups, materials, smoothing;
   std::vector<std::string> material_libraries;

@@ -216,7 +216,7 @@ inline std::vector<std::string> tags_by_position(const PolygonMesh& m) {
 }
 
 // The same mesh with vertices, faces, texture coordinates, normals and label names renumbered and corner
-// lists rotated (positions, exact positions, texture coordinates, normals, labels and tags follow).
+// lists rotated (positions, exact positions, colours, texture coordinates, normals, labels and tags follow).
 inline PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
   std::mt19937 rng(seed);
   const std::size_t nv = m.vertex_count(), nf = m.face_count(), K = m.texcoord_components;
@@ -240,6 +240,15 @@ inline PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
   out.positions64.resize(m.positions64.size());
   for (std::size_t i = 0; i < m.positions64.size() / 3; ++i)
     std::copy_n(&m.positions64[3 * i], 3, &out.positions64[3 * std::size_t{v[i]}]);
+  const std::size_t kv = m.vertex_color_components, kf = m.face_color_components;
+  out.vertex_color_components = m.vertex_color_components;
+  out.vertex_colors.resize(m.vertex_colors.size());
+  for (std::size_t i = 0; i < nv && kv; ++i)
+    std::copy_n(&m.vertex_colors[kv * i], kv, &out.vertex_colors[kv * v[i]]);
+  out.face_color_components = m.face_color_components;
+  out.face_colors.resize(m.face_colors.size());
+  for (std::size_t g = 0; g < nf && kf; ++g)
+    std::copy_n(&m.face_colors[kf * f[g]], kf, &out.face_colors[kf * g]);
   out.texcoord_components = m.texcoord_components;
   out.texcoords.resize(m.texcoords.size());
   for (std::size_t i = 0; i < nt; ++i) std::copy_n(&m.texcoords[K * i], K, &out.texcoords[K * t[i]]);

@@ -25,6 +25,7 @@ struct CompressOptions {
   Verbosity verbosity;
   std::uint32_t quantize = 0;
   std::uint32_t quantize_uv = 0;
+  std::uint32_t quantize_color = 0;
   bool keep_order = false;
   DropOptions drop;
   bool float32 = false;                   // round coordinates float32 does not hold instead of refusing
@@ -58,6 +59,7 @@ EncodeOptions encode_options(const CompressOptions& o) {
   EncodeOptions eo;
   eo.quantize_bits = o.quantize;
   eo.quantize_texcoord_bits = o.quantize_uv;
+  eo.quantize_color_bits = o.quantize_color;
   eo.keep_order = o.keep_order;
   eo.level = o.level;
   eo.threads = o.threads;
@@ -120,15 +122,18 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
             ", more digits than float64 holds; a lossless .qsp keeps float64 coordinates: pass --float32 "
             "to round them to float32, or --quantize BITS");
   if (!o.quantize && o.float32) refuse_rounding(in, report, "a lossless .qsp", true, quiet, "");
-  // Texture coordinates and normals, named by the first that float32 does not hold.
+  // Texture coordinates, normals and colours, named by the first that float32 does not hold.
   const bool normal_first = first_rounded_uv.starts_with("normal");
-  const std::string what = normal_first ? "normal" : "texture coordinate";
+  const bool color_first = first_rounded_uv.find("colour") != std::string::npos;
+  const std::string what = normal_first ? "normal" : color_first ? "colour" : "texture coordinate";
   if (rounded_uv && !o.float32)
     throw Error(ErrorCode::kUnsupported,
                 in + ": " + std::to_string(rounded_uv) + " " + what +
                     " values have more digits than float32 holds (the first: " + first_rounded_uv +
                     "); a .qsp keeps float32 " + what + "s: pass --float32 to round them, or --drop " +
-                    (normal_first ? "normal" : "uv"));
+                    (normal_first  ? "normal"
+                     : color_first ? "color"
+                                   : "uv"));
   if (rounded_uv && !quiet)
     std::fprintf(stderr, "qsp: %s: rounded %llu %s values to float32 (--float32)\n", in.c_str(),
                  static_cast<unsigned long long>(rounded_uv), what.c_str());
@@ -234,6 +239,10 @@ void register_compress(CLI::App& app, int& rc) {
   sub->add_option("--quantize-uv", opt->quantize_uv,
                   "Lossy: round texture coordinates to a grid of step 2^-BITS (1-24; 12 = 1/4096), "
                   "whatever their range, so a few far-off ones cost only themselves")
+      ->check(CLI::Range(1, 24));
+  sub->add_option("--quantize-color", opt->quantize_color,
+                  "Lossy: round vertex and face colours to a grid of step 2^-BITS (1-24; 8 = 1/256); "
+                  "integer colours (PLY uchar) stay exact")
       ->check(CLI::Range(1, 24));
   sub->add_flag("--keep-order", opt->keep_order, "Also store the vertex order, face order and first corners");
   add_drop_options(sub, opt->drop, "", kPolygonMeshCategories);

@@ -1,4 +1,4 @@
-// `qsp decompress IN... [OUT]`: .qsp files -> OBJ or OFF (by the output's extension), gzip's way
+// `qsp decompress IN... [OUT]`: .qsp files -> OBJ, OFF or PLY (by the output's extension), gzip's way
 // (shared.h).
 #include <sys/stat.h>
 
@@ -30,22 +30,29 @@ std::string beside(const std::string& in) {
   if (format_from_path(in) != MeshFormat::kQsp) return "";
   std::string base = in.substr(0, in.size() - 4);
   MeshFormat f = format_from_path(base);
-  return f == MeshFormat::kObj || f == MeshFormat::kOff ? base : base + ".obj";
+  return f == MeshFormat::kObj || f == MeshFormat::kOff || f == MeshFormat::kPly ? base : base + ".obj";
 }
 
-// OBJ or OFF text of a decoded mesh: a quad mesh's as it always was, any other through the Mesh writers.
-// The decoded mesh as text, `comments` (the file's leading comment block) first.
+// OBJ or OFF text of a decoded mesh: a quad mesh's as it always was, any other (and PLY, binary little
+// endian as scanners and Draco write it) through the Mesh writers. `comments` (the file's leading comment
+// block) first.
 std::string mesh_text(PolygonMesh m, MeshFormat format, const std::vector<std::string>& comments) {
   bool quads = true;
   for (std::size_t f = 0; f < m.face_count(); ++f)
     quads = quads && m.face_offsets[f + 1] - m.face_offsets[f] == 4;
-  if (quads && m.texcoord_components == 0 && m.corner_normals.empty() && !m.has_labels() && m.tags.empty() &&
-      m.positions64.empty() && m.kept_lines.empty()) {
+  if (format != MeshFormat::kPly && quads && m.texcoord_components == 0 && m.corner_normals.empty() &&
+      !m.has_labels() && m.tags.empty() && m.positions64.empty() && m.kept_lines.empty() &&
+      m.vertex_color_components == 0 && m.face_color_components == 0) {
     const QuadMesh q{std::move(m.positions), std::move(m.corners)};
     return format == MeshFormat::kOff ? write_off(q, comments) : write_obj(q, comments);
   }
   Mesh out = from_polygon_mesh(std::move(m));
   out.comments = comments;
+  if (format == MeshFormat::kPly) {
+    qsp::WriteOptions w;
+    w.ply_format = PlyFormat::kBinaryLittleEndian;
+    return write_ply_mesh(out, w);
+  }
   return format == MeshFormat::kOff ? write_off_mesh(out) : write_obj_mesh(out);
 }
 
@@ -56,8 +63,8 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
                                              ": does not end in .qsp, so no output name can be made from it; "
                                              "give -o NAME.obj or -c");
   const MeshFormat format = job.output == "-" ? MeshFormat::kObj : format_from_path(job.output);
-  if (format != MeshFormat::kObj && format != MeshFormat::kOff)
-    throw Error(ErrorCode::kUnsupported, job.output + ": can write .obj or .off only");
+  if (format != MeshFormat::kObj && format != MeshFormat::kOff && format != MeshFormat::kPly)
+    throw Error(ErrorCode::kUnsupported, job.output + ": can write .obj, .off or .ply only");
   struct stat st {};
   if (job.derived && !o.force && ::lstat(job.output.c_str(), &st) == 0)
     // x.obj.qsp -> x.obj is most likely the very mesh it came from, and the text written back differs
@@ -108,7 +115,7 @@ void run(const DecompressOptions& o, int& rc) {
     return f == MeshFormat::kObj || f == MeshFormat::kOff || f == MeshFormat::kPly;
   };
   naming.beside = beside;
-  naming.rule = "must end in .obj or .off";
+  naming.rule = "must end in .obj, .off or .ply";
   naming.verb = "decompress";
   naming.stdin_name = "stdin.obj";
   rc = run_jobs(o.files, naming, [&](const Job& job) { decompress_one(job, o); });
@@ -118,10 +125,10 @@ void run(const DecompressOptions& o, int& rc) {
 
 void register_decompress(CLI::App& app, int& rc) {
   auto opt = std::make_shared<DecompressOptions>();
-  CLI::App* sub = app.add_subcommand("decompress", "Decompress .qsp files into meshes (.obj or .off)");
+  CLI::App* sub = app.add_subcommand("decompress", "Decompress .qsp files into meshes (.obj, .off or .ply)");
   add_file_args(sub, opt->files,
                 "Input .qsp files (IN without .qsp, .obj added if needed, is written beside each)",
-                "ending in .obj or .off");
+                "ending in .obj, .off or .ply (binary little endian)");
   sub->add_flag("-f,--force", opt->force, "Replace outputs that exist (never an input)");
   add_sync_flag(sub, opt->sync);
   add_verbosity_flags(sub, opt->verbosity);

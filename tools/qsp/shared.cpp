@@ -342,7 +342,7 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
   // The leading comment block, as the quad readers report it (PLY: the header's comments).
   in.report.leading_comments = format == MeshFormat::kPly ? m.comments : leading_comments(bytes);
   in.report.comments = in.report.leading_comments.size();
-  // Kept texture coordinates and normals are float32: count those the text says more precisely.
+  // Kept texture coordinates, normals and colours are float32: count those the text says more precisely.
   const auto rounded = [&in](const Numbers& n, std::size_t per, const char* what, const char* keyword) {
     for (std::size_t i = 0; i < n.size(); ++i) {
       if (n.precision == Precision::kFloat32 || n.approx(i) == n.f32[i]) continue;
@@ -350,14 +350,22 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
         char value[32];
         const auto end = std::to_chars(value, value + sizeof value, n.approx(i)).ptr;  // shortest
         const std::size_t t = i / per;
-        in.first_rounded_texcoord = std::string(what) + " " + std::to_string(t) + " (OBJ `" + keyword + "` " +
-                                    std::to_string(t + 1) + ") has " + std::string(value, end);
+        in.first_rounded_texcoord =
+            std::string(what) + " " + std::to_string(t) +
+            (keyword ? " (OBJ `" + std::string(keyword) + "` " + std::to_string(t + 1) + ")"
+                     : std::string()) +
+            " has " + std::string(value, end);
       }
     }
   };
   if (keep & kCategoryUv)
     rounded(m.texcoords, std::max<std::size_t>(m.texcoord_components, 1), "texture coordinate", "vt");
   if (keep & kCategoryNormal) rounded(m.normals, 3, "normal", "vn");
+  if (keep & kCategoryColor) {
+    rounded(m.vertex_colors, std::max<std::size_t>(m.vertex_color_components, 1), "vertex colour",
+            format == MeshFormat::kObj ? "v" : nullptr);
+    rounded(m.face_colors, std::max<std::size_t>(m.face_color_components, 1), "face colour", nullptr);
+  }
   if (keep & kCategoryTag)
     for (std::size_t t = 0; t < m.tags.size(); ++t)
       if (m.tags[t].floats.precision == Precision::kDecimal)

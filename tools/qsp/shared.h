@@ -152,10 +152,11 @@ struct PolygonInput {
   QuadMesh mesh;  // quads
   PolygonMesh
       polygons;  // neither: float32 positions, faces and corners as read (texture coordinates if kept)
-  std::uint64_t rounded_texcoords = 0;  // kept texture coordinate and normal values float32 does not hold
-  std::string first_rounded_texcoord;   // which is the first of them and its value, for messages
-  std::uint64_t beyond_float64 = 0;     // coordinates of more digits than float64 holds (decimal text)
-  std::string first_beyond_float64;     // which is the first of them and its value, for messages
+  std::uint64_t rounded_texcoords =
+      0;  // kept texture coordinate, normal and colour values float32 does not hold
+  std::string first_rounded_texcoord;  // which is the first of them and its value, for messages
+  std::uint64_t beyond_float64 = 0;    // coordinates of more digits than float64 holds (decimal text)
+  std::string first_beyond_float64;    // which is the first of them and its value, for messages
   // The reader's report. A polygon mesh file's says what the quad reader's would (its data besides
   // positions and faces by kind, face lines, leading comments, coordinates float32 does not hold); a
   // decoded .qsp's has the lines of its comments section.
