@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The whole mesh of a .qsp file, polygons section (0x05), texture coordinates section (0x06), face
-labels section (0x07), subdivision tags section (0x08), normals section (0x09), order section (0x04)
-and comments section (0x81) included, written from format-spec/qsp_format.md alone ("Grid layout",
+labels section (0x07), subdivision tags section (0x08), normals section (0x09), colours section (0x0b,
+qspcolors.py), order section (0x04) and comments section (0x81) included, written from format-spec/qsp_format.md alone ("Grid layout",
 "Order section", "Polygons section", "Texture coordinates section", "Face labels section",
 "Subdivision tags section", "Normals section", "Comments section", "Decoding a mesh") without reading
 the codec's C++, on top of qsplayout.py (topology, layout) and qspgeo.py (container, range coder,
@@ -50,6 +50,7 @@ import sys
 import qspgeo as g
 import qsplayout as lay
 import qspexact
+import qspcolors
 
 need = g.need
 NONE = g.NONE
@@ -970,7 +971,7 @@ def canonical_mesh(data, secs):
     return out_pos, out_faces, geo[1] != 0
 
 
-KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0a)
+KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0a, 0x0b)
 
 
 def decode_file(data):
@@ -980,7 +981,9 @@ def decode_file(data):
     face labels None or {'faces': {kind: per face its name or None}, 'unused': {kind: the names no
     face takes}, 'libraries': the mtllib texts}, for the kinds present; subdivision tags; normals None
     or [values as binary32 bits, per face the normal each corner names or None, modes], as texture
-    coordinates are."""
+    coordinates are; exact positions None or binary64 values per vertex; colours None or {'vertex':
+    None or per vertex a tuple of binary32 bits, 'face': None or the same per face, 'modes': the
+    components' modes}, moved with their vertices and faces by an order section."""
     secs = g.sections(data)
     for tag in secs:
         need(tag & 0x80 or tag in KNOWN_REQUIRED, 'section 0x%02x is required but unknown' % tag)
@@ -989,6 +992,10 @@ def decode_file(data):
     if 0x0a in secs:
         exact = qspexact.decode_exact(secs[0x0a], len(pos), [tuple(map(g.bits_f32, p)) for p in pos],
                                       quantized, data[9])
+    colors = None  # "Colours section": per output vertex and face, moved as vertices and faces are
+    if 0x0b in secs:
+        vc, fc, modes = qspcolors.decode_colors(secs[0x0b], len(pos), len(faces), faces, data[9])
+        colors = {'vertex': vc, 'face': fc, 'modes': modes}
     lines = comments(secs[0x81]) if 0x81 in secs else []
     tex = None
     if 0x06 in secs:
@@ -1033,6 +1040,10 @@ def decode_file(data):
             back[c] = j
         opos = [pos[c] for c in cv]
         exact = exact and [exact[c] for c in cv]
+        if colors and colors['vertex']:
+            colors['vertex'] = [colors['vertex'][c] for c in cv]
+        if colors and colors['face']:
+            colors['face'] = [colors['face'][c] for c, _ in of]
         ofaces, onames, onormals = [], [], []
         for c, r in of:
             d = len(faces[c])
@@ -1051,7 +1062,7 @@ def decode_file(data):
             tex[1] = onames
         if nrm:
             nrm[1] = onormals
-    return pos, faces, lines, quantized, tex, labels, tags, nrm, exact
+    return pos, faces, lines, quantized, tex, labels, tags, nrm, exact, colors
 
 
 # ---------------- comparisons ----------------
@@ -1502,7 +1513,7 @@ def main():
     if '--exact-decompressed' in opts:
         bad += qspexact.compare_written(mesh, qspexact.read_mesh64(opts['--exact-decompressed']), 'qsp decompress\'s output')
     if '--stats' in args:
-        print(' '.join('%s=%d' % kv for kv in sorted(STATS.items())))
+        print(' '.join('%s=%d' % kv for kv in sorted(list(STATS.items()) + list(qspcolors.STATS.items()))))
     if 'tex: unreferenced values not sorted (an encoder rule)' in STATS:
         bad.append('texture coordinates no corner names are not sorted by their bits, as the encoder writes them')
     if 'normals: unreferenced values not sorted (an encoder rule)' in STATS:
