@@ -40,6 +40,14 @@
 # catmark_chaikin0 (with and without --keep-order), are decoded whole by qsppoly.py and compared with
 # their .obj (every corner's position and normal, float32 bits; index for index for a file with an
 # order section; its texture coordinates, labels and tags too) and with what `qsp decompress` writes.
+# Colours (format 3.8's section, from the text too: qspcolors.py): colorsgen.py --test writes coloured
+# OBJ, OFF and PLY meshes (vertex and face colours, uchar, decimal, float32 and extreme components,
+# --keep-order, --quantize-color) and checks that qsppoly.py decodes each file to its mesh's colours,
+# that the section is byte for byte what the text's encoder choices give, that `qsp decompress` writes
+# the same colours, and that broken sections are refused by both decoders; each of
+# testdata/golden/colors is checked the same way against its mesh. Until qsp reads 3.8 (`qsp
+# --version`) the files are --drop color files with the text's section put in, and qsp decompress is
+# not asked.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -270,6 +278,24 @@ elif [[ -f $root/src/codec_exact.cpp ]]; then
 fi
 "$python" "$here/exactgen.py" --test "$qsp" >/dev/null ||
   { echo "exact positions sections from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
+# Colours (format 3.8's section, from the text too: qspcolors.py, colorsgen.py).
+if ! "$qsp" --version | grep -Eq 'reads 3\.0 to 3\.([8-9]|[1-9][0-9])' && [[ -f $root/src/codec_colors.cpp ]]; then
+  echo "spec decoder: src/codec_colors.cpp is there but \`qsp --version\` does not say it reads format 3.8" >&2
+  exit 1
+fi
+"$python" "$here/colorsgen.py" --test "$qsp" >/dev/null ||
+  { echo "colours sections from the text: the spec decoder, the text's encoder or qsp disagrees" \
+         "(colorsgen.py --test $qsp says where)" >&2; exit 1; }
+colors_checked=0
+for f in "$root"/testdata/golden/colors/*.qsp; do
+  [[ -f $f ]] || continue
+  mesh=
+  for m in "${f%.qsp}.obj" "${f%.qsp}.off" "${f%.qsp}.ply"; do [[ -f $m ]] && mesh=$m; done
+  [[ -n $mesh ]] || { echo "spec decoder: no mesh beside $f" >&2; exit 1; }
+  "$python" "$here/colorsgen.py" --check "$f" "$mesh" "$qsp" >/dev/null ||
+    { echo "spec decoder's colours disagree: $f (colorsgen.py --check $f $mesh $qsp says where)" >&2; exit 1; }
+  colors_checked=$((colors_checked + 1))
+done
 declare -A exa_of=() exa_exact=()  # the files with exact positions, the mesh each was made from, and
 for f in "$root"/testdata/golden/exact/*.qsp; do  # those with an order section (compared index for index)
   [[ -f $f ]] || continue
@@ -402,5 +428,5 @@ while ((running)); do
   wait -n || failed=1
   running=$((running - 1))
 done
-echo "spec decoder: $((${#files[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) of them decoded whole against their mesh, ${#tex_of[@]} with texture coordinates, ${#lab_of[@]} with face labels, ${#tag_of[@]} with subdivision tags, ${#nrm_of[@]} with normals"
+echo "spec decoder: $((${#files[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) of them decoded whole against their mesh, ${#tex_of[@]} with texture coordinates, ${#lab_of[@]} with face labels, ${#tag_of[@]} with subdivision tags, ${#nrm_of[@]} with normals; $colors_checked golden files with colours"
 exit $failed
