@@ -23,6 +23,7 @@ usage: colorsgen.py --test [QSP]
            colours);
        (b) the section is byte for byte what qspcolors.encode_colors() writes for the mesh's colours
            (the text's encoder choices);
+       A 201 x 201 grid of one RGBA colour: qsp compress's file must be one both decoders read.
        (c) variants breaking each rule the text names (reserved flag bits, Kv and Kf values, Kv = Kf
            = 0, modes, the 2048 * (stream bytes + 8) bound, a grid integer of 2^40, images outside
            [0, 2^32), an infinity and a NaN, the section in a 3.7 file) are refused by qsppoly.py and,
@@ -688,7 +689,7 @@ def compress(qsp, src, out, opts, live, tmp):
         i = rest.index('--quantize-color')
         q = int(rest[i + 1])
         del rest[i:i + 2]
-    base = out + '.base'
+    base = out[:-len('.qsp')] + '.base.qsp'
     r = subprocess.run([qsp, 'compress', '-f', '-q', '--drop', 'color'] + rest + [src, base], capture_output=True)
     if not expect(r.returncode == 0, 'qsp compress --drop color refuses %s: %s' % (src, r.stderr.decode().strip())):
         return None
@@ -733,6 +734,34 @@ def bound_case(qsp, tmp, live):
             expect(r.returncode != 0, 'qsp decompress does not refuse %d components in a %d-byte stream' % (n, cut))
 
 
+def constant_case(qsp, tmp, live):
+    """A 201 x 201 grid whose vertices all have the colour 255 255 255 255 (PLY uchar): the file qsp
+    compress writes must be one both decoders read. Its stream is tiny (161604 components whose
+    residuals are all 0), which the 2048 * (stream bytes + 8) bound must still allow."""
+    if not live:
+        return
+    mesh = base_grid(200, 200, spare=False)
+    mesh.vc = [('255',) * 4] * len(mesh.pos)
+    src = os.path.join(tmp, 'constant.ply')
+    write(mesh, src, 'ply-binary')
+    data = compress(qsp, src, os.path.join(tmp, 'constant.qsp'), [], live, tmp)
+    if data is None:
+        return
+    secs = g.sections(data)
+    V, F, C, U = g.counts(secs[1])
+    _, quads = poly.layout(secs[2], C, U)
+    try:
+        vc, _, _ = c.decode_colors(bytes(secs[0x0b]), V, F, [list(q) for q in quads])
+        expect(vc == [(f32('255'),) * 4] * V, 'constant grid: qsppoly.py decodes other colours')
+    except g.FormatError as e:
+        expect(False, 'constant grid (%d vertices, one RGBA colour): qsppoly.py refuses the file qsp compress '
+               'wrote: %s' % (V, e))
+    f = os.path.join(tmp, 'constant.qsp')
+    r = subprocess.run([qsp, 'decompress', '-f', f, '-o', f + '.off'], capture_output=True)
+    expect(r.returncode == 0, 'constant grid: qsp decompress refuses the file qsp compress wrote: %s' % (
+        r.stderr.decode().strip()))
+
+
 def test(qsp, tmp):
     live = bool(qsp) and reads_38(qsp)
     if qsp and not live:
@@ -752,6 +781,7 @@ def test(qsp, tmp):
         if mesh is not None:
             n += 1 + check_variants(name, data, qsp, tmp, live)
     bound_case(qsp, tmp, live)
+    constant_case(qsp, tmp, live)
     return n
 
 
