@@ -20,7 +20,9 @@ namespace {
 
 constexpr std::uint8_t kVertexMask = 0x07, kFaceShift = 3, kFaceMask = 0x38, kReservedBits = 0xC0;
 constexpr unsigned kMaxNeighbours = 8;
-constexpr std::uint64_t kMaxValuesPerByte = 2048;
+// Every component costs at least one decision and none less than log2(65536 / 65465) bits: at most ~5116
+// a byte.
+constexpr std::uint64_t kMaxValuesPerByte = 8192;
 constexpr const char* kSection = "colours section";
 
 bool valid_vertex_components(unsigned k) { return k == 0 || k == 3 || k == 4; }

@@ -25,7 +25,9 @@ namespace {
 constexpr std::uint8_t kComponentsMask = 0x03, kOrderBit = 0x04, kCorrectionBit = 0x08, kShapeBit = 0x10,
                        kReservedBits = 0xE0;
 constexpr unsigned kContexts = 5;
-constexpr std::uint64_t kMaxValuesPerByte = 2048;
+// Every value costs at least one decision and none less than log2(65536 / 65465) bits: at most ~5116 a
+// byte (8192 leaves room; 2048, before 3.8, refused files of one repeated value that the encoder wrote).
+constexpr std::uint64_t kMaxValuesPerByte = 8192;
 
 [[noreturn]] void internal(const std::string& what) { throw Error(ErrorCode::kInternal, "encode: " + what); }
 [[noreturn]] void format_error(const CornerValueWords& w, const std::string& what, std::uint64_t offset) {

@@ -25,7 +25,7 @@ usage: colorsgen.py --test [QSP]
            (the text's encoder choices);
        A 201 x 201 grid of one RGBA colour: qsp compress's file must be one both decoders read.
        (c) variants breaking each rule the text names (reserved flag bits, Kv and Kf values, Kv = Kf
-           = 0, modes, the 2048 * (stream bytes + 8) bound, a grid integer of 2^40, images outside
+           = 0, modes, the 8192 * (stream bytes + 8) bound, a grid integer of 2^40, images outside
            [0, 2^32), an infinity and a NaN, the section in a 3.7 file) are refused by qsppoly.py and,
            once it reads 3.8, by `QSP decompress`; truncations, a byte more and bit flips of the
            stream are refused by both or decoded by both to the same colours.
@@ -545,9 +545,9 @@ def variants(data):
     add('the section ending in its modes', p[:Kv + Kf])
     # the bound: every stream byte gone but what V * Kv + F * Kf still allows
     n = V * Kv + F * Kf
-    cut = -(-n // 2048) - 8 - 1          # stream bytes for which n > 2048 * (bytes + 8)
+    cut = -(-n // 8192) - 8 - 1          # stream bytes for which n > 8192 * (bytes + 8)
     if 0 <= cut < len(stream):
-        add('%d components in a stream cut to %d bytes (above 2048 * (bytes + 8))' % (n, cut), p[:1 + Kv + Kf] + stream[:cut])
+        add('%d components in a stream cut to %d bytes (above 8192 * (bytes + 8))' % (n, cut), p[:1 + Kv + Kf] + stream[:cut])
     # crafted residuals: the first component of vertex 0 (or face 0) out of its range
     for what, m, r in (('a grid integer of 2^40', 1, 1 << 40), ('a grid integer of -2^40', 1, -(1 << 40)),
                        ('a float image of -1', 0, -c.FLOAT_ZERO - 1), ('a float image of 2^32', 0, 1 << 31),
@@ -697,9 +697,9 @@ def compress(qsp, src, out, opts, live, tmp):
 
 
 def bound_case(qsp, tmp, live):
-    """A 75 x 75 grid with vertex colours: V * Kv = 17328 components, more than 2048 * 8, so the
+    """A 150 x 150 grid with vertex colours: V * Kv = 68403 components, more than 8192 * 8, so the
     stream cut to nothing breaks the bound (checked on the layout's faces alone: no geometry decode)."""
-    mesh = colour(base_grid(75, 75, spare=False), ('u8',) * 3, None, 3)
+    mesh = colour(base_grid(150, 150, spare=False), ('u8',) * 3, None, 3)
     mesh.vc = [('10', '20', '30')] * len(mesh.pos)
     src = os.path.join(tmp, 'bound.obj')
     write(mesh, src, 'obj')
@@ -716,14 +716,14 @@ def bound_case(qsp, tmp, live):
     n = V * 3
     for cut in (0,):
         bad = p[:4] + p[4:4 + cut]
-        ok = n <= 2048 * (cut + 8)
+        ok = n <= 8192 * (cut + 8)
         try:
             c.decode_colors(bad, V, F, faces)
             refused = None
         except g.FormatError as e:
             refused = str(e)
         if not ok:
-            expect(refused is not None and '2048' in refused,
+            expect(refused is not None and '8192' in refused,
                    'bound grid: %d components in a %d-byte stream not refused by the bound (%s)' % (n, cut, refused))
         if live:
             s = dict(secs)
@@ -737,7 +737,7 @@ def bound_case(qsp, tmp, live):
 def constant_case(qsp, tmp, live):
     """A 201 x 201 grid whose vertices all have the colour 255 255 255 255 (PLY uchar): the file qsp
     compress writes must be one both decoders read. Its stream is tiny (161604 components whose
-    residuals are all 0), which the 2048 * (stream bytes + 8) bound must still allow."""
+    residuals are all 0), which the 8192 * (stream bytes + 8) bound must still allow."""
     if not live:
         return
     mesh = base_grid(200, 200, spare=False)

@@ -24,11 +24,10 @@ ESCAPE = (1 << 32) - 2       # min(z, 2^32 - 2) through the integer model, then 
 MAX_NEIGHBOURS = 8
 FLOAT_ZERO = 0x80000000      # the image of +0.0: the no-prediction value in float bits
 
-# The text's "the neighbours' integers" and "the neighbour's integer": as in the texture coordinates
-# section, the integer its mode maps the decoded binary32 back to (round(y * 2^b), round(y * 10^k) in
-# binary64, halves away from zero), not the q that was coded (they differ only for q no encoder
-# writes: a decimal q whose binary32 is nearer another q)
-INTEGER_OF_DECODED = True
+# The text's "the neighbours' integers" and "the neighbour's integer": the integers as decoded (the q
+# coded), not, as in the texture coordinates section, the integer a decoded binary32 maps back to (they
+# differ only for q no encoder writes: a decimal q whose binary32 is nearer another q)
+INTEGER_OF_DECODED = False
 # (the encoder: "-0 becomes 0" is said of --quantize-color only; lossless, a -0 component is held
 # exactly by no grid, every grid integer 0 giving +0, so its component takes float bits)
 
@@ -179,8 +178,8 @@ def parse_header(payload, V, F):
     for i, mode in enumerate(modes):
         need(mode_ok(mode), 'colours: component %d mode %d' % (i, mode))
     stream = payload[1 + Kv + Kf:]
-    need(V * Kv + F * Kf <= 2048 * (len(stream) + 8),
-         'colours: %d components in a stream of %d bytes (at most 2048 * (bytes + 8))' % (V * Kv + F * Kf, len(stream)))
+    need(V * Kv + F * Kf <= 8192 * (len(stream) + 8),
+         'colours: %d components in a stream of %d bytes (at most 8192 * (bytes + 8))' % (V * Kv + F * Kf, len(stream)))
     return Kv, Kf, modes, stream
 
 

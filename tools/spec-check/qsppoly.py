@@ -639,8 +639,8 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False):
         need(T <= MAX_NORMALS, 'normals past max_normals')
     else:
         need(T <= MAX_TEXCOORDS, 'texture coordinates past max_texcoords')
-    need(T <= 2048 * (len(payload) - pos + 8), '%d texture coordinates in %d bytes' % (T, len(payload) - pos))
     U, pos = g.read_varint(payload, pos)
+    need(T <= 8192 * (len(payload) - pos + 8), '%d texture coordinates in %d bytes' % (T, len(payload) - pos))
     need(U <= T, 'more unreferenced texture coordinates than values')
     ncorners = sum(len(f) for f in faces)
     need(T - U <= ncorners, 'more named texture coordinates (%d) than corners (%d)' % (T - U, ncorners))
