@@ -31,8 +31,20 @@ std::int64_t unzigzag64(std::uint64_t u) {
 
 }  // namespace
 
-std::string encode_tags_section(std::span<const SubdivisionTag> tags, std::span<const std::uint32_t> vertex,
+std::string encode_tags_section(std::span<const SubdivisionTag> input, std::span<const std::uint32_t> vertex,
                                 std::span<const std::uint32_t> face, bool keep_order) {
+  // In the output's numbering, unless the order is kept (the order section numbers the output as the input).
+  std::vector<SubdivisionTag> tags(input.begin(), input.end());
+  if (!keep_order) {
+    try {
+      renumber_tags(tags, vertex, face);
+    } catch (const Error& e) {
+      throw Error(e.code(), std::string("encode: ") + e.what() +
+                                (std::string(e.what()).find("cannot renumber") != std::string::npos
+                                     ? ": keep the original order for it"
+                                     : ""));
+    }
+  }
   std::string out;
   put_varint(out, tags.size());
   for (std::size_t t = 0; t < tags.size(); ++t) {
@@ -41,25 +53,14 @@ std::string encode_tags_section(std::span<const SubdivisionTag> tags, std::span<
       throw Error(ErrorCode::kUsage, "encode: tag " + std::to_string(t) + " ('" + tag.name + "') " + what);
     };
     if (!is_word(tag.name)) fail("has a name that is not one word");
-    const TagIndices kind = tag_indices(tag.name);
-    if (kind == TagIndices::kUnknown && !keep_order)
-      fail("indexes what qsp cannot renumber: keep the original order for it");
-    if (kind == TagIndices::kEdges && tag.ints.size() % 2) fail("has an odd number of vertex indices");
+    if (tag_indices(tag.name) == TagIndices::kEdges && tag.ints.size() % 2)
+      fail("has an odd number of vertex indices");
     put_varint(out, tag.name.size());
     out += tag.name;
     put_varint(out, tag.ints.size());
     put_varint(out, tag.floats.size());
     put_varint(out, tag.strings.size());
-    for (std::int64_t i : tag.ints) {
-      if (!keep_order &&
-          (kind == TagIndices::kEdges || kind == TagIndices::kVertices || kind == TagIndices::kFaces)) {
-        const std::span<const std::uint32_t> map = kind == TagIndices::kFaces ? face : vertex;
-        if (i < 0 || static_cast<std::uint64_t>(i) >= map.size())
-          fail("has index " + std::to_string(i) + " out of range");
-        i = map[static_cast<std::size_t>(i)];
-      }
-      put_varint(out, zigzag64(i));
-    }
+    for (const std::int64_t i : tag.ints) put_varint(out, zigzag64(i));
     if (!tag.floats.empty()) {
       out += static_cast<char>(tag.float64 ? 8 : 4);
       for (const double x : tag.floats) {

@@ -137,6 +137,26 @@ TagIndices tag_indices(std::string_view name) {
   return TagIndices::kUnknown;
 }
 
+void renumber_tags(std::vector<SubdivisionTag>& tags, std::span<const std::uint32_t> vertex,
+                   std::span<const std::uint32_t> face) {
+  for (std::size_t t = 0; t < tags.size(); ++t) {
+    SubdivisionTag& tag = tags[t];
+    const auto fail = [&](const std::string& what) {
+      throw Error(ErrorCode::kUsage, "tag " + std::to_string(t) + " ('" + tag.name + "') " + what);
+    };
+    const TagIndices kind = tag_indices(tag.name);
+    if (kind == TagIndices::kNone) continue;
+    if (kind == TagIndices::kUnknown) fail("indexes what qsp cannot renumber");
+    if (kind == TagIndices::kEdges && tag.ints.size() % 2) fail("has an odd number of vertex indices");
+    const std::span<const std::uint32_t> map = kind == TagIndices::kFaces ? face : vertex;
+    for (std::int64_t& i : tag.ints) {
+      if (i < 0 || static_cast<std::uint64_t>(i) >= map.size())
+        fail("has index " + std::to_string(i) + " out of range");
+      i = map[static_cast<std::size_t>(i)];
+    }
+  }
+}
+
 std::string_view scalar_type_name(ScalarType t) {
   static constexpr std::string_view kNames[] = {"char", "uchar", "short", "ushort",
                                                 "int",  "uint",  "float", "double"};

@@ -306,5 +306,41 @@ TEST_F(ColorsCli, QuantizedColoursAreOnTheirGrid) {
   }
 }
 
+// reorder --like keeps IN's colours, texture coordinates, groups, materials and tags in REF's order: a
+// hand-checked case (IN is REF's two quads with vertices, faces and corners shuffled).
+TEST_F(ColorsCli, ReorderKeepsEveryAttributeInTheReferencesOrder) {
+  spit(p("ref.obj"), "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4\nf 2 5 6 3\n");
+  spit(p("in.obj"),
+       "v 2 1 0 0.6 0.6 0.6\nv 1 1 0 0.3 0.3 0.3\nv 0 0 0 0.1 0.1 0.1\nv 2 0 0 0.5 0.5 0.5\n"
+       "v 1 0 0 0.2 0.2 0.2\nv 0 1 0 0.4 0.4 0.4\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\n"
+       "g right\nusemtl red\nf 5/1 4/2 1/3 2/4\ng left\nusemtl blue\nf 2/5 6/4 3/1 5/2\n"
+       "t crease 2/1/0 4 0 3.5\n");
+  auto r = run_qsp("reorder --like " + quote(p("ref.obj")) + " " + quote(p("in.obj")) + " -o " +
+                   quote(p("out.obj")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // REF's vertices and faces, each vertex with IN's colour at its position, each corner with the texture
+  // coordinate IN's corner at that position named, the crease between the same two positions.
+  EXPECT_EQ(slurp(p("out.obj")),
+            "v 0 0 0 0.1 0.1 0.1\nv 1 0 0 0.2 0.2 0.2\nv 1 1 0 0.3 0.3 0.3\nv 0 1 0 0.4 0.4 0.4\n"
+            "v 2 0 0 0.5 0.5 0.5\nv 2 1 0 0.6 0.6 0.6\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0.5 0.5\n"
+            "g left\nusemtl blue\nf 1/1 2/2 3/5 4/4\ng right\nusemtl red\nf 2/1 5/2 6/3 3/4\n"
+            "t crease 2/1/0 1 5 3.5\n");
+  // Into a .qsp the order is kept: decompressing gives the same text.
+  r = run_qsp("reorder --like " + quote(p("ref.obj")) + " " + quote(p("in.obj")) + " -o " +
+              quote(p("out.qsp")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_qsp("decompress -c " + quote(p("out.qsp")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, slurp(p("out.obj")));
+  // A tag qsp cannot renumber cannot follow the vertices: refused, naming it and --drop tag.
+  spit(p("edit.obj"), slurp(p("in.obj")) + "t vertexedit 1/0/0 3\n");
+  r = run_qsp("reorder --like " + quote(p("ref.obj")) + " " + quote(p("edit.obj")) + " -o " +
+              quote(p("e.obj")));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("'vertexedit') indexes what qsp cannot renumber"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--drop tag"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p("e.obj")));
+}
+
 }  // namespace
 }  // namespace qsp

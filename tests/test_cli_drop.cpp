@@ -155,15 +155,30 @@ TEST_F(CliDrop, EachKindAloneIsRefusedByNameAndDroppedByName) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(r.err, "qsp: " + in + ": dropped " + what + " (--positions-only)\n");
     EXPECT_EQ(slurp(out), bare);
-    // reorder: the same refusal and the same way out; OUT is the bare mesh.
+    // reorder keeps what compress keeps, written to OUT; the rest is the same refusal and the same way out.
+    // Dropped, OUT is the bare mesh.
     const std::string obj = p("out.obj");
     fs::remove(obj);
     r = run_qsp("reorder --like " + quote(p("bare.obj")) + " " + quote(in) + " -o " + quote(obj));
-    EXPECT_EQ(r.exit_code, 1);
-    EXPECT_NE(r.err.find(in + ": has " + what + ", which reorder does not keep; pass --drop " + k.name),
-              std::string::npos)
-        << r.err;
-    EXPECT_FALSE(fs::exists(obj));
+    if (kept) {
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      const std::string written = slurp(obj);
+      const std::string says = name == "uv"          ? "vt 1 0\n"
+                               : name == "normal"    ? "vn 0 0 1\n"
+                               : name == "color"     ? "v 1 1 0 0 0 1\n"
+                               : name == "group"     ? "g a b\n"
+                               : name == "material"  ? "usemtl red\n"
+                               : name == "smoothing" ? "s 1\n"
+                                                     : "t corner 1/1/0 0 2\n";
+      EXPECT_NE(written.find(says), std::string::npos) << written;
+    } else {
+      EXPECT_EQ(r.exit_code, 1);
+      EXPECT_NE(r.err.find(in + ": has " + what + ", which reorder does not keep; pass --drop " + k.name),
+                std::string::npos)
+          << r.err;
+      EXPECT_FALSE(fs::exists(obj));
+    }
+    fs::remove(obj);
     r = run_qsp("reorder --drop " + std::string(k.name) + " --like " + quote(p("bare.obj")) + " " +
                 quote(in) + " -o " + quote(obj));
     ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -319,12 +334,13 @@ TEST_F(CliDrop, AStrayLineOfProseInAMakeHumanHeaderIsKept) {
   ASSERT_EQ(compress(hat, "--positions-only", p("hat.qsp")).exit_code, 0);
   EXPECT_EQ(slurp(p("hat.qsp")), slurp(p("plain.qsp")));
 
+  // reorder keeps the line too, before the vertices, unless extra is dropped.
   r = run_qsp("reorder --drop uv --like " + quote(plain) + " " + quote(hat) + " -o " + quote(p("out.obj")));
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find(where + " (extra), which reorder does not keep; pass --drop uv,extra"),
-            std::string::npos)
-      << r.err;
-  r = run_qsp("reorder --drop uv,extra --like " + quote(plain) + " " + quote(hat) + " -o " +
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("keeping 1 line"), std::string::npos) << r.err;
+  EXPECT_LT(slurp(p("out.obj")).find("\nThis asset was converted by hand\n"),
+            slurp(p("out.obj")).find("\nv "));
+  r = run_qsp("reorder --drop uv,extra --like " + quote(plain) + " " + quote(hat) + " -f -o " +
               quote(p("out.obj")));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ASSERT_EQ(

@@ -285,14 +285,15 @@ TEST_F(CliPolygonMatch, ReorderGivesTheReferencesFaces) {
   EXPECT_EQ(back.offsets, out.offsets);
   EXPECT_EQ(back.corners, out.corners);
   EXPECT_EQ(back.positions, out.positions);
-  // IN with texture coordinates: refused unless dropped.
-  testing::spit(p("uv.obj"), "vt 0 0\n" + obj_text(in));
+  // IN with texture coordinates: kept (a value no corner names too), unless dropped.
+  testing::spit(p("uv.obj"), "vt 0 0.5\n" + obj_text(in));
   r = run_qsp("reorder --like " + quote(suzanne) + " " + quote(p("uv.obj")) + " -o " + quote(p("o2.obj")));
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("--drop uv"), std::string::npos) << r.err;
-  r = run_qsp("reorder --drop uv --like " + quote(suzanne) + " " + quote(p("uv.obj")) + " -o " +
-              quote(p("o2.obj")));
   EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(testing::slurp(p("o2.obj")).find("vt 0 0.5\n"), std::string::npos);
+  r = run_qsp("reorder --drop uv --like " + quote(suzanne) + " " + quote(p("uv.obj")) + " -o " +
+              quote(p("o2.obj")) + " -f");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(testing::slurp(p("o2.obj")).find("vt "), std::string::npos);
   // Another topology: exit 1 with the level.
   Poly c;
   ASSERT_TRUE(flip_a_diagonal(in, c));

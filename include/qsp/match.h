@@ -263,9 +263,12 @@ bool verify_polygon_match(const PolygonMesh& a, const PolygonMesh& b, const Poly
 
 // `in` renumbered like `ref`, given m = match_polygons(ref, in): vertex i of the result is in's vertex
 // m.vertex[i] (its position), face f is in's face m.face[f] listed from the corner ref's face f starts at
-// (in reverse when m.mirrored). So the result's faces are ref's exactly and its positions are in's.
+// (in reverse when m.mirrored). So the result's faces are ref's exactly and its positions are in's, and
+// every attribute of in goes with its vertex, face or corner: exact positions and vertex colours, face
+// colours and labels, each corner's texture coordinate and normal (their value arrays and the label names
+// as in's), tags renumbered (renumber_tags); libraries and kept lines as in's.
 // Throws Error(kUsage) when `m` is not isomorphic or its maps are not bijections onto in's vertices and
-// faces of the right degrees. O(V + corners).
+// faces of the right degrees, or a tag cannot be renumbered (naming it). O(V + corners).
 PolygonMesh reorder_polygons_like(const PolygonMesh& in, const PolygonMatchResult& m);
 
 }  // namespace qsp

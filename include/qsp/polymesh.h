@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -73,6 +74,13 @@ enum class TagIndices : std::uint8_t {
   kUnknown,   // anything else (the hierarchical vertexedit, edgeedit, faceedit): qsp cannot renumber it
 };
 TagIndices tag_indices(std::string_view name);
+
+// `tags` with their indices renumbered: vertex i becomes vertex[i] (crease pairs, corner vertices), face f
+// becomes face[f] (hole faces); settings are unchanged. Throws Error(kUsage) naming the tag for an index
+// out of range, a crease with an odd number of indices, or a tag whose indices qsp cannot renumber
+// (TagIndices::kUnknown). Safe on untrusted input; O(indices).
+void renumber_tags(std::vector<SubdivisionTag>& tags, std::span<const std::uint32_t> vertex,
+                   std::span<const std::uint32_t> face);
 
 // A PLY scalar type; integers are kept as exact values in Numbers.
 enum class ScalarType : std::uint8_t { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };

@@ -282,6 +282,7 @@ inline PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
     }
   }
   out.material_libraries = m.material_libraries;
+  out.kept_lines = m.kept_lines;
   std::vector<std::uint32_t> face_to(nf);
   for (std::uint32_t g = 0; g < nf; ++g) face_to[f[g]] = g;
   for (SubdivisionTag tag : m.tags) {

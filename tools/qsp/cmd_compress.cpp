@@ -87,56 +87,15 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   // (vertex weights, PLY properties) is not.
   const unsigned keep = (kPolygonMeshCategories | kCategoryExtra) & ~o.drop.categories();
   PolygonInput input = read_polygon_input(in, format, QspInput::kRefused, keep);
-  const ReadReport report = std::move(input.report);
-  const std::uint64_t rounded_uv = input.rounded_texcoords;
-  const std::string first_rounded_uv = input.first_rounded_texcoord;
-  const std::uint64_t beyond_float64 = input.beyond_float64;
-  const std::string first_beyond_float64 = input.first_beyond_float64;
   PolygonMesh mesh = polygons_of(std::move(input));
+  const ReadReport& report = input.report;
   const bool quiet = o.verbosity.quiet;
   ReadReport refusable = report;
   if (keep & kCategoryExtra) refusable.kept_lines = 0;
   const std::string dropped = refuse_extra_data(in, refusable, ".qsp", o.drop, quiet, kPolygonMeshCategories);
-  // Text with no vertex, only lines qsp does not understand, is not a mesh at all.
-  if (mesh.vertex_count() == 0 && !mesh.kept_lines.empty())
-    throw Error(ErrorCode::kParse,
-                in + ": not a mesh: no vertex, only " + report.describe_extra_data(in, kCategoryExtra));
-  for (const std::string& line : mesh.kept_lines)
-    if (const std::string why = kept_line_problem(line); !why.empty())
-      throw Error(ErrorCode::kUnsupported,
-                  in + ": a line kept as text, '" + line + "', " + why +
-                      ", which .qsp cannot keep as text; pass --drop extra to drop the " +
-                      "lines kept as text");
-  if (!mesh.kept_lines.empty() && !quiet)
-    std::fprintf(stderr, "qsp: warning: %s: keeping %s; decompress writes them back before the vertices\n",
-                 in.c_str(), report.describe_extra_data(in, kCategoryExtra).c_str());
-  // Coordinates float32 does not hold are kept as float64 (the exact positions section) unless quantized
-  // or rounded on request; float64 holds every text of up to 17 significant digits.
-  if (o.quantize || o.float32) mesh.positions64.clear();
-  if (!o.quantize && !o.float32 && beyond_float64)
-    throw Error(
-        ErrorCode::kUnsupported,
-        in + ": " + first_beyond_float64 +
-            (beyond_float64 > 1 ? " (and " + std::to_string(beyond_float64 - 1) + " more coordinates like it)"
-                                : std::string()) +
-            ", more digits than float64 holds; a lossless .qsp keeps float64 coordinates: pass --float32 "
-            "to round them to float32, or --quantize BITS");
-  if (!o.quantize && o.float32) refuse_rounding(in, report, "a lossless .qsp", true, quiet, "");
-  // Texture coordinates, normals and colours, named by the first that float32 does not hold.
-  const bool normal_first = first_rounded_uv.starts_with("normal");
-  const bool color_first = first_rounded_uv.find("colour") != std::string::npos;
-  const std::string what = normal_first ? "normal" : color_first ? "colour" : "texture coordinate";
-  if (rounded_uv && !o.float32)
-    throw Error(ErrorCode::kUnsupported,
-                in + ": " + std::to_string(rounded_uv) + " " + what +
-                    " values have more digits than float32 holds (the first: " + first_rounded_uv +
-                    "); a .qsp keeps float32 " + what + "s: pass --float32 to round them, or --drop " +
-                    (normal_first  ? "normal"
-                     : color_first ? "color"
-                                   : "uv"));
-  if (rounded_uv && !quiet)
-    std::fprintf(stderr, "qsp: %s: rounded %llu %s values to float32 (--float32)\n", in.c_str(),
-                 static_cast<unsigned long long>(rounded_uv), what.c_str());
+  check_kept_values(
+      in, input, mesh,
+      {".qsp", "decompress writes them back before the vertices", o.float32, o.quantize != 0, quiet});
   if (mesh.face_count() == 0 && !quiet)
     std::fprintf(stderr, "qsp: warning: %s: has no faces (%zu vertices); writing an empty mesh\n", in.c_str(),
                  mesh.vertex_count());

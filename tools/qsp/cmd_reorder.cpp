@@ -1,5 +1,6 @@
 // `qsp reorder --like REF IN -o OUT`: IN's positions in REF's vertex order, with REF's face order and
-// first corners, so data made per vertex / face / corner of REF applies to OUT unchanged.
+// first corners, so data made per vertex / face / corner of REF applies to OUT unchanged; IN's texture
+// coordinates, normals, colours, face labels, tags and kept lines go with their vertices, faces and corners.
 // Exit codes as the other subcommands: 1 when IN is not isomorphic to REF (or is invalid). The work is
 // the library's: match() and reorder_like() (qsp/match.h), or for polygon meshes (faces of any degree,
 // non-manifold pieces) match_polygons() and reorder_polygons_like(), written as OBJ or OFF.
@@ -25,7 +26,7 @@ struct ReorderOptions {
   bool force = false;
   bool sync = false;
   DropOptions drop;
-  bool float32 = false;       // round coordinates float32 does not hold instead of refusing
+  bool float32 = false;       // round coordinates float32 does not hold instead of keeping float64
   bool prefer_order = false;  // MatchOptions::prefer_order
   bool allow_mirror = false;  // MatchOptions::mirror: kAccept, else kHint
 };
@@ -51,10 +52,11 @@ void say_mirrored(const ReorderOptions& o) {
                o.input.c_str(), o.ref.c_str(), o.ref.c_str());
 }
 
-// REF or IN is a polygon mesh (or non-manifold quads): match_polygons and reorder_polygons_like.
-int run_polygons(const ReorderOptions& o, MeshFormat format, const PolygonInput& ref,
-                 const PolygonInput& in) {
-  const PolygonMesh ref_mesh = polygons_of(ref), in_mesh = polygons_of(in);
+// REF or IN is a polygon mesh (or non-manifold quads), or IN carries more than positions and faces:
+// match_polygons and reorder_polygons_like.
+int run_polygons(const ReorderOptions& o, MeshFormat format, const PolygonInput& ref, const PolygonInput& in,
+                 const PolygonMesh& in_mesh) {
+  const PolygonMesh ref_mesh = polygons_of(ref);
   const PolygonMatchResult r =
       match_polygons(prepare_polygon_located(ref_mesh, o.ref, ref.report),
                      prepare_polygon_located(in_mesh, o.input, in.report), match_options(o));
@@ -77,12 +79,11 @@ int run_polygons(const ReorderOptions& o, MeshFormat format, const PolygonInput&
     bytes = encode_polygons(out, eo);
     if (!comments.empty()) bytes = with_comments(bytes, comments);
   } else {
-    Mesh mesh;
-    mesh.positions = numbers_from_float32(out.positions);
-    mesh.face_offsets = out.face_offsets;
-    mesh.corner_vertices = out.corners;
+    Mesh mesh = from_polygon_mesh(out);
     mesh.comments = comments;
-    bytes = write_mesh(mesh, format);
+    qsp::WriteOptions w;
+    w.ply_format = PlyFormat::kBinaryLittleEndian;
+    bytes = write_mesh(mesh, format, w);
   }
   write_output(o.output, bytes, {o.force, false, "name another output (-o NAME)", o.sync});
   return exit_code(Outcome::kSuccess);
@@ -90,20 +91,35 @@ int run_polygons(const ReorderOptions& o, MeshFormat format, const PolygonInput&
 
 int run(const ReorderOptions& o) {
   const MeshFormat format = o.output == "-" ? MeshFormat::kObj : format_from_path(o.output);
-  if (format != MeshFormat::kObj && format != MeshFormat::kOff && format != MeshFormat::kQsp)
-    throw Error(ErrorCode::kUnsupported, o.output + ": can write .obj, .off or .qsp only");
+  if (format != MeshFormat::kObj && format != MeshFormat::kOff && format != MeshFormat::kPly &&
+      format != MeshFormat::kQsp)
+    throw Error(ErrorCode::kUnsupported, o.output + ": can write .obj, .off, .ply or .qsp only");
   if (o.ref == "-" && o.input == "-")
     throw CLI::ValidationError("REF and IN cannot both be standard input (-)");
   check_outputs({o.ref, o.input}, {{o.output, "-o"}});
 
   const MeshFormat in_format = parse_format_option(o.format);
+  // Only IN's data reaches OUT; REF contributes its order alone. IN keeps what a .qsp keeps, unless dropped.
+  const unsigned keep = (kPolygonMeshCategories | kCategoryExtra) & ~o.drop.categories();
   const PolygonInput ref = read_polygon_input(o.ref, in_format, QspInput::kDecoded),
-                     in = read_polygon_input(o.input, in_format, QspInput::kDecoded);
-  // Only IN's data reaches OUT; REF contributes its order alone.
-  const std::string dropped = refuse_extra_data(o.input, in.report, "reorder", o.drop, false);
-  refuse_rounding(o.input, in.report, "reorder", o.float32, false);
+                     in = read_polygon_input(o.input, in_format, QspInput::kDecoded, keep);
+  ReadReport refusable = in.report;
+  if (keep & kCategoryExtra) refusable.kept_lines = 0;
+  const std::string dropped =
+      refuse_extra_data(o.input, refusable, "reorder", o.drop, false, kPolygonMeshCategories);
+  // A mesh file with more than positions and faces (or coordinates float32 does not hold) was read by the
+  // exact reader: not `quads`.
   if (!ref.quads || !in.quads) {
-    const int rc = run_polygons(o, format, ref, in);
+    PolygonMesh in_mesh = polygons_of(in);
+    check_kept_values(o.input, in, in_mesh,
+                      {"reorder", "OUT has them before the vertices", o.float32, false, false});
+    for (std::size_t t = 0; t < in_mesh.tags.size(); ++t)
+      if (tag_indices(in_mesh.tags[t].name) == TagIndices::kUnknown)
+        throw Error(ErrorCode::kUnsupported,
+                    o.input + ": tag " + std::to_string(t) + " ('" + in_mesh.tags[t].name +
+                        "') indexes what qsp cannot renumber, so reorder cannot keep it: "
+                        "pass --drop tag");
+    const int rc = run_polygons(o, format, ref, in, in_mesh);
     std::fputs(dropped.c_str(), stderr);
     return rc;
   }
@@ -114,7 +130,7 @@ int run(const ReorderOptions& o) {
   } catch (const Error& e) {
     // Quads only, but non-manifold or mis-oriented: cut apart as any polygon mesh is.
     if (!polygon_path_takes(e)) throw;
-    const int rc = run_polygons(o, format, ref, in);
+    const int rc = run_polygons(o, format, ref, in, polygons_of(in));
     std::fputs(dropped.c_str(), stderr);
     return rc;
   }
@@ -153,7 +169,7 @@ void register_reorder(CLI::App& app, int& rc) {
   cmd->add_option("--like", opt->ref, "Reference mesh whose order OUT takes")->required();
   cmd->add_option("IN", opt->input, "Mesh to reorder (.obj .off .ply .qsp)")->required();
   cmd->add_option("-o,--output", opt->output,
-                  "Output .obj, .off or .qsp (keeps the order) (- = OBJ on stdout)")
+                  "Output .obj, .off, .ply or .qsp (keeps the order) (- = OBJ on stdout)")
       ->required();
   cmd->add_flag("-f,--force", opt->force, "Replace OUT if it exists (never an input)");
   add_sync_flag(cmd, opt->sync);
@@ -165,10 +181,11 @@ void register_reorder(CLI::App& app, int& rc) {
   cmd->add_flag("--prefer-order", opt->prefer_order,
                 "For meshes exported in one vertex order: the isomorphism keeping most vertices at their own "
                 "index (the identity where it is one), the nearest among those keeping as many");
-  add_drop_options(cmd, opt->drop, "IN's ");
+  add_drop_options(cmd, opt->drop, "IN's ", kPolygonMeshCategories);
   cmd->add_flag("--float32", opt->float32,
                 "Round IN's coordinates with more digits than float32 holds to the nearest float32 instead "
-                "of refusing");
+                "of keeping them as float64 (needed beyond 17 significant digits), and its texture "
+                "coordinates, normals and colours instead of refusing");
   cmd->callback([opt, &rc] { rc = run(*opt); });
 }
 

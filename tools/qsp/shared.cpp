@@ -343,9 +343,22 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
   in.report.leading_comments = format == MeshFormat::kPly ? m.comments : leading_comments(bytes);
   in.report.comments = in.report.leading_comments.size();
   // Kept texture coordinates, normals and colours are float32: count those the text says more precisely.
-  const auto rounded = [&in](const Numbers& n, std::size_t per, const char* what, const char* keyword) {
+  // A value float32 holds is the one its float32's shortest text denotes (2.7 in a list that also has
+  // 1.4e-45, whose float32 prints as 1e-45, is held; its float64 is not the float32's value).
+  const auto held = [](const Numbers& n, std::size_t i, std::size_t& next_decimal) {
+    if (next_decimal < n.decimals.size() && n.decimals[next_decimal].index == i) return ++next_decimal, false;
+    char text[32];
+    const auto end = std::to_chars(text, text + sizeof text, n.f32[i]).ptr;
+    double value = 0;
+    std::from_chars(text, end, value);
+    return value == n.f64[i];
+  };
+  const auto rounded = [&in, &held](const Numbers& n, std::size_t per, const char* what,
+                                    const char* keyword) {
+    if (n.precision == Precision::kFloat32) return;
+    std::size_t next_decimal = 0;
     for (std::size_t i = 0; i < n.size(); ++i) {
-      if (n.precision == Precision::kFloat32 || n.approx(i) == n.f32[i]) continue;
+      if (held(n, i, next_decimal)) continue;
       if (in.rounded_texcoords++ == 0) {
         char value[32];
         const auto end = std::to_chars(value, value + sizeof value, n.approx(i)).ptr;  // shortest
@@ -447,9 +460,10 @@ PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspI
   return in;
 }
 
-PolygonMesh polygons_of(PolygonInput in) {
+PolygonMesh polygons_of(PolygonInput&& in) {
   return in.quads ? polygon_mesh(std::move(in.mesh)) : std::move(in.polygons);
 }
+PolygonMesh polygons_of(const PolygonInput& in) { return in.quads ? polygon_mesh(in.mesh) : in.polygons; }
 
 bool polygon_path_takes(const Error& e) {
   return e.code() == ErrorCode::kNonManifold || e.code() == ErrorCode::kOrientation;
@@ -525,6 +539,57 @@ void refuse_rounding(const std::string& path, const ReadReport& report, const st
     std::fprintf(stderr, "qsp: %s: rounded %llu %s to float32 (--float32)\n", path.c_str(),
                  static_cast<unsigned long long>(report.rounded_coordinates),
                  report.rounded_coordinates == 1 ? "coordinate" : "coordinates");
+}
+
+void check_kept_values(const std::string& path, const PolygonInput& input, PolygonMesh& mesh,
+                       const KeptRules& rules) {
+  const ReadReport& report = input.report;
+  const std::string& in = path;
+  if (mesh.vertex_count() == 0 && !mesh.kept_lines.empty())
+    throw Error(ErrorCode::kParse,
+                in + ": not a mesh: no vertex, only " + report.describe_extra_data(in, kCategoryExtra));
+  for (const std::string& line : mesh.kept_lines)
+    if (const std::string why = kept_line_problem(line); !why.empty())
+      throw Error(ErrorCode::kUnsupported, in + ": a line kept as text, '" + line + "', " + why + ", which " +
+                                               rules.what +
+                                               " cannot keep as text; pass --drop extra to drop the lines "
+                                               "kept as text");
+  if (!mesh.kept_lines.empty() && !rules.quiet)
+    std::fprintf(stderr, "qsp: warning: %s: keeping %s; %s\n", in.c_str(),
+                 report.describe_extra_data(in, kCategoryExtra).c_str(), rules.lines_note.c_str());
+  // Coordinates float32 does not hold are kept as float64 unless rounded; float64 holds every text of
+  // up to 17 significant digits.
+  const bool lossless = !rules.quantized;
+  if (rules.quantized || rules.float32) mesh.positions64.clear();
+  if (lossless && !rules.float32 && input.beyond_float64)
+    throw Error(ErrorCode::kUnsupported,
+                in + ": " + input.first_beyond_float64 +
+                    (input.beyond_float64 > 1
+                         ? " (and " + std::to_string(input.beyond_float64 - 1) + " more coordinates like it)"
+                         : std::string()) +
+                    ", more digits than float64 holds; " +
+                    (rules.what == ".qsp" ? "a lossless .qsp" : rules.what) +
+                    " keeps float64 coordinates: pass --float32 to round them to float32" +
+                    (rules.what == ".qsp" ? ", or --quantize BITS" : ""));
+  if (lossless && rules.float32)
+    refuse_rounding(in, report, rules.what == ".qsp" ? "a lossless .qsp" : rules.what, true, rules.quiet, "");
+  // Texture coordinates, normals and colours, named by the first that float32 does not hold.
+  const std::string& first = input.first_rounded_texcoord;
+  const bool normal_first = first.starts_with("normal");
+  const bool color_first = first.find("colour") != std::string::npos;
+  const std::string what = normal_first ? "normal" : color_first ? "colour" : "texture coordinate";
+  if (input.rounded_texcoords && !rules.float32)
+    throw Error(ErrorCode::kUnsupported,
+                in + ": " + std::to_string(input.rounded_texcoords) + " " + what +
+                    " values have more digits than float32 holds (the first: " + first + "); " +
+                    (rules.what == ".qsp" ? "a .qsp" : rules.what) + " keeps float32 " + what +
+                    "s: pass --float32 to round them, or --drop " +
+                    (normal_first  ? "normal"
+                     : color_first ? "color"
+                                   : "uv"));
+  if (input.rounded_texcoords && !rules.quiet)
+    std::fprintf(stderr, "qsp: %s: rounded %llu %s values to float32 (--float32)\n", in.c_str(),
+                 static_cast<unsigned long long>(input.rounded_texcoords), what.c_str());
 }
 
 void add_centering_option(CLI::App* cmd, Centering& value) {

@@ -179,8 +179,10 @@ enum class QspInput { kBytes, kDecoded, kRefused };
 PolygonInput read_polygon_input(const std::string& path, MeshFormat format = MeshFormat::kUnknown,
                                 QspInput qsp = QspInput::kBytes, unsigned keep = 0);
 
-// The mesh of a read mesh file or decoded .qsp as a polygon mesh (its quads, or its polygons).
-PolygonMesh polygons_of(PolygonInput in);
+// The mesh of a read mesh file or decoded .qsp as a polygon mesh (its quads, or its polygons): moved
+// out of `in`, whose report and counts stay; or copied.
+PolygonMesh polygons_of(PolygonInput&& in);
+PolygonMesh polygons_of(const PolygonInput& in);
 
 // Whether an error preparing a quad mesh (build_adjacency's) means the mesh is a polygon mesh's
 // business: an edge with three or more faces, a vertex with several fans, neighbours of opposite
@@ -224,6 +226,24 @@ std::vector<std::string> kept_comments(const ReadReport& report, const DropOptio
 // mesh without a word.
 void refuse_rounding(const std::string& path, const ReadReport& report, const std::string& what, bool float32,
                      bool quiet, const std::string& other_way = "");
+
+// How compress and reorder keep IN's values beside positions and faces (check_kept_values).
+struct KeptRules {
+  std::string what;        // ".qsp", "reorder": what keeps them, for messages
+  std::string lines_note;  // where lines kept as text go ("decompress writes them back before the vertices")
+  bool float32 = false;    // --float32: round what float32 does not hold instead of refusing
+  bool quantized = false;  // --quantize: positions are rounded anyway
+  bool quiet = false;
+};
+// Checks `mesh`, read from `path` by read_polygon_input (`input`: its report and counts), as `rules`
+// keep it: text with no vertex but lines kept as text is not a mesh (kParse); a kept line that would read
+// as a statement is refused (--drop extra), else noted on stderr; coordinates of more digits than float64
+// holds are refused unless rounded (--float32 or quantized: then `mesh.positions64` is cleared, the
+// rounding noted); texture coordinates, normals and colours float32 does not hold are refused unless
+// --float32 (then noted), naming the first and the --drop that drops them. A lossless file must not change
+// a mesh without a word.
+void check_kept_values(const std::string& path, const PolygonInput& input, PolygonMesh& mesh,
+                       const KeptRules& rules);
 
 // ---- Options shared by subcommands ----
 
