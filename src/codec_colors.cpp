@@ -18,7 +18,8 @@
 namespace qsp {
 namespace {
 
-constexpr std::uint8_t kVertexMask = 0x07, kFaceShift = 3, kFaceMask = 0x38, kReservedBits = 0xC0;
+constexpr std::uint8_t kVertexMask = 0x07, kFaceShift = 3, kFaceMask = 0x38, kParallelogramBit = 0x40,
+                       kReservedBits = 0x80;
 constexpr unsigned kMaxNeighbours = 8;
 // Every component costs at least one decision and none less than log2(65536 / 65465) bits: at most ~5116
 // a byte.
@@ -28,26 +29,35 @@ constexpr const char* kSection = "colours section";
 bool valid_vertex_components(unsigned k) { return k == 0 || k == 3 || k == 4; }
 bool valid_face_components(unsigned k) { return k == 0 || k == 1 || k == 3 || k == 4; }
 
-// Per vertex, the vertices of the next corners of its corners, in corner order (the neighbours the
-// prediction may use).
+// Per vertex, its corners in corner order, each as the vertices of the next corner, and in a quad of the
+// previous and the opposite one (kInvalid in other faces): what the predictions may use.
 struct Neighbours {
-  std::vector<std::uint32_t> start, next;
+  std::vector<std::uint32_t> start, next, previous, opposite;
   Neighbours(std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> corner_vertices,
              std::uint32_t vertex_count)
-      : start(std::size_t{vertex_count} + 1, 0), next(corner_vertices.size()) {
+      : start(std::size_t{vertex_count} + 1, 0),
+        next(corner_vertices.size()),
+        previous(corner_vertices.size(), kInvalid),
+        opposite(corner_vertices.size(), kInvalid) {
     for (std::uint32_t v : corner_vertices) ++start[v + 1];
     for (std::size_t v = 0; v < vertex_count; ++v) start[v + 1] += start[v];
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
     for (std::size_t f = 0; f + 1 < face_offsets.size(); ++f) {
       const std::uint32_t b = face_offsets[f], e = face_offsets[f + 1];
-      for (std::uint32_t k = b; k < e; ++k)
-        next[fill[corner_vertices[k]]++] = corner_vertices[k + 1 == e ? b : k + 1];
+      for (std::uint32_t k = b; k < e; ++k) {
+        const std::uint32_t at = fill[corner_vertices[k]]++;
+        next[at] = corner_vertices[k + 1 == e ? b : k + 1];
+        if (e - b != 4) continue;
+        previous[at] = corner_vertices[b + (k - b + 3) % 4];
+        opposite[at] = corner_vertices[b + (k - b + 2) % 4];
+      }
     }
   }
 };
 
 struct Models {
-  std::vector<IntModel> vertex, face;  // vertex[3 j + min(n, 2)], face[2 j + (no neighbour)]
+  std::vector<IntModel> vertex,
+      face;  // vertex[4 j + min(n, 2)] or [4 j + 3] (parallelograms), face[2 j + (no neighbour)]
 };
 
 // The section's walk: `code(model, prediction, vertex?, component)` returns the integer of the next
@@ -55,28 +65,42 @@ struct Models {
 // `face_integers` to predict from.
 template <class Code>
 void walk_colors(std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> corner_vertices,
-                 std::uint32_t vertex_count, unsigned Kv, unsigned Kf, std::span<const Domain> domains,
-                 std::vector<std::int64_t>& vertex_integers, std::vector<std::int64_t>& face_integers,
-                 Code&& code) {
+                 std::uint32_t vertex_count, unsigned Kv, unsigned Kf, bool parallelograms,
+                 std::span<const Domain> domains, std::vector<std::int64_t>& vertex_integers,
+                 std::vector<std::int64_t>& face_integers, Code&& code) {
   Models m;
-  m.vertex.resize(3 * std::size_t{Kv});
+  m.vertex.resize(4 * std::size_t{Kv});
   m.face.resize(2 * std::size_t{Kf});
   if (Kv) {
     const Neighbours around(face_offsets, corner_vertices, vertex_count);
     for (std::uint32_t v = 0; v < vertex_count; ++v) {
+      const auto at = [&](std::uint32_t u, unsigned j) { return vertex_integers[std::size_t{u} * Kv + j]; };
+      // The quads' parallelograms across v (decoded corners only), else the decoded neighbours' mean.
       std::array<std::int64_t, 4> sum{};
-      unsigned n = 0;
-      for (std::uint32_t e = around.start[v]; e < around.start[v + 1] && n < kMaxNeighbours; ++e) {
-        const std::uint32_t u = around.next[e];
-        if (u >= v) continue;
-        for (unsigned j = 0; j < Kv; ++j) sum[j] += vertex_integers[std::size_t{u} * Kv + j];
+      unsigned n = 0, parallelogram = 0;
+      for (std::uint32_t e = around.start[v]; e < around.start[v + 1] && parallelograms && n < kMaxNeighbours;
+           ++e) {
+        const std::uint32_t a = around.previous[e], b = around.next[e], o = around.opposite[e];
+        if (a == kInvalid || a >= v || b >= v || o >= v) continue;
+        for (unsigned j = 0; j < Kv; ++j) sum[j] += at(a, j) + at(b, j) - at(o, j);
         ++n;
       }
+      if (n) {
+        parallelogram = 1;
+      } else {
+        for (std::uint32_t e = around.start[v]; e < around.start[v + 1] && n < kMaxNeighbours; ++e) {
+          const std::uint32_t u = around.next[e];
+          if (u >= v) continue;
+          for (unsigned j = 0; j < Kv; ++j) sum[j] += at(u, j);
+          ++n;
+        }
+      }
       for (unsigned j = 0; j < Kv; ++j) {
-        const std::int64_t p = n   ? floor_div(2 * sum[j] + n, 2 * std::int64_t{n})
-                               : v ? vertex_integers[(std::size_t{v} - 1) * Kv + j]
+        const std::int64_t p = n   ? domains[j].clamp(floor_div(2 * sum[j] + n, 2 * std::int64_t{n}))
+                               : v ? at(v - 1, j)
                                    : domains[j].none();
-        vertex_integers[std::size_t{v} * Kv + j] = code(m.vertex[3 * j + std::min(n, 2u)], p, domains[j]);
+        vertex_integers[std::size_t{v} * Kv + j] =
+            code(m.vertex[4 * j + (parallelogram ? 3 : std::min(n, 2u))], p, domains[j]);
       }
     }
   }
@@ -134,23 +158,32 @@ std::string encode_colors_section(std::span<const std::uint32_t> face_offsets,
                           ? static_cast<std::uint8_t>(kModeGrid + quantize_bits)
                           : choose_mode(values, K, j);
   }
-  std::vector<std::int64_t> vertex_integers(vertex.size()), face_integers(face.size());
-  std::string stream;
-  RangeEncoder enc(stream);
-  std::size_t at_vertex = 0, at_face = 0;
-  walk_colors(face_offsets, corner_vertices, vertex_count, Kv, Kf, domains, vertex_integers, face_integers,
-              [&](IntModel& model, std::int64_t prediction, const Domain& d) {
-                const bool is_vertex = at_vertex < vertex.size();
-                const float x = is_vertex ? vertex[at_vertex++] : face[at_face++];
-                const std::int64_t n = d.integer(x);
-                encode_residual(enc, model, n - prediction);
-                return n;
-              });
-  enc.finish();
-  std::string out;
-  put_u8(out, static_cast<std::uint8_t>(Kv | (Kf << kFaceShift)));
-  for (const Domain& d : domains) put_u8(out, d.mode);
-  return out + stream;
+  // The section with the vertices' neighbour means, and with the quads' parallelograms (smooth colours
+  // gain, noisy ones lose): the smaller, the first on a tie.
+  const auto section = [&](bool parallelograms) {
+    std::vector<std::int64_t> vertex_integers(vertex.size()), face_integers(face.size());
+    std::string stream;
+    RangeEncoder enc(stream);
+    std::size_t at_vertex = 0, at_face = 0;
+    walk_colors(face_offsets, corner_vertices, vertex_count, Kv, Kf, parallelograms, domains, vertex_integers,
+                face_integers, [&](IntModel& model, std::int64_t prediction, const Domain& d) {
+                  const bool is_vertex = at_vertex < vertex.size();
+                  const float x = is_vertex ? vertex[at_vertex++] : face[at_face++];
+                  const std::int64_t n = d.integer(x);
+                  encode_residual(enc, model, n - prediction);
+                  return n;
+                });
+    enc.finish();
+    std::string out;
+    put_u8(out,
+           static_cast<std::uint8_t>(Kv | (Kf << kFaceShift) | (parallelograms ? kParallelogramBit : 0)));
+    for (const Domain& d : domains) put_u8(out, d.mode);
+    return out + stream;
+  };
+  std::string best = section(false);
+  if (Kv)
+    if (std::string other = section(true); other.size() < best.size()) best = std::move(other);
+  return best;
 }
 
 DecodedColors decode_colors_section(std::string_view payload, std::uint64_t base_offset,
@@ -167,6 +200,7 @@ DecodedColors decode_colors_section(std::string_view payload, std::uint64_t base
   if (!valid_face_components(Kf))
     in.fail_at(std::to_string(Kf) + " components per face colour (0, 1, 3 or 4)", at);
   if (Kv == 0 && Kf == 0) in.fail_at("neither vertex nor face colours", at);
+  if ((flags & kParallelogramBit) && Kv == 0) in.fail_at("parallelograms without vertex colours", at);
   std::vector<Domain> domains(Kv + Kf);
   for (Domain& d : domains) {
     at = in.offset();
@@ -190,8 +224,8 @@ DecodedColors decode_colors_section(std::string_view payload, std::uint64_t base
   out.face.resize(Kf * nf);
   std::vector<std::int64_t> vertex_integers(out.vertex.size()), face_integers(out.face.size());
   std::size_t at_vertex = 0, at_face = 0;
-  walk_colors(face_offsets, corner_vertices, vertex_count, Kv, Kf, domains, vertex_integers, face_integers,
-              [&](IntModel& model, std::int64_t prediction, const Domain& d) {
+  walk_colors(face_offsets, corner_vertices, vertex_count, Kv, Kf, (flags & kParallelogramBit) != 0, domains,
+              vertex_integers, face_integers, [&](IntModel& model, std::int64_t prediction, const Domain& d) {
                 const bool is_vertex = at_vertex < out.vertex.size();
                 const std::int64_t n = prediction + decode_residual(dec, model);
                 const auto fail = [&](const char* what) {

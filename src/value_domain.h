@@ -4,6 +4,7 @@
 // residual coding those sections share.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -44,6 +45,10 @@ struct Domain {
   bool holds(std::int64_t n) const {
     return mode == kModeFloat ? n >= 0 && n <= std::int64_t{0xFFFFFFFF}
                               : n > -kDecimalLimit && n < kDecimalLimit;
+  }
+  // A prediction clamped to the domain's range, so a residual stays below 2^41 in magnitude.
+  std::int64_t clamp(std::int64_t p) const {
+    return mode == kModeFloat ? std::clamp<std::int64_t>(p, 0, 0xFFFFFFFF) : clamp_decimal(p);
   }
   // The prediction with no term: 0, or the image of +0.0.
   std::int64_t none() const { return mode == kModeFloat ? float_image(0.0f) : 0; }
