@@ -8,6 +8,7 @@
 
 #include "bytes.h"
 #include "codec_sections.h"
+#include "geometry_values.h"
 #include "qsp/error.h"
 #include "qsp/polymesh.h"
 
@@ -20,13 +21,6 @@ constexpr const char* kSection = "subdivision tags section";
 bool is_word(std::string_view s) {
   return !s.empty() &&
          std::none_of(s.begin(), s.end(), [](char c) { return static_cast<unsigned char>(c) <= 0x20; });
-}
-
-std::uint64_t zigzag64(std::int64_t v) {
-  return v >= 0 ? std::uint64_t(v) << 1 : ((~std::uint64_t(v)) << 1) | 1;
-}
-std::int64_t unzigzag64(std::uint64_t u) {
-  return (u & 1) ? static_cast<std::int64_t>(~(u >> 1)) : static_cast<std::int64_t>(u >> 1);
 }
 
 }  // namespace

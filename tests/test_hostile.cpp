@@ -842,14 +842,20 @@ TEST_F(Float32Cli, CompressKeepsThemExactlyRoundsOnRequestAndRefusesBeyondFloat6
   EXPECT_EQ(run_qsp("compress --float32 " + quote(wide) + " " + quote(p("wide.qsp"))).exit_code, 0);
   // Quantizing changes positions by request: no refusal.
   EXPECT_EQ(run_qsp("compress -f --quantize 12 " + quote(in) + " " + quote(q)).exit_code, 0);
-  // reorder writes IN's positions: the same rule.
+  // reorder writes IN's positions: the same rule (kept as float64, rounded on request, refused beyond).
   fs::remove(out);
   r = run_qsp("reorder --like " + quote(in) + " " + quote(in) + " -o " + quote(out));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(testing::slurp(out).find(" 0.1234567891234 "), std::string::npos) << testing::slurp(out);
+  r = run_qsp("reorder -f --float32 --like " + quote(in) + " " + quote(in) + " -o " + quote(out));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("rounded 1 coordinate to float32 (--float32)"), std::string::npos) << r.err;
+  EXPECT_NE(testing::slurp(out).find(" 0.12345679 "), std::string::npos);
+  r = run_qsp("reorder -f --like " + quote(wide) + " " + quote(wide) + " -o " + quote(out));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find(in + ":3: vertex 2"), std::string::npos) << r.err;
-  EXPECT_FALSE(fs::exists(out));
-  EXPECT_EQ(
-      run_qsp("reorder --float32 --like " + quote(in) + " " + quote(in) + " -o " + quote(out)).exit_code, 0);
+  EXPECT_NE(r.err.find(wide + ": vertex 2 has 1.2345678901234567891e-1, more digits than float64 holds"),
+            std::string::npos)
+      << r.err;
   // layout's outputs are exports for other tools: a warning, not a refusal.
   r = run_qsp("layout " + quote(in) + " -o " + quote(p("layout.obj")));
   EXPECT_EQ(r.exit_code, 0) << r.err;
