@@ -316,7 +316,7 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   }
   if (labels) {
     DecodedLabels l = decode_labels_section(labels->payload, labels->payload_offset,
-                                            static_cast<std::uint32_t>(out.face_count()));
+                                            static_cast<std::uint32_t>(out.face_count()), p.file.minor);
     out.objects = std::move(l.objects);
     out.groups = std::move(l.groups);
     out.materials = std::move(l.materials);

@@ -15,7 +15,10 @@ namespace qsp {
 namespace {
 
 constexpr const char* kSection = "face labels section";
-constexpr unsigned kKinds = 4, kLibrariesBit = 1u << 4, kReservedBits = 0xE0;
+constexpr unsigned kKinds = 4, kLibrariesBit = 1u << 4, kFrontCodedBit = 1u << 5, kReservedBits = 0xC0;
+// Front-coded names may share long prefixes; their total length stays below this many bytes a payload
+// byte (the encoder writes them plainly past it), so a hostile file cannot grow quadratically.
+constexpr std::uint64_t kMaxTextPerByte = 1024;
 
 // The label kinds in the section's order: objects, groups, materials, smoothing groups.
 const FaceLabels& kind_of(const PolygonMesh& m, unsigned k) {
@@ -33,17 +36,31 @@ struct Models {
   IntModel earlier;
 };
 
-void put_text(std::string& out, std::string_view text, const char* what, std::size_t index) {
-  if (std::any_of(text.begin(), text.end(), breaks_line))
-    throw Error(ErrorCode::kUsage,
-                std::string("encode: ") + what + " " + std::to_string(index) + " holds a line break");
-  put_varint(out, text.size());
-  out += text;
-}
+// A list's texts (one kind's names, the libraries) as lengths and bytes, or front-coded: each as the bytes
+// it shares with the one before, the length of the rest and the rest.
+struct TextWriter {
+  bool front = false;
+  std::string_view previous;
+  void put(std::string& out, std::string_view text, const char* what, std::size_t index) {
+    if (std::any_of(text.begin(), text.end(), breaks_line))
+      throw Error(ErrorCode::kUsage,
+                  std::string("encode: ") + what + " " + std::to_string(index) + " holds a line break");
+    std::size_t shared = 0;
+    if (front) {
+      while (shared < text.size() && shared < previous.size() && text[shared] == previous[shared]) ++shared;
+      put_varint(out, shared);
+    }
+    put_varint(out, text.size() - shared);
+    out += text.substr(shared);
+    previous = text;
+  }
+};
 
 }  // namespace
 
-std::string encode_labels_section(const PolygonMesh& mesh, std::span<const std::uint32_t> input_face) {
+namespace {
+
+std::string labels_section(const PolygonMesh& mesh, std::span<const std::uint32_t> input_face, bool front) {
   const std::size_t nf = input_face.size();
   std::uint8_t kinds = mesh.material_libraries.empty() ? 0 : kLibrariesBit;
   for (unsigned k = 0; k < kKinds; ++k) {
@@ -54,6 +71,7 @@ std::string encode_labels_section(const PolygonMesh& mesh, std::span<const std::
                                          " entries for " + std::to_string(nf) + " faces");
     kinds |= static_cast<std::uint8_t>(1u << k);
   }
+  if (front) kinds |= kFrontCodedBit;
   std::string out(1, static_cast<char>(kinds));
   std::string stream;
   RangeEncoder enc(stream);
@@ -77,7 +95,8 @@ std::string encode_labels_section(const PolygonMesh& mesh, std::span<const std::
     for (std::uint32_t i = 0; i < l.names.size(); ++i)
       if (number[i] == kInvalid) order.push_back(i);
     put_varint(out, order.size());
-    for (const std::uint32_t i : order) put_text(out, l.names[i], "label name", i);
+    TextWriter names{front, {}};
+    for (const std::uint32_t i : order) names.put(out, l.names[i], "label name", i);
 
     Models m;
     std::uint32_t prev = kInvalid, seen = 0;
@@ -100,23 +119,47 @@ std::string encode_labels_section(const PolygonMesh& mesh, std::span<const std::
   }
   if (!mesh.material_libraries.empty()) {
     put_varint(out, mesh.material_libraries.size());
+    TextWriter libraries{front, {}};
     for (std::size_t i = 0; i < mesh.material_libraries.size(); ++i)
-      put_text(out, mesh.material_libraries[i], "material library", i);
+      libraries.put(out, mesh.material_libraries[i], "material library", i);
   }
   enc.finish();
   return out + stream;
 }
 
+}  // namespace
+
+std::string encode_labels_section(const PolygonMesh& mesh, std::span<const std::uint32_t> input_face) {
+  // Front-coded names (3.9) where smaller: MakeHuman's 139 group names share their prefixes (joint-l-toe-).
+  std::string plain = labels_section(mesh, input_face, false), front = labels_section(mesh, input_face, true);
+  std::uint64_t text = 0;
+  for (unsigned k = 0; k < kKinds; ++k)
+    for (const std::string& name : kind_of(mesh, k).names) text += name.size();
+  for (const std::string& library : mesh.material_libraries) text += library.size();
+  return front.size() < plain.size() && text <= kMaxTextPerByte * front.size() ? front : plain;
+}
+
+std::uint8_t labels_section_minor(std::string_view payload) {
+  return !payload.empty() && (static_cast<std::uint8_t>(payload[0]) & kFrontCodedBit) ? kFormatMinorNames
+                                                                                      : kFormatMinorLabels;
+}
+
 DecodedLabels decode_labels_section(std::string_view payload, std::uint64_t base_offset,
-                                    std::uint32_t face_count) {
+                                    std::uint32_t face_count, std::uint8_t minor) {
   ByteReader in(payload, base_offset, kSection);
   std::uint64_t at = in.offset();
   const std::uint8_t kinds = in.u8("kinds");
-  if (kinds == 0) in.fail_at("no label kind and no material library", at);
+  if ((kinds & ~kFrontCodedBit) == 0) in.fail_at("no label kind and no material library", at);
   if (kinds & kReservedBits) in.fail_at("reserved kind bits are set (must be zero)", at);
+  const bool front = (kinds & kFrontCodedBit) != 0;
+  if (front && minor < kFormatMinorNames)
+    in.fail_at("front-coded names are format 3." + std::to_string(kFormatMinorNames) +
+                   "'s, and the file says it is 3." + std::to_string(minor),
+               at);
+  std::uint64_t text_bytes = 0;  // decoded so far, front coding's bound
   // Names and libraries: each costs at least its length byte, so counts past the bytes left are refused
   // before anything is allocated for them.
-  const auto texts = [&in](const char* count_what, const char* what, bool at_least_one) {
+  const auto texts = [&](const char* count_what, const char* what, bool at_least_one) {
     const std::uint64_t from = in.offset();
     const std::uint64_t n = in.varint(count_what);
     if (n > in.left() || (at_least_one && n == 0))
@@ -127,10 +170,20 @@ DecodedLabels decode_labels_section(std::string_view payload, std::uint64_t base
     out.reserve(n);
     for (std::uint64_t i = 0; i < n; ++i) {
       const std::uint64_t start = in.offset();
+      const std::uint64_t shared = front ? in.varint("shared length") : 0;
+      if (shared > (out.empty() ? 0 : out.back().size()))
+        in.fail_at(std::string(what) + " " + std::to_string(i) + " shares " + std::to_string(shared) +
+                       " bytes with a shorter one before it",
+                   start);
       const std::string_view text = in.take(in.varint("text length"), what);
+      text_bytes += shared + text.size();
+      if (text_bytes > kMaxTextPerByte * payload.size())
+        in.fail_at("names of more than " + std::to_string(kMaxTextPerByte) + " bytes a section byte", start);
       if (std::any_of(text.begin(), text.end(), breaks_line))
         in.fail_at(std::string(what) + " " + std::to_string(i) + " holds a line break", start);
-      out.emplace_back(text);
+      std::string whole = shared ? out.back().substr(0, shared) : std::string();
+      whole += text;
+      out.push_back(std::move(whole));
     }
     return out;
   };

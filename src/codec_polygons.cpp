@@ -331,9 +331,10 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
           corner_values_section(mesh, oc, positions, mesh.texcoord_components, mesh.texcoords,
                                 mesh.corner_texcoords, o, o.quantize_texcoord_bits, kTexcoordWords),
           kFormatMinorTexcoords);
-    if (labels)
-      bytes = container::with_section(bytes, container::kTagLabels, encode_labels_section(mesh, input_face),
-                                      kFormatMinorLabels);
+    if (labels) {
+      const std::string section = encode_labels_section(mesh, input_face);
+      bytes = container::with_section(bytes, container::kTagLabels, section, labels_section_minor(section));
+    }
     if (!mesh.tags.empty())
       bytes = container::with_section(bytes, container::kTagTags,
                                       encode_tags_section(mesh.tags, map.vertex, map.face, o.keep_order),

@@ -161,20 +161,23 @@ std::string encode_exact_section(std::span<const float> positions, std::span<con
 // widths before anything is allocated; time and memory linear in the vertices.
 std::vector<double> decode_exact_section(std::string_view payload, std::uint64_t base_offset,
                                          std::span<const float> positions);
-// The face labels section (format 3.3) of `mesh`, whose output face g (the decoder's order before any
-// order section) is input face input_face[g]. Throws Error(kUsage) for a label array of another size, a
-// label out of range or a name or library holding a line break.
+// The face labels section (format 3.3; with front-coded names, where smaller, 3.9) of `mesh`, whose output
+// face g (the decoder's order before any order section) is input face input_face[g]. Throws Error(kUsage) for
+// a label array of another size, a label out of range or a name or library holding a line break.
 std::string encode_labels_section(const PolygonMesh& mesh, std::span<const std::uint32_t> input_face);
 
 struct DecodedLabels {
   FaceLabels objects, groups, materials, smoothing;  // per output face, for the kinds the file has
   std::vector<std::string> material_libraries;
 };
-// Inverse of encode_labels_section for `face_count` output faces. Throws Error(kFormat) naming what and
-// the byte offset. Safe on untrusted input: counts are checked against the bytes left before anything
-// is allocated by them; time and memory linear in the faces and the payload.
+// Inverse of encode_labels_section for `face_count` output faces of a file of format 3.`minor`. Throws
+// Error(kFormat) naming what and the byte offset. Safe on untrusted input: counts are checked against the
+// bytes left before anything is allocated by them, front-coded names' total length against 1024 bytes a
+// payload byte; time and memory linear in the faces and the payload.
 DecodedLabels decode_labels_section(std::string_view payload, std::uint64_t base_offset,
-                                    std::uint32_t face_count);
+                                    std::uint32_t face_count, std::uint8_t minor = kFormatMinor);
+// The format minor version a face labels section needs: 3.3, or 3.9 with front-coded names.
+std::uint8_t labels_section_minor(std::string_view payload);
 
 // The subdivision tags section (format 3.4) of `tags`: the indices of crease, corner and hole through
 // `vertex` and `face` (input index -> output index) unless `keep_order` (the file then has an order

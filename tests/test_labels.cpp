@@ -106,18 +106,63 @@ TEST(Labels, LineBreaksInNamesAreRefused) {
   }
 }
 
+// Names sharing prefixes are front-coded where that is smaller (format 3.9): the golden grid_prefixes
+// says 3.9, and a front-coded section in a file that says it is older is refused.
+TEST(Labels, FrontCodedNamesAreFormat39) {
+  const std::string good = testing::slurp(kLabels + "grid_prefixes.qsp");
+  EXPECT_EQ(static_cast<int>(good[9]), kFormatMinorNames);
+  const container::File file = container::parse(good);
+  const std::string payload(file.find(container::kTagLabels)->payload);
+  EXPECT_EQ(labels_section_minor(payload), kFormatMinorNames);
+  const auto faces = static_cast<std::uint32_t>(decode_polygons(good).face_count());
+  EXPECT_EQ(decode_labels_section(payload, 0, faces, kFormatMinorNames).groups.names.size(), 12u);
+  try {
+    (void)decode_labels_section(payload, 0, faces, 8);
+    FAIL() << "decoded";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("front-coded names are format 3.9's, and the file says it is 3.8"),
+              std::string::npos)
+        << e.what();
+  }
+  // 5,001 names sharing 10,000 bytes cost 6 bytes each: past 1024 text bytes a payload byte, refused
+  // before the text is built.
+  std::string hostile(1, '\x21');  // objects, front-coded
+  const auto varint = [&hostile](std::uint64_t v) {
+    for (; v >= 0x80; v >>= 7) hostile += static_cast<char>(0x80 | (v & 0x7F));
+    hostile += static_cast<char>(v);
+  };
+  varint(5001);
+  varint(0), varint(10000), hostile += std::string(10000, 'x');
+  for (int i = 0; i < 5000; ++i) {
+    varint(10000), varint(3);
+    hostile += {static_cast<char>('A' + i % 26), static_cast<char>('A' + i / 26 % 26),
+                static_cast<char>('A' + i / 676)};
+  }
+  try {
+    (void)decode_labels_section(hostile, 0, 1, kFormatMinorNames);
+    FAIL() << "decoded";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("names of more than 1024 bytes a section byte"), std::string::npos)
+        << e.what();
+  }
+  // The plainly coded goldens stay 3.3 files, byte for byte.
+  EXPECT_EQ(static_cast<int>(testing::slurp(kLabels + "grid_labels.qsp")[9]), kFormatMinorLabels);
+}
+
 // Every prefix and bit flip is refused (the checksum); past it, every bit flip and cut of the section,
 // the file resealed, is refused as a format error naming a byte offset or decodes to valid labels.
 TEST(Labels, EveryPrefixBitFlipAndCutIsSafe) {
-  for (const char* name : {"grid_labels", "grid_labels_keep_order", "polygon_labels"}) {
+  for (const char* name : {"grid_labels", "grid_labels_keep_order", "polygon_labels", "grid_prefixes"}) {
     SCOPED_TRACE(name);
     const std::string good = testing::slurp(kLabels + name + ".qsp");
-    const int decoded = testing::sweep_section(good, container::kTagLabels, 3, [](const PolygonMesh& got) {
-      for (const FaceLabels* l : {&got.objects, &got.groups, &got.materials, &got.smoothing}) {
-        ASSERT_TRUE(l->face.empty() || l->face.size() == got.face_count());
-        for (const std::uint32_t n : l->face) ASSERT_TRUE(n == kInvalid || n < l->names.size());
-      }
-    });
+    const std::uint8_t minor = std::string(name) == "grid_prefixes" ? kFormatMinorNames : kFormatMinorLabels;
+    const int decoded =
+        testing::sweep_section(good, container::kTagLabels, minor, [](const PolygonMesh& got) {
+          for (const FaceLabels* l : {&got.objects, &got.groups, &got.materials, &got.smoothing}) {
+            ASSERT_TRUE(l->face.empty() || l->face.size() == got.face_count());
+            for (const std::uint32_t n : l->face) ASSERT_TRUE(n == kInvalid || n < l->names.size());
+          }
+        });
     EXPECT_GT(decoded, 0) << "some flips change a name's text and still decode";
   }
 }

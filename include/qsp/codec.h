@@ -27,7 +27,8 @@ namespace qsp {
 // refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
 // (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 8;
+inline constexpr std::uint8_t kFormatMinor = 9;
+inline constexpr std::uint8_t kFormatMinorNames = 9;  // front-coded label names (face labels section)
 inline constexpr std::uint8_t kFormatMinorColors = 8;
 inline constexpr std::uint8_t kFormatMinorKeptLines = 7;
 inline constexpr std::uint8_t kFormatMinorExact = 6;

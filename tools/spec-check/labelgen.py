@@ -72,15 +72,30 @@ def text(t):
     return g.varint(len(t)) + t
 
 
+def texts(ts, front):
+    """A list's texts, plainly or front-coded (kinds bit 5: each the bytes it shares with the one
+    before, then the rest)."""
+    out, before = b'', b''
+    for t in ts:
+        if front:
+            k = len(os.path.commonprefix([t, before]))
+            out += g.varint(k) + text(t[k:])
+        else:
+            out += text(t)
+        before = t
+    return out
+
+
 def payload(kinds, names, syms, libraries=(), extra=b''):
     """A section: the kinds byte, each present kind's names (after its count), the libraries and
     the stream of each present kind's symbols."""
     out = bytearray([kinds])
+    front = bool(kinds & 32)
     for k in range(4):
         if kinds >> k & 1:
-            out += g.varint(len(names[k])) + b''.join(text(t) for t in names[k])
+            out += g.varint(len(names[k])) + texts(names[k], front)
     if kinds & 16:
-        out += g.varint(len(libraries)) + b''.join(text(t) for t in libraries)
+        out += g.varint(len(libraries)) + texts(libraries, front)
     enc = g.RangeEncoder()
     for k in range(4):
         if kinds >> k & 1:
@@ -88,10 +103,10 @@ def payload(kinds, names, syms, libraries=(), extra=b''):
     return bytes(out) + enc.finish() + extra
 
 
-def section(per_kind, unused=None, libraries=()):
+def section(per_kind, unused=None, libraries=(), front=False):
     """The section of these labels: per_kind {k: per face a name or None}, unused {k: names no face
-    takes, in mesh order}; as the text's encoder numbers and codes them."""
-    kinds = sum(1 << k for k in per_kind) | (16 if libraries else 0)
+    takes, in mesh order}; as the text's encoder numbers and codes them (front-coded if front)."""
+    kinds = sum(1 << k for k in per_kind) | (16 if libraries else 0) | (32 if front else 0)
     names, syms = {}, {}
     for k, labels in per_kind.items():
         syms[k], number = symbols(labels)
@@ -144,7 +159,24 @@ def test_payloads():
 
     good = section({1: [A, B, None]}, libraries=(b'l',))
     poly.decode_labels(good, 3)
-    refused(bytes([0x20]) + good[1:], 3, 'reserved bit 5')
+    refused(bytes([0x40 | good[0]]) + good[1:], 3, 'reserved bit 6')
+    # front-coded names (kinds bit 5, from 3.9): shared prefixes, refused in an older file, a shared
+    # length past the text before it, and the 1024-bytes-a-byte bound
+    J = [b'joint-l-toe-1', b'joint-l-toe-2', b'joint-r', b'helper', b'helper-x']
+    fc = section({1: J + [None]}, libraries=(b'lib/a.mtl', b'lib/b.mtl'), front=True)
+    labels, names, libs = poly.decode_labels(fc, 6)
+    expect(names[1] == J and libs == [b'lib/a.mtl', b'lib/b.mtl'], 'front-coded names %r %r' % (names, libs))
+    expect(len(fc) < len(section({1: J + [None]}, libraries=(b'lib/a.mtl', b'lib/b.mtl'))), 'front coding pays')
+    try:
+        poly.decode_labels(fc, 6, minor=8)
+        expect(False, 'front-coded names in a 3.8 file decoded')
+    except g.FormatError:
+        pass
+    refused(bytes([0x22, 1, 1, 1]) + A + fc[-1:], 1, 'a first name sharing a byte')
+    # 5,001 names of 10,000 shared bytes and 3 more cost 6 bytes each: ~50 MB of text from ~40 kB
+    stem = b'x' * 10000
+    many = [stem + bytes([65 + i % 26, 65 + i // 26 % 26, 65 + i // 676]) for i in range(5000)]
+    refused(section({0: [stem]}, {0: many}, front=True), 1, 'front-coded texts past 1024 bytes a section byte')
     refused(bytes([0x82]) + good[1:], 3, 'reserved bit 7')
     refused(bytes([0]) + good[1:], 3, 'kinds 0')
     refused(b'', 3, 'empty section')

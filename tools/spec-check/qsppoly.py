@@ -398,38 +398,57 @@ def comments(payload):
 LABEL_KINDS = (b'o', b'g', b'usemtl', b's')   # kinds 0..3: objects, groups, materials, smoothing groups
 
 
-def decode_labels(payload, F):
-    """The face labels section over F output faces (before an order section): (labels, names,
-    libraries) with labels[k][f] face f's name index of kind k or None, names[k] kind k's names
-    0 .. N-1 (both only for the kinds present) and libraries the mtllib texts in order."""
+def decode_labels(payload, F, minor=9):
+    """The face labels section over F output faces (before an order section) of a 3.`minor` file:
+    (labels, names, libraries) with labels[k][f] face f's name index of kind k or None, names[k] kind
+    k's names 0 .. N-1 (both only for the kinds present) and libraries the mtllib texts in order."""
     need(len(payload) >= 1, 'empty face labels section')
     kinds = payload[0]
-    need(kinds >> 5 == 0, 'reserved face labels kinds bits set (0x%02x)' % kinds)
-    need(kinds != 0, 'face labels kinds byte 0')
+    need(kinds >> 6 == 0, 'reserved face labels kinds bits set (0x%02x)' % kinds)
+    need(kinds & 0x1f != 0, 'face labels: no kind and no library (0x%02x)' % kinds)
+    front = bool(kinds & 32)     # "front-coded texts (from 3.9)"
+    need(not front or minor >= 9, 'front-coded names are format 3.9\'s, and the file says it is 3.%d' % minor)
+    if front:
+        seen('labels: front-coded')
     pos = 1
+    total = 0
 
-    def text():
-        nonlocal pos
+    def text(before):
+        nonlocal pos, total
+        shared = 0
+        if front:
+            shared, pos = g.read_varint(payload, pos)
+            need(shared <= len(before), 'face label text shares %d bytes with a shorter one' % shared)
+            if shared:
+                seen('labels: a shared prefix')
         ln, pos = g.read_varint(payload, pos)
         need(ln <= len(payload) - pos, 'face label name or library past the section')
         t = payload[pos:pos + ln]
         need(b'\n' not in t and b'\r' not in t, 'face label name or library with CR or LF')
         pos += ln
-        return t
+        total += shared + ln
+        need(total <= 1024 * len(payload), 'face label texts past 1024 times the section')
+        return before[:shared] + t
+
+    def texts(n):
+        out = []
+        for _ in range(n):
+            out.append(text(out[-1] if out else b''))
+        return out
 
     present = [k for k in range(4) if kinds >> k & 1]
     names = {}
     for k in present:   # (each kind's names follow its count)
         N, pos = g.read_varint(payload, pos)
         need(N <= len(payload) - pos, 'kind %d: %d names past the section' % (k, N))
-        names[k] = [text() for _ in range(N)]
+        names[k] = texts(N)
         need(len(set(names[k])) == N, 'kind %d: two equal names' % k)
         seen('labels: kind %d' % k)
     libraries = []
     if kinds & 16:
         L, pos = g.read_varint(payload, pos)
         need(1 <= L <= len(payload) - pos, 'material library count %d' % L)
-        libraries = [text() for _ in range(L)]
+        libraries = texts(L)
         seen('labels: libraries')
     rd = g.RangeDecoder(payload[pos:])
     labels = {}
