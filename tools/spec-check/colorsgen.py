@@ -9,9 +9,12 @@ usage: colorsgen.py --test [QSP]
        face colours after a face's indices (one, three or four components) or face colours alone; PLY
        ascii and binary with uchar and float red, green, blue [, alpha] per vertex and per face; over
        polygen.py's polygon meshes, a grid of quads with a vertex in no face, a fan whose hub has more
-       than eight neighbours; components of uchar integers, short decimals, float32 bits, float
-       extremes (escapes, -0, subnormals, +-3e38), colour-map indices; lossless, with --keep-order and
-       with --quantize-color (values halfway between grid points, values too large for the grid).
+       than eight neighbours, a grid with a hub in ten quads turned the other way (more than eight
+       parallelograms across it); components of uchar integers, short decimals, float32 bits, float
+       extremes (escapes, -0, subnormals, +-3e38), colour-map indices, smooth colours (where qsp
+       compress must set flag bit 6, the parallelograms) and noisy ones (where it must not); lossless,
+       with --keep-order and with --quantize-color (values halfway between grid points, values too
+       large for the grid).
        Compresses each with QSP (default /work/main/build/qsp). Once QSP says it reads format 3.8
        (`QSP --version`), the files are QSP's own; before, they are `QSP compress --drop color`'s with
        the section the text's encoder writes put in (minor version 8), so the decoder is tested before
@@ -23,12 +26,18 @@ usage: colorsgen.py --test [QSP]
            colours);
        (b) the section is byte for byte what qspcolors.encode_colors() writes for the mesh's colours
            (the text's encoder choices);
-       A 201 x 201 grid of one RGBA colour: qsp compress's file must be one both decoders read.
-       (c) variants breaking each rule the text names (reserved flag bits, Kv and Kf values, Kv = Kf
-           = 0, modes, the 8192 * (stream bytes + 8) bound, a grid integer of 2^40, images outside
-           [0, 2^32), an infinity and a NaN, the section in a 3.7 file) are refused by qsppoly.py and,
-           once it reads 3.8, by `QSP decompress`; truncations, a byte more and bit flips of the
-           stream are refused by both or decoded by both to the same colours.
+       A 201 x 201 grid of one RGBA colour: qsp compress's file must be one both decoders read, and
+       the text's encoder's (flag bit 6 set and clear tie there: clear).
+       (c) variants breaking each rule the text names (reserved flag bit 7, flag bit 6 with Kv = 0, Kv
+           and Kf values, Kv = Kf = 0, modes, the 8192 * (stream bytes + 8) bound, a grid integer of
+           2^40, images outside [0, 2^32), an infinity and a NaN, the section in a 3.7 file) are
+           refused by qsppoly.py and, once it reads 3.8, by `QSP decompress`; sections with flag bit 6
+           whose parallelograms leave the domain (means clamped) are read by both to the same colours;
+           flag bit 6 toggled, truncations, a byte more and bit flips of the stream are refused by
+           both or decoded by both to the same colours.
+       Every vertex prediction rule (parallelograms 1, 2, more than 8; with flag bit 6 and none, the
+       means and the previous vertex; without it, the same) must be met, and files with flag bit 6
+       set and clear.
        Exit 0 if all hold, else 1.
        colorsgen.py --check FILE.qsp MESH [QSP]
        (a) and (b) for one file made from MESH (a golden file: index for index when its name holds
@@ -115,6 +124,25 @@ def base_fan():
     return Mesh(pos, faces)
 
 
+def base_quad_fan():
+    """A 9x9 grid of quads whose middle 5x5 cells are 10 quads round a hub, each two edges of the
+    20-vertex ring and the hub, turned the other way from the grid's: the hub is then in no quad of
+    the quad submesh, so it comes after the ring's vertices and has 10 parallelograms across it, of
+    which 8 count."""
+    n = 9
+    pos = [('%d' % i, '%d' % j, '%.2f' % (0.2 * math.cos(i - j))) for j in range(n + 1) for i in range(n + 1)]
+    at = lambda i, j: j * (n + 1) + i
+    faces = [[at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]
+             for j in range(n) for i in range(n) if not (2 <= i <= 6 and 2 <= j <= 6)]
+    ring = [at(i, 2) for i in range(2, 7)] + [at(7, j) for j in range(2, 7)] + \
+           [at(i, 7) for i in range(7, 2, -1)] + [at(2, j) for j in range(7, 2, -1)]
+    hub = len(pos)
+    pos.append(('4.5', '4.5', '0.5'))
+    for i in range(0, len(ring), 2):
+        faces.append([hub, ring[(i + 2) % len(ring)], ring[i + 1], ring[i]])
+    return Mesh(pos, faces)
+
+
 EXTREMES = ['3e+38', '-3e+38', '3.4028235e+38', '1e-45', '-1e-45', '1e-38', '-0', '0', '1', '0.5', '-2.5']
 
 
@@ -152,6 +180,12 @@ def component(kind, rng, x, y, j):
         return '%.3f' % (4096 + 4096 * s)
     if kind == 'negzero':
         return '-0' if rng.random() < 0.2 else '%d' % int(255 * s)
+    if kind in ('smooth', 'smooth8'):   # no noise, slowly varying: the parallelograms predict it well
+        t = 0.5 + 0.3 * math.sin(0.15 * x + 0.1 * y + j) + 0.1 * math.cos(0.12 * y - 0.05 * x)
+        return '%.4f' % t if kind == 'smooth' else '%d' % round(255 * t)
+    if kind == 'noisy':                 # the same with a camera's noise: the mean averages it
+        t = 0.5 + 0.3 * math.sin(0.15 * x + 0.1 * y + j) + 0.1 * math.cos(0.12 * y - 0.05 * x)
+        return '%d' % min(255, max(0, round(255 * t) + rng.randint(-40, 40)))
     if kind == 'half':
         return shortest32(f32(repr((2 * int(s * 256) + 1) / 512.0)))
     raise ValueError(kind)
@@ -394,6 +428,10 @@ def quantize_of(modes):
 
 
 # ---------------- (a) and (b) ----------------
+TIE = 'colors: encoder: parallelograms as large (a tie)'
+
+
+
 def check_file(name, data, src, exact, qsp, tmp, live):
     """Checks (a) and (b) of one file made from the mesh src; returns the decoded mesh (or None)."""
     try:
@@ -450,8 +488,12 @@ def check_file(name, data, src, exact, qsp, tmp, live):
         if q == -1:
             expect(False, '%s: binary grid modes of different steps %s' % (name, modes))
         else:
+            ties = c.STATS.get(TIE, 0)
             mine = c.encode_colors(vc, fc, len(pos), faces, q)
             theirs = bytes(secs[0x0b])
+            if c.STATS.get(TIE, 0) > ties:
+                NOTES.append('%s: flag bit 6 set and clear give sections of one size: the file has it %s' % (
+                    name, 'set' if theirs[0] & 0x40 else 'clear'))
             if mine != theirs:
                 at = next((i for i in range(min(len(mine), len(theirs))) if mine[i] != theirs[i]), min(len(mine), len(theirs)))
                 expect(False, '%s: the section (%d bytes, flags 0x%02x, modes %s) is not the text\'s encoder\'s (%d bytes, '
@@ -524,7 +566,7 @@ def variants(data):
     p = bytes(secs[0x0b])
     pos, faces, _ = canonical(data)
     V, F = len(pos), len(faces)
-    Kv, Kf, modes, stream = c.parse_header(p, V, F)
+    Kv, Kf, modes, stream, pg = c.parse_header(p, V, F)
     out = []
 
     def add(what, payload, refused=True, minor=None):
@@ -532,8 +574,14 @@ def variants(data):
         s[0x0b] = payload
         out.append((what, reseal(data, s, minor), refused))
 
-    add('reserved flag bit 6', bytes([p[0] | 0x40]) + p[1:])
     add('reserved flag bit 7', bytes([p[0] | 0x80]) + p[1:])
+    # flag bit 6 with Kv = 0: a section of face colours alone (the file's Kf, else 1), valid without it
+    kf = Kf or 1
+    faces_only = c.pack(0, kf, [1] * kf, [0] * (F * kf), V, faces)
+    add('face colours alone (Kv = 0), flag bit 6 clear', faces_only, refused=False)
+    add('face colours alone (Kv = 0), flag bit 6 (parallelograms) set', bytes([faces_only[0] | 0x40]) + faces_only[1:])
+    if Kv:   # the other predictions: other colours (or a value out of its range), alike in both decoders
+        add('flag bit 6 (parallelograms) %s' % ('cleared' if pg else 'set'), bytes([p[0] ^ 0x40]) + p[1:], refused=None)
     for k in (1, 2, 5, 6, 7):
         add('Kv = %d' % k, bytes([p[0] & ~7 | k]) + p[1:])
     for k in (2, 5, 6, 7):
@@ -576,6 +624,25 @@ def variants(data):
     if (Kv and V >= 3) or (not Kv and F >= 3):
         add('every mode dec9, a grid integer of 2^40 - 1 first, the next ones predicted from it with residuals 0 '
             'and 5 - (2^40 - 1)', c.pack(Kv, Kf, ms, res, V, faces), refused=None)
+    # flag bit 6, parallelograms a + b - o leaving the domain (the mean clamped): vertex colours of
+    # extreme values (dec0: -B, 0, B with B = 2^40 - 2^16, held by binary32; float bits: -+3.4028235e38,
+    # whose images 0x00800000 and 0xff7fffff give a + b - o below 0 and above 2^32 - 1), face colours 0
+    if Kv:
+        crng = random.Random(V)
+        B = float((1 << 40) - (1 << 16))
+        for what, m, vals in (('dec0', 1, (-B, 0.0, B)), ('float', 0, (-3.4028235e38, 3.4028235e38))):
+            vc = [tuple(g.f32_bits_of_double(crng.choice(vals)) for _ in range(Kv)) for _ in range(V)]
+            fc = [(g.f32_bits_of_double(0.0),) * Kf] * F if Kf else None
+            clamped = c.STATS.get('colors: mean clamped', 0)
+            q = c.encode_colors(vc, fc, V, faces, modes=[m] * Kv + [1] * Kf, pg=True)
+            try:
+                got = c.decode_colors(q, V, F, faces)[0]
+            except g.FormatError as e:
+                got = str(e)
+            expect(got == vc, 'the text\'s encoder and decoder disagree on vertex colours of extremes in %s with '
+                   'parallelograms: %s' % (what, got if isinstance(got, str) else first_diff(got, vc)))
+            add('flag bit 6, vertex colours %s of extremes (%d means clamped)' % (
+                what, (c.STATS.get('colors: mean clamped', 0) - clamped) // 2), q, refused=False)
     # the stream's end; bit flips: refused, or decoded to other colours alike by both decoders
     add('the stream a byte short', p[:-1], refused=None)
     add('a zero byte after the stream', p + b'\x00')
@@ -652,7 +719,18 @@ CASES = [   # name, base mesh, format, vertex component kinds, face component ki
     ('poly1_obj_rgb_q24', 'poly1', 'obj', ('f32', 'dec3', 'u8'), None, ['--quantize-color', '24']),
     ('poly2_coff_q1_face', 'poly2', 'off', ('dec1', 'f32', 'half', 'u8'), ('dec3', 'extreme', 'u8'), ['--quantize-color', '1']),
     ('fan_ply_binary_face_q10_keep_order', 'fan', 'ply-binary', ('f32',) * 3, ('u8',) * 3, ['--quantize', '10', '--keep-order']),
+    # flag bit 6: smooth colours, where the parallelograms must win, and noisy ones, where the means must
+    ('grid24_obj_rgb_smooth', 'grid24', 'obj', ('smooth',) * 3, None, []),
+    ('grid24_ply_binary_rgba_smooth8_face_u8', 'grid24', 'ply-binary', ('smooth8',) * 4, ('u8',) * 3, []),
+    ('grid24_ply_binary_rgb_noisy', 'grid24', 'ply-binary', ('noisy',) * 3, None, []),
+    ('grid24_coff_rgb_noisy_keep_order', 'grid24', 'off', ('noisy',) * 3, ('u8',) * 3, ['--keep-order']),
+    ('quadfan_obj_rgb_smooth', 'quadfan', 'obj', ('smooth',) * 3, None, []),
+    ('quadfan_ply_binary_rgb_smooth8_q8', 'quadfan', 'ply-binary', ('smooth8',) * 3, None, ['--quantize-color', '8']),
 ]
+# the flag bit 6 qsp compress must choose (the text's encoder's choice is checked for every file)
+WANT_PG = {'grid24_obj_rgb_smooth': True, 'grid24_ply_binary_rgba_smooth8_face_u8': True,
+           'grid24_ply_binary_rgb_noisy': False, 'grid24_coff_rgb_noisy_keep_order': False,
+           'quadfan_obj_rgb_smooth': True}
 
 
 def base_mesh(kind, tmp):
@@ -665,6 +743,10 @@ def base_mesh(kind, tmp):
         return base_grid(6, 5)
     if kind == 'fan':
         return base_fan()
+    if kind == 'grid24':
+        return base_grid(24, 24)
+    if kind == 'quadfan':
+        return base_quad_fan()
     raise ValueError(kind)
 
 
@@ -756,6 +838,16 @@ def constant_case(qsp, tmp, live):
     except g.FormatError as e:
         expect(False, 'constant grid (%d vertices, one RGBA colour): qsppoly.py refuses the file qsp compress '
                'wrote: %s' % (V, e))
+    # every residual 0 with either prediction: flag bit 6 set and clear give sections of one size, and
+    # the encoder keeps the clear one
+    ties = c.STATS.get(TIE, 0)
+    mine = c.encode_colors([(f32('255'),) * 4] * V, None, V, [list(q) for q in quads])
+    theirs = bytes(secs[0x0b])
+    expect(mine == theirs, 'constant grid: the section (%d bytes, flags 0x%02x) is not the text\'s encoder\'s '
+           '(%d bytes, flags 0x%02x)' % (len(theirs), theirs[0], len(mine), mine[0]))
+    if c.STATS.get(TIE, 0) > ties:
+        NOTES.append('constant grid: flag bit 6 set and clear give sections of one size: the file has it %s' % (
+            'set' if theirs[0] & 0x40 else 'clear'))
     f = os.path.join(tmp, 'constant.qsp')
     r = subprocess.run([qsp, 'decompress', '-f', f, '-o', f + '.off'], capture_output=True)
     expect(r.returncode == 0, 'constant grid: qsp decompress refuses the file qsp compress wrote: %s' % (
@@ -768,6 +860,7 @@ def test(qsp, tmp):
         print('colorsgen: %s does not read format 3.8 yet: its files get the text\'s section put in, and '
               'qsp decompress is not asked' % qsp)
     n = 0
+    pg_files = {True: [], False: []}    # the files with vertex colours, by flag bit 6
     for case in CASES:
         name, opts = case[0], case[5]
         src = make(case, tmp)
@@ -777,11 +870,27 @@ def test(qsp, tmp):
         if not expect(data[9] == 8 and 0x0b in g.sections(data), '%s: a %d.%d file without a colours section' % (
                 name, data[8], data[9])):
             continue
+        flags = g.sections(data)[0x0b][0]
+        if flags & 7:
+            pg_files[bool(flags & 0x40)].append(name)
+        if name in WANT_PG:
+            expect(bool(flags & 0x40) == WANT_PG[name], '%s: flag bit 6 (parallelograms) %s, expected %s' % (
+                name, 'set' if flags & 0x40 else 'clear', 'set' if WANT_PG[name] else 'clear'))
         mesh = check_file(name, data, src, '--keep-order' in opts, qsp, tmp, live)
         if mesh is not None:
             n += 1 + check_variants(name, data, qsp, tmp, live)
     bound_case(qsp, tmp, live)
     constant_case(qsp, tmp, live)
+    for pg in (True, False):
+        expect(pg_files[pg], 'no file with vertex colours and flag bit 6 %s' % ('set' if pg else 'clear'))
+    NOTES.append('flag bit 6 set in %s; clear in %s' % (', '.join(pg_files[True]), ', '.join(pg_files[False])))
+    # every branch of the vertex predictions met
+    for rule in ('colors: vertex m=1', 'colors: vertex m=2', 'colors: vertex with more than 8 parallelograms',
+                 'colors: parallelograms flag, m=0, vertex n=0, first', 'colors: parallelograms flag, m=0, vertex n=0, previous',
+                 'colors: parallelograms flag, m=0, vertex n=1', 'colors: parallelograms flag, m=0, vertex n=2',
+                 'colors: vertex n=0, first', 'colors: vertex n=0, previous', 'colors: vertex n=1', 'colors: vertex n=2',
+                 'colors: mean clamped', 'colors: encoder: parallelograms smaller', 'colors: encoder: parallelograms larger'):
+        expect(c.STATS.get(rule), 'a rule never met: %s' % rule)
     return n
 
 

@@ -7,8 +7,9 @@ colour, binary32 components.
 decode_colors() is what qsppoly.py calls; encode_colors() is an encoder of the section that makes the
 choices the text says the reference encoder makes (lossless: per component the decimal grid of the
 fewest decimals that holds all its values, else float bits; --quantize-color BITS: the binary grid of
-step 2^-BITS unless a value is 2^(40 - BITS) or more in magnitude), so that a file's section can be
-checked byte for byte against it.
+step 2^-BITS unless a value is 2^(40 - BITS) or more in magnitude; with vertex colours, the section
+with flag bit 6, the quads' parallelograms, set and clear, the smaller kept, the clear one on a tie),
+so that a file's section can be checked byte for byte against it.
 
 Points where the text leaves a choice are named by the constants below the imports.
 """
@@ -87,20 +88,23 @@ def value_of(q, mode):
 
 
 def corner_vertices(V, faces):
-    """Per vertex, the decoded neighbours' candidates: for each of its corners in corner order, the
-    vertex of the next corner of that corner's face."""
+    """Per vertex, its corners in corner order (corners numbered face by face, each face's from its
+    first), each as (the vertex of the next corner of that corner's face, and the face's degree-4
+    parallelogram (a, b, o): the vertices of the corners before, after and opposite it, or None in a
+    face of another degree)."""
     nexts = [[] for _ in range(V)]
     for f in faces:
         d = len(f)
         for p, v in enumerate(f):
-            nexts[v].append(f[(p + 1) % d])
+            pg = (f[(p - 1) % 4], f[(p + 1) % 4], f[(p + 2) % 4]) if d == 4 else None
+            nexts[v].append((f[(p + 1) % d], pg))
     return nexts
 
 
 def neighbours(v, nexts):
     """The decoded neighbours of v: the first 8 of the next vertices below v (repeats count)."""
     out = []
-    for u in nexts[v]:
+    for u, _ in nexts[v]:
         if u < v:
             out.append(u)
             if len(out) == MAX_NEIGHBOURS:
@@ -108,18 +112,55 @@ def neighbours(v, nexts):
     return out
 
 
-def vertex_prediction(v, nb, ints, j, mode):
+def parallelograms(v, nexts):
+    """The parallelograms across v: the first 8 (a, b, o) of v's corners in degree-4 faces whose
+    three other vertices are all below v."""
+    out = []
+    for _, pg in nexts[v]:
+        if pg is not None and max(pg) < v:
+            out.append(pg)
+            if len(out) == MAX_NEIGHBOURS:
+                break
+    return out
+
+
+def clamp(p, mode):
+    """A mean clamped to the domain: [-(2^40 - 1), 2^40 - 1] in a grid, [0, 2^32 - 1] in float bits."""
+    lo, hi = (0, (1 << 32) - 1) if mode == 0 else (-LIM, LIM)
+    if p < lo or p > hi:
+        seen('colors: mean clamped')
+    return min(max(p, lo), hi)
+
+
+def vertex_plan(V, faces, pg):
+    """Per vertex (decoded neighbours, parallelograms): the parallelograms [] unless flag bit 6 (pg)."""
+    nexts = corner_vertices(V, faces)
+    return [(neighbours(v, nexts), parallelograms(v, nexts) if pg else []) for v in range(V)]
+
+
+def vertex_model(plan_v, j):
+    """The model key of component j of a vertex: 4j + 3 with parallelograms, else 4j + min(n, 2)."""
+    nb, pgs = plan_v
+    return 4 * j + 3 if pgs else 4 * j + min(len(nb), 2)
+
+
+def vertex_prediction(v, plan_v, ints, j, mode):
     """(prediction, model key) of component j of vertex v, from the integers ints[u][j] of decoded
-    vertices."""
+    vertices; plan_v: v's (decoded neighbours, parallelograms)."""
+    nb, pgs = plan_v
+    m = len(pgs)
+    if m:
+        S = sum(ints[a][j] + ints[b][j] - ints[o][j] for a, b, o in pgs)
+        return clamp((2 * S + m) // (2 * m), mode), 4 * j + 3
     n = len(nb)
     if n:
         S = sum(ints[u][j] for u in nb)
-        p = (2 * S + n) // (2 * n)
+        p = clamp((2 * S + n) // (2 * n), mode)
     elif v >= 1:
         p = ints[v - 1][j]
     else:
         p = FLOAT_ZERO if mode == 0 else 0
-    return p, 3 * j + min(n, 2)
+    return p, 4 * j + min(n, 2)
 
 
 def face_prediction(gi, nb, ints, j, mode):
@@ -165,12 +206,14 @@ def code_residual(coder, table, r=None):
 
 
 def parse_header(payload, V, F):
-    """(Kv, Kf, modes, stream) of a section, every rule of its header checked."""
+    """(Kv, Kf, modes, stream, pg) of a section, every rule of its header checked; pg: flag bit 6
+    (parallelograms)."""
     need(len(payload) >= 1, 'empty colours section')
     flags = payload[0]
-    Kv, Kf = flags & 7, (flags >> 3) & 7
-    need(flags >> 6 == 0, 'colours: reserved flag bits 6-7 set (flags 0x%02x)' % flags)
+    Kv, Kf, pg = flags & 7, (flags >> 3) & 7, bool(flags & 0x40)
+    need(flags >> 7 == 0, 'colours: reserved flag bit 7 set (flags 0x%02x)' % flags)
     need(Kv in (0, 3, 4), 'colours: vertex components Kv = %d (not 0, 3 or 4)' % Kv)
+    need(not pg or Kv > 0, 'colours: flag bit 6 (parallelograms) with Kv = 0 (flags 0x%02x)' % flags)
     need(Kf in (0, 1, 3, 4), 'colours: face components Kf = %d (not 0, 1, 3 or 4)' % Kf)
     need(Kv or Kf, 'colours: Kv = Kf = 0')
     need(len(payload) >= 1 + Kv + Kf, 'colours: the section ends in its modes')
@@ -180,7 +223,7 @@ def parse_header(payload, V, F):
     stream = payload[1 + Kv + Kf:]
     need(V * Kv + F * Kf <= 8192 * (len(stream) + 8),
          'colours: %d components in a stream of %d bytes (at most 8192 * (bytes + 8))' % (V * Kv + F * Kf, len(stream)))
-    return Kv, Kf, modes, stream
+    return Kv, Kf, modes, stream, pg
 
 
 def decode_colors(payload, V, F, faces, minor=8):
@@ -190,8 +233,10 @@ def decode_colors(payload, V, F, faces, minor=8):
     anything the text refuses."""
     need(minor >= 8, 'section 0x0b (colours) is format 3.8\'s, and the file says it is 3.%d' % minor)
     need(len(faces) == F, 'colours: %d faces for F = %d' % (len(faces), F))
-    Kv, Kf, modes, stream = parse_header(payload, V, F)
+    Kv, Kf, modes, stream, pg = parse_header(payload, V, F)
     seen('colors: Kv=%d Kf=%d' % (Kv, Kf))
+    if Kv:
+        seen('colors: parallelograms flag %s' % ('set' if pg else 'clear'))
     for mode in modes:
         seen('colors: mode %s' % ('float' if mode == 0 else 'decimal' if mode <= 10 else 'binary'))
     rd = g.RangeDecoder(stream)
@@ -211,16 +256,23 @@ def decode_colors(payload, V, F, faces, minor=8):
     if Kv:
         vm = modes[:Kv]
         nexts = corner_vertices(V, faces)
+        plan = vertex_plan(V, faces, pg)
         vcols, vints = [], []
         for v in range(V):
-            nb = neighbours(v, nexts)
-            seen('colors: vertex n=%d' % min(len(nb), 2) if nb else 'colors: vertex n=0, %s' % (
-                'previous' if v else 'first'))
-            if len(nb) == MAX_NEIGHBOURS and sum(u < v for u in nexts[v]) > MAX_NEIGHBOURS:
+            nb, pgs = plan[v]
+            if pgs:
+                seen('colors: vertex m=%d' % min(len(pgs), 2))
+                if len(pgs) == MAX_NEIGHBOURS and sum(q is not None and max(q) < v for _, q in nexts[v]) > MAX_NEIGHBOURS:
+                    seen('colors: vertex with more than 8 parallelograms')
+            else:
+                seen('colors: %svertex n=%d' % ('parallelograms flag, m=0, ' if pg else '', min(len(nb), 2))
+                     if nb else 'colors: %svertex n=0, %s' % ('parallelograms flag, m=0, ' if pg else '',
+                                                              'previous' if v else 'first'))
+            if len(nb) == MAX_NEIGHBOURS and sum(u < v for u, _ in nexts[v]) > MAX_NEIGHBOURS:
                 seen('colors: vertex with more than 8 decoded neighbours')
             val, it = [], []
             for j in range(Kv):
-                p, key = vertex_prediction(v, nb, vints, j, vm[j])
+                p, key = vertex_prediction(v, plan[v], vints, j, vm[j])
                 u, q = component(p, t('vertex%d' % key), vm[j], 'vertex %d component %d' % (v, j))
                 val.append(u)
                 it.append(q)
@@ -303,9 +355,9 @@ def rounded(values, modes):
     return [tuple(on_grid(u, m) if m >= 17 else u for u, m in zip(v, modes)) for v in values]
 
 
-def residuals_of(vcols, fcols, V, faces, modes):
+def residuals_of(vcols, fcols, V, faces, modes, pg=False):
     """The residuals of the section's stream, in stream order, of values already on their modes'
-    grids."""
+    grids; pg: flag bit 6 (parallelograms)."""
     Kv = len(vcols[0]) if vcols else 0
     Kf = len(fcols[0]) if fcols else 0
     vm, fm = modes[:Kv], modes[Kv:]
@@ -318,11 +370,10 @@ def residuals_of(vcols, fcols, V, faces, modes):
         return q
 
     if Kv:
-        nexts = corner_vertices(V, faces)
+        plan = vertex_plan(V, faces, pg)
         vints = []
         for v in range(V):
-            nb = neighbours(v, nexts)
-            vints.append([component(vcols[v][j], vertex_prediction(v, nb, vints, j, vm[j])[0], vm[j])
+            vints.append([component(vcols[v][j], vertex_prediction(v, plan[v], vints, j, vm[j])[0], vm[j])
                           for j in range(Kv)])
     if Kf:
         last = [None] * V
@@ -339,16 +390,18 @@ def residuals_of(vcols, fcols, V, faces, modes):
 
 def pack(Kv, Kf, modes, residuals, V, faces, flags=None):
     """The payload of given residuals (stream order), each through the model the text names for its
-    place; flags: the flags byte (Kv | Kf << 3 unless given)."""
+    place; flags: the flags byte (Kv | Kf << 3 unless given; its bit 6 chooses the models of the
+    parallelograms)."""
+    if flags is None:
+        flags = Kv | Kf << 3
     enc = g.RangeEncoder()
     t = Models()
     it = iter(residuals)
     if Kv:
-        nexts = corner_vertices(V, faces)
+        plan = vertex_plan(V, faces, bool(flags & 0x40))
         for v in range(V):
-            n = len(neighbours(v, nexts))
             for j in range(Kv):
-                code_residual(enc, t('vertex%d' % (3 * j + min(n, 2))), next(it))
+                code_residual(enc, t('vertex%d' % vertex_model(plan[v], j)), next(it))
     if Kf:
         last = [None] * V
         for gi, f in enumerate(faces):
@@ -357,13 +410,14 @@ def pack(Kv, Kf, modes, residuals, V, faces, flags=None):
                 code_residual(enc, t('face%d' % (2 * j + (0 if nb else 1))), next(it))
             for v in f:
                 last[v] = gi
-    return bytes([Kv | Kf << 3 if flags is None else flags]) + bytes(modes) + enc.finish()
+    return bytes([flags]) + bytes(modes) + enc.finish()
 
 
-def encode_colors(vcols, fcols, V, faces, quantize=None, modes=None):
+def encode_colors(vcols, fcols, V, faces, quantize=None, modes=None, pg=None):
     """The section of vertex colours vcols (V tuples of binary32 bits, or None) and face colours fcols
     (one tuple per face of `faces`, or None) over the output mesh before an order section, with the
-    reference encoder's modes (lossless, or --quantize-color `quantize`) or the given ones."""
+    reference encoder's modes (lossless, or --quantize-color `quantize`) or the given ones, and the
+    reference encoder's choice of flag bit 6 (pg None) or the given one."""
     Kv = len(vcols[0]) if vcols else 0
     Kf = len(fcols[0]) if fcols else 0
     assert Kv in (0, 3, 4) and Kf in (0, 1, 3, 4) and (Kv or Kf)
@@ -373,7 +427,20 @@ def encode_colors(vcols, fcols, V, faces, quantize=None, modes=None):
         modes = (choose_modes(vcols, Kv, quantize) if Kv else []) + (choose_modes(fcols, Kf, quantize) if Kf else [])
     vcols = vcols and rounded(vcols, modes[:Kv])
     fcols = fcols and rounded(fcols, modes[Kv:])
-    return pack(Kv, Kf, modes, residuals_of(vcols, fcols, V, faces, modes), V, faces)
+    flags = Kv | Kf << 3
+    if pg is not None:
+        assert Kv or not pg
+        return pack(Kv, Kf, modes, residuals_of(vcols, fcols, V, faces, modes, pg), V, faces, flags | (0x40 if pg else 0))
+    best = pack(Kv, Kf, modes, residuals_of(vcols, fcols, V, faces, modes), V, faces, flags)
+    if Kv:
+        # "writes the section with flag bit 6 clear and (with vertex colours) set, and keeps the
+        # smaller (the clear one on a tie)"
+        with_pg = pack(Kv, Kf, modes, residuals_of(vcols, fcols, V, faces, modes, True), V, faces, flags | 0x40)
+        seen('colors: encoder: parallelograms %s' % ('smaller' if len(with_pg) < len(best) else
+                                                      'as large (a tie)' if len(with_pg) == len(best) else 'larger'))
+        if len(with_pg) < len(best):
+            best = with_pg
+    return best
 
 
 def _selftest():
@@ -401,8 +468,14 @@ def _selftest():
     ext = [3e38, -3e38, 1e-45, -0.0, 0.0, 1.5, -2.25]
     cases.append(('extremes', [tuple(f32(rng.choice(ext)) for _ in range(3)) for _ in range(V)], None, None))
     cases.append(('big', None, [tuple(f32(rng.choice([5e11, -5e11, 0.5, 1.0])) for _ in range(3)) for _ in faces], 12))
+    # a smooth colour over the grid (the parallelograms predict it exactly), the fan vertex included
+    smooth = [tuple(f32(10 + 3 * (v % n) + 7 * (v // n) + 40 * j) for j in range(3)) for v in range(V)]
+    cases.append(('smooth', smooth, None, None))
+    runs = []
     for name, vc, fc, qb in cases:
-        p = encode_colors(vc, fc, V, faces, qb)
+        runs += [(name, vc, fc, qb, None)] + ([(name + ' pg', vc, fc, qb, True)] if vc else [])
+    for name, vc, fc, qb, pg in runs:
+        p = encode_colors(vc, fc, V, faces, qb, pg=pg)
         try:
             dv, df, modes = decode_colors(p, V, len(faces), faces)
         except FormatError as e:
@@ -416,7 +489,8 @@ def _selftest():
             print('selftest %s: decodes to other values' % name)
             fails += 1
         print('selftest %s: %d bytes, modes %s' % (name, len(p), [mode_name(m) for m in modes]))
-        for bad, why in ((bytes([p[0] | 0x40]) + p[1:], 'reserved bit'), (bytes([p[0] & ~7 | 2]) + p[1:], 'Kv 2'),
+        for bad, why in ((bytes([p[0] | 0x80]) + p[1:], 'reserved bit 7'), (bytes([p[0] & ~7 | 2]) + p[1:], 'Kv 2'),
+                         (bytes([p[0] & ~7 | 0x40]) + p[1:], 'bit 6 with Kv 0'),
                          (bytes([0]) + p[1:], 'both zero'), (p[:-1], 'a byte short'), (p + b'\0', 'a zero more'),
                          (p[:1] + bytes([11]) + p[2:], 'mode 11')):
             try:
