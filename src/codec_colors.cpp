@@ -104,7 +104,7 @@ void walk_colors(std::span<const std::uint32_t> face_offsets, std::span<const st
       }
     }
   }
-  if (Kf) {
+  if (Kf && !face_offsets.empty()) {
     const std::size_t nf = face_offsets.size() - 1;
     std::vector<std::uint32_t> last(vertex_count, kInvalid);
     for (std::size_t g = 0; g < nf; ++g) {

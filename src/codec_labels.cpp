@@ -18,7 +18,7 @@ constexpr const char* kSection = "face labels section";
 constexpr unsigned kKinds = 4, kLibrariesBit = 1u << 4, kFrontCodedBit = 1u << 5, kReservedBits = 0xC0;
 // Front-coded names may share long prefixes; their total length stays below this many bytes a payload
 // byte (the encoder writes them plainly past it), so a hostile file cannot grow quadratically.
-constexpr std::uint64_t kMaxTextPerByte = 1024;
+constexpr std::uint64_t kMaxTextPerByte = 64;
 
 // The label kinds in the section's order: objects, groups, materials, smoothing groups.
 const FaceLabels& kind_of(const PolygonMesh& m, unsigned k) {

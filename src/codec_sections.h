@@ -172,7 +172,7 @@ struct DecodedLabels {
 };
 // Inverse of encode_labels_section for `face_count` output faces of a file of format 3.`minor`. Throws
 // Error(kFormat) naming what and the byte offset. Safe on untrusted input: counts are checked against the
-// bytes left before anything is allocated by them, front-coded names' total length against 1024 bytes a
+// bytes left before anything is allocated by them, front-coded names' total length against 64 bytes a
 // payload byte; time and memory linear in the faces and the payload.
 DecodedLabels decode_labels_section(std::string_view payload, std::uint64_t base_offset,
                                     std::uint32_t face_count, std::uint8_t minor = kFormatMinor);

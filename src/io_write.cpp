@@ -371,12 +371,15 @@ bool is_float(ScalarType t) { return t == ScalarType::kFloat32 || t == ScalarTyp
 // in [0, 255] (colours), else float or double.
 ScalarType natural_type(const Numbers& n, bool integer_colors) {
   if (integer_colors) {
-    bool bytes = true;
+    // Bytes, unless every value is 0 or 1: float colours of white and black, which as bytes would read as
+    // near black.
+    bool bytes = true, above_one = false;
     for (std::size_t i = 0; i < n.size() && bytes; ++i) {
       const double v = n.approx(i);
       bytes = v >= 0 && v <= 255 && v == std::floor(v);
+      above_one = above_one || v > 1;
     }
-    if (bytes && !n.empty()) return ScalarType::kUint8;
+    if (bytes && above_one) return ScalarType::kUint8;
   }
   return n.precision == Precision::kFloat32 ? ScalarType::kFloat32 : ScalarType::kFloat64;
 }
@@ -445,6 +448,9 @@ class PlyWriter {
   void refuse() const {
     Refusal r("PLY");
     refuse_what_off_and_ply_lack(r, m_);
+    // A lone `red` would read back as an unknown property, not a colour.
+    if (m_.face_color_components == 1)
+      r.add(m_.face_colors.size(), "face colour-map indices (OFF's one-number face colours)", "color");
     r.throw_if_any();
   }
 

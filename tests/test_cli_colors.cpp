@@ -342,5 +342,67 @@ TEST_F(ColorsCli, ReorderKeepsEveryAttributeInTheReferencesOrder) {
   EXPECT_FALSE(fs::exists(p("e.obj")));
 }
 
+// What the review of the colours work found, each fixed: reorder's quad path wrote OBJ text into OUT.ply;
+// reorder to OBJ would put labelled faces out of REF's order; binary PLY doubles that are float32 values
+// were refused as rounded; --drop did not apply to a .qsp IN; PLY got a lone `red` for OFF's colour-map
+// indices; float colours of 0 and 1 became uchar (near black).
+TEST_F(ColorsCli, WhatTheReviewFound) {
+  spit(p("sq.obj"), "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4\nf 2 5 6 3\n");
+  auto r =
+      run_qsp("reorder --like " + quote(p("sq.obj")) + " " + quote(p("sq.obj")) + " -o " + quote(p("q.ply")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(slurp(p("q.ply")).substr(0, 4), "ply\n");
+  EXPECT_EQ(run_qsp("compress -f " + quote(p("q.ply"))).exit_code, 0);
+  // The second face in REF's order has no group, the first has one: OBJ cannot say that.
+  spit(p("ref.obj"), "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 2 5 6 3\nf 1 2 3 4\n");
+  spit(p("in.obj"), "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\nf 1 2 3 4\ng a\nf 2 5 6 3\n");
+  r = run_qsp("reorder --like " + quote(p("ref.obj")) + " " + quote(p("in.obj")) + " -o " +
+              quote(p("lo.obj")));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("face 1 in REF's order has no group"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--drop group"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p("lo.obj")));
+  r = run_qsp("reorder --like " + quote(p("ref.obj")) + " " + quote(p("in.obj")) + " -o " +
+              quote(p("lo.qsp")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Binary doubles that are float32 values are held exactly: no refusal.
+  std::string ply =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+      "property float z\nproperty double red\nproperty double green\nproperty double blue\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  const auto put = [&ply](auto v) { ply.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  for (int v = 0; v < 4; ++v) {
+    put(float(v & 1)), put(float(v >> 1)), put(0.0f);
+    for (int c = 0; c < 3; ++c) put(static_cast<double>(0.1f * static_cast<float>(v + c)));
+  }
+  put(std::uint8_t{4}), put(0), put(1), put(3), put(2);
+  spit(p("d.ply"), ply);
+  r = run_qsp("compress -f " + quote(p("d.ply")) + " " + quote(p("d.qsp")));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  // --drop applies to a .qsp IN too, and says what it dropped.
+  spit(p("c.off"), "COFF\n4 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n1 1 0 0 0 1 1\n0 1 0 1 1 1 1\n4 0 1 2 3\n");
+  ASSERT_EQ(run_qsp("compress -f " + quote(p("c.off")) + " " + quote(p("c.qsp"))).exit_code, 0);
+  r = run_qsp("reorder --drop color --like " + quote(p("c.off")) + " " + quote(p("c.qsp")) + " -o " +
+              quote(p("c2.off")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("dropped its color"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(p("c2.off")).substr(0, 4), "OFF\n");
+  // Float colours of 0 and 1 stay float in PLY.
+  r = run_qsp("decompress -f " + quote(p("c.qsp")) + " -o " + quote(p("c.ply")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(slurp(p("c.ply")).find("property float red"), std::string::npos);
+  // OFF's one-number face colours (colour-map indices): PLY refuses them, naming them; OFF keeps them.
+  spit(p("m.off"), "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2 7\n3 0 2 3 300\n");
+  ASSERT_EQ(run_qsp("compress -f " + quote(p("m.off")) + " " + quote(p("m.qsp"))).exit_code, 0);
+  r = run_qsp("decompress -f " + quote(p("m.qsp")) + " -o " + quote(p("m.ply")));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("colour-map indices"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p("m.ply")));
+  r = run_qsp("decompress -f " + quote(p("m.qsp")) + " -o " + quote(p("m2.off")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(slurp(p("m2.off")).find(" 300\n"), std::string::npos) << slurp(p("m2.off"));
+}
+
 }  // namespace
 }  // namespace qsp

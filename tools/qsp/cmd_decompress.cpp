@@ -95,7 +95,16 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
                                              ", which OFF cannot hold; write OBJ (-o " +
                                              job.output.substr(0, job.output.size() - 4) + ".obj)");
   const std::size_t vertices = mesh.vertex_count(), faces = mesh.face_count();
-  const std::string text = mesh_text(std::move(mesh), format, comments_named(bytes, job.input));
+  std::string text;
+  try {
+    text = mesh_text(std::move(mesh), format, comments_named(bytes, job.input));
+  } catch (const Error& e) {
+    // The writers' refusals name the kind and the --drop compress and reorder take; here the way out is
+    // another output format.
+    if (e.code() != ErrorCode::kUnsupported) throw;
+    throw Error(e.code(), job.input + " -> " + job.output + ": " + e.what() +
+                              " (decompress: name an output whose format holds them, .obj, .off or .ply)");
+  }
   write_output(job.output, text, {o.force, o.verbosity.quiet, other_ways(job), o.sync});
   if (o.verbosity.verbose && !o.verbosity.quiet) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

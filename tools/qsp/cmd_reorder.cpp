@@ -3,11 +3,13 @@
 // coordinates, normals, colours, face labels, tags and kept lines go with their vertices, faces and corners.
 // Exit codes as the other subcommands: 1 when IN is not isomorphic to REF (or is invalid). The work is
 // the library's: match() and reorder_like() (qsp/match.h), or for polygon meshes (faces of any degree,
-// non-manifold pieces) match_polygons() and reorder_polygons_like(), written as OBJ or OFF.
+// non-manifold pieces, or IN with attributes) match_polygons() and reorder_polygons_like(), written as
+// OBJ, OFF, PLY or a .qsp that keeps the order.
 #include <sys/stat.h>
 
 #include <cstdio>
 #include <string>
+#include <tuple>
 
 #include "commands.h"
 #include "qsp/codec.h"
@@ -71,6 +73,25 @@ int run_polygons(const ReorderOptions& o, MeshFormat format, const PolygonInput&
   const PolygonMesh out = reorder_polygons_like(in_mesh, r);
   if (out.face_offsets != ref_mesh.face_offsets || out.corners != ref_mesh.corners)
     throw Error(ErrorCode::kInternal, "reorder: faces do not come out in REF's order");
+  // OBJ cannot take a label away: a face without one after a face with one would be written first.
+  if (format == MeshFormat::kObj)
+    for (const auto& [labels, kind, drop] :
+         {std::tuple{&out.objects, "object", "group"}, std::tuple{&out.groups, "group", "group"},
+          std::tuple{&out.materials, "material", "material"},
+          std::tuple{&out.smoothing, "smoothing group", "smoothing"}}) {
+      bool labelled = false;
+      for (std::size_t f = 0; f < labels->face.size(); ++f) {
+        if (labels->face[f] != kInvalid) {
+          labelled = true;
+        } else if (labelled) {
+          throw Error(ErrorCode::kUnsupported,
+                      o.output + ": face " + std::to_string(f) + " in REF's order has no " + kind +
+                          " but an earlier face has one, which OBJ cannot write in that order; write a .qsp "
+                          "(it keeps the order), or pass --drop " +
+                          drop);
+        }
+      }
+    }
   const std::vector<std::string> comments = kept_comments(in.report, o.drop);
   std::string bytes;
   if (format == MeshFormat::kQsp) {  // the order kept, so decompressing gives REF's
@@ -111,6 +132,8 @@ int run(const ReorderOptions& o) {
   // exact reader: not `quads`.
   if (!ref.quads || !in.quads) {
     PolygonMesh in_mesh = polygons_of(in);
+    // A decoded .qsp carries what it holds: --drop applies here (a mesh file's reader took it).
+    const std::string dropped_from_qsp = in.from_qsp ? drop_polygon_data(in_mesh, o.input, o.drop) : "";
     check_kept_values(o.input, in, in_mesh,
                       {"reorder", "OUT has them before the vertices", o.float32, false, false});
     for (std::size_t t = 0; t < in_mesh.tags.size(); ++t)
@@ -121,6 +144,7 @@ int run(const ReorderOptions& o) {
                         "pass --drop tag");
     const int rc = run_polygons(o, format, ref, in, in_mesh);
     std::fputs(dropped.c_str(), stderr);
+    std::fputs(dropped_from_qsp.c_str(), stderr);
     return rc;
   }
   MatchInput pref, pin;
@@ -152,6 +176,12 @@ int run(const ReorderOptions& o) {
     eo.keep_order = true;
     bytes = encode(out, eo);
     if (!comments.empty()) bytes = with_comments(bytes, comments);
+  } else if (format == MeshFormat::kPly) {
+    Mesh mesh = from_quad_mesh(out);
+    mesh.comments = comments;
+    qsp::WriteOptions w;
+    w.ply_format = PlyFormat::kBinaryLittleEndian;
+    bytes = write_ply_mesh(mesh, w);
   } else {
     bytes = format == MeshFormat::kOff ? write_off(out, comments) : write_obj(out, comments);
   }

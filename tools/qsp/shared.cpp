@@ -343,10 +343,12 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
   in.report.leading_comments = format == MeshFormat::kPly ? m.comments : leading_comments(bytes);
   in.report.comments = in.report.leading_comments.size();
   // Kept texture coordinates, normals and colours are float32: count those the text says more precisely.
-  // A value float32 holds is the one its float32's shortest text denotes (2.7 in a list that also has
-  // 1.4e-45, whose float32 prints as 1e-45, is held; its float64 is not the float32's value).
+  // A value float32 holds: a float32 itself (binary PLY doubles that are float32 values), or the value its
+  // float32's shortest text denotes (2.7 in a list that also has 1.4e-45, whose float32 prints as 1e-45:
+  // 2.7's float64 is not its float32's value, but "2.7" is its float32's text).
   const auto held = [](const Numbers& n, std::size_t i, std::size_t& next_decimal) {
     if (next_decimal < n.decimals.size() && n.decimals[next_decimal].index == i) return ++next_decimal, false;
+    if (static_cast<double>(n.f32[i]) == n.f64[i]) return true;
     char text[32];
     const auto end = std::to_chars(text, text + sizeof text, n.f32[i]).ptr;
     double value = 0;
@@ -371,12 +373,14 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
       }
     }
   };
+  const bool obj = format == MeshFormat::kObj;
   if (keep & kCategoryUv)
-    rounded(m.texcoords, std::max<std::size_t>(m.texcoord_components, 1), "texture coordinate", "vt");
-  if (keep & kCategoryNormal) rounded(m.normals, 3, "normal", "vn");
+    rounded(m.texcoords, std::max<std::size_t>(m.texcoord_components, 1), "texture coordinate",
+            obj ? "vt" : nullptr);
+  if (keep & kCategoryNormal) rounded(m.normals, 3, "normal", obj ? "vn" : nullptr);
   if (keep & kCategoryColor) {
     rounded(m.vertex_colors, std::max<std::size_t>(m.vertex_color_components, 1), "vertex colour",
-            format == MeshFormat::kObj ? "v" : nullptr);
+            obj ? "v" : nullptr);
     rounded(m.face_colors, std::max<std::size_t>(m.face_color_components, 1), "face colour", nullptr);
   }
   if (keep & kCategoryTag)
@@ -539,6 +543,32 @@ void refuse_rounding(const std::string& path, const ReadReport& report, const st
     std::fprintf(stderr, "qsp: %s: rounded %llu %s to float32 (--float32)\n", path.c_str(),
                  static_cast<unsigned long long>(report.rounded_coordinates),
                  report.rounded_coordinates == 1 ? "coordinate" : "coordinates");
+}
+
+std::string drop_polygon_data(PolygonMesh& m, const std::string& path, const DropOptions& drop) {
+  const unsigned d = drop.categories();
+  unsigned had = 0;
+  const auto take = [&](unsigned category, bool has, auto&& clear) {
+    if (!(d & category) || !has) return;
+    had |= category;
+    clear();
+  };
+  take(kCategoryUv, m.texcoord_components != 0,
+       [&] { m.texcoord_components = 0, m.texcoords.clear(), m.corner_texcoords.clear(); });
+  take(kCategoryNormal, !m.corner_normals.empty(), [&] { m.normals.clear(), m.corner_normals.clear(); });
+  take(kCategoryColor, m.vertex_color_components || m.face_color_components, [&] {
+    m.vertex_color_components = m.face_color_components = 0;
+    m.vertex_colors.clear(), m.face_colors.clear();
+  });
+  take(kCategoryGroup, !m.objects.empty() || !m.groups.empty(), [&] { m.objects = {}, m.groups = {}; });
+  take(kCategoryMaterial, !m.materials.empty() || !m.material_libraries.empty(),
+       [&] { m.materials = {}, m.material_libraries.clear(); });
+  take(kCategorySmoothing, !m.smoothing.empty(), [&] { m.smoothing = {}; });
+  take(kCategoryTag, !m.tags.empty(), [&] { m.tags.clear(); });
+  take(kCategoryExtra, !m.kept_lines.empty(), [&] { m.kept_lines.clear(); });
+  if (!had) return {};
+  return "qsp: " + path + ": dropped its " + category_list(had, ", ") + " (" +
+         (drop.positions_only ? "--positions-only" : "--drop " + drop.list) + ")\n";
 }
 
 void check_kept_values(const std::string& path, const PolygonInput& input, PolygonMesh& mesh,

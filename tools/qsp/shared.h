@@ -227,6 +227,10 @@ std::vector<std::string> kept_comments(const ReadReport& report, const DropOptio
 void refuse_rounding(const std::string& path, const ReadReport& report, const std::string& what, bool float32,
                      bool quiet, const std::string& other_way = "");
 
+// Removes from `mesh` (a decoded .qsp's) the kinds `drop` names and returns the note saying which it had
+// ("" if none).
+std::string drop_polygon_data(PolygonMesh& mesh, const std::string& path, const DropOptions& drop);
+
 // How compress and reorder keep IN's values beside positions and faces (check_kept_values).
 struct KeptRules {
   std::string what;        // ".qsp", "reorder": what keeps them, for messages

@@ -161,7 +161,7 @@ def test_payloads():
     poly.decode_labels(good, 3)
     refused(bytes([0x40 | good[0]]) + good[1:], 3, 'reserved bit 6')
     # front-coded names (kinds bit 5, from 3.9): shared prefixes, refused in an older file, a shared
-    # length past the text before it, and the 1024-bytes-a-byte bound
+    # length past the text before it, and the 64-bytes-a-byte bound
     J = [b'joint-l-toe-1', b'joint-l-toe-2', b'joint-r', b'helper', b'helper-x']
     fc = section({1: J + [None]}, libraries=(b'lib/a.mtl', b'lib/b.mtl'), front=True)
     labels, names, libs = poly.decode_labels(fc, 6)
@@ -176,7 +176,7 @@ def test_payloads():
     # 5,001 names of 10,000 shared bytes and 3 more cost 6 bytes each: ~50 MB of text from ~40 kB
     stem = b'x' * 10000
     many = [stem + bytes([65 + i % 26, 65 + i // 26 % 26, 65 + i // 676]) for i in range(5000)]
-    refused(section({0: [stem]}, {0: many}, front=True), 1, 'front-coded texts past 1024 bytes a section byte')
+    refused(section({0: [stem]}, {0: many}, front=True), 1, 'front-coded texts past 64 bytes a section byte')
     refused(bytes([0x82]) + good[1:], 3, 'reserved bit 7')
     refused(bytes([0]) + good[1:], 3, 'kinds 0')
     refused(b'', 3, 'empty section')

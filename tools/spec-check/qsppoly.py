@@ -427,7 +427,7 @@ def decode_labels(payload, F, minor=9):
         need(b'\n' not in t and b'\r' not in t, 'face label name or library with CR or LF')
         pos += ln
         total += shared + ln
-        need(total <= 1024 * len(payload), 'face label texts past 1024 times the section')
+        need(total <= 64 * len(payload), 'face label texts past 64 times the section')
         return before[:shared] + t
 
     def texts(n):
