@@ -29,14 +29,16 @@ std::string encode_tags_section(std::span<const SubdivisionTag> input, std::span
                                 std::span<const std::uint32_t> face, bool keep_order) {
   // In the output's numbering, unless the order is kept (the order section numbers the output as the input).
   std::vector<SubdivisionTag> tags(input.begin(), input.end());
+  for (std::size_t t = 0; t < tags.size() && !keep_order; ++t)
+    if (tag_indices(tags[t].name) == TagIndices::kUnknown)
+      throw Error(ErrorCode::kUsage,
+                  "encode: tag " + std::to_string(t) + " ('" + tags[t].name +
+                      "') indexes what qsp cannot renumber: keep the original order for it");
   if (!keep_order) {
     try {
       renumber_tags(tags, vertex, face);
     } catch (const Error& e) {
-      throw Error(e.code(), std::string("encode: ") + e.what() +
-                                (std::string(e.what()).find("cannot renumber") != std::string::npos
-                                     ? ": keep the original order for it"
-                                     : ""));
+      throw Error(e.code(), std::string("encode: ") + e.what());
     }
   }
   std::string out;

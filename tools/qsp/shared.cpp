@@ -355,12 +355,13 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
     std::from_chars(text, end, value);
     return value == n.f64[i];
   };
-  const auto rounded = [&in, &held](const Numbers& n, std::size_t per, const char* what,
-                                    const char* keyword) {
+  const auto rounded = [&in, &held](const Numbers& n, std::size_t per, const char* what, const char* keyword,
+                                    unsigned category) {
     if (n.precision == Precision::kFloat32) return;
     std::size_t next_decimal = 0;
     for (std::size_t i = 0; i < n.size(); ++i) {
       if (held(n, i, next_decimal)) continue;
+      in.rounded_categories |= category;
       if (in.rounded_texcoords++ == 0) {
         char value[32];
         const auto end = std::to_chars(value, value + sizeof value, n.approx(i)).ptr;  // shortest
@@ -376,12 +377,13 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
   const bool obj = format == MeshFormat::kObj;
   if (keep & kCategoryUv)
     rounded(m.texcoords, std::max<std::size_t>(m.texcoord_components, 1), "texture coordinate",
-            obj ? "vt" : nullptr);
-  if (keep & kCategoryNormal) rounded(m.normals, 3, "normal", obj ? "vn" : nullptr);
+            obj ? "vt" : nullptr, kCategoryUv);
+  if (keep & kCategoryNormal) rounded(m.normals, 3, "normal", obj ? "vn" : nullptr, kCategoryNormal);
   if (keep & kCategoryColor) {
     rounded(m.vertex_colors, std::max<std::size_t>(m.vertex_color_components, 1), "vertex colour",
-            obj ? "v" : nullptr);
-    rounded(m.face_colors, std::max<std::size_t>(m.face_color_components, 1), "face colour", nullptr);
+            obj ? "v" : nullptr, kCategoryColor);
+    rounded(m.face_colors, std::max<std::size_t>(m.face_color_components, 1), "face colour", nullptr,
+            kCategoryColor);
   }
   if (keep & kCategoryTag)
     for (std::size_t t = 0; t < m.tags.size(); ++t)
@@ -605,18 +607,17 @@ void check_kept_values(const std::string& path, const PolygonInput& input, Polyg
     refuse_rounding(in, report, rules.what == ".qsp" ? "a lossless .qsp" : rules.what, true, rules.quiet, "");
   // Texture coordinates, normals and colours, named by the first that float32 does not hold.
   const std::string& first = input.first_rounded_texcoord;
-  const bool normal_first = first.starts_with("normal");
-  const bool color_first = first.find("colour") != std::string::npos;
-  const std::string what = normal_first ? "normal" : color_first ? "colour" : "texture coordinate";
+  const unsigned kinds = input.rounded_categories;
+  const std::string what = kinds == kCategoryNormal  ? "normal"
+                           : kinds == kCategoryColor ? "colour"
+                           : kinds == kCategoryUv    ? "texture coordinate"
+                                                     : "texture coordinate, normal and colour";
   if (input.rounded_texcoords && !rules.float32)
     throw Error(ErrorCode::kUnsupported,
                 in + ": " + std::to_string(input.rounded_texcoords) + " " + what +
                     " values have more digits than float32 holds (the first: " + first + "); " +
                     (rules.what == ".qsp" ? "a .qsp" : rules.what) + " keeps float32 " + what +
-                    "s: pass --float32 to round them, or --drop " +
-                    (normal_first  ? "normal"
-                     : color_first ? "color"
-                                   : "uv"));
+                    "s: pass --float32 to round them, or --drop " + category_list(kinds));
   if (input.rounded_texcoords && !rules.quiet)
     std::fprintf(stderr, "qsp: %s: rounded %llu %s values to float32 (--float32)\n", in.c_str(),
                  static_cast<unsigned long long>(input.rounded_texcoords), what.c_str());

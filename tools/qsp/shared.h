@@ -155,6 +155,7 @@ struct PolygonInput {
   std::uint64_t rounded_texcoords =
       0;  // kept texture coordinate, normal and colour values float32 does not hold
   std::string first_rounded_texcoord;  // which is the first of them and its value, for messages
+  unsigned rounded_categories = 0;     // the categories (kCategoryUv, ...) of those values
   std::uint64_t beyond_float64 = 0;    // coordinates of more digits than float64 holds (decimal text)
   std::string first_beyond_float64;    // which is the first of them and its value, for messages
   // The reader's report. A polygon mesh file's says what the quad reader's would (its data besides
