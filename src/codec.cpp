@@ -17,6 +17,7 @@
 #include "container.h"
 #include "geometry_coder.h"
 #include "qsp/error.h"
+#include "qsp/permute.h"
 #include "stencil.h"
 
 namespace qsp {
@@ -343,58 +344,19 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
     order.face = std::move(quads.face);
     order.rotation.assign(quads.rotation.begin(), quads.rotation.end());
   }
-  std::vector<std::uint32_t> output_to_input(nv);
-  PolygonMesh in;
-  in.positions.resize(out.positions.size());
-  in.positions64.resize(out.positions64.size());
-  for (std::uint32_t j = 0; j < nv; ++j) {
-    output_to_input[order.vertex[j]] = j;
-    std::copy_n(&out.positions[3 * std::size_t{order.vertex[j]}], 3, &in.positions[3 * std::size_t{j}]);
-    if (exact)
-      std::copy_n(&out.positions64[3 * std::size_t{order.vertex[j]}], 3, &in.positions64[3 * std::size_t{j}]);
-  }
-  // Colours move with their vertices and faces.
-  const std::size_t kv = out.vertex_color_components, kf = out.face_color_components;
-  in.vertex_color_components = out.vertex_color_components;
-  in.vertex_colors.resize(out.vertex_colors.size());
-  for (std::uint32_t j = 0; j < nv && kv; ++j)
-    std::copy_n(&out.vertex_colors[kv * order.vertex[j]], kv, &in.vertex_colors[kv * j]);
-  in.face_color_components = out.face_color_components;
-  in.face_colors.resize(out.face_colors.size());
-  for (std::uint32_t f = 0; f < nf && kf; ++f)
-    std::copy_n(&out.face_colors[kf * order.face[f]], kf, &in.face_colors[kf * f]);
-  in.face_offsets.assign(1, 0);
-  for (std::uint32_t f = 0; f < nf; ++f)
-    in.face_offsets.push_back(in.face_offsets.back() + degree[order.face[f]]);
-  in.corners.resize(out.corners.size());
-  const bool texcoords = !out.corner_texcoords.empty(), with_normals = !out.corner_normals.empty();
-  if (texcoords) in.corner_texcoords.resize(out.corners.size());
-  if (with_normals) in.corner_normals.resize(out.corners.size());
+  // Output corner i is the input face's corner (i + rotation) mod d: the input's corner c is output corner
+  // (c - rotation) mod d. Tags already index the input's numbering.
+  std::vector<std::uint32_t> first(nf);
   for (std::uint32_t f = 0; f < nf; ++f) {
-    const std::uint32_t g = order.face[f], dg = degree[g];
-    for (std::uint32_t i = 0; i < dg; ++i) {
-      const std::uint32_t to = in.face_offsets[f] + (i + order.rotation[f]) % dg;
-      in.corners[to] = output_to_input[out.corners[fo[g] + i]];
-      if (texcoords) in.corner_texcoords[to] = out.corner_texcoords[fo[g] + i];
-      if (with_normals) in.corner_normals[to] = out.corner_normals[fo[g] + i];
-    }
+    const std::uint32_t d = degree[order.face[f]];
+    first[f] = (d - order.rotation[f] % d) % d;
   }
-  in.texcoord_components = out.texcoord_components;
-  in.texcoords = std::move(out.texcoords);
-  in.normals = std::move(out.normals);
-  // Each face keeps its labels; the names are the decoded ones.
-  for (auto [from, to] :
-       {std::pair{&out.objects, &in.objects}, std::pair{&out.groups, &in.groups},
-        std::pair{&out.materials, &in.materials}, std::pair{&out.smoothing, &in.smoothing}}) {
-    to->names = std::move(from->names);
-    if (from->face.empty()) continue;
-    to->face.resize(nf);
-    for (std::uint32_t f = 0; f < nf; ++f) to->face[f] = from->face[order.face[f]];
-  }
-  in.material_libraries = std::move(out.material_libraries);
-  in.tags = std::move(out.tags);
-  in.kept_lines = std::move(out.kept_lines);
-  return in;
+  PolygonRenumbering r;
+  r.vertex_from = order.vertex;
+  r.face_from = order.face;
+  r.first = first;
+  r.renumber_tags = false;
+  return permute(out, r);
 }
 
 bool holds_polygons(std::string_view bytes) {

@@ -16,6 +16,7 @@
 #include "qsp/error.h"
 #include "qsp/match.h"
 #include "qsp/partition.h"
+#include "qsp/permute.h"
 #include "qsp/polymesh.h"
 
 namespace qsp {
@@ -548,71 +549,18 @@ bool verify_polygon_match(const PolygonMesh& a, const PolygonMesh& b, const Poly
 }
 
 PolygonMesh reorder_polygons_like(const PolygonMesh& in, const PolygonMatchResult& m) {
-  auto refuse = [](const std::string& why) {
-    return Error(ErrorCode::kUsage, "reorder_polygons_like: " + why);
-  };
-  if (!m.isomorphic) throw refuse("the meshes are not isomorphic: " + m.reason);
-  const std::size_t nv = in.vertex_count(), nf = in.face_count();
-  if (m.vertex.size() != nv || m.face.size() != nf || m.rotation.size() != nf)
-    throw refuse("the maps do not have in's sizes");
-  std::vector<std::uint32_t> inverse(nv, kInvalid);
-  for (std::uint32_t i = 0; i < nv; ++i) {
-    if (m.vertex[i] >= nv || inverse[m.vertex[i]] != kInvalid) throw refuse("the vertex map is no bijection");
-    inverse[m.vertex[i]] = i;
+  if (!m.isomorphic)
+    throw Error(ErrorCode::kUsage, "reorder_polygons_like: the meshes are not isomorphic: " + m.reason);
+  PolygonRenumbering r;
+  r.vertex_from = m.vertex;
+  r.face_from = m.face;
+  r.first = m.rotation;
+  r.reverse = m.mirrored;
+  try {
+    return permute(in, r);
+  } catch (const Error& e) {
+    throw Error(ErrorCode::kUsage, std::string("reorder_polygons_like: ") + e.what());
   }
-  // Every attribute goes with its vertex, face or corner; value arrays (texture coordinates, normals) and
-  // names stay as they are, so each corner and face still names the same values.
-  PolygonMesh out;
-  const auto per_vertex = [&](const auto& from, std::size_t k, auto& to) {
-    to.resize(from.size());
-    for (std::uint32_t i = 0; i < nv && k; ++i)
-      std::copy_n(&from[k * m.vertex[i]], k, &to[k * std::size_t{i}]);
-  };
-  per_vertex(in.positions, 3, out.positions);
-  per_vertex(in.positions64, in.positions64.empty() ? 0 : 3, out.positions64);
-  out.vertex_color_components = in.vertex_color_components;
-  per_vertex(in.vertex_colors, in.vertex_color_components, out.vertex_colors);
-  std::vector<std::uint8_t> used(nf, 0);
-  std::vector<std::uint32_t> face_inverse(nf);
-  out.corners.reserve(in.corners.size());
-  out.face_offsets.reserve(nf + 1);
-  const bool texcoords = !in.corner_texcoords.empty(), normals = !in.corner_normals.empty();
-  for (std::size_t f = 0; f < nf; ++f) {
-    const std::uint32_t g = m.face[f];
-    if (g >= nf || used[g]) throw refuse("the face map is no bijection");
-    used[g] = 1;
-    face_inverse[g] = static_cast<std::uint32_t>(f);
-    const std::uint32_t d = in.degree(g), r = m.rotation[f];
-    if (r >= d) throw refuse("a rotation is out of its face's range");
-    for (std::uint32_t c = 0; c < d; ++c) {
-      const std::uint32_t from = in.face_offsets[g] + (m.mirrored ? (r + d - c) % d : (c + r) % d);
-      out.corners.push_back(inverse[in.corners[from]]);
-      if (texcoords) out.corner_texcoords.push_back(in.corner_texcoords[from]);
-      if (normals) out.corner_normals.push_back(in.corner_normals[from]);
-    }
-    out.face_offsets.push_back(static_cast<std::uint32_t>(out.corners.size()));
-  }
-  out.texcoord_components = in.texcoord_components;
-  out.texcoords = in.texcoords;
-  out.normals = in.normals;
-  const std::size_t kf = in.face_color_components;
-  out.face_color_components = in.face_color_components;
-  out.face_colors.resize(in.face_colors.size());
-  for (std::size_t f = 0; f < nf && kf; ++f)
-    std::copy_n(&in.face_colors[kf * m.face[f]], kf, &out.face_colors[kf * f]);
-  for (auto [from, to] :
-       {std::pair{&in.objects, &out.objects}, std::pair{&in.groups, &out.groups},
-        std::pair{&in.materials, &out.materials}, std::pair{&in.smoothing, &out.smoothing}}) {
-    to->names = from->names;
-    if (from->face.empty()) continue;
-    to->face.resize(nf);
-    for (std::size_t f = 0; f < nf; ++f) to->face[f] = from->face[m.face[f]];
-  }
-  out.material_libraries = in.material_libraries;
-  out.kept_lines = in.kept_lines;
-  out.tags = in.tags;
-  renumber_tags(out.tags, inverse, face_inverse);
-  return out;
 }
 
 }  // namespace qsp

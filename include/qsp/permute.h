@@ -1,6 +1,6 @@
 // qsp/permute.h: a mesh renumbered by a vertex and face permutation (with a first corner per face),
 // the one copy every stage that reorders a mesh uses: decoding a file that keeps the order, match's
-// locality renumbering, reorder_like (match.h).
+// locality renumbering, reorder_like and reorder_polygons_like (match.h).
 #pragma once
 
 #include <cstdint>
@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "qsp/mesh.h"
+#include "qsp/submesh.h"
 
 namespace qsp {
 
@@ -29,6 +30,25 @@ struct Renumbering {
 // a face index of `mesh` out of range is reported as the mesh is (kBadIndex). O(V + F); safe on untrusted
 // maps.
 QuadMesh permute(const QuadMesh& mesh, const Renumbering& r);
+
+// The same for a polygon mesh and everything it carries: the result's face f is `mesh`'s face
+// face_from[f] with its corner c being that face's corner (c + first[f]) % d, or (first[f] - c) % d when
+// `reverse`, d its degree (first empty: 0).
+struct PolygonRenumbering {
+  std::span<const std::uint32_t> vertex_from;
+  std::span<const std::uint32_t> face_from;
+  std::span<const std::uint32_t> first;  // empty, or one per face, below its degree
+  bool reverse = false;
+  bool renumber_tags = true;  // tags' vertex and face indices follow (else they are kept as they are)
+};
+
+// `mesh` renumbered by `r`: vertex attributes (positions, exact positions, colours) move with their
+// vertices, face attributes (colours, labels) with their faces, each corner's texture coordinate and
+// normal with its corner; value arrays, label names, libraries and kept lines stay as they are; tags as
+// `r.renumber_tags` says (renumber_tags, polymesh.h). Throws Error(kUsage) as the quad permute() does, for
+// a first corner beyond its face, or a tag that cannot be renumbered. O(V + corners); safe on untrusted
+// maps.
+PolygonMesh permute(const PolygonMesh& mesh, const PolygonRenumbering& r);
 
 // The inverse of a permutation: out[p[i]] = i. Throws Error(kUsage) unless `p` is a permutation of
 // 0..p.size()-1.
