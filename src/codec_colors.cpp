@@ -154,9 +154,14 @@ std::string encode_colors_section(std::span<const std::uint32_t> face_offsets,
   for (unsigned c = 0; c < Kv + Kf; ++c) {
     std::vector<float>& values = c < Kv ? vertex : face;
     const unsigned K = c < Kv ? Kv : Kf, j = c < Kv ? c : c - Kv;
-    domains[c].mode = quantize_bits && quantize(values, K, j, quantize_bits)
+    // A component exactly on a decimal grid at least as coarse as the binary one asked for (PLY bytes at
+    // any BITS) stays there: exact, and no larger.
+    const std::uint8_t exact = choose_mode(values, K, j);
+    const bool coarser =
+        exact != kModeFloat && kPow10[exact - 1u] <= std::ldexp(1.0, static_cast<int>(quantize_bits));
+    domains[c].mode = quantize_bits && !coarser && quantize(values, K, j, quantize_bits)
                           ? static_cast<std::uint8_t>(kModeGrid + quantize_bits)
-                          : choose_mode(values, K, j);
+                          : exact;
   }
   // The section with the vertices' neighbour means, and with the quads' parallelograms (smooth colours
   // gain, noisy ones lose): the smaller, the first on a tie.

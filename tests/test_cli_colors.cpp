@@ -292,7 +292,8 @@ TEST_F(ColorsCli, ColourTextFloat32DoesNotHoldIsRefusedUnlessRoundedOrDropped) {
 
 TEST_F(ColorsCli, QuantizedColoursAreOnTheirGrid) {
   const std::string text =
-      "v 0 0 0 0.1 0.2 0.3\nv 1 0 0 0.4 0.5 0.6\nv 1 1 0 0.7 0.8 0.9\nv 0 1 0 1 0 0.33\nf 1 2 3 4\n";
+      "v 0 0 0 0.101 0.202 0.303\nv 1 0 0 0.404 0.505 0.606\nv 1 1 0 0.707 0.808 0.909\nv 0 1 0 1 0 0.333\n"
+      "f 1 2 3 4\n";  // three decimals: finer than 2^-6, so rounded
   round_trip("in.obj", text, ".obj", "--quantize-color 6");
   const Parsed a = parse_obj(text), b = parse_obj(slurp(p("back.obj")));
   ASSERT_EQ(b.vertex.size(), a.vertex.size());

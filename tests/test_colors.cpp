@@ -5,11 +5,13 @@
 // files through the tool, read back by the test's own parser: ColorsCli in test_cli_colors.cpp.)
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "codec_sections.h"
@@ -165,7 +167,8 @@ TEST(Colors, FilesKeepThemAndRenumberedCopiesGiveTheSameBytes) {
   for (const fs::path& f : meshes()) {
     SCOPED_TRACE(f.string());
     const PolygonMesh plain = testing::read_obj_polygons(f);
-    for (const auto& [kv, kf] : {std::pair{3u, 0u}, std::pair{4u, 1u}, std::pair{0u, 3u}, std::pair{3u, 4u}}) {
+    for (const auto& [kv, kf] :
+         {std::pair{3u, 0u}, std::pair{4u, 1u}, std::pair{0u, 3u}, std::pair{3u, 4u}}) {
       const PolygonMesh m = coloured(plain, kv, kf, ++seed);
       for (int level : {1, 9}) {
         EncodeOptions o;
@@ -187,11 +190,15 @@ TEST(Colors, FilesKeepThemAndRenumberedCopiesGiveTheSameBytes) {
   }
 }
 
-TEST(Colors, QuantizedColoursAreOnTheirGridAndIntegersStayExact) {
+// --quantize-color BITS: a component goes to the grid of step 2^-BITS, within half a step, unless it is
+// exactly on a decimal grid at least as coarse (bytes; three decimals at 12 bits), which it keeps; the
+// vertex colours' kinds here are 2, 3, 4, 0 (arbitrary floats, one value, bytes with far-off floats,
+// three decimals) and the faces' 2, 3, 4.
+TEST(Colors, QuantizedColoursAreOnTheirGridOrACoarserDecimalOne) {
   const PolygonMesh plain = testing::read_obj_polygons(kColors + "grid_rgb.obj");
   for (std::uint32_t bits : {4u, 8u, 12u}) {
     SCOPED_TRACE(bits);
-    const PolygonMesh m = coloured(plain, 4, 3, 7);  // kinds 2, 3, 4, 0 and 1, 2, 3 (seed 7)
+    const PolygonMesh m = coloured(plain, 4, 3, 7);
     EncodeOptions o;
     o.keep_order = true;
     o.quantize_color_bits = bits;
@@ -199,19 +206,34 @@ TEST(Colors, QuantizedColoursAreOnTheirGridAndIntegersStayExact) {
     ASSERT_EQ(back.vertex_colors.size(), m.vertex_colors.size());
     ASSERT_EQ(back.face_colors.size(), m.face_colors.size());
     const double half = std::ldexp(1.0, -static_cast<int>(bits) - 1);
-    for (const auto& [got, want] :
-         {std::pair{&back.vertex_colors, &m.vertex_colors}, std::pair{&back.face_colors, &m.face_colors}}) {
-      for (std::size_t i = 0; i < want->size(); ++i) {
-        const double x = (*want)[i], y = (*got)[i];
-        EXPECT_LE(std::fabs(x - y), half) << i;
-        EXPECT_EQ(std::ldexp(y, static_cast<int>(bits)),
-                  std::nearbyint(std::ldexp(y, static_cast<int>(bits))));
-        if (x == std::floor(x) && std::fabs(x) < 256) {
-          EXPECT_EQ(x, y) << "an integer colour stays exact";
+    for (const auto& [got, want, K] : {std::tuple{&back.vertex_colors, &m.vertex_colors, 4u},
+                                       std::tuple{&back.face_colors, &m.face_colors, 3u}}) {
+      for (unsigned c = 0; c < K; ++c) {
+        bool on_grid = true, exact = true, bytes = true;
+        for (std::size_t i = c; i < want->size(); i += K) {
+          const double x = (*want)[i], y = (*got)[i];
+          EXPECT_LE(std::fabs(x - y), half) << i;
+          on_grid = on_grid && std::ldexp(y, static_cast<int>(bits)) ==
+                                   std::nearbyint(std::ldexp(y, static_cast<int>(bits)));
+          exact = exact && std::bit_cast<std::uint32_t>(static_cast<float>(x)) ==
+                               std::bit_cast<std::uint32_t>(static_cast<float>(y));
+          bytes = bytes && x == std::floor(x) && x >= 0 && x < 256;
+        }
+        EXPECT_TRUE(on_grid || exact) << "component " << c;
+        if (bytes) {
+          EXPECT_TRUE(exact) << "bytes stay exact, component " << c;
         }
       }
     }
   }
+  // Byte colours: the quantized file is the lossless one.
+  const PolygonMesh bytes = coloured(plain, 3, 0, 1);  // kinds 1, 2, 3: bytes first
+  PolygonMesh only_bytes = bytes;
+  for (std::size_t i = 0; i < only_bytes.vertex_colors.size(); ++i)
+    only_bytes.vertex_colors[i] = bytes.vertex_colors[i - i % 3];
+  EncodeOptions q;
+  q.quantize_color_bits = 8;
+  EXPECT_EQ(encode_polygons(only_bytes, q), encode_polygons(only_bytes));
 }
 
 TEST(Colors, TheQuadReaderRefusesAFileWithThem) {

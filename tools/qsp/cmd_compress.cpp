@@ -201,7 +201,7 @@ void register_compress(CLI::App& app, int& rc) {
       ->check(CLI::Range(1, 24));
   sub->add_option("--quantize-color", opt->quantize_color,
                   "Lossy: round vertex and face colours to a grid of step 2^-BITS (1-24; 8 = 1/256); "
-                  "integer colours (PLY uchar) stay exact")
+                  "colours already on a coarser decimal grid (PLY uchar) stay exact")
       ->check(CLI::Range(1, 24));
   sub->add_flag("--keep-order", opt->keep_order, "Also store the vertex order, face order and first corners");
   add_drop_options(sub, opt->drop, "", kPolygonMeshCategories);

@@ -323,8 +323,13 @@ def lossless_mode(values):
 
 
 def quantized_mode(values, bits):
-    """--quantize-color BITS: the binary grid of step 2^-BITS, unless a value is 2^(40 - BITS) or more
-    in magnitude (or not finite), when the component stays exact."""
+    """--quantize-color BITS: the binary grid of step 2^-BITS, unless the component is exactly on a
+    decimal grid at least as coarse (10^k <= 2^BITS: PLY bytes at any BITS), which it keeps, or a value
+    is 2^(40 - BITS) or more in magnitude (or not finite), when the component stays exact."""
+    exact = lossless_mode(values)
+    if 1 <= exact <= 10 and 10 ** (exact - 1) <= 2 ** bits:
+        seen('colors: --quantize-color keeps a coarser decimal grid')
+        return exact
     for u in values:
         y = g.bits_f32(u)
         if not math.isfinite(y) or abs(y) >= 2.0 ** (40 - bits):
