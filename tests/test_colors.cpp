@@ -31,7 +31,7 @@ namespace fs = std::filesystem;
 const std::string kColors = std::string(QSP_TESTDATA_DIR) + "/golden/colors/";
 
 bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), 4 * a.size()) == 0;
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), 4 * a.size()) == 0);
 }
 
 // `n` values of one kind: 0 three-decimal text, 1 PLY bytes (0-255), 2 arbitrary floats of both signs

@@ -43,7 +43,7 @@ std::string label(const FaceLabels& l, std::size_t f) {
 
 template <class T>
 bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), sizeof(T) * a.size()) == 0;
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), sizeof(T) * a.size()) == 0);
 }
 
 TEST(ReorderAttributes, ARenumberedCopyReorderedLikeTheOriginalIsTheOriginal) {
