@@ -334,7 +334,14 @@ TEST_F(CliDrop, AStrayLineOfProseInAMakeHumanHeaderIsKept) {
   ASSERT_EQ(compress(hat, "--positions-only", p("hat.qsp")).exit_code, 0);
   EXPECT_EQ(slurp(p("hat.qsp")), slurp(p("plain.qsp")));
 
-  // reorder keeps the line too, before the vertices, unless extra is dropped.
+  // reorder keeps the line too, before the vertices, unless extra is dropped; OFF cannot hold it: refused,
+  // with no note that it is being kept.
+  r = run_qsp("reorder --drop uv --like " + quote(plain) + " " + quote(hat) + " -o " + quote(p("out.off")));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("lines kept as text"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("keeping"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p("out.off")));
+
   r = run_qsp("reorder --drop uv --like " + quote(plain) + " " + quote(hat) + " -o " + quote(p("out.obj")));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("keeping 1 line"), std::string::npos) << r.err;

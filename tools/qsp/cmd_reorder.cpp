@@ -134,8 +134,11 @@ int run(const ReorderOptions& o) {
     PolygonMesh in_mesh = polygons_of(in);
     // A decoded .qsp carries what it holds: --drop applies here (a mesh file's reader took it).
     const std::string dropped_from_qsp = in.from_qsp ? drop_polygon_data(in_mesh, o.input, o.drop) : "";
-    check_kept_values(o.input, in, in_mesh,
-                      {"reorder", "OUT has them before the vertices", o.float32, false, false});
+    // Lines kept as text go to OBJ and .qsp only (OFF and PLY refuse them): no "keeping" note before that.
+    const bool holds_lines = format == MeshFormat::kObj || format == MeshFormat::kQsp;
+    check_kept_values(
+        o.input, in, in_mesh,
+        {"reorder", holds_lines ? "OUT has them before the vertices" : "", o.float32, false, false});
     for (std::size_t t = 0; t < in_mesh.tags.size(); ++t)
       if (tag_indices(in_mesh.tags[t].name) == TagIndices::kUnknown)
         throw Error(ErrorCode::kUnsupported,

@@ -586,7 +586,7 @@ void check_kept_values(const std::string& path, const PolygonInput& input, Polyg
                                                rules.what +
                                                " cannot keep as text; pass --drop extra to drop the lines "
                                                "kept as text");
-  if (!mesh.kept_lines.empty() && !rules.quiet)
+  if (!mesh.kept_lines.empty() && !rules.quiet && !rules.lines_note.empty())
     std::fprintf(stderr, "qsp: warning: %s: keeping %s; %s\n", in.c_str(),
                  report.describe_extra_data(in, kCategoryExtra).c_str(), rules.lines_note.c_str());
   // Coordinates float32 does not hold are kept as float64 unless rounded; float64 holds every text of

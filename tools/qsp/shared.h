@@ -235,7 +235,8 @@ std::string drop_polygon_data(PolygonMesh& mesh, const std::string& path, const 
 // How compress and reorder keep IN's values beside positions and faces (check_kept_values).
 struct KeptRules {
   std::string what;        // ".qsp", "reorder": what keeps them, for messages
-  std::string lines_note;  // where lines kept as text go ("decompress writes them back before the vertices")
+  std::string lines_note;  // where lines kept as text go ("decompress writes them back before the vertices");
+                           // empty: no note (the output then refuses them)
   bool float32 = false;    // --float32: round what float32 does not hold instead of refusing
   bool quantized = false;  // --quantize: positions are rounded anyway
   bool quiet = false;
