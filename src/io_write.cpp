@@ -79,25 +79,75 @@ void refuse_what_off_and_ply_lack(Refusal& r, const Mesh& m) {
 // ----------------------------------------------------------------------------------------------
 // OBJ
 
+// A line built in a buffer on the stack and appended once: appending each word and space to the
+// string (a capacity check each) was a third of writing mh_base's face lines.
+class Line {
+ public:
+  explicit Line(std::string& out) : out_(out) {}
+  ~Line() { flush(); }
+  Line(const Line&) = delete;
+  Line& operator=(const Line&) = delete;
+  void put(char c) {
+    room(1);
+    buf_[n_++] = c;
+  }
+  void put(std::string_view s) {
+    room(s.size());
+    if (s.size() > sizeof buf_) {  // room() flushed the buffer
+      out_.append(s);
+      return;
+    }
+    std::memcpy(buf_ + n_, s.data(), s.size());
+    n_ += s.size();
+  }
+  void put_uint(std::uint64_t x) {
+    room(24);
+    n_ = static_cast<std::size_t>(std::to_chars(buf_ + n_, buf_ + sizeof buf_, x).ptr - buf_);
+  }
+  void put_float(float f) {
+    room(32);
+    n_ = static_cast<std::size_t>(std::to_chars(buf_ + n_, buf_ + sizeof buf_, f).ptr - buf_);
+  }
+  // A number as append_number writes it.
+  void put_number(const Numbers& x, std::size_t i) {
+    if (x.precision == Precision::kFloat32) return put_float(x.f32[i]);
+    flush();
+    append_number(out_, x, i);
+  }
+  void flush() {
+    out_.append(buf_, n_);
+    n_ = 0;
+  }
+
+ private:
+  void room(std::size_t k) {
+    if (n_ + k > sizeof buf_) flush();
+  }
+  std::string& out_;
+  char buf_[256];
+  std::size_t n_ = 0;
+};
+
 // The `v` lines of vertices [begin, end).
 void vertex_lines(std::string& out, const Mesh& m, std::size_t begin, std::size_t end) {
   const std::size_t c = m.vertex_color_components;
+  Line line(out);
   for (std::size_t v = begin; v < end; ++v) {
-    out += "v ";
-    append_number(out, m.positions, 3 * v);
-    out += ' ';
-    append_number(out, m.positions, 3 * v + 1);
-    out += ' ';
-    append_number(out, m.positions, 3 * v + 2);
+    line.put("v ");
+    line.put_number(m.positions, 3 * v);
+    line.put(' ');
+    line.put_number(m.positions, 3 * v + 1);
+    line.put(' ');
+    line.put_number(m.positions, 3 * v + 2);
     if (!m.vertex_weights.empty()) {
-      out += ' ';
-      append_number(out, m.vertex_weights, v);
+      line.put(' ');
+      line.put_number(m.vertex_weights, v);
     }
     for (std::size_t k = 0; k < c && !m.vertex_colors.empty(); ++k) {
-      out += ' ';
-      append_number(out, m.vertex_colors, c * v + k);
+      line.put(' ');
+      line.put_number(m.vertex_colors, c * v + k);
     }
-    out += '\n';
+    line.put('\n');
   }
 }
 
@@ -138,21 +188,21 @@ void normal_line(std::string& out, const Mesh& m, std::size_t n) {
   out += '\n';
 }
 
-void face_line(std::string& out, const Mesh& m, std::size_t f) {
-  out += 'f';
+void face_line(Line& line, const Mesh& m, std::size_t f) {
+  line.put('f');
   for (std::uint32_t c = m.face_offsets[f]; c < m.face_offsets[f + 1]; ++c) {
-    out += ' ';
-    append_uint(out, std::uint64_t{m.corner_vertices[c]} + 1);
+    line.put(' ');
+    line.put_uint(std::uint64_t{m.corner_vertices[c]} + 1);
     const std::uint32_t t = m.corner_texcoords.empty() ? kInvalid : m.corner_texcoords[c];
     const std::uint32_t n = m.corner_normals.empty() ? kInvalid : m.corner_normals[c];
     if (t == kInvalid && n == kInvalid) continue;
-    out += '/';
-    if (t != kInvalid) append_uint(out, std::uint64_t{t} + 1);
+    line.put('/');
+    if (t != kInvalid) line.put_uint(std::uint64_t{t} + 1);
     if (n == kInvalid) continue;
-    out += '/';
-    append_uint(out, std::uint64_t{n} + 1);
+    line.put('/');
+    line.put_uint(std::uint64_t{n} + 1);
   }
-  out += '\n';
+  line.put('\n');
 }
 
 constexpr const char* kLabelKeyword[4] = {"o", "g", "usemtl", "s"};
@@ -244,6 +294,7 @@ std::vector<std::uint32_t> face_write_order(const Mesh& m) {
 // names no face takes.
 void faces_with_labels(std::string& out, const Mesh& m, std::span<const std::uint32_t> order) {
   std::uint32_t current[4] = {kInvalid, kInvalid, kInvalid, kInvalid};
+  Line line(out);
   for (const std::uint32_t f : order) {
     for (int k = 0; k < 4; ++k) {
       const FaceLabels& l = labels(m, k);
@@ -254,10 +305,12 @@ void faces_with_labels(std::string& out, const Mesh& m, std::span<const std::uin
                         "` after faces with one (keep the file's order, or drop them)");
       }
       current[k] = l.face[f];
+      line.flush();
       label_line(out, k, l.names[current[k]]);
     }
-    face_line(out, m, f);
+    face_line(line, m, f);
   }
+  line.flush();
   // Names no face takes (a `g` no face follows) after the faces, where such a statement stands.
   for (int k = 0; k < 4; ++k) {
     const FaceLabels& l = labels(m, k);
@@ -286,7 +339,8 @@ void obj_in_order(std::string& out, const Mesh& m) {
       case ObjStatement::kNormal:
         for (std::uint32_t i = 0; i < s.value; ++i) normal_line(out, m, n++);
         break;
-      case ObjStatement::kFace:
+      case ObjStatement::kFace: {
+        Line line(out);
         for (std::uint32_t i = 0; i < s.value; ++i, ++f) {
           for (int k = 0; k < 4; ++k) {
             const FaceLabels& l = labels(m, k);
@@ -296,9 +350,10 @@ void obj_in_order(std::string& out, const Mesh& m) {
                                                  "`; clear Mesh::statements to write the canonical order");
             }
           }
-          face_line(out, m, f);
+          face_line(line, m, f);
         }
         break;
+      }
       case ObjStatement::kObject:
       case ObjStatement::kGroup:
       case ObjStatement::kMaterial:

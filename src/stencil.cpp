@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <numeric>
 #include <queue>
 #include <span>
@@ -437,11 +438,28 @@ MeshLayout assemble(std::span<const ComponentPartition> parts, std::uint32_t unr
 
 void check_stencils(std::span<const Stencil> stencil, std::size_t n) {
   if (stencil.size() != n) throw Error(ErrorCode::kInternal, "geometry: stencil count != vertex count");
+  // The stencil as its words, a mask of all ones on the vertex fields (from vertex_fields(), the one
+  // list of them): one loop over fixed words the compiler vectorises, where gathering the fields cost
+  // 2% of a decode.
+  constexpr std::size_t kWords = sizeof(Stencil) / sizeof(std::uint32_t);
+  static_assert(sizeof(Stencil) == kWords * sizeof(std::uint32_t));
+  static const std::array<std::uint32_t, kWords> mask = [] {
+    constexpr std::uint32_t kMark = 0x9E3779B9u;  // no other field's default
+    Stencil m;
+    for (std::uint32_t* f : m.vertex_fields()) *f = kMark;
+    std::array<std::uint32_t, kWords> words{};
+    std::memcpy(words.data(), &m, sizeof m);
+    for (std::uint32_t& w : words) w = w == kMark ? ~0u : 0u;
+    return words;
+  }();
   for (std::uint32_t i = 0; i < n; ++i) {
-    // j >= i for a field j other than kInvalid, i.e. j + 1 > i with kInvalid wrapping to 0: no branch
-    // per field (this check was 3% of encoding).
-    bool forward = false;
-    for (std::uint32_t j : stencil[i].vertex_fields()) forward |= j + 1 > i;
+    // j >= i for a field j other than kInvalid, i.e. j + 1 > i with kInvalid wrapping to 0 (and the
+    // other fields masked to kInvalid): no branch per field.
+    std::array<std::uint32_t, kWords> words;
+    std::memcpy(words.data(), &stencil[i], sizeof(Stencil));
+    std::uint32_t forward = 0;
+    for (std::size_t k = 0; k < kWords; ++k)
+      forward |= static_cast<std::uint32_t>(((words[k] | ~mask[k]) + 1) > i);
     if (forward) throw Error(ErrorCode::kInternal, "geometry: stencil refers forward");
   }
 }

@@ -290,5 +290,28 @@ TEST(Corpus, PatchOrderStencilsAreCellsOfTheMesh) {
   EXPECT_GT(extended, 0u);
 }
 
+// check_stencils reads the stencil as words under a mask built from vertex_fields(): every vertex field
+// is checked (a forward one in any field is refused), and no other field (a large distance is not a
+// vertex).
+TEST(Stencils, CheckRefusesAForwardReferenceInEveryVertexField) {
+  std::vector<Stencil> ok(3);
+  ok[1].w = 0;
+  ok[2].w = 1, ok[2].s = 0, ok[2].far_dist = 1000, ok[2].e_dist = 1000, ok[2].xden = 1000;
+  EXPECT_NO_THROW(check_stencils(ok, 3));
+  for (std::size_t k = 0; k < Stencil{}.vertex_fields().size(); ++k) {
+    for (const std::uint32_t bad : {2u, 3u, 1000u}) {
+      std::vector<Stencil> st = ok;
+      *st[2].vertex_fields()[k] = bad;
+      try {
+        check_stencils(st, 3);
+        ADD_FAILURE() << "field " << k << " = " << bad << " at position 2 was not refused";
+      } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ErrorCode::kInternal);
+      }
+    }
+  }
+  EXPECT_THROW(check_stencils(ok, 4), Error);
+}
+
 }  // namespace
 }  // namespace qsp
