@@ -175,25 +175,30 @@ std::string near(const RangeDecoder& dec) {
 // Patch side constraints: sum of lengths on side 0 == side 2, side 1 == side 3.
 struct LengthSolver {
   struct Term {
-    std::uint32_t edge;  // or constraint, in of_edge
+    std::uint32_t edge;  // or constraint, in by_edge
     std::int32_t coef;
   };
-  std::vector<std::vector<Term>> constraint;
-  std::vector<std::vector<Term>> of_edge;  // per edge: the constraints it appears in, with its coefficient
-  std::vector<std::uint32_t> unknown;      // per constraint
-  std::vector<std::int64_t> known_sum;     // per constraint
-  std::vector<std::uint8_t> known;         // per edge
+  // Flat arrays, not a vector per constraint and per edge: their allocations were a third of coding
+  // the topology of a mesh of many small patches (mh_base: 3,000 constraints).
+  std::vector<Term> terms;              // constraint c's terms: [first[c], first[c + 1])
+  std::vector<std::uint32_t> first{0};  // per constraint, and one past the last
+  std::vector<Term> by_edge;  // edge e's constraints with its coefficient: [edge_first[e], edge_first[e + 1])
+  std::vector<std::uint32_t> edge_first;  // per edge, and one past the last
+  std::vector<std::uint32_t> unknown;     // per constraint
+  std::vector<std::int64_t> known_sum;    // per constraint
+  std::vector<std::uint8_t> known;        // per edge
 
   LengthSolver(const Orbits& o, const std::vector<std::uint8_t>& hole,
                const std::vector<std::uint8_t>& corner, const std::vector<std::uint32_t>& next,
                std::uint32_t edges) {
-    of_edge.resize(edges);
     known.assign(edges, 0);
+    std::vector<Term> a, b;
     for (std::uint32_t f = 0; f < o.face_first.size(); ++f) {
       if (hole[f]) continue;
       std::uint32_t start = o.face_first[f];
       while (!corner[start]) start = next[start];
-      std::vector<Term> a, b;
+      a.clear();
+      b.clear();
       int side = -1;
       std::uint32_t x = start;
       do {
@@ -205,29 +210,39 @@ struct LengthSolver {
         if (side == 3) b.push_back({e, -1});
         x = next[x];
       } while (x != start);
-      add(std::move(a));
-      add(std::move(b));
+      add(a);
+      add(b);
     }
-    unknown.resize(constraint.size());
-    known_sum.assign(constraint.size(), 0);
-    for (std::size_t c = 0; c < constraint.size(); ++c)
-      unknown[c] = static_cast<std::uint32_t>(constraint[c].size());
+    const std::size_t constraints = first.size() - 1;
+    // Each edge's constraints in constraint order.
+    edge_first.assign(std::size_t{edges} + 1, 0);
+    for (const Term& t : terms) ++edge_first[t.edge + 1];
+    for (std::uint32_t e = 0; e < edges; ++e) edge_first[e + 1] += edge_first[e];
+    by_edge.resize(terms.size());
+    std::vector<std::uint32_t> fill(edge_first.begin(), edge_first.end() - 1);
+    for (std::uint32_t c = 0; c < constraints; ++c)
+      for (std::uint32_t k = first[c]; k < first[c + 1]; ++k)
+        by_edge[fill[terms[k].edge]++] = {c, terms[k].coef};
+    unknown.resize(constraints);
+    known_sum.assign(constraints, 0);
+    for (std::size_t c = 0; c < constraints; ++c) unknown[c] = first[c + 1] - first[c];
   }
-  void add(std::vector<Term> terms) {
-    std::sort(terms.begin(), terms.end(), [](const Term& p, const Term& q) { return p.edge < q.edge; });
-    std::vector<Term> merged;
-    for (const Term& t : terms) {
-      if (!merged.empty() && merged.back().edge == t.edge) {
-        merged.back().coef += t.coef;
+  // Appends the constraint "the terms sum to 0", its terms merged by edge (those that cancel left out);
+  // none if all cancel.
+  void add(std::vector<Term>& t) {
+    std::sort(t.begin(), t.end(), [](const Term& p, const Term& q) { return p.edge < q.edge; });
+    const std::size_t from = terms.size();
+    for (const Term& x : t) {
+      if (terms.size() > from && terms.back().edge == x.edge) {
+        terms.back().coef += x.coef;
       } else {
-        merged.push_back(t);
+        terms.push_back(x);
       }
     }
-    std::erase_if(merged, [](const Term& t) { return t.coef == 0; });
-    if (merged.empty()) return;
-    auto c = static_cast<std::uint32_t>(constraint.size());
-    for (const Term& t : merged) of_edge[t.edge].push_back({c, t.coef});
-    constraint.push_back(std::move(merged));
+    terms.erase(std::remove_if(terms.begin() + static_cast<std::ptrdiff_t>(from), terms.end(),
+                               [](const Term& x) { return x.coef == 0; }),
+                terms.end());
+    if (terms.size() > from) first.push_back(static_cast<std::uint32_t>(terms.size()));
   }
   // Records length[e] and derives every length that becomes determined, writing it into `length`.
   // A derived length that is not a positive integer <= max_length, or a fully known constraint that
@@ -239,7 +254,8 @@ struct LengthSolver {
     while (!queue.empty()) {
       std::uint32_t x = queue.back();
       queue.pop_back();
-      for (const Term& ct : of_edge[x]) {
+      for (std::uint32_t k = edge_first[x]; k < edge_first[x + 1]; ++k) {
+        const Term& ct = by_edge[k];
         std::uint32_t c = ct.edge;
         known_sum[c] += std::int64_t{ct.coef} * length[x];
         if (--unknown[c] == 0) {
@@ -247,7 +263,8 @@ struct LengthSolver {
           continue;
         }
         if (unknown[c] != 1) continue;
-        for (const Term& t : constraint[c]) {
+        for (std::uint32_t k2 = first[c]; k2 < first[c + 1]; ++k2) {
+          const Term& t = terms[k2];
           if (known[t.edge]) continue;
           std::int64_t value = -known_sum[c] / t.coef;
           if (value * t.coef != -known_sum[c] || value < 1 ||
