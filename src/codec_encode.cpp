@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "beside.h"
 #include "bytes.h"
 #include "codec_sections.h"
 #include "container.h"
@@ -20,6 +21,9 @@ std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const P
   return encode_canonical(mesh, canonicalize(mesh, adj, partition), options, effort, tuning, order_out,
                           std::move(role));
 }
+
+// Below this many faces the topology is coded on this thread: starting one would cost more.
+constexpr std::uint64_t kTopologyBesideFrom = 4096;
 
 std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, const EncodeOptions& options,
                              const Effort& effort, const EncodeTuning& tuning, OrderMap* order_out,
@@ -59,6 +63,10 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
     order.vertex[v] = vbase++;
   }
   if (vbase != nv || fbase != nf) internal("canonical form does not cover every vertex and face");
+  // The topology section needs only the codes: coded on the second core while this one lays out the
+  // grid and builds the stencils, which leave it idle.
+  std::future<std::string> topology =
+      beside(options.threads != 1 && nf >= kTopologyBesideFrom, [&codes] { return encode_topology(codes); });
 
   const CodingOrder first = options.geometry_order.value_or(CodingOrder::kPatch);
   const auto unreferenced = static_cast<std::uint32_t>(cm.unreferenced.size());
@@ -129,7 +137,7 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
 
   std::string body;
   container::put_section(body, container::kTagCounts, counts);
-  container::put_section(body, container::kTagTopology, encode_topology(codes));
+  container::put_section(body, container::kTagTopology, topology.get());
   container::put_section(body, container::kTagGeometry, geometry);
   if (options.keep_order) container::put_section(body, container::kTagOrder, encode_order(order));
   if (!polygon_order.empty()) container::put_section(body, container::kTagOrder, polygon_order);

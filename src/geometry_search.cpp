@@ -2,8 +2,10 @@
 // coded with. Everything it chooses is written in the header, so the decoder needs none of it
 // (format-spec/geometry_section.md, "Encoder choices").
 #include <algorithm>
+#include <future>
 #include <limits>
 
+#include "beside.h"
 #include "geometry_coder.h"
 #include "geometry_encoder.h"
 #include "qsp/error.h"
@@ -85,12 +87,21 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
   if (options.size() == 1 && !o.try_chaining) {
     best = &options[0];  // nothing to choose
   } else {
+    // The estimates are independent whole loops (the sample codes inline): every second one on another
+    // thread, so choosing between two headers takes the time of one.
+    std::vector<double> sizes(options.size());
+    std::vector<ChainCue> cues(options.size());
+    auto run = [&](std::size_t first) {
+      for (std::size_t i = first; i < options.size(); i += 2) sizes[i] = estimate(options[i], &cues[i]);
+    };
+    std::future<void> odd = beside(options.size() > 1 && coder_thread != false, [&run] { run(1); });
+    run(0);
+    odd.get();
     for (std::size_t i = 0; i < options.size(); ++i) {
-      ChainCue cue;
-      double size = estimate(options[i], &cue);
+      double size = sizes[i];
       if (o.repeats_must_pay && options[i].has(geometry_tool::kValueRepeats))
         size += size / 31;  // saves 1/32 of it, or lose
-      if (!best || size < best_size) best = &options[i], best_size = size, best_cue = cue, chosen = i;
+      if (!best || size < best_size) best = &options[i], best_size = size, best_cue = cues[i], chosen = i;
     }
   }
   Header final = *best;
