@@ -10,8 +10,7 @@
 namespace qsp {
 namespace {
 
-constexpr unsigned kProbBits = 16;
-constexpr std::uint32_t kTop = 1u << 24;
+constexpr std::uint32_t kTop = RangeEncoder::kTop;
 
 }  // namespace
 
@@ -43,41 +42,18 @@ void RangeEncoder::shift_low() {
   low_ = (low_ & 0x00FFFFFFu) << 8;
 }
 
-void RangeEncoder::encode_p0(std::uint32_t p0, unsigned bit) {
-  std::uint32_t bound = (range_ >> kProbBits) * p0;
-  if (bit == 0) {
-    range_ = bound;
-  } else {
-    low_ += bound;
-    range_ -= bound;
-  }
+void RangeEncoder::normalize() {
   while (range_ < kTop) {
     range_ <<= 8;
     shift_low();
   }
 }
 
-unsigned RangeDecoder::decode_p0(std::uint32_t p0) {
-  std::uint32_t bound = (range_ >> kProbBits) * p0;
-  unsigned bit;
-  if (code_ < bound) {
-    range_ = bound;
-    bit = 0;
-  } else {
-    code_ -= bound;
-    range_ -= bound;
-    bit = 1;
-  }
+void RangeDecoder::normalize() {
   while (range_ < kTop) {
     range_ <<= 8;
     code_ = (code_ << 8) | next_byte();
   }
-  return bit;
-}
-
-void RangeEncoder::encode_bit(BitModel& m, unsigned bit) {
-  encode_p0(m.p0(), bit);
-  learn(m, bit);
 }
 
 void RangeEncoder::encode_raw(std::uint32_t value, unsigned count) {
@@ -134,12 +110,6 @@ std::uint8_t RangeDecoder::next_byte() {
   const auto byte = static_cast<std::uint8_t>(bytes_[pos_++]);
   window_ = (window_ << 8) | byte;
   return byte;
-}
-
-unsigned RangeDecoder::decode_bit(BitModel& m) {
-  const unsigned bit = decode_p0(m.p0());
-  learn(m, bit);
-  return bit;
 }
 
 std::uint32_t RangeDecoder::decode_raw(unsigned count) {
