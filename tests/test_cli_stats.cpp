@@ -164,7 +164,7 @@ TEST(CliStats, PolygonCountsBesideTheQuadSubmeshRow) {
   r = run_qsp("stats --json " + quote(grid));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("\"polygons\": {\"quads\": 7, \"triangles\": 2, \"ngons\": 1, \"cut_vertices\": 1, "
-                       "\"cut_edges\": 0, \"extra_copies\": 1}"),
+                       "\"cut_edges\": 0, \"extra_copies\": 1, \"vertices\": 17}"),
             std::string::npos)
       << r.out;
   testing::spit(bowtie,
@@ -200,11 +200,25 @@ TEST(CliStats, PolygonCountsBesideTheQuadSubmeshRow) {
     EXPECT_GT(positions, 0u) << "the pentagon's vertex 17 is in no quad";
     EXPECT_NEAR(bits, 8.0 * conn / 3, 1e-3) << "three faces are not quads";
     EXPECT_NE(r.out.find("\"format\": \"3.1\""), std::string::npos) << r.out;
+    // Bits per vertex over the mesh's 17 vertices, not the quad submesh's 16.
+    const std::size_t c = r.out.find("\"connectivity\": ", r.out.find("\"bytes\": {")),
+                      b = r.out.find("\"bits_per_vertex\": ");
+    ASSERT_TRUE(c != std::string::npos && b != std::string::npos) << r.out;
+    unsigned long long conn_bytes = 0;
+    double total = 0, conn_bits = 0;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + c, "\"connectivity\": %llu", &conn_bytes), 1) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + b, "\"bits_per_vertex\": {\"total\": %lf, \"connectivity\": %lf",
+                          &total, &conn_bits),
+              2)
+        << r.out;
+    EXPECT_NEAR(total, 8.0 * file_size / 17, 1e-3) << r.out;
+    EXPECT_NEAR(conn_bits, 8.0 * conn_bytes / 17, 1e-3) << r.out;
   }
   r = run_qsp("stats " + quote(qsp_file));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("[stored]"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("polygons: 7 quads, 2 triangles, 1 n-gons"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("; 17 vertices in all"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("bits per non-quad face"), std::string::npos) << r.out;
   // --partition all: the three partitions' rows and the auto row, each with the counts.
   r = run_qsp("stats --partition all " + quote(grid));

@@ -54,9 +54,17 @@ struct Row {
   // are its faces by degree and what was cut apart (PolygonCounts, qsp/submesh.h).
   bool polygon = false;
   PolygonCounts polygons;
+  std::uint64_t mesh_vertices = 0;  // the polygon mesh's own vertices (cut copies once, interior ones too)
   // Its polygons section (with bytes): the counts and region codes, the interior vertices' positions.
   std::uint64_t polygon_connectivity_bytes = 0, polygon_positions_bytes = 0;
 };
+
+// Bits per vertex are over the mesh's vertices: a polygon mesh's own, not its quad submesh's (a
+// triangle mesh has none of those).
+double per_vertex(const Row& r) {
+  const std::uint64_t n = r.polygon ? r.mesh_vertices : r.vertices;
+  return n ? double(n) : 1.0;
+}
 
 // The polygons section's connectivity per face that is not a quad, in bits (0 without such faces).
 double bits_per_non_quad(const Row& r) {
@@ -200,11 +208,12 @@ void print_json(const std::vector<Row>& rows, bool verbose, bool lines) {
       const PolygonCounts& n = r.polygons;
       std::printf(
           ", \"polygons\": {\"quads\": %u, \"triangles\": %u, \"ngons\": %u, \"cut_vertices\": %u, "
-          "\"cut_edges\": %u, \"extra_copies\": %u}",
-          n.quads, n.triangles, n.ngons, n.cut_vertices, n.cut_edges, n.extra_copies);
+          "\"cut_edges\": %u, \"extra_copies\": %u, \"vertices\": %llu}",
+          n.quads, n.triangles, n.ngons, n.cut_vertices, n.cut_edges, n.extra_copies,
+          (unsigned long long)r.mesh_vertices);
     }
     if (r.has_bytes) {
-      const double v = r.vertices ? double(r.vertices) : 1.0;
+      const double v = per_vertex(r);
       if (r.polygon) {
         std::printf(
             ", \"polygons_section\": {\"connectivity\": %llu, \"positions\": %llu, "
@@ -269,11 +278,12 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
       const PolygonCounts& n = r.polygons;
       std::printf(
           "  polygons: %u quads, %u triangles, %u n-gons; %u cut vertices (%u cut edges, %u extra "
-          "copies); the row is the quad submesh's\n",
-          n.quads, n.triangles, n.ngons, n.cut_vertices, n.cut_edges, n.extra_copies);
+          "copies); the row is the quad submesh's; %llu vertices in all\n",
+          n.quads, n.triangles, n.ngons, n.cut_vertices, n.cut_edges, n.extra_copies,
+          (unsigned long long)r.mesh_vertices);
     }
     if (r.has_bytes) {
-      const double v = r.vertices ? double(r.vertices) : 1.0;
+      const double v = per_vertex(r);
       std::printf(
           "  bytes: %llu total = %llu header + %llu connectivity (%.3f bits/vertex) + %llu geometry (%.2f "
           "bits/vertex)",
@@ -344,10 +354,10 @@ void register_stats(CLI::App& app, int& rc) {
     // PolygonCounts); `encode_with(options)`: the file compress writes (--sizes: each partition's
     // sizes; auto: the default's, as stored).
     const auto add_rows = [&](const std::string& f, const LoadedMesh& loaded, const auto& encode_with,
-                              const PolygonCounts* polygon) {
+                              const PolygonCounts* polygon, std::uint64_t mesh_vertices) {
       const auto push = [&](Row r) {
         r.polygon = polygon != nullptr;
-        if (polygon) r.polygons = *polygon;
+        if (polygon) r.polygons = *polygon, r.mesh_vertices = mesh_vertices;
         rows.push_back(std::move(r));
       };
       for (PartitionMode m : modes) {
@@ -364,7 +374,7 @@ void register_stats(CLI::App& app, int& rc) {
     };
     const auto add_mesh_rows = [&](const std::string& f, const LoadedMesh& loaded) {
       add_rows(
-          f, loaded, [&](const EncodeOptions& eo) { return encode(loaded.mesh, eo); }, nullptr);
+          f, loaded, [&](const EncodeOptions& eo) { return encode(loaded.mesh, eo); }, nullptr, 0);
     };
     // A polygon mesh: the rows of its quad submesh, with its PolygonCounts, sizes from encode_polygons;
     // a polygon .qsp's stored row comes from its bytes.
@@ -382,11 +392,12 @@ void register_stats(CLI::App& app, int& rc) {
       if (!bytes.empty()) {
         rows.push_back(info_row(f, bytes, "stored"));
         rows.back().polygons = s.counts;
+        rows.back().mesh_vertices = mesh.vertex_count();
         if (!partition_given) return;
       }
       add_rows(
           f, LoadedMesh{std::move(s.mesh), std::move(s.adjacency), {}},
-          [&](const EncodeOptions& eo) { return encode_polygons(mesh, eo); }, &s.counts);
+          [&](const EncodeOptions& eo) { return encode_polygons(mesh, eo); }, &s.counts, mesh.vertex_count());
     };
     std::size_t file_start = 0;  // rows of the file being read: dropped if it fails part-way
     const auto one = [&](std::size_t i) {
