@@ -80,11 +80,12 @@ void refuse_what_off_and_ply_lack(Refusal& r, const Mesh& m) {
 // OBJ
 
 // A line built in a buffer on the stack and appended once: appending each word and space to the
-// string (a capacity check each) was a third of writing mh_base's face lines.
+// string (a capacity check each) was a third of writing mh_base's face lines. The user calls flush()
+// before writing to the string itself and at the end (not the destructor: an append there that ran out
+// of memory would end the process instead of reaching the caller's error).
 class Line {
  public:
   explicit Line(std::string& out) : out_(out) {}
-  ~Line() { flush(); }
   Line(const Line&) = delete;
   Line& operator=(const Line&) = delete;
   void put(char c) {
@@ -149,6 +150,7 @@ void vertex_lines(std::string& out, const Mesh& m, std::size_t begin, std::size_
     }
     line.put('\n');
   }
+  line.flush();
 }
 
 // Lines of vertices [begin, end) through `lines`, the second half on a second thread from
@@ -352,6 +354,7 @@ void obj_in_order(std::string& out, const Mesh& m) {
           }
           face_line(line, m, f);
         }
+        line.flush();
         break;
       }
       case ObjStatement::kObject:

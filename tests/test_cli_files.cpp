@@ -496,6 +496,23 @@ TEST_F(CliFiles, VerboseQuietAndTheQuantizeWarning) {
   r = run_qsp("compress -f -q --quantize 14 " + quote(a));
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_EQ(r.err, "");
+  // The same cube in millimetres far from the origin (2 decimals on values near 1000, which a float holds
+  // only as the nearest to each): lossless still wins, and the check still runs without -v.
+  std::string mm;
+  for (int i = 0; i <= 4; ++i)
+    for (int j = 0; j <= 4; ++j)
+      mm += "v " + std::to_string(1000.37 + 10 * i).substr(0, 7) + " " +
+            std::to_string(2000.41 + 10 * j).substr(0, 7) + " 1500.13\n";
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const int c = 5 * i + j + 1;
+      mm += "f " + std::to_string(c) + " " + std::to_string(c + 5) + " " + std::to_string(c + 6) + " " +
+            std::to_string(c + 1) + "\n";
+    }
+  testing::spit(p("mm.obj"), mm);
+  r = run_qsp("compress -f --quantize 14 " + quote(p("mm.obj")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("not smaller than lossless"), std::string::npos) << mm << r.err;
   r = run_qsp("decompress -v -f " + quote(p("a.obj.qsp")) + " -o " + quote(p("b.obj")));
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("98 vertices, 96 faces, quantized 14 bits, canonical order"), std::string::npos)

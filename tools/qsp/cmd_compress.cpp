@@ -44,24 +44,25 @@ struct CompressOptions {
 constexpr std::size_t kSizeCheckVertices = 1024;
 constexpr int kSizeCheckLevel = 5;
 
-// Whether every axis's positions lie on a grid of k <= 6 decimals at most 16 times finer than the
-// quantization grid of `bits` over the axis's range (a few bits more per coordinate): only there can
-// the lossless file be the smaller (integer CAD cages, cube_4), so only there is it worth a second,
-// lossless encode to say so (on a 917-vertex scan with 6 decimals it was more than half the run).
+// Whether every axis's positions lie on a grid of k <= 6 decimals (each float the nearest to its value
+// rounded to k decimals, as the lossless coder's decimal grids take them) at most 16 times finer than
+// the quantization grid of `bits` over the axis's range (a few bits more per coordinate): only there can
+// the lossless file be the smaller (integer CAD cages, cube_4, millimetre coordinates), so only there is
+// it worth a second, lossless encode to say so (on a 917-vertex scan with 6 decimals it was more than
+// half the run). A flat axis costs nothing either way.
 bool on_coarse_grid(const std::vector<float>& positions, std::uint32_t bits) {
   for (std::size_t a = 0; a < 3 && positions.size() >= 3; ++a) {
     float lo = positions[a], hi = positions[a];
     for (std::size_t i = a; i < positions.size(); i += 3)
       lo = std::min(lo, positions[i]), hi = std::max(hi, positions[i]);
+    if (lo == hi) continue;
     const double step = (double{hi} - lo) / ((std::uint64_t{1} << bits) - 1);
     bool found = false;
     for (int k = 0; k <= 6 && !found && std::pow(10.0, -k) >= step / 16; ++k) {
       const double scale = std::pow(10.0, k);
       found = true;
-      for (std::size_t i = a; i < positions.size() && found; i += 3) {
-        const double x = double{positions[i]} * scale;
-        found = std::abs(x - std::nearbyint(x)) <= 1e-3;
-      }
+      for (std::size_t i = a; i < positions.size() && found; i += 3)
+        found = static_cast<float>(std::nearbyint(double{positions[i]} * scale) / scale) == positions[i];
     }
     if (!found) return false;
   }
