@@ -303,7 +303,7 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   if (normals) {
     DecodedTexcoords n =
         decode_texcoords_section(normals->payload, normals->payload_offset, out.face_offsets, out.corners, nv,
-                                 out.positions, p.order != nullptr, limits, kNormalWords);
+                                 out.positions, p.order != nullptr, limits, kNormalWords, p.file.minor);
     out.normals = std::move(n.values);
     out.corner_normals = std::move(n.corners);
   }

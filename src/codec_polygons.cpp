@@ -339,11 +339,11 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
       bytes = container::with_section(bytes, container::kTagTags,
                                       encode_tags_section(mesh.tags, map.vertex, map.face, o.keep_order),
                                       kFormatMinorTags);
-    if (normals)
-      bytes = container::with_section(bytes, container::kTagNormals,
-                                      corner_values_section(mesh, oc, positions, 3, mesh.normals,
-                                                            mesh.corner_normals, o, 0, kNormalWords),
-                                      kFormatMinorNormals);
+    if (normals) {
+      const std::string section = corner_values_section(
+          mesh, oc, positions, 3, mesh.normals, mesh.corner_normals, o, o.quantize_normal_bits, kNormalWords);
+      bytes = container::with_section(bytes, container::kTagNormals, section, normals_section_minor(section));
+    }
     if (exact)
       bytes =
           container::with_section(bytes, container::kTagExact, exact_section(mesh, map), kFormatMinorExact);

@@ -83,11 +83,17 @@ struct CornerValueWords {
   const char* many;
   unsigned components;
   std::uint64_t DecodeLimits::*limit;  // the decoder's limit on their count
+  bool normals = false;  // normals: flag bits 5 (predicted from the faces) and 6 (octahedral) are theirs
 };
 inline constexpr CornerValueWords kTexcoordWords{"texture coordinates section", "texture coordinate",
                                                  "texture coordinates", 0, &DecodeLimits::max_texcoords};
-inline constexpr CornerValueWords kNormalWords{"normals section", "normal", "normals", 3,
-                                               &DecodeLimits::max_normals};
+inline constexpr CornerValueWords kNormalWords{"normals section",          "normal", "normals", 3,
+                                               &DecodeLimits::max_normals, true};
+// The minor version a normals section's payload needs: 3.10 with flag bit 5 or 6, else 3.5.
+inline std::uint8_t normals_section_minor(std::string_view payload) {
+  return !payload.empty() && (static_cast<std::uint8_t>(payload[0]) & 0x60) ? kFormatMinorNormalsGeometry
+                                                                            : kFormatMinorNormals;
+}
 
 // The texture coordinates section (format 3.2) of the output mesh whose faces are `face_offsets` (one
 // more than faces) and whose corners' vertices are `corner_vertices` (below `vertex_count`, at
@@ -96,8 +102,10 @@ inline constexpr CornerValueWords kNormalWords{"normals section", "normal", "nor
 // per texture coordinate in the input's numbering, `corner_texcoords` per output corner its input index
 // or kInvalid. `keep_order` stores the input numbering too. `quantize_bits` 1-24 rounds the values to
 // the grid of step 2^-bits (a component with a value of 2^(40 - bits) or more stays exact); 0 keeps
-// them exactly. Throws Error(kBadNumber) for a value that is not finite, Error(kUsage) for more than 24
-// bits, Error(kInternal) for inconsistent sizes.
+// them exactly. Normals (`words.normals`) are tried predicted from the faces too (the smallest section
+// kept), and `quantize_bits` 2-24 makes them octahedral (kept exact if one has zero length). Throws
+// Error(kBadNumber) for a value that is not finite, Error(kUsage) for more than 24 bits (1 for
+// normals), Error(kInternal) for inconsistent sizes.
 std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets,
                                      std::span<const std::uint32_t> corner_vertices,
                                      std::uint32_t vertex_count, std::span<const float> positions,
@@ -112,7 +120,8 @@ struct DecodedTexcoords {
   std::vector<std::uint32_t> corners;  // per output corner: its texture coordinate or kInvalid
 };
 // Inverse of encode_texcoords_section; `order_section` says whether the file has one (the section's
-// order bit must agree). Throws Error(kFormat) naming what and the byte offset, kLimit past
+// order bit must agree) and `minor` is the file's minor version (normals' bits 5 and 6 need 3.10).
+// Throws Error(kFormat) naming what and the byte offset, kLimit past
 // `limits.max_texcoords`. Safe on untrusted input: the declared counts are checked against the corners
 // and the limits before anything is allocated by them; time and memory linear in them.
 DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_t base_offset,
@@ -120,7 +129,8 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                                           std::span<const std::uint32_t> corner_vertices,
                                           std::uint32_t vertex_count, std::span<const float> positions,
                                           bool order_section, const DecodeLimits& limits,
-                                          const CornerValueWords& words = kTexcoordWords);
+                                          const CornerValueWords& words = kTexcoordWords,
+                                          std::uint8_t minor = kFormatMinor);
 
 // The colours section (format 3.8) of the output mesh whose faces are `face_offsets` (one more than
 // faces) and whose corners' vertices are `corner_vertices` (below `vertex_count`), in the order the

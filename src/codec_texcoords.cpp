@@ -2,7 +2,8 @@
 // section"): which value each corner names, as the corners first name them (new, one its vertex has
 // named, none, or an earlier one), then the values predicted from their creating corner's face (the
 // parallelogram, corrected by the quads across or fitted to the face's 3D corners; a grid line), exactly
-// (decimal grids or float bits) or on binary grids, then with --keep-order the input numbering.
+// (decimal grids or float bits) or on binary grids, then with --keep-order the input numbering. Normals
+// (the normals section, same coder) may be predicted from the faces naming them, and octahedral.
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -15,6 +16,7 @@
 #include "codec_sections.h"
 #include "entropy.h"
 #include "geometry_values.h"
+#include "normal_prediction.h"
 #include "permutation_coder.h"
 #include "qsp/error.h"
 #include "value_domain.h"
@@ -24,7 +26,10 @@ namespace {
 
 constexpr std::uint8_t kComponentsMask = 0x03, kOrderBit = 0x04, kCorrectionBit = 0x08, kShapeBit = 0x10,
                        kReservedBits = 0xE0;
-constexpr unsigned kContexts = 5;
+// Normals only (format 3.10): predicted from the faces naming them; octahedral.
+constexpr std::uint8_t kGeometryBit = 0x20, kOctahedralBit = 0x40;
+constexpr unsigned kContexts = 6, kGeometryContext = 5;
+constexpr std::uint32_t kMinOctahedralBits = 2;
 // Every value costs at least one decision and none less than log2(65536 / 65465) bits: at most ~5116 a
 // byte (8192 leaves room; 2048, before 3.8, refused files of one repeated value that the encoder wrote).
 constexpr std::uint64_t kMaxValuesPerByte = 8192;
@@ -201,7 +206,7 @@ Prediction predict(std::uint32_t i, std::uint32_t creating, std::span<const std:
 // The prediction of component c in `domain` (`integers` holds integer() of every value before the one
 // predicted).
 std::int64_t prediction(const Domain& domain, const Prediction& p, std::span<const float> values,
-                       std::span<const std::int64_t> integers, unsigned K, unsigned c) {
+                        std::span<const std::int64_t> integers, unsigned K, unsigned c) {
   auto value_of = [&](std::uint32_t t) { return values[std::size_t{t} * K + c]; };
   auto integer_of = [&](std::uint32_t t) { return integers[std::size_t{t} * K + c]; };
   if (p.count == 0 && !p.shaped) return domain.none();
@@ -255,9 +260,15 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     if (!std::isfinite(values[i]))
       throw Error(ErrorCode::kBadNumber, std::string(w.one) + " " + std::to_string(i / K) + " is not finite");
 
-  if (quantize_bits > kMaxGridBits)
-    throw Error(ErrorCode::kUsage, "encode: texture coordinate quantization bits " +
-                                       std::to_string(quantize_bits) + " is not 0 (exact) to 24");
+  if (quantize_bits > kMaxGridBits || (w.normals && quantize_bits == 1))
+    throw Error(ErrorCode::kUsage,
+                "encode: " + std::string(w.one) + " quantization bits " + std::to_string(quantize_bits) +
+                    (w.normals ? " is not 0 (exact) or 2 to 24" : " is not 0 (exact) to 24"));
+  // Octahedral normals need a direction: a normal of zero length keeps them all exact.
+  bool octahedral = w.normals && quantize_bits != 0;
+  for (std::size_t i = 0; octahedral && i < T; ++i)
+    octahedral = values[3 * i] != 0 || values[3 * i + 1] != 0 || values[3 * i + 2] != 0;
+  if (w.normals) quantize_bits = octahedral ? quantize_bits : 0;
   // The corner symbols, once: which value each corner names, numbered as the corners first name them.
   struct Symbol {
     std::uint8_t kind;     // 0 new, 1 seen, 2 none, 3 far
@@ -324,20 +335,30 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
   for (std::uint32_t i = 0; i < T; ++i)
     std::copy_n(&values[std::size_t{input[i]} * K], K, &ordered[std::size_t{i} * K]);
   std::array<Domain, 3> domain{};
-  for (unsigned c = 0; c < K; ++c)
+  for (unsigned c = 0; c < K && !octahedral; ++c)
     domain[c].mode = quantize_bits && quantize(ordered, K, c, quantize_bits)
                          ? static_cast<std::uint8_t>(kModeGrid + quantize_bits)
                          : choose_mode(ordered, K, c);
   std::vector<std::int64_t> integers(ordered.size());
   for (std::size_t k = 0; k < ordered.size(); ++k) integers[k] = domain[k % K].integer(ordered[k]);
+  // With bit 5 a grid holds -0 too (exporters write "-0.000000"): the modes and integers of those sections.
+  std::array<Domain, 3> signed_domain = domain;
+  std::vector<std::int64_t> signed_integers;
+  if (w.normals && !octahedral) {
+    for (unsigned c = 0; c < K; ++c) signed_domain[c].mode = choose_mode(ordered, K, c, true);
+    signed_integers.resize(ordered.size());
+    for (std::size_t k = 0; k < ordered.size(); ++k)
+      signed_integers[k] = signed_domain[k % K].integer(ordered[k]);
+  }
   const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
   const Edges edges(face_offsets, names, T);
   const Shape shape{positions, corner_vertices};
+  const GeometryNormals geometry =
+      w.normals ? geometry_normals(face_offsets, corner_vertices, positions, names, referenced)
+                : GeometryNormals{};
+  const auto from_geometry = [&](std::uint32_t i) { return i < referenced && geometry.valid[i]; };
 
-  // The section with one of the prediction tools (flag bits 3 and 4), or neither.
-  const auto section = [&](std::uint8_t tools) {
-    std::string stream;
-    RangeEncoder enc(stream);
+  const auto put_symbols = [&](RangeEncoder& enc) {
     SymbolModels m;
     for (const Symbol& y : symbols) {
       enc.encode_bit(m.is_new[y.context], y.kind == 0);
@@ -350,37 +371,104 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
       enc.encode_bit(m.is_none, y.kind == 2);
       if (y.kind == 3) m.far.encode(enc, y.arg);
     }
-    std::vector<IntModel> residual(kContexts * K);
-    for (std::uint32_t i = 0; i < T; ++i) {
-      const Prediction p =
-          predict(i, i < referenced ? creating[i] : kInvalid, face_of_corner, face_offsets, names, edges,
-                  (tools & kCorrectionBit) != 0, (tools & kShapeBit) ? &shape : nullptr);
-      for (unsigned c = 0; c < K; ++c) {
-        const std::int64_t r =
-            integers[std::size_t{i} * K + c] - prediction(domain[c], p, ordered, integers, K, c);
-        encode_residual(enc, residual[K * p.context + c], r);
-      }
-    }
+  };
+  const auto finish = [&](RangeEncoder& enc, std::string& stream, std::uint8_t tools,
+                          std::span<const std::uint8_t> modes) {
     if (keep_order) {
       PermutationCoder perm;
       for (std::uint32_t i = 0; i < T; ++i) perm.encode(enc, input[i], T);
     }
     enc.finish();
-
     std::string out;
     put_u8(out, static_cast<std::uint8_t>(K | (keep_order ? kOrderBit : 0) | tools));
     put_varint(out, T);
     put_varint(out, T - referenced);
-    for (unsigned c = 0; c < K; ++c) put_u8(out, domain[c].mode);
+    for (const std::uint8_t mode : modes) put_u8(out, mode);
     return out + stream;
   };
-  // The smallest of the three predictions (the first on a tie): the plain parallelogram, corrected by
-  // the quads across (smooth layouts), or shaped by the corners' positions (charts that follow the
-  // surface's shape rather than the patches).
+  const std::array<Domain, 3>& plain_domain = domain;
+  const std::vector<std::int64_t>& plain_integers = integers;
+  // The section with one of the prediction tools (flag bits 3 and 4), or neither; normals predicted from
+  // the faces where they can be (bit 5).
+  const auto section = [&](std::uint8_t tools) {
+    std::string stream;
+    RangeEncoder enc(stream);
+    put_symbols(enc);
+    std::vector<IntModel> residual(kContexts * K);
+    const bool faces = (tools & kGeometryBit) != 0;
+    const std::array<Domain, 3>& doms = faces ? signed_domain : plain_domain;
+    const std::vector<std::int64_t>& ints = faces ? signed_integers : plain_integers;
+    std::array<BitModel, 3> minus{};
+    // Bit 5: a grid value's sign where its integer is 0.
+    const auto sign = [&](std::uint32_t i, unsigned c) {
+      if (faces && doms[c].mode != kModeFloat && ints[std::size_t{i} * K + c] == 0)
+        enc.encode_bit(minus[c], std::signbit(ordered[std::size_t{i} * K + c]));
+    };
+    for (std::uint32_t i = 0; i < T; ++i) {
+      if (faces && from_geometry(i)) {
+        for (unsigned c = 0; c < K; ++c) {
+          encode_residual(
+              enc, residual[K * kGeometryContext + c],
+              ints[std::size_t{i} * K + c] - doms[c].nearest(geometry.unit[3 * std::size_t{i} + c]));
+          sign(i, c);
+        }
+        continue;
+      }
+      const Prediction p =
+          predict(i, i < referenced ? creating[i] : kInvalid, face_of_corner, face_offsets, names, edges,
+                  (tools & kCorrectionBit) != 0, (tools & kShapeBit) ? &shape : nullptr);
+      for (unsigned c = 0; c < K; ++c) {
+        const std::int64_t r = ints[std::size_t{i} * K + c] - prediction(doms[c], p, ordered, ints, K, c);
+        encode_residual(enc, residual[K * p.context + c], r);
+        sign(i, c);
+      }
+    }
+    std::array<std::uint8_t, 3> modes{};
+    for (unsigned c = 0; c < K; ++c) modes[c] = doms[c].mode;
+    return finish(enc, stream, tools, std::span(modes.data(), K));
+  };
+  // Octahedral normals: each the grid point nearest in angle, coded against its prediction's (from the
+  // faces with bit 5, else the normal before), in the hemisphere of the prediction (z mirrored if below).
+  const auto octahedral_section = [&](std::uint8_t tools) {
+    std::string stream;
+    RangeEncoder enc(stream);
+    put_symbols(enc);
+    const Octahedral grid(quantize_bits);
+    std::vector<IntModel> residual(4);
+    std::array<double, 3> previous{0, 0, 1};
+    for (std::uint32_t i = 0; i < T; ++i) {
+      const bool faces = (tools & kGeometryBit) && from_geometry(i);
+      const std::array<double, 3> p = faces ? std::array<double, 3>{geometry.unit[3 * std::size_t{i}],
+                                                                    geometry.unit[3 * std::size_t{i} + 1],
+                                                                    geometry.unit[3 * std::size_t{i} + 2]}
+                                            : previous;
+      const bool mirror = p[2] < 0;
+      const std::array<std::int64_t, 2> predicted = grid.nearest(p, mirror);
+      const float* v = &ordered[3 * std::size_t{i}];
+      const std::array<std::int64_t, 2> q = grid.best({v[0], v[1], v[2]}, mirror);
+      for (unsigned c = 0; c < 2; ++c)
+        encode_residual(enc, residual[2 * (faces ? 0 : 1) + c], q[c] - predicted[c]);
+      const std::array<float, 3> n = grid.normal(q[0], q[1], mirror);
+      previous = {n[0], n[1], n[2]};
+    }
+    const std::uint8_t bits = static_cast<std::uint8_t>(quantize_bits);
+    return finish(enc, stream, static_cast<std::uint8_t>(tools | kOctahedralBit), std::span(&bits, 1));
+  };
+  if (octahedral) {
+    std::string with = octahedral_section(kGeometryBit), without = octahedral_section(0);
+    return without.size() < with.size() ? without : with;
+  }
+  // The smallest of the predictions (the first on a tie): the plain parallelogram, corrected by the quads
+  // across (smooth layouts), or shaped by the corners' positions (charts that follow the surface's shape
+  // rather than the patches); for normals each also with the faces' normals where they exist (3.10), tried
+  // last so a file they do not make smaller keeps its 3.5 bytes.
   std::string best;
-  for (const std::uint8_t tools : {std::uint8_t{0}, kCorrectionBit, kShapeBit}) {
-    std::string bytes = section(tools);
-    if (best.empty() || bytes.size() < best.size()) best = std::move(bytes);
+  for (const std::uint8_t faces : {std::uint8_t{0}, kGeometryBit}) {
+    if (faces && !w.normals) break;
+    for (const std::uint8_t tools : {std::uint8_t{0}, kCorrectionBit, kShapeBit}) {
+      std::string bytes = section(static_cast<std::uint8_t>(tools | faces));
+      if (best.empty() || bytes.size() < best.size()) best = std::move(bytes);
+    }
   }
   return best;
 }
@@ -390,7 +478,7 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                                           std::span<const std::uint32_t> corner_vertices,
                                           std::uint32_t vertex_count, std::span<const float> positions,
                                           bool order_section, const DecodeLimits& limits,
-                                          const CornerValueWords& w) {
+                                          const CornerValueWords& w, std::uint8_t minor) {
   ByteReader in(payload, base_offset, w.section);
   std::uint64_t at = in.offset();
   const std::uint8_t flags = in.u8("flags");
@@ -399,8 +487,18 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     in.fail_at(std::to_string(K) + " components per " + w.one + " (" +
                    (w.components ? std::to_string(w.components) : std::string("1 to 3")) + ")",
                at);
-  if (flags & kReservedBits) in.fail_at("reserved flag bits are set (must be zero)", at);
+  const std::uint8_t normal_bits = kGeometryBit | kOctahedralBit;
+  if (flags & (w.normals ? kReservedBits & ~normal_bits : kReservedBits))
+    in.fail_at("reserved flag bits are set (must be zero)", at);
+  if ((flags & normal_bits) && minor < kFormatMinorNormalsGeometry)
+    in.fail_at("normals predicted from the faces or octahedral are format 3." +
+                   std::to_string(kFormatMinorNormalsGeometry) + "'s, and the file says it is 3." +
+                   std::to_string(minor),
+               at);
   if ((flags & kCorrectionBit) && (flags & kShapeBit)) in.fail_at("corrections and shapes are both set", at);
+  const bool octahedral = (flags & kOctahedralBit) != 0;
+  if (octahedral && (flags & (kCorrectionBit | kShapeBit)))
+    in.fail_at("octahedral normals with corrections or shapes", at);
   if (((flags & kOrderBit) != 0) != order_section)
     in.fail_at(order_section ? "the order bit is clear beside an order section"
                              : "the order bit is set but the file has no order section",
@@ -428,7 +526,14 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
         std::to_string(T) + " " + w.many + " cannot fit in the " + std::to_string(in.left()) + " bytes left",
         at);
   std::array<Domain, 3> domain{};
-  for (unsigned c = 0; c < K; ++c) {
+  std::uint32_t bits = 0;  // octahedral
+  if (octahedral) {
+    at = in.offset();
+    bits = in.u8("octahedral bits");
+    if (bits < kMinOctahedralBits || bits > kMaxGridBits)
+      in.fail_at("octahedral bits " + std::to_string(bits) + " (2 to 24)", at);
+  }
+  for (unsigned c = 0; c < K && !octahedral; ++c) {
     at = in.offset();
     domain[c].mode = in.u8("component mode");
     if (!valid_mode(domain[c].mode))
@@ -494,24 +599,68 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   std::vector<IntModel> residual(kContexts * K);
   const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
   const Edges edges(face_offsets, out.corners, T);
+  std::array<BitModel, 3> minus{};  // bit 5: the sign of a grid value whose integer is 0
+  // Component c of value i from its integer.
+  const auto store = [&](std::uint32_t i, unsigned c, std::int64_t value) {
+    if (!domain[c].holds(value))
+      format_error(
+          w,
+          domain[c].mode == kModeFloat ? "a float image outside 32 bits" : "an integer outside (-2^40, 2^40)",
+          dec.offset());
+    float x = domain[c].value(value);
+    if ((flags & kGeometryBit) && domain[c].mode != kModeFloat && value == 0 && dec.decode_bit(minus[c]))
+      x = -0.0f;
+    if (!std::isfinite(x))
+      format_error(w, std::string(w.one) + " " + std::to_string(i) + " is not finite", dec.offset());
+    out.values[std::size_t{i} * K + c] = x;
+    integers[std::size_t{i} * K + c] = domain[c].integer(x);
+  };
   const Shape shape{positions, corner_vertices};
+  const GeometryNormals geometry =
+      (flags & kGeometryBit) ? geometry_normals(face_offsets, corner_vertices, positions, out.corners, n)
+                             : GeometryNormals{};
+  const auto from_geometry = [&](std::uint32_t i) {
+    return (flags & kGeometryBit) && i < n && geometry.valid[i];
+  };
+  const Octahedral grid(octahedral ? bits : kMinOctahedralBits);
+  std::array<double, 3> previous{0, 0, 1};  // octahedral: the last normal decoded
   for (std::uint32_t i = 0; i < T; ++i) {
+    if (octahedral) {
+      const bool faces = from_geometry(i);
+      const std::array<double, 3> p = faces ? std::array<double, 3>{geometry.unit[3 * std::size_t{i}],
+                                                                    geometry.unit[3 * std::size_t{i} + 1],
+                                                                    geometry.unit[3 * std::size_t{i} + 2]}
+                                            : previous;
+      const bool mirror = p[2] < 0;
+      const std::array<std::int64_t, 2> predicted = grid.nearest(p, mirror);
+      std::array<std::int64_t, 2> q{};
+      for (unsigned c = 0; c < 2; ++c) {
+        q[c] = predicted[c] + decode_residual(dec, residual[2 * (faces ? 0 : 1) + c]);
+        if (q[c] < -grid.h || q[c] > grid.h)
+          format_error(w,
+                       "normal " + std::to_string(i) + ": octahedral integer " + std::to_string(q[c]) +
+                           " outside [-" + std::to_string(grid.h) + ", " + std::to_string(grid.h) + "]",
+                       dec.offset());
+      }
+      const std::array<float, 3> x = grid.normal(q[0], q[1], mirror);
+      std::copy(x.begin(), x.end(), &out.values[3 * std::size_t{i}]);
+      previous = {x[0], x[1], x[2]};
+      continue;
+    }
+    if (from_geometry(i)) {
+      for (unsigned c = 0; c < K; ++c) {
+        const std::int64_t predicted = domain[c].nearest(geometry.unit[3 * std::size_t{i} + c]);
+        const std::int64_t value = predicted + decode_residual(dec, residual[K * kGeometryContext + c]);
+        store(i, c, value);
+      }
+      continue;
+    }
     const Prediction p =
         predict(i, i < n ? creating[i] : kInvalid, face_of_corner, face_offsets, out.corners, edges,
                 (flags & kCorrectionBit) != 0, (flags & kShapeBit) ? &shape : nullptr);
     for (unsigned c = 0; c < K; ++c) {
       const std::int64_t predicted = prediction(domain[c], p, out.values, integers, K, c);
-      const std::int64_t value = predicted + decode_residual(dec, residual[K * p.context + c]);
-      if (!domain[c].holds(value))
-        format_error(w,
-                     domain[c].mode == kModeFloat ? "a float image outside 32 bits"
-                                                  : "an integer outside (-2^40, 2^40)",
-                     dec.offset());
-      const float x = domain[c].value(value);
-      if (!std::isfinite(x))
-        format_error(w, std::string(w.one) + " " + std::to_string(i) + " is not finite", dec.offset());
-      out.values[std::size_t{i} * K + c] = x;
-      integers[std::size_t{i} * K + c] = domain[c].integer(x);
+      store(i, c, predicted + decode_residual(dec, residual[K * p.context + c]));
     }
   }
   if (order_section) {

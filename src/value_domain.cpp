@@ -21,11 +21,12 @@ bool quantize(std::span<float> values, unsigned K, unsigned c, std::uint32_t bit
   return true;
 }
 
-std::uint8_t choose_mode(std::span<const float> values, unsigned K, unsigned c) {
+std::uint8_t choose_mode(std::span<const float> values, unsigned K, unsigned c, bool signed_zero) {
   for (int k = 0; k <= kMaxDecimals; ++k) {
     bool all = true;
     std::int64_t n = 0;
-    for (std::size_t i = c; i < values.size() && all; i += K) all = decimal_of(values[i], k, n);
+    for (std::size_t i = c; i < values.size() && all; i += K)
+      all = (signed_zero && values[i] == 0) || decimal_of(values[i], k, n);
     if (all) return static_cast<std::uint8_t>(1 + k);
   }
   return kModeFloat;

@@ -50,6 +50,14 @@ struct Domain {
   std::int64_t clamp(std::int64_t p) const {
     return mode == kModeFloat ? std::clamp<std::int64_t>(p, 0, 0xFFFFFFFF) : clamp_decimal(p);
   }
+  // The integer nearest a binary64 value: rounded half away from zero on a grid (the binary64 product
+  // by 10^k or 2^b first), the image of its binary32 nearest (ties to even) in float bits.
+  std::int64_t nearest(double x) const {
+    if (mode == kModeFloat) return float_image(static_cast<float>(x));
+    const double scaled = grid() ? std::ldexp(x, mode - kModeGrid) : x * kPow10[mode - 1u];
+    if (!(std::fabs(scaled) < static_cast<double>(kDecimalLimit - 1))) return 0;
+    return clamp_decimal(static_cast<std::int64_t>(std::round(scaled)));
+  }
   // The prediction with no term: 0, or the image of +0.0.
   std::int64_t none() const { return mode == kModeFloat ? float_image(0.0f) : 0; }
 };
@@ -58,8 +66,9 @@ struct Domain {
 // its values is too large for it: |x| * 2^bits must stay below 2^40).
 bool quantize(std::span<float> values, unsigned K, unsigned c, std::uint32_t bits);
 
-// The mode of the fewest decimals every value of component c is exactly on, or float bits.
-std::uint8_t choose_mode(std::span<const float> values, unsigned K, unsigned c);
+// The mode of the fewest decimals every value of component c is exactly on, or float bits; with
+// `signed_zero` a -0 counts as on every grid (its sign coded apart).
+std::uint8_t choose_mode(std::span<const float> values, unsigned K, unsigned c, bool signed_zero = false);
 
 // A residual as zigzag(r) through `model` (min(z, 2^32 - 2)), then 21 + 21 raw bits beyond.
 void encode_residual(RangeEncoder& enc, IntModel& model, std::int64_t r);

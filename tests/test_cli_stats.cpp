@@ -242,7 +242,7 @@ TEST(CliStats, MissingFileAndUsage) {
   const auto v = run_qsp("--version");
   EXPECT_EQ(v.exit_code, 0);
   EXPECT_NE(v.out.find("qsp"), std::string::npos);
-  EXPECT_NE(v.out.find("writes .qsp format 3.9, 3.0 for manifold quad meshes; reads 3.0 to 3.9"),
+  EXPECT_NE(v.out.find("writes .qsp format 3.10, 3.0 for manifold quad meshes; reads 3.0 to 3.10"),
             std::string::npos)
       << v.out;
 }

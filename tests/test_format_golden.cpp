@@ -82,6 +82,8 @@ EncodeOptions options_for(const std::string& name) {
   if (name.find("_uv12") != std::string::npos) o.quantize_texcoord_bits = 12;
   // "_c8": colours on the binary grid of step 2^-8.
   if (name.find("_c8") != std::string::npos) o.quantize_color_bits = 8;
+  // "_qn10": octahedral normals of 10 bits.
+  if (name.find("_qn10") != std::string::npos) o.quantize_normal_bits = 10;
   // The encoder picks patch order for every other golden; this pins the layout-order bytes.
   if (name.find("_layout_order") != std::string::npos) o.geometry_order = CodingOrder::kLayout;
   return o;
@@ -332,11 +334,31 @@ TEST(Golden, BytesArePinned) {
       continue;
     }
     if (!poly.corner_normals.empty()) {
-      // Normals: a 3.5 file, decoded to the .obj's corners with their normals (and texture coordinates)
-      // bit for bit; index for index with the order kept.
+      // Normals: a 3.5 file, or 3.10 with normals predicted from the faces or octahedral, decoded to the
+      // .obj's corners with their normals (and texture coordinates) bit for bit (octahedral ones: within
+      // the spec's 1.5 / h radians, as the same file with the order kept gives them); index for index
+      // with the order kept.
       ++normals;
-      EXPECT_EQ(slurp(path)[9], 5) << "a file with normals says format 3.5";
+      const char minor = slurp(path)[9];
+      EXPECT_TRUE(minor == 5 || minor == 10) << "a file with normals says format 3.5 or 3.10";
       const PolygonMesh back = decode_polygons(slurp(path));
+      if (const std::uint32_t bits = options_for(name).quantize_normal_bits) {
+        EXPECT_EQ(minor, 10);
+        EncodeOptions in_order = options_for(name);
+        in_order.keep_order = true;
+        const PolygonMesh rounded = decode_polygons(encode_polygons(poly, in_order));
+        ASSERT_EQ(rounded.normals.size(), poly.normals.size());
+        const double h = double((1u << (bits - 1)) - 1);
+        for (std::size_t i = 0; i < poly.normals.size(); i += 3) {
+          const float *x = &poly.normals[i], *y = &rounded.normals[i];
+          const double sine = std::hypot(double{x[1]} * y[2] - double{x[2]} * y[1],
+                                         double{x[2]} * y[0] - double{x[0]} * y[2],
+                                         double{x[0]} * y[1] - double{x[1]} * y[0]),
+                       cosine = double{x[0]} * y[0] + double{x[1]} * y[1] + double{x[2]} * y[2];
+          EXPECT_LE(std::atan2(sine, cosine), 1.5 / h + 0x1p-23) << "normal " << i / 3;
+        }
+        poly.normals = rounded.normals;
+      }
       expect_same_polygons(poly, back);
       if (options_for(name).keep_order) {
         EXPECT_EQ(back.corner_normals, poly.corner_normals);
@@ -618,7 +640,7 @@ std::map<std::string, Crafted> crafted() {
     out["qsp_unknown_required_section_newer_minor"] = {
         seal(newer_minor, sections), "version",
         "section 0x0c is required but unknown to this qsp, which reads "
-        "format 3.9 (upgrade qsp)"};
+        "format 3.10 (upgrade qsp)"};
     out["qsp_unknown_required_section"] = {seal(p, sections), "format",
                                            "section 0x0c is required but unknown to this qsp"};
     // A section of a later minor version in a file that says it is the one before: 3.3's face labels,

@@ -17,7 +17,8 @@
 
 namespace qsp {
 
-// The format version this library writes: the lowest whose sections the file holds. 3.7 for a mesh with
+// The format version this library writes: the lowest whose sections the file holds. 3.10 for normals
+// predicted from the faces or octahedral, 3.9 for front-coded label names, 3.7 for a mesh with
 // kept lines (PolygonMesh::kept_lines), 3.6 for a lossless
 // mesh with coordinates binary32 does not hold (PolygonMesh::positions64), 3.5 for a mesh with normals, 3.4
 // for a mesh with OpenSubdiv tags, 3.3 for a mesh with face labels or material libraries, 3.2 for a mesh with
@@ -27,7 +28,9 @@ namespace qsp {
 // refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
 // (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 9;
+inline constexpr std::uint8_t kFormatMinor = 10;
+// Normals predicted from the decoded faces, and octahedral normals (normals section flag bits 5 and 6).
+inline constexpr std::uint8_t kFormatMinorNormalsGeometry = 10;
 inline constexpr std::uint8_t kFormatMinorNames = 9;  // front-coded label names (face labels section)
 inline constexpr std::uint8_t kFormatMinorColors = 8;
 inline constexpr std::uint8_t kFormatMinorKeptLines = 7;
@@ -71,6 +74,9 @@ struct EncodeOptions {
   std::uint32_t quantize_texcoord_bits = 0;
   // Vertex and face colours: 0 = exact; 1..24 = rounded to the grid of step 2^-bits (8: 1/256).
   std::uint32_t quantize_color_bits = 0;
+  // Normals: 0 = exact; 2..24 = octahedral, two integers of BITS bits per normal (Draco's -qn; 10 keeps
+  // every normal within about 0.2 degrees). A mesh with a normal of zero length keeps them exact.
+  std::uint32_t quantize_normal_bits = 0;
   bool keep_order = false;    // also store vertex order, face order and first corners
   int level = kDefaultLevel;  // kMinLevel..kMaxLevel: how much the encoder searches (Effort)
   // Threads the encoder may use: 0 = as it sees fit (at most two), 1 = this thread only. The bytes
@@ -156,7 +162,9 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits = {});
 // of crease, corner and hole renumbered with the mesh: Error(kUsage) for an index out of range, a tag
 // qsp cannot renumber (vertexedit, ...) without options.keep_order, or a name or string that is not one
 // word. Normals (3 per normal, each corner naming one or kInvalid) go into the normals section (format
-// 3.5), coded exactly as texture coordinates are: the same errors for their arrays and values. Without
+// 3.5), coded as texture coordinates are, or predicted from the faces naming them (3.10) where that is
+// smaller, or octahedral (3.10) as options.quantize_normal_bits says: the same errors for their arrays
+// and values, Error(kUsage) for 1 or more than 24 bits. Without
 // quantization, positions64 (when not empty) goes into the exact positions section (format 3.6) and the
 // geometry codes the binary32 nearest each value: Error(kUsage) for another length than positions or a
 // value that is not finite. Kept lines go into the kept lines section (format 3.7, optional):

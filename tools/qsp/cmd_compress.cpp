@@ -28,6 +28,7 @@ struct CompressOptions {
   std::uint32_t quantize = 0;
   std::uint32_t quantize_uv = 0;
   std::uint32_t quantize_color = 0;
+  std::uint32_t quantize_normal = 0;
   bool keep_order = false;
   DropOptions drop;
   bool float32 = false;                   // round coordinates float32 does not hold instead of refusing
@@ -88,6 +89,7 @@ EncodeOptions encode_options(const CompressOptions& o) {
   eo.quantize_bits = o.quantize;
   eo.quantize_texcoord_bits = o.quantize_uv;
   eo.quantize_color_bits = o.quantize_color;
+  eo.quantize_normal_bits = o.quantize_normal;
   eo.keep_order = o.keep_order;
   eo.level = o.level;
   eo.threads = o.threads;
@@ -127,6 +129,16 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   if (mesh.face_count() == 0 && !quiet)
     std::fprintf(stderr, "qsp: warning: %s: has no faces (%zu vertices); writing an empty mesh\n", in.c_str(),
                  mesh.vertex_count());
+  // Octahedral normals need a direction (the codec keeps them exact otherwise): say so.
+  for (std::size_t i = 0; o.quantize_normal && !quiet && i + 2 < mesh.normals.size(); i += 3)
+    if (mesh.normals[i] == 0 && mesh.normals[i + 1] == 0 && mesh.normals[i + 2] == 0) {
+      std::fprintf(
+          stderr,
+          "qsp: warning: %s: normal %zu has zero length; keeping the normals exact (--quantize-normal "
+          "needs a direction)\n",
+          in.c_str(), i / 3 + 1);
+      break;
+    }
   EncodeOptions eo = encode_options(o);
   // A tag whose indices qsp cannot renumber (OpenSubdiv's vertexedit, edgeedit, faceedit) keeps the
   // original order, as --keep-order does.
@@ -232,6 +244,11 @@ void register_compress(CLI::App& app, int& rc) {
                   "Lossy: round vertex and face colours to a grid of step 2^-BITS (1-24; 8 = 1/256); "
                   "colours already on a coarser decimal grid (PLY uchar) stay exact")
       ->check(CLI::Range(1, 24));
+  sub->add_option("--quantize-normal", opt->quantize_normal,
+                  "Lossy: store each normal as a point of the octahedral grid of 2^BITS x 2^BITS (2-24; as "
+                  "Draco's -qn, 10 keeps each within 0.3 degrees, 16 within 0.005), unit length; a file with "
+                  "a normal of zero length keeps its normals exact")
+      ->check(CLI::Range(2, 24));
   sub->add_flag("--keep-order", opt->keep_order, "Also store the vertex order, face order and first corners");
   add_drop_options(sub, opt->drop, "", kPolygonMeshCategories);
   sub->add_flag(
