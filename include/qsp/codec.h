@@ -75,7 +75,7 @@ struct EncodeOptions {
   // Vertex and face colours: 0 = exact; 1..24 = rounded to the grid of step 2^-bits (8: 1/256).
   std::uint32_t quantize_color_bits = 0;
   // Normals: 0 = exact; 2..24 = octahedral, two integers of BITS bits per normal (Draco's -qn; 10 keeps
-  // every normal within about 0.2 degrees). A mesh with a normal of zero length keeps them exact.
+  // every normal within 0.17 degrees). A mesh with a normal of zero length keeps them exact.
   std::uint32_t quantize_normal_bits = 0;
   bool keep_order = false;    // also store vertex order, face order and first corners
   int level = kDefaultLevel;  // kMinLevel..kMaxLevel: how much the encoder searches (Effort)

@@ -244,10 +244,11 @@ void register_compress(CLI::App& app, int& rc) {
                   "Lossy: round vertex and face colours to a grid of step 2^-BITS (1-24; 8 = 1/256); "
                   "colours already on a coarser decimal grid (PLY uchar) stay exact")
       ->check(CLI::Range(1, 24));
-  sub->add_option("--quantize-normal", opt->quantize_normal,
-                  "Lossy: store each normal as a point of the octahedral grid of 2^BITS x 2^BITS (2-24; as "
-                  "Draco's -qn, 10 keeps each within 0.3 degrees, 16 within 0.005), unit length; a file with "
-                  "a normal of zero length keeps its normals exact")
+  sub->add_option(
+         "--quantize-normal", opt->quantize_normal,
+         "Lossy: store each normal as a point of the octahedral grid of 2^BITS x 2^BITS (2-24; as "
+         "Draco's -qn, 10 keeps each within 0.17 degrees, 16 within 0.003), unit length; a file with "
+         "a normal of zero length keeps its normals exact")
       ->check(CLI::Range(2, 24));
   sub->add_flag("--keep-order", opt->keep_order, "Also store the vertex order, face order and first corners");
   add_drop_options(sub, opt->drop, "", kPolygonMeshCategories);

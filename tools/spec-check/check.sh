@@ -88,6 +88,9 @@ cases = [('the file itself', data, True),
 for K in (0, 1, 2):
     sec = bytes([secs[0x09][0] & ~3 | K]) + secs[0x09][1:]
     cases.append(('normals with K = %d' % K, g.container(data, {**secs, 0x09: sec}), False))
+if secs[0x09][0] & 0x20:  # 3.10's normals from the faces, in a file that says it is 3.9; bit 7 reserved
+    cases.append(('normals from the faces in a 3.9 file', g.container(data[:9] + bytes([9]) + data[10:11], secs), False))
+cases.append(('normals flag bit 7', g.container(data, {**secs, 0x09: bytes([secs[0x09][0] | 0x80]) + secs[0x09][1:]}), False))
 failed = []
 for what, b, valid in cases:
     try:
@@ -233,6 +236,9 @@ encode_normals suzanne_normals "$shared/pmp_suzanne.obj" 0                   # o
 encode_normals suzanne_normals_keep_order "$shared/pmp_suzanne.obj" 1 --keep-order
 encode_normals chaikin0_normals "$shared/osd_shapes/catmark_chaikin0.obj" 0  # vt and crease tags too
 encode_normals chaikin0_normals_keep_order "$shared/osd_shapes/catmark_chaikin0.obj" 1 --keep-order
+encode_normals suzanne_normals_qn10 "$shared/pmp_suzanne.obj" 0 --quantize-normal 10  # octahedral (3.10)
+encode_normals lefthanded_normals "$shared/osd_catmark_lefthanded.obj" 0     # from the faces, -0 on grids
+encode_normals lefthanded_normals_qn12 "$shared/osd_catmark_lefthanded.obj" 0 --quantize-normal 12
 encode gargoyle_q14 "$shared/quadriflow_gargoyle.obj" --quantize 14  # normal chaining, distorted cells
 encode gargoyle_q14_best "$shared/quadriflow_gargoyle.obj" --quantize 14 --best  # and the costly tools
 encode horse "$shared/igl_horse_quad.obj" --best
@@ -368,11 +374,13 @@ tagged() {  # tagged FILE MESH: the whole mesh, labels and tags against MESH and
       --decompressed "$out" --labels-decompressed "$out" --tags-decompressed "$out"
 }
 normalled() {  # normalled FILE MESH: the whole mesh, normals included, against MESH and what `qsp decompress` writes
-  local f=$1 out exact=()
+  local f=$1 out exact=() against=(--normals-obj "$2")
   out="$work/$(basename "$f" .qsp)_$BASHPID.obj"
   [[ -n ${nrm_exact[$f]:-} ]] && exact=(--exact)
+  # Octahedral normals (_qn) are compared with what qsp decompress writes only.
+  [[ $(basename "$f") == *_qn* ]] && against=()
   "$qsp" decompress -f "$f" -o "$out" >/dev/null &&
-    "$python" "$here/qsppoly.py" "$f" --obj "$2" --tex-obj "$2" --labels-obj "$2" --tags-obj "$2" --normals-obj "$2" \
+    "$python" "$here/qsppoly.py" "$f" --obj "$2" --tex-obj "$2" --labels-obj "$2" --tags-obj "$2" "${against[@]}" \
       "${exact[@]}" --decompressed "$out" --labels-decompressed "$out" --tags-decompressed "$out" \
       --normals-decompressed "$out"
 }

@@ -624,13 +624,14 @@ FLOAT_FROM_ZERO = True    # a float prediction's binary64 sum starts from +0.0, 
                           # predicts +0.0 (the text does not say; qsp does so: texgen.py's `u`)
 
 
-def decode_texcoords(payload, positions, faces, has_order, normals=False):
+def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=10):
     """The texture coordinates section over the output mesh of the other sections (faces in
     canonical order, corners from each face's first): (values, names, original, modes) with
     values[i] the K components of value i as binary32 bits, names[f][k] the value corner k of face f
     names (None: none), original[i] value i's original index (None without bit 2), modes the K
     components' modes. normals: the normals section ("Normals section": the same payload with models
-    of its own, which each call's are, K = 3 and T bounded by max_normals)."""
+    of its own, which each call's are, K = 3 and T bounded by max_normals; from 3.`minor` = 10 its flag
+    bits 5, from the faces, and 6, octahedral)."""
     noun, prefix = ('normal', 'normals: ') if normals else ('texture coordinate', 'tex: ')
 
     def need(ok, msg):
@@ -645,10 +646,17 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False):
     need(K != 0, 'texture coordinates with 0 components')
     if normals:
         need(K == 3, 'normals with %d components (flags bits 0-1), not 3' % K)
-    need(flags >> 5 == 0, 'reserved texture coordinates flag bits set')
+    faces_bit = normals and bool(flags & 32)
+    octahedral = normals and bool(flags & 64)
+    need(flags >> (7 if normals else 5) == 0, 'reserved texture coordinates flag bits set')
+    need(not (faces_bit or octahedral) or minor >= 10,
+         'normals predicted from the faces or octahedral are format 3.10\'s, and the file says it is 3.%d' % minor)
     kept = bool(flags & 4)
     corrections = bool(flags & 8)
     shapes = bool(flags & 16)
+    need(not octahedral or not (corrections or shapes), 'octahedral normals with bits 3 or 4')
+    if normals:
+        seen('nrm: %s%s' % ('from the faces' if faces_bit else 'not from the faces', ', octahedral' if octahedral else ''))
     need(not (corrections and shapes), 'texture coordinates flag bits 3 and 4 both set')
     seen('tex: flag %s' % ('corrections' if corrections else 'shapes' if shapes else 'neither'))
     need(kept == has_order, 'texture coordinates order bit %d, order section %s' % (kept, has_order))
@@ -663,8 +671,15 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False):
     need(U <= T, 'more unreferenced texture coordinates than values')
     ncorners = sum(len(f) for f in faces)
     need(T - U <= ncorners, 'more named texture coordinates (%d) than corners (%d)' % (T - U, ncorners))
-    need(pos + K <= len(payload), 'modes past the section')
-    modes = list(payload[pos:pos + K])
+    if octahedral:   # one byte, bits, for the modes
+        need(pos + 1 <= len(payload), 'octahedral bits past the section')
+        bits = payload[pos]
+        need(2 <= bits <= 24, 'octahedral bits %d' % bits)
+        pos += 1 - K
+        modes = []
+    else:
+        need(pos + K <= len(payload), 'modes past the section')
+        modes = list(payload[pos:pos + K])
     for mode in modes:
         need(mode <= 10 or 17 <= mode <= 40, 'texture coordinate mode %d' % mode)
         seen('tex: K=%d mode %s' % (K, 'float' if mode == 0 else 'dec%d' % (mode - 1) if mode <= 10
@@ -793,7 +808,70 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False):
             seen('tex: shape of a degenerate face')
         return unfitted
 
-    for i in range(T):
+    # "Face normals": per named value, its faces' Newell normals summed, normalised (or None)
+    G = [None] * (T - U)
+    if faces_bit or octahedral:
+        sums = [[0.0, 0.0, 0.0] for _ in range(T - U)]
+        for fi, f in enumerate(faces):
+            P = [[g.bits_f32(u) for u in positions[v]] for v in f]
+            N = [0.0, 0.0, 0.0]
+            for a_ in range(len(f)):
+                pi, pj = P[a_], P[(a_ + 1) % len(f)]
+                N[0] += (pi[1] - pj[1]) * (pi[2] + pj[2])
+                N[1] += (pi[2] - pj[2]) * (pi[0] + pj[0])
+                N[2] += (pi[0] - pj[0]) * (pi[1] + pj[1])
+            for p_ in range(len(f)):
+                x_ = name[start[fi] + p_]
+                if x_ is not None:
+                    for k in range(3):
+                        sums[x_][k] += N[k]
+        for x_, S3 in enumerate(sums):
+            L = math.sqrt((S3[0] * S3[0] + S3[1] * S3[1]) + S3[2] * S3[2])
+            if L > 0 and L != math.inf:
+                G[x_] = [S3[0] / L, S3[1] / L, S3[2] / L]
+            else:
+                seen('nrm: a value without a face normal')
+
+    def sgn(w):
+        return -1 if w < 0 else 1
+
+    if octahedral:   # "Octahedral normals"
+        h = (1 << (bits - 1)) - 1
+        prev = [0.0, 0.0, 1.0]
+        for i in range(T):
+            fromG = faces_bit and i < T - U and G[i] is not None
+            p3 = G[i] if fromG else prev
+            m = p3[2] < 0
+            pz = -p3[2] if m else p3[2]
+            a_ = (abs(p3[0]) + abs(p3[1])) + abs(pz)
+            if a_ > 0 and a_ != math.inf:
+                u_, v_ = p3[0] / a_, p3[1] / a_
+                if pz / a_ < 0:
+                    u_, v_ = (1 - abs(v_)) * sgn(u_), (1 - abs(u_)) * sgn(v_)
+                ps, pt = ROUND(u_ * h), ROUND(v_ * h)
+            else:
+                ps, pt = 0, 0
+            ctx = 0 if fromG else 1
+            s_ = ps + residual(2 * ctx)
+            t_ = pt + residual(2 * ctx + 1)
+            need(-h <= s_ <= h and -h <= t_ <= h, 'octahedral integer outside [-h, h]')
+            X, Y, Z = s_, t_, h - abs(s_) - abs(t_)
+            if Z < 0:
+                X, Y = (h - abs(t_)) * sgn(s_), (h - abs(s_)) * sgn(t_)
+                seen('nrm: octahedral lower half')
+            if m:
+                Z = -Z
+                seen('nrm: octahedral mirror')
+            L = math.sqrt((float(X * X) + float(Y * Y)) + float(Z * Z))
+            val = [g.f32_bits_of_double(float(X) / L), g.f32_bits_of_double(float(Y) / L),
+                   g.f32_bits_of_double(float(Z) / L)]
+            vals.append(val)
+            prev = [g.bits_f32(u) for u in val]
+        T_range = []
+    else:
+        T_range = range(T)
+
+    for i in T_range:
         x, terms, para = 2, None, None   # terms: (value index, weight); para: (a, b, o, alpha, beta)
         if i < T - U:
             c = creator[i]
@@ -868,32 +946,48 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False):
             para = None
         elif x == 1:
             para = None
+        if faces_bit and i < T - U and G[i] is not None:   # bit 5: the face normal predicts it
+            x, terms, para = 5, None, None
         seen('tex: x=%d' % x)
         val, vint = [], []
         for k in range(K):
             mode = modes[k]
             r = residual(K * x + k)
             if mode:
-                S_ = sum(w * ints[j][k] for j, w in terms)
-                if S_ & 1:
-                    seen('tex: odd integer sum')
-                if para:
-                    qa, qb, qo = (ints[j][k] for j in para[:3])
-                    al, be = para[3:]
-                    p_ = math.floor((((float(S_) + float(2 * qo)) / 2 + (al * (float(qa) - float(qo)) + be * (float(qb) - float(qo)))) + 0.5))
-                    if (al, be) == (1.0, 1.0) and p_ != (S_ + 1) // 2 + qa + qb - qo:
-                        seen('tex: binary64 parallelogram not exact')
-                elif terms:
-                    p_ = (S_ + 1) >> 1
-                pred = g.clamp(p_, -LIM, LIM) if terms or para else 0
-                if (terms or para) and pred != p_:
-                    seen('tex: clamped prediction')
+                if x == 5:   # bit 5: the integer of the face normal's component in the mode
+                    Gk = G[i][k]
+                    pred = ROUND(Gk * float(1 << (mode - 16)) if mode >= 17 else Gk * float(10 ** (mode - 1)))
+                else:
+                    S_ = sum(w * ints[j][k] for j, w in terms)
+                    if S_ & 1:
+                        seen('tex: odd integer sum')
+                    if para:
+                        qa, qb, qo = (ints[j][k] for j in para[:3])
+                        al, be = para[3:]
+                        p_ = math.floor((((float(S_) + float(2 * qo)) / 2 + (al * (float(qa) - float(qo)) + be * (float(qb) - float(qo)))) + 0.5))
+                        if (al, be) == (1.0, 1.0) and p_ != (S_ + 1) // 2 + qa + qb - qo:
+                            seen('tex: binary64 parallelogram not exact')
+                    elif terms:
+                        p_ = (S_ + 1) >> 1
+                    pred = g.clamp(p_, -LIM, LIM) if terms or para else 0
+                    if (terms or para) and pred != p_:
+                        seen('tex: clamped prediction')
                 q = pred + r
                 need(-LIM <= q <= LIM, 'texture coordinate integer %d outside (-2^40, 2^40)' % q)
                 den = 1 << (mode - 16) if mode >= 17 else 10 ** (mode - 1)
                 u = g.f32_of_rational(q, den)
+                if faces_bit and q == 0 and bit('minus', k):   # bit 5: a grid's -0
+                    seen('nrm: -0 on a grid')
+                    u = 0x80000000
                 val.append(u)
                 vint.append(integer_of(u, mode))
+            elif x == 5:   # float bits: the image of G's component rounded to binary32
+                im = g.image(g.f32_bits_of_double(G[i][k])) + r
+                need(0 <= im < 1 << 32, 'texture coordinate image outside [0, 2^32)')
+                u = g.unimage(im)
+                need(u & 0x7F800000 != 0x7F800000, 'texture coordinate not finite')
+                val.append(u)
+                vint.append(None)
             else:
                 if terms or para:
                     acc = 0.0 if FLOAT_FROM_ZERO else None
@@ -927,7 +1021,7 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False):
     values = [tuple(v) for v in vals]
     unref = values[T - U:]
     # (the encoder sorts them by the bits it was given, before a binary grid rounds them)
-    if unref != sorted(unref) and not any(mode >= 17 for mode in modes):
+    if unref != sorted(unref) and not octahedral and not any(mode >= 17 for mode in modes):
         seen('tex: unreferenced values not sorted (an encoder rule)')
 
     # Original numbering
@@ -1030,7 +1124,8 @@ def decode_file(data):
     nrm = None
     if 0x09 in secs:   # "Normals section": the texture coordinates section's payload, K = 3
         need(data[9] >= 5, 'section 0x09 (normals) in a %d.%d file' % (data[8], data[9]))
-        values, names, original, modes = decode_texcoords(secs[0x09], pos, faces, 0x04 in secs, normals=True)
+        values, names, original, modes = decode_texcoords(secs[0x09], pos, faces, 0x04 in secs, normals=True,
+                                                          minor=data[9])
         if original is not None:
             out_values = [None] * len(values)
             for i, j in enumerate(original):
