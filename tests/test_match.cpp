@@ -770,7 +770,7 @@ TEST_F(MatchCli, ReorderGivesTheReferenceOrder) {
 
 // Files of every released format version fingerprint as their mesh: the goldens of the current
 // encoder, and those of older released versions where a later one changed the bytes (testdata/golden/
-// vX.Y/, none yet: 3.0 is the first release format).
+// vX.Y/; golden/v3.5/normals, the only ones so far, are checked in test_normals.cpp).
 TEST_F(MatchCli, OlderFormatFilesFingerprintAsTheirMesh) {
   const std::string golden = std::string(QSP_TESTDATA_DIR) + "/golden/";
   int seen = 0;

@@ -246,7 +246,7 @@ void register_compress(CLI::App& app, int& rc) {
       ->check(CLI::Range(1, 24));
   sub->add_option(
          "--quantize-normal", opt->quantize_normal,
-         "Lossy: store each normal as a point of the octahedral grid of 2^BITS x 2^BITS (2-24; as "
+         "Lossy: store each normal as one of the (2^BITS - 1)^2 points of an octahedral grid (2-24; as "
          "Draco's -qn, 10 keeps each within 0.17 degrees, 16 within 0.003), unit length; a file with "
          "a normal of zero length keeps its normals exact")
       ->check(CLI::Range(2, 24));

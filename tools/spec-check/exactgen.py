@@ -77,10 +77,12 @@ def binary32_positions(data):
     return [tuple(g.bits_f32(u) for u in p) for p in pos]
 
 
-def with_section(data, payload, minor=6):
+def with_section(data, payload, minor=None):
+    """data with `payload` as its exact positions section, at minor version `minor` (default: 6, or the
+    file's own if later: a golden of 3.10's normals stays a 3.10 file)."""
     secs = g.sections(data)
     secs[0x0a] = payload
-    return reseal(data, secs, minor)
+    return reseal(data, secs, max(6, data[9]) if minor is None else minor)
 
 
 def unpack(payload, V):
