@@ -234,6 +234,14 @@ std::int64_t prediction(const Domain& domain, const Prediction& p, std::span<con
   return float_image(std::isfinite(x) ? x : value_of(p.a));
 }
 
+// Bit 5: the value named by the corner before value i's creating corner in its face (normals stored per
+// corner repeat their face's), or kInvalid.
+std::uint32_t copy_source(std::uint32_t creating, std::span<const std::uint32_t> face_of_corner,
+                          std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> names) {
+  if (creating == kInvalid || creating == face_offsets[face_of_corner[creating]]) return kInvalid;
+  return names[creating - 1];
+}
+
 std::vector<std::uint32_t> faces_of_corners(std::span<const std::uint32_t> face_offsets) {
   std::vector<std::uint32_t> face(face_offsets.empty() ? 0 : face_offsets.back());
   for (std::size_t f = 0; f + 1 < face_offsets.size(); ++f)
@@ -404,7 +412,18 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
       if (faces && doms[c].mode != kModeFloat && ints[std::size_t{i} * K + c] == 0)
         enc.encode_bit(minus[c], std::signbit(ordered[std::size_t{i} * K + c]));
     };
+    BitModel copy{};
     for (std::uint32_t i = 0; i < T; ++i) {
+      const std::uint32_t j =
+          faces && i < referenced ? copy_source(creating[i], face_of_corner, face_offsets, names) : kInvalid;
+      if (j != kInvalid) {
+        bool same = true;
+        for (unsigned c = 0; c < K; ++c)
+          same = same && std::bit_cast<std::uint32_t>(ordered[std::size_t{i} * K + c]) ==
+                             std::bit_cast<std::uint32_t>(ordered[std::size_t{j} * K + c]);
+        enc.encode_bit(copy, same);
+        if (same) continue;
+      }
       if (faces && from_geometry(i)) {
         for (unsigned c = 0; c < K; ++c) {
           encode_residual(
@@ -600,6 +619,7 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
   const Edges edges(face_offsets, out.corners, T);
   std::array<BitModel, 3> minus{};  // bit 5: the sign of a grid value whose integer is 0
+  BitModel copy{};                  // bit 5: a value the same as the one its face's corner before names
   // Component c of value i from its integer.
   const auto store = [&](std::uint32_t i, unsigned c, std::int64_t value) {
     if (!domain[c].holds(value))
@@ -645,6 +665,16 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
       const std::array<float, 3> x = grid.normal(q[0], q[1], mirror);
       std::copy(x.begin(), x.end(), &out.values[3 * std::size_t{i}]);
       previous = {x[0], x[1], x[2]};
+      continue;
+    }
+    const std::uint32_t j = (flags & kGeometryBit) && i < n
+                                ? copy_source(creating[i], face_of_corner, face_offsets, out.corners)
+                                : kInvalid;
+    if (j != kInvalid && dec.decode_bit(copy)) {
+      for (unsigned c = 0; c < K; ++c) {
+        out.values[std::size_t{i} * K + c] = out.values[std::size_t{j} * K + c];
+        integers[std::size_t{i} * K + c] = integers[std::size_t{j} * K + c];
+      }
       continue;
     }
     if (from_geometry(i)) {

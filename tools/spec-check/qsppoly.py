@@ -872,6 +872,14 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
         T_range = range(T)
 
     for i in T_range:
+        if faces_bit and i < T - U:   # bit 5: the value the corner before its creating corner names
+            fi_, p_c, _ = corners[creator[i]]
+            j = name[creator[i] - 1] if p_c >= 1 else None
+            if j is not None and bit('copy'):
+                seen('nrm: copy')
+                vals.append(list(vals[j]))
+                ints.append(list(ints[j]))
+                continue
         x, terms, para = 2, None, None   # terms: (value index, weight); para: (a, b, o, alpha, beta)
         if i < T - U:
             c = creator[i]
