@@ -457,10 +457,7 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     std::array<double, 3> previous{0, 0, 1};
     for (std::uint32_t i = 0; i < T; ++i) {
       const bool faces = (tools & kGeometryBit) && from_geometry(i);
-      const std::array<double, 3> p = faces ? std::array<double, 3>{geometry.unit[3 * std::size_t{i}],
-                                                                    geometry.unit[3 * std::size_t{i} + 1],
-                                                                    geometry.unit[3 * std::size_t{i} + 2]}
-                                            : previous;
+      const std::array<double, 3> p = faces ? geometry.at(i) : previous;
       const bool mirror = p[2] < 0;
       const std::array<std::int64_t, 2> predicted = grid.nearest(p, mirror);
       const float* v = &ordered[3 * std::size_t{i}];
@@ -647,10 +644,7 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   for (std::uint32_t i = 0; i < T; ++i) {
     if (octahedral) {
       const bool faces = from_geometry(i);
-      const std::array<double, 3> p = faces ? std::array<double, 3>{geometry.unit[3 * std::size_t{i}],
-                                                                    geometry.unit[3 * std::size_t{i} + 1],
-                                                                    geometry.unit[3 * std::size_t{i} + 2]}
-                                            : previous;
+      const std::array<double, 3> p = faces ? geometry.at(i) : previous;
       const bool mirror = p[2] < 0;
       const std::array<std::int64_t, 2> predicted = grid.nearest(p, mirror);
       std::array<std::int64_t, 2> q{};

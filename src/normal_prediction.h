@@ -17,6 +17,9 @@ namespace qsp {
 struct GeometryNormals {
   std::vector<double> unit;         // 3 per value
   std::vector<std::uint8_t> valid;  // per value
+  std::array<double, 3> at(std::uint32_t i) const {
+    return {unit[3 * std::size_t{i}], unit[3 * std::size_t{i} + 1], unit[3 * std::size_t{i} + 2]};
+  }
 };
 GeometryNormals geometry_normals(std::span<const std::uint32_t> face_offsets,
                                  std::span<const std::uint32_t> corner_vertices,
