@@ -268,8 +268,15 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   const Section* exact = p.file.find(container::kTagExact);
   const Section* kept = p.file.find(container::kTagKeptLines);
   const Section* colors = p.file.find(container::kTagColors);
-  if (!poly && !uv && !labels && !tags && !normals && !exact && !kept && !colors)
+  const Section* statements = p.file.find(container::kTagStatements);
+  if (!poly && !uv && !labels && !tags && !normals && !exact && !kept && !colors && !statements)
     return polygon_mesh(decode_quads(p));
+  // The statement order describes the mesh as returned (after any order section).
+  const auto with_statements = [&](PolygonMesh m) {
+    if (statements)
+      m.statements = decode_statements_section(statements->payload, statements->payload_offset, m);
+    return m;
+  };
   // The output mesh in canonical order, then its texture coordinates, then the input's numbering.
   PolygonMesh out;
   std::uint32_t nv = 0;
@@ -328,7 +335,7 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   if (tags)
     out.tags = decode_tags_section(tags->payload, tags->payload_offset, out.vertex_count(), out.face_count(),
                                    p.order != nullptr);
-  if (!p.order) return out;
+  if (!p.order) return with_statements(std::move(out));
   // The input's numbering: vertex j is output vertex vertex[j]; face f is output face face[f], its corner
   // (i + rotation[f]) mod d output corner i.
   const std::vector<std::uint32_t>& fo = out.face_offsets;
@@ -356,7 +363,7 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   r.face_from = order.face;
   r.first = first;
   r.renumber_tags = false;
-  return permute(out, r);
+  return with_statements(permute(out, r));
 }
 
 bool holds_polygons(std::string_view bytes) {
@@ -365,7 +372,7 @@ bool holds_polygons(std::string_view bytes) {
                      [&](const container::SectionKind& k) {
                        return container::added_required(k) && f.find(k.tag) != nullptr;
                      }) ||
-         f.find(container::kTagKeptLines) != nullptr;
+         f.find(container::kTagKeptLines) != nullptr || f.find(container::kTagStatements) != nullptr;
 }
 
 FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits) {

@@ -78,22 +78,16 @@ std::string labels_section(const PolygonMesh& mesh, std::span<const std::uint32_
   for (unsigned k = 0; k < kKinds; ++k) {
     if (!(kinds & (1u << k))) continue;
     const FaceLabels& l = kind_of(mesh, k);
-    // Names numbered by the first output face that takes each, then the rest in the mesh's order.
-    std::vector<std::uint32_t> number(l.names.size(), kInvalid), order;
-    std::vector<std::uint32_t> labels(nf, kInvalid);
+    const std::vector<std::uint32_t> number = label_numbering(l, input_face);
+    std::vector<std::uint32_t> order(number.size()), labels(nf, kInvalid);
+    for (std::uint32_t i = 0; i < number.size(); ++i) order[number[i]] = i;
+    std::size_t taken = 0;
     for (std::size_t g = 0; g < nf && !l.face.empty(); ++g) {
       const std::uint32_t name = l.face[input_face[g]];
       if (name == kInvalid) continue;
-      if (name >= l.names.size())
-        throw Error(ErrorCode::kUsage, "encode: face " + std::to_string(input_face[g]) + " has label " +
-                                           std::to_string(name) + " of " + std::to_string(l.names.size()));
-      if (number[name] == kInvalid)
-        number[name] = static_cast<std::uint32_t>(order.size()), order.push_back(name);
       labels[g] = number[name];
+      taken = std::max<std::size_t>(taken, labels[g] + 1);
     }
-    const std::size_t taken = order.size();
-    for (std::uint32_t i = 0; i < l.names.size(); ++i)
-      if (number[i] == kInvalid) order.push_back(i);
     put_varint(out, order.size());
     TextWriter names{front, {}};
     for (const std::uint32_t i : order) names.put(out, l.names[i], "label name", i);
@@ -128,6 +122,22 @@ std::string labels_section(const PolygonMesh& mesh, std::span<const std::uint32_
 }
 
 }  // namespace
+
+std::vector<std::uint32_t> label_numbering(const FaceLabels& l, std::span<const std::uint32_t> input_face) {
+  std::vector<std::uint32_t> number(l.names.size(), kInvalid);
+  std::uint32_t next = 0;
+  for (std::size_t g = 0; g < input_face.size() && !l.face.empty(); ++g) {
+    const std::uint32_t name = l.face[input_face[g]];
+    if (name == kInvalid) continue;
+    if (name >= l.names.size())
+      throw Error(ErrorCode::kUsage, "encode: face " + std::to_string(input_face[g]) + " has label " +
+                                         std::to_string(name) + " of " + std::to_string(l.names.size()));
+    if (number[name] == kInvalid) number[name] = next++;
+  }
+  for (std::uint32_t& n : number)
+    if (n == kInvalid) n = next++;
+  return number;
+}
 
 std::string encode_labels_section(const PolygonMesh& mesh, std::span<const std::uint32_t> input_face) {
   // Front-coded names (3.9) where smaller: MakeHuman's 139 group names share their prefixes (joint-l-toe-).

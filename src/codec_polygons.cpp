@@ -317,8 +317,9 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     FaceMap map;
     std::string bytes = encode_faces(mesh, o, map);
     const bool exact = !mesh.positions64.empty() && o.quantize_bits == 0;
+    const bool statements = o.keep_order && statements_needed(mesh);
     if (!texcoords && !normals && !labels && mesh.tags.empty() && !exact && mesh.kept_lines.empty() &&
-        !colors)
+        !colors && !statements)
       return bytes;
     const std::vector<std::uint32_t> input_face = input_faces(map, mesh.face_count());
     const OutputCorners oc =
@@ -354,6 +355,9 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     if (!mesh.kept_lines.empty())
       bytes = container::with_section(bytes, container::kTagKeptLines,
                                       encode_kept_lines_section(mesh.kept_lines), kFormatMinorKeptLines);
+    if (statements)
+      bytes = container::with_section(bytes, container::kTagStatements,
+                                      encode_statements_section(mesh, input_face), kFormatMinorStatements);
     return bytes;
   };
   // The levels that try every partition keep the smallest whole file: with texture coordinates the

@@ -156,6 +156,25 @@ DecodedColors decode_colors_section(std::string_view payload, std::uint64_t base
                                     std::span<const std::uint32_t> corner_vertices,
                                     std::uint32_t vertex_count);
 
+// The names of `l` as the face labels section numbers them: number[i] is name i's number, by the first
+// output face g (input face input_face[g]) that takes each, then the names no face takes in their order.
+// Throws Error(kUsage) for a face label beyond the names.
+std::vector<std::uint32_t> label_numbering(const FaceLabels& l, std::span<const std::uint32_t> input_face);
+
+// Whether mesh.statements differ from the order a decoder's OBJ writer gives the mesh without them
+// (io_write.cpp's canonical order): only then is the statement order section worth its bytes.
+bool statements_needed(const PolygonMesh& mesh);
+// The statement order section (optional): mesh.statements with each label statement's name in the face
+// labels section's numbering (`input_face` as for encode_labels_section). Throws Error(kUsage) for a
+// comment run or a label beyond its names.
+std::string encode_statements_section(const PolygonMesh& mesh, std::span<const std::uint32_t> input_face);
+// Inverse of encode_statements_section, checked against the decoded `mesh` (after any order section): the
+// runs add up to its arrays, label statements name its names, and each face's labels are the ones the
+// statements before it set, so an OBJ writer can follow them. Throws Error(kFormat) naming what and the
+// byte offset. Safe on untrusted input: a statement is allocated only after its bytes are read.
+std::vector<Statement> decode_statements_section(std::string_view payload, std::uint64_t offset,
+                                                 const PolygonMesh& mesh);
+
 // The kept lines section (format 3.7, optional): the lines in order. Throws Error(kUsage) for a line
 // kept_line_problem() refuses.
 std::string encode_kept_lines_section(const std::vector<std::string>& lines);

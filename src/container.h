@@ -32,8 +32,9 @@ inline constexpr std::uint8_t kTagNormals = 0x09;
 inline constexpr std::uint8_t kTagExact = 0x0a;   // exact positions, from 3.6
 inline constexpr std::uint8_t kTagColors = 0x0b;  // vertex and face colours, from 3.8
 inline constexpr std::uint8_t kOptionalBit = 0x80;
-inline constexpr std::uint8_t kTagComments = 0x81;   // optional, from 3.1
-inline constexpr std::uint8_t kTagKeptLines = 0x82;  // optional, from 3.7
+inline constexpr std::uint8_t kTagComments = 0x81;    // optional, from 3.1
+inline constexpr std::uint8_t kTagKeptLines = 0x82;   // optional, from 3.7
+inline constexpr std::uint8_t kTagStatements = 0x83;  // optional, from 3.11
 
 // A section tag, the format minor version that defines it, and its name in messages.
 struct SectionKind {
@@ -59,6 +60,7 @@ inline constexpr SectionKind kSections[] = {
     {kTagColors, kFormatMinorColors, "colours"},
     {kTagComments, kFormatMinorPolygons, "comments"},
     {kTagKeptLines, kFormatMinorKeptLines, "kept lines"},
+    {kTagStatements, kFormatMinorStatements, "statement order"},
 };
 
 // Whether the section is a required one added after 3.0 (a file holding it is not a 3.0 quad file).

@@ -453,6 +453,20 @@ PolygonMesh to_polygon_mesh(Mesh m, unsigned categories) {
     out.face_color_components = m.face_color_components;
     out.face_colors = std::move(m.face_colors.f32);
   }
+  // The statement order of what is kept: comments are not (the leading block goes first).
+  out.statements = std::move(m.statements);
+  remove_statements(out.statements, {ObjStatement::kComment});
+  if (!(categories & kCategoryUv) || out.texcoord_components == 0)
+    remove_statements(out.statements, {ObjStatement::kTexcoord});
+  if (!(categories & kCategoryNormal) || out.normals.empty())
+    remove_statements(out.statements, {ObjStatement::kNormal});
+  if (!(categories & kCategoryGroup))
+    remove_statements(out.statements, {ObjStatement::kObject, ObjStatement::kGroup});
+  if (!(categories & kCategoryMaterial))
+    remove_statements(out.statements, {ObjStatement::kMaterial, ObjStatement::kMaterialLibrary});
+  if (!(categories & kCategorySmoothing)) remove_statements(out.statements, {ObjStatement::kSmoothing});
+  if (!(categories & kCategoryTag)) remove_statements(out.statements, {ObjStatement::kTag});
+  if (!(categories & kCategoryExtra)) remove_statements(out.statements, {ObjStatement::kVerbatim});
   return out;
 }
 
@@ -461,6 +475,7 @@ Mesh from_polygon_mesh(PolygonMesh m) {
   out.positions = m.positions64.empty() ? numbers_from_float32(std::move(m.positions))
                                         : numbers_from_float64(m.positions64);
   out.verbatim = std::move(m.kept_lines);
+  out.statements = std::move(m.statements);
   out.face_offsets = std::move(m.face_offsets);
   out.corner_vertices = std::move(m.corners);
   if (m.texcoord_components) {

@@ -57,8 +57,8 @@ void dump(const std::string& path, std::string_view bytes) {
 // meshes the test corpus reads as valid quad meshes without other data).
 std::vector<std::string> golden_names() {
   std::vector<std::string> out;
-  for (const char* dir :
-       {"", "polygons/", "texcoords/", "labels/", "tags/", "normals/", "exact/", "kept/", "colors/"}) {
+  for (const char* dir : {"", "polygons/", "texcoords/", "labels/", "tags/", "normals/", "exact/", "kept/",
+                          "colors/", "statements/"}) {
     for (const auto& e : fs::directory_iterator(kGolden + "/" + dir)) {
       if (e.path().extension() == ".obj") out.push_back(std::string(dir) + e.path().stem().string());
     }
@@ -169,7 +169,11 @@ std::vector<std::string> golden_paths() {
 }
 
 // A golden's .obj as any polygon mesh (float32 positions, faces as read, texture coordinates).
-PolygonMesh read_polygons(const std::string& path) { return testing::read_obj_polygons(path); }
+// The goldens under statements/ keep the file's statement order (the others pin the bytes without it).
+PolygonMesh read_polygons(const std::string& path) {
+  if (path.find("/statements/") == std::string::npos) return testing::read_obj_polygons(path);
+  return to_polygon_mesh(read_obj_mesh(testing::slurp(path), path), kPolygonMeshCategories | kCategoryExtra);
+}
 
 // The corners of a decoded all-quad PolygonMesh, as a QuadMesh's quads.
 std::vector<std::uint32_t> polygon_faces_as_quads(const PolygonMesh& m) { return m.corners; }
@@ -255,7 +259,7 @@ TEST(Golden, BytesArePinned) {
   auto names = golden_names();
   ASSERT_GE(names.size(), 5u);
   int polygons = 0, comments = 0, texcoords = 0, labels = 0, tags = 0, normals = 0, exact = 0, kept = 0,
-      colors = 0;
+      colors = 0, statements = 0;
   for (const auto& name : names) {
     SCOPED_TRACE(name);
     const std::string obj = kGolden + "/" + name + ".obj";
@@ -269,6 +273,21 @@ TEST(Golden, BytesArePinned) {
                                                                  : std::vector<std::string>{});
     comments += !lines.empty();
     PolygonMesh poly = read_polygons(obj);
+    if (!poly.statements.empty()) {
+      // The statement order: a 3.11 file, whose decoded mesh written as OBJ has the .obj's statements in
+      // its order (its non-comment lines, the numbers as they were written: integers and short decimals).
+      ++statements;
+      EXPECT_EQ(slurp(path)[9], 11) << "a file with the statement order says format 3.11";
+      const PolygonMesh back = decode_polygons(slurp(path));
+      ASSERT_EQ(back.statements.size(), poly.statements.size());
+      const std::string text = write_obj_mesh(from_polygon_mesh(back));
+      std::string want;
+      std::istringstream in(slurp(obj));
+      for (std::string line; std::getline(in, line);)
+        if (!line.starts_with("#")) want += line + "\n";
+      EXPECT_EQ(text, want);
+      continue;
+    }
     if (poly.vertex_color_components) {
       // Colours: a 3.8 file, decoded to the .obj's faces with each vertex's colour (found by its
       // position), exactly or on the grid of step 2^-8 ("_c8"); index for index with the order kept.
@@ -454,6 +473,7 @@ TEST(Golden, BytesArePinned) {
   EXPECT_GE(normals, 2);
   EXPECT_GE(exact, 2);
   EXPECT_GE(kept, 1);
+  EXPECT_GE(statements, 1);
   EXPECT_GE(colors, 3);
 }
 

@@ -28,7 +28,8 @@ namespace qsp {
 // refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
 // (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 10;
+inline constexpr std::uint8_t kFormatMinor = 11;
+inline constexpr std::uint8_t kFormatMinorStatements = 11;  // the statement order section (optional)
 // Normals predicted from the decoded faces, and octahedral normals (normals section flag bits 5 and 6).
 inline constexpr std::uint8_t kFormatMinorNormalsGeometry = 10;
 inline constexpr std::uint8_t kFormatMinorNames = 9;  // front-coded label names (face labels section)

@@ -96,26 +96,6 @@ struct Property {
   Numbers values;                      // scalar: one per element; list: the lists end to end
 };
 
-// One OBJ statement, or a run of them, in file order. Runs consume the next entries of their array.
-enum class ObjStatement : std::uint8_t {
-  kVertex,           // run of `v`
-  kTexcoord,         // run of `vt`
-  kNormal,           // run of `vn`
-  kFace,             // run of `f`
-  kObject,           // one `o`; value: index into Mesh::objects.names
-  kGroup,            // one `g`; value: index into Mesh::groups.names
-  kMaterial,         // one `usemtl`; value: index into Mesh::materials.names
-  kSmoothing,        // one `s`; value: index into Mesh::smoothing.names
-  kMaterialLibrary,  // run of `mtllib`
-  kTag,              // run of `t`
-  kComment,          // run of comment lines
-  kVerbatim,         // run of lines kept as text
-};
-struct Statement {
-  ObjStatement kind;
-  std::uint32_t value;  // a run's length, or a label's index
-};
-
 // Where a PLY file put each vertex and face property, to write the header back as it was.
 enum class PlyFormat : std::uint8_t { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
 enum class PlyRole : std::uint8_t {

@@ -52,6 +52,26 @@ struct SubdivisionTag {
   std::vector<std::string> strings;  // creasemethod's "chaikin", ...
 };
 
+// One OBJ statement, or a run of them, in file order. Runs consume the next entries of their array.
+enum class ObjStatement : std::uint8_t {
+  kVertex,           // run of `v`
+  kTexcoord,         // run of `vt`
+  kNormal,           // run of `vn`
+  kFace,             // run of `f`
+  kObject,           // one `o`; value: index into Mesh::objects.names
+  kGroup,            // one `g`; value: index into Mesh::groups.names
+  kMaterial,         // one `usemtl`; value: index into Mesh::materials.names
+  kSmoothing,        // one `s`; value: index into Mesh::smoothing.names
+  kMaterialLibrary,  // run of `mtllib`
+  kTag,              // run of `t`
+  kComment,          // run of comment lines
+  kVerbatim,         // run of lines kept as text
+};
+struct Statement {
+  ObjStatement kind;
+  std::uint32_t value;  // a run's length, or a label's index
+};
+
 // A polygon mesh as plain arrays: faces of any degree >= 3, face f with corners
 // corners[face_offsets[f] .. face_offsets[f+1]) counter-clockwise seen from outside; it may be
 // non-manifold and have pieces of either orientation. What the codec (encode_polygons) and matching
@@ -82,6 +102,10 @@ struct PolygonMesh {
   std::vector<std::string> material_libraries;
   std::vector<SubdivisionTag> tags;     // OpenSubdiv tags in file order; indices in this mesh's numbering
   std::vector<std::string> kept_lines;  // OBJ lines kept as text (vp, cstype, prose), file order
+  // The OBJ file's statement order (Mesh::statements, its comment runs left out: the leading comment
+  // block goes first), kept with --keep-order: runs consume the arrays above in order, label statements
+  // name their kind's names by index. Empty: none kept (writers use the canonical order).
+  std::vector<Statement> statements;
   bool has_labels() const {
     return !objects.empty() || !groups.empty() || !materials.empty() || !smoothing.empty() ||
            !material_libraries.empty();

@@ -30,8 +30,13 @@ namespace qsp::testing {
 // An OBJ file as qsp's exact reader gives it, as a PolygonMesh: positions (float64 too where float32
 // does not hold them), faces as read, and the texture coordinates (every corner naming one or kInvalid),
 // normals, face labels, tags and lines kept as text when the file has any.
+// Without the file's statement order (test_statements.cpp tests that on its own): a keep-order file of
+// these is the same bytes as before it was kept.
 inline PolygonMesh read_obj_polygons(const std::filesystem::path& path) {
-  return to_polygon_mesh(read_obj_mesh(slurp(path), path.string()), kPolygonMeshCategories | kCategoryExtra);
+  PolygonMesh m =
+      to_polygon_mesh(read_obj_mesh(slurp(path), path.string()), kPolygonMeshCategories | kCategoryExtra);
+  m.statements.clear();
+  return m;
 }
 
 // A polygon mesh as the plain arrays the API takes.

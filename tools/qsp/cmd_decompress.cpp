@@ -42,12 +42,16 @@ std::string mesh_text(PolygonMesh m, MeshFormat format, const std::vector<std::s
     quads = quads && m.face_offsets[f + 1] - m.face_offsets[f] == 4;
   if (format != MeshFormat::kPly && quads && m.texcoord_components == 0 && m.corner_normals.empty() &&
       !m.has_labels() && m.tags.empty() && m.positions64.empty() && m.kept_lines.empty() &&
-      m.vertex_color_components == 0 && m.face_color_components == 0) {
+      m.vertex_color_components == 0 && m.face_color_components == 0 && m.statements.empty()) {
     const QuadMesh q{std::move(m.positions), std::move(m.corners)};
     return format == MeshFormat::kOff ? write_off(q, comments) : write_obj(q, comments);
   }
   Mesh out = from_polygon_mesh(std::move(m));
   out.comments = comments;
+  // The file's statement order (--keep-order) holds no comments: the leading block goes first.
+  if (!out.statements.empty() && !comments.empty())
+    out.statements.insert(out.statements.begin(),
+                          Statement{ObjStatement::kComment, static_cast<std::uint32_t>(comments.size())});
   if (format == MeshFormat::kPly) {
     qsp::WriteOptions w;
     w.ply_format = PlyFormat::kBinaryLittleEndian;
