@@ -62,6 +62,8 @@ for f in "$root"/testdata/golden/texcoords/*.qsp; do tex_of[$f]=${f%.qsp}.obj; d
 for f in "$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp; do obj_of[$f]=${f%.qsp}.obj; done
 declare -A lab_of=()  # the files with face labels, and the mesh each was made from
 for f in "$root"/testdata/golden/labels/*.qsp; do [[ -f $f ]] && lab_of[$f]=${f%.qsp}.obj; done
+# The statement order golden (3.11) has face labels too; its optional section is one a decoder may skip.
+for f in "$root"/testdata/golden/statements/*.qsp; do [[ -f $f ]] && lab_of[$f]=${f%.qsp}.obj; done
 declare -A tag_of=() tag_exact=()  # the files with subdivision tags, the mesh each was made from, and
 for f in "$root"/testdata/golden/tags/*.qsp; do  # those with an order section (compared index for index)
   [[ -f $f ]] || continue
