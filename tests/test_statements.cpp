@@ -87,8 +87,9 @@ TEST(Statements, EveryCorpusObjComesBackInItsOrder) {
     const FileInfo info = inspect(testing::slurp(q));
     for (const SectionInfo& s : info.sections) kept += s.tag == container::kTagStatements;
   }
-  EXPECT_GE(files, 20);
-  EXPECT_GE(kept, 5) << "the corpus has OBJs whose order is not the canonical writer's";
+  // Without the shared meshes (a clone alone), the testdata file only.
+  EXPECT_GE(files, testing::shared_present() ? 20 : 1);
+  EXPECT_GE(kept, testing::shared_present() ? 5 : 1) << "OBJs whose order is not the canonical writer's";
 }
 
 TEST(Statements, OnlyWithKeepOrderAndOnlyWhereTheOrderIsNotTheWritersOwn) {
