@@ -185,9 +185,8 @@ std::vector<float> to_layout_order(std::vector<float> coded, const std::vector<s
 
 namespace {
 
-// The layout's quads and positions (layout order), the quads checked as rebuilt_adjacency does (their
-// adjacency kept in `adjacency` if given).
-QuadMesh decode_layout(Parsed& p, Adjacency* adjacency = nullptr) {
+// The layout of the decoded topology in the geometry section's coding order, its sizes checked.
+MeshLayout lay_out(Parsed& p) {
   decode_components(p);
   const auto nv = static_cast<std::uint32_t>(p.counts.vertices);
   const auto nf = static_cast<std::uint32_t>(p.counts.faces);
@@ -197,6 +196,15 @@ QuadMesh decode_layout(Parsed& p, Adjacency* adjacency = nullptr) {
       (order == CodingOrder::kPatch && layout.coding.size() != nv)) {
     throw Error(ErrorCode::kInternal, "decode: grid layout sizes disagree with the checked counts");
   }
+  return layout;
+}
+
+// The layout's quads and positions (layout order), the quads checked as rebuilt_adjacency does (their
+// adjacency kept in `adjacency` if given).
+QuadMesh decode_layout(Parsed& p, Adjacency* adjacency = nullptr) {
+  MeshLayout layout = lay_out(p);
+  const auto nv = static_cast<std::uint32_t>(p.counts.vertices);
+  const auto nf = static_cast<std::uint32_t>(p.counts.faces);
   QuadMesh canonical;
   canonical.quads = std::move(layout.quads);
   // The check of the rebuilt quads (rebuilt_adjacency) needs no positions, so it runs beside the
@@ -210,6 +218,56 @@ QuadMesh decode_layout(Parsed& p, Adjacency* adjacency = nullptr) {
       decode_geometry(p.geometry->payload, p.geometry->payload_offset, layout.stencil, nv), layout.coding);
   checked.get();
   return canonical;
+}
+
+// The interior positions section's count (the spec, "Interior positions section"), checked.
+std::uint64_t interior_count(const Section& s) {
+  ByteReader r(s.payload, s.payload_offset, "interior positions section");
+  const std::uint64_t n = r.varint("interior position count");
+  if (n == 0) r.fail_at("no interior position", s.payload_offset);
+  if (r.left() != 0) r.fail_at("bytes after the interior position count", r.offset());
+  return n;
+}
+
+struct DecodedPolygons {
+  PolygonFaces faces;
+  std::vector<float> positions;
+};
+
+// A polygon mesh's faces and positions (canonical order) from its layout and polygons section: in a 3.12
+// file with an interior positions section the geometry section codes the interior positions too, after
+// the layout's, so the region stream is decoded first and gives their stencils.
+DecodedPolygons decode_polygon_faces(Parsed& p, const Section& poly, const DecodeLimits& limits) {
+  const Section* interior = p.file.find(container::kTagInterior);
+  if (!interior) {
+    Adjacency adj;
+    const QuadMesh layout = decode_layout(p, &adj);
+    PolygonStream stream =
+        decode_polygon_stream(poly.payload, poly.payload_offset, layout.quads, adj, limits);
+    std::vector<float> positions = polygon_positions(stream, adj.vertex_count, layout.positions, nullptr);
+    return {std::move(stream.faces), std::move(positions)};
+  }
+  MeshLayout layout = lay_out(p);
+  const auto nv = static_cast<std::uint32_t>(p.counts.vertices);
+  const Adjacency adj = rebuilt_adjacency(layout.quads, nv, p.topology->payload_offset);
+  PolygonStream stream = decode_polygon_stream(poly.payload, poly.payload_offset, layout.quads, adj, limits);
+  const std::uint64_t n = interior_count(*interior);
+  const std::uint64_t at = interior->payload_offset;
+  std::vector<Stencil> stencil = interior_stencils(stream.faces, nv, layout.coding);
+  if (n != stencil.size())
+    format_error("interior positions section: " + std::to_string(n) +
+                     " interior positions, and the polygons "
+                     "section has " +
+                     std::to_string(stencil.size()),
+                 at);
+  stencil.insert(stencil.begin(), layout.stencil.begin(), layout.stencil.end());
+  std::vector<float> coded = decode_geometry(p.geometry->payload, p.geometry->payload_offset, stencil,
+                                             nv + static_cast<std::uint32_t>(n));
+  std::vector<float> interior_positions(coded.begin() + 3 * std::ptrdiff_t{nv}, coded.end());
+  coded.resize(3 * std::size_t{nv});
+  const std::vector<float> positions = to_layout_order(std::move(coded), layout.coding);
+  std::vector<float> out = polygon_positions(stream, nv, positions, &interior_positions);
+  return {std::move(stream.faces), std::move(out)};
 }
 
 // decode() after the parse.
@@ -269,6 +327,8 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   const Section* kept = p.file.find(container::kTagKeptLines);
   const Section* colors = p.file.find(container::kTagColors);
   const Section* statements = p.file.find(container::kTagStatements);
+  if (const Section* interior = p.file.find(container::kTagInterior); interior && !poly)
+    format_error("interior positions section without a polygons section", interior->offset);
   if (!poly && !uv && !labels && !tags && !normals && !exact && !kept && !colors && !statements)
     return polygon_mesh(decode_quads(p));
   // The statement order describes the mesh as returned (after any order section).
@@ -281,10 +341,7 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   PolygonMesh out;
   std::uint32_t nv = 0;
   if (poly) {
-    Adjacency adj;
-    const QuadMesh layout = decode_layout(p, &adj);
-    DecodedPolygons d = decode_polygons_section(poly->payload, poly->payload_offset, layout.quads, adj,
-                                                layout.positions, limits);
+    DecodedPolygons d = decode_polygon_faces(p, *poly, limits);
     nv = d.faces.vertex_count;
     out.positions = std::move(d.positions);
     out.face_offsets = std::move(d.faces.face_offsets);
@@ -433,6 +490,8 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       info.connectivity_bytes += size;
     else if (s.tag == container::kTagGeometry)
       info.geometry_bytes += size;
+    else if (s.tag == container::kTagInterior)
+      info.geometry_bytes += size, info.interior_positions = interior_count(s);
     else if (s.tag == container::kTagOrder)
       info.order_bytes += size;
     else if (s.tag == container::kTagPolygons)

@@ -27,7 +27,8 @@ constexpr std::uint64_t kTopologyBesideFrom = 4096;
 
 std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, const EncodeOptions& options,
                              const Effort& effort, const EncodeTuning& tuning, OrderMap* order_out,
-                             ChoiceRole role, std::string_view polygons, std::string_view polygon_order) {
+                             ChoiceRole role, std::string_view polygons, std::string_view polygon_order,
+                             const InteriorGeometry* interior) {
   const std::uint64_t nv = mesh.vertex_count(), nf = mesh.face_count();
 
   // Canonical numbering of the input, checked to be a bijection that maps every layout quad onto an
@@ -88,15 +89,27 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
   }
   quads = {};
 
-  // Positions in coding order: canonical order, or for patch order canonical vertex coding[k] at k.
+  // Positions in coding order: canonical order, or for patch order canonical vertex coding[k] at k; then
+  // a polygon mesh's interior ones.
+  const bool with_interior = interior && !interior->positions.empty();
   auto coded_positions = [&](CodingOrder o) {
     std::vector<float> positions(3 * std::size_t{nv});
     for (std::uint32_t k = 0; k < nv; ++k) {
       const std::uint32_t v = canonical_to_input[o == CodingOrder::kPatch ? layout.coding[k] : k];
       std::copy_n(&mesh.positions[3 * std::size_t{v}], 3, &positions[3 * std::size_t{k}]);
     }
+    if (with_interior)
+      positions.insert(positions.end(), interior->positions.begin(), interior->positions.end());
     return positions;
   };
+  // The stencils of the layout's coding positions, then of the interior vertices (their fans).
+  auto with_interior_stencils = [&](MeshLayout& l) {
+    if (!with_interior) return;
+    const std::vector<Stencil> more = interior_stencils(*interior->faces, nv, l.coding);
+    if (3 * more.size() != interior->positions.size()) internal("interior stencils and positions differ");
+    l.stencil.insert(l.stencil.end(), more.begin(), more.end());
+  };
+  with_interior_stencils(layout);
   GeometryOptions gopt;
   gopt.quantize_bits = options.quantize_bits;
   gopt.order = first;
@@ -123,6 +136,7 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
   }
   if (!options.geometry_order && effort.both_orders) {
     layout = assemble(parts, unreferenced, CodingOrder::kLayout);
+    with_interior_stencils(layout);
     gopt.order = CodingOrder::kLayout;
     std::string in_layout_order =
         encode_geometry(coded_positions(CodingOrder::kLayout), layout.stencil, gopt);
@@ -143,9 +157,16 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
   if (options.keep_order) container::put_section(body, container::kTagOrder, encode_order(order));
   if (!polygon_order.empty()) container::put_section(body, container::kTagOrder, polygon_order);
   if (!polygons.empty()) container::put_section(body, container::kTagPolygons, polygons);
+  if (with_interior) {
+    std::string count;
+    put_varint(count, interior->positions.size() / 3);
+    container::put_section(body, container::kTagInterior, count);
+  }
   if (order_out) *order_out = std::move(order);
-  return container::seal(kFormatMajor, polygons.empty() ? kFormatMinorQuads : kFormatMinorPolygons,
-                         static_cast<std::uint8_t>(options.level), body);
+  const std::uint8_t minor = with_interior      ? kFormatMinorInterior
+                             : polygons.empty() ? kFormatMinorQuads
+                                                : kFormatMinorPolygons;
+  return container::seal(kFormatMajor, minor, static_cast<std::uint8_t>(options.level), body);
 }
 
 }  // namespace qsp

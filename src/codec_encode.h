@@ -11,6 +11,7 @@
 
 #include "geometry_coder.h"
 #include "qsp/codec.h"
+#include "qsp/regions.h"
 
 namespace qsp {
 
@@ -49,13 +50,22 @@ std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const P
                              const EncodeOptions& options, const Effort& effort, const EncodeTuning& tuning,
                              OrderMap* order_out, ChoiceRole role = {});
 
+// A polygon mesh's interior vertices, which the geometry section codes after the layout's (format 3.12,
+// the interior positions section): the faces the decoder rebuilds, whose fans give their stencils, and
+// the positions of the owned interior refs in ref order (3 floats each).
+struct InteriorGeometry {
+  const PolygonFaces* faces = nullptr;
+  std::vector<float> positions;
+};
+
 // encode_partition's file from `cm`, a canonical form of `mesh` (canonicalize's, or canonical_regions'
 // re-rooted one). A non-empty `polygons` is stored as the polygons section (a 3.1 file), with
-// `polygon_order` as its order section when that is not empty; without it the file is 3.0. Throws as
-// encode() does.
+// `polygon_order` as its order section when that is not empty, and `interior` (when it has positions)
+// coded by the geometry section, with an interior positions section; without a polygons section the file
+// is 3.0. Throws as encode() does.
 std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, const EncodeOptions& options,
                              const Effort& effort, const EncodeTuning& tuning, OrderMap* order_out,
                              ChoiceRole role = {}, std::string_view polygons = {},
-                             std::string_view polygon_order = {});
+                             std::string_view polygon_order = {}, const InteriorGeometry* interior = nullptr);
 
 }  // namespace qsp

@@ -21,31 +21,6 @@ namespace {
 
 [[noreturn]] void internal(const std::string& what) { throw Error(ErrorCode::kInternal, "encode: " + what); }
 
-// The largest extent of the bounding box of `positions` (3 per vertex), 0 for none.
-double max_extent(std::span<const float> positions) {
-  double extent = 0;
-  for (std::size_t a = 0; a < 3 && a < positions.size(); ++a) {
-    double lo = positions[a], hi = positions[a];
-    for (std::size_t i = a; i < positions.size(); i += 3) {
-      lo = std::min<double>(lo, positions[i]);
-      hi = std::max<double>(hi, positions[i]);
-    }
-    extent = std::max(extent, hi - lo);
-  }
-  return extent;
-}
-
-// Quantized interior positions get the fewest bits whose grid over their own bounding box is no coarser
-// than the geometry section's over the quads' (`bits` over `layout_extent`): as precise as the rest of
-// the mesh, and not finer (a few vertices in a small box would otherwise get a far finer grid).
-std::uint32_t interior_bits(std::uint32_t bits, double layout_extent, double interior_extent) {
-  if (bits == 0 || layout_extent <= 0) return bits;
-  const double step = layout_extent / (std::ldexp(1.0, static_cast<int>(bits)) - 1);
-  for (std::uint32_t b = 1; b < bits; ++b)
-    if (interior_extent / (std::ldexp(1.0, static_cast<int>(b)) - 1) <= step) return b;
-  return bits;
-}
-
 // The smallest of the three partitions' files (the first on a tie), as for quad meshes: `one(mode)`
 // writes one; `keep()` is called when it is the smallest so far. A partition that breaks an invariant
 // (kInternal) is passed over, but for the motorcycle graph.
@@ -85,16 +60,14 @@ std::string encode_cut(const PolygonMesh& mesh, const QuadSubmesh& s, PartitionM
   const MeshLayout layout =
       assemble(parts, static_cast<std::uint32_t>(r.quads.unreferenced.size()), std::nullopt);
   const Adjacency adj = build_adjacency(layout.quads, layout.vertex_count);
-  std::vector<float> interior(3 * r.interior_original.size());
-  for (std::size_t i = 0; i < r.interior_original.size(); ++i)
-    std::copy_n(&mesh.positions[3 * std::size_t{r.interior_original[i]}], 3, &interior[3 * i]);
-  GeometryOptions gopt;
-  gopt.quantize_bits =
-      interior_bits(options.quantize_bits, max_extent(s.mesh.positions), max_extent(interior));
-  gopt.header_sample = effort.header_sample;
-  gopt.try_chaining = effort.try_chaining;
   PolygonFaces rebuilt;
-  const std::string polygons = encode_polygons_section(layout.quads, adj, r.codes, interior, gopt, &rebuilt);
+  const std::string polygons = encode_polygons_section(layout.quads, adj, r.codes, &rebuilt);
+  // The geometry section codes the owned interior refs' positions after the layout's (format 3.12).
+  InteriorGeometry interior{&rebuilt, {}};
+  for (std::uint32_t x : interior_owners(rebuilt, r.codes.layout_vertices).interior_refs) {
+    const float* p = &mesh.positions[3 * std::size_t{r.interior_original[x - r.codes.layout_vertices]}];
+    interior.positions.insert(interior.positions.end(), p, p + 3);
+  }
 
   // The decoder's faces are the input's under the maps: the file cannot lie.
   if (rebuilt.vertex_count != nv)
@@ -120,7 +93,7 @@ std::string encode_cut(const PolygonMesh& mesh, const QuadSubmesh& s, PartitionM
   map.vertex = r.vertex;
   EncodeOptions quads = options;
   quads.keep_order = false;
-  return encode_canonical(s.mesh, r.quads, quads, effort, {}, nullptr, {}, polygons, order);
+  return encode_canonical(s.mesh, r.quads, quads, effort, {}, nullptr, {}, polygons, order, &interior);
 }
 
 // The file of the faces and positions, and where each face went.

@@ -51,28 +51,50 @@ PolygonOrder decode_polygon_order(std::string_view payload, std::uint64_t base_o
                                   std::uint32_t vertex_count, std::span<const std::uint32_t> degree);
 
 // The polygons section's payload (format 3.1) for `codes` over the layout quads `layout_quads` (their
-// adjacency `layout_adjacency`): the stream, then the positions of the interior vertices that are no
-// glue group's later member, from `interior_positions` (3 per interior ref), coded with `geometry`'s
-// quantization. `rebuilt` receives the faces the decoder will rebuild (for the encoder's check). Throws
-// Error(kInternal) if the codes are not canonical_regions' (never writes a wrong file).
+// adjacency `layout_adjacency`): the stream, nothing after it (the geometry section codes the interior
+// positions, beside an interior positions section: format 3.12). `rebuilt` receives the faces the
+// decoder will rebuild (for the encoder's check and the interior stencils). Throws Error(kInternal) if
+// the codes are not canonical_regions' (never writes a wrong file).
 std::string encode_polygons_section(std::span<const std::uint32_t> layout_quads,
                                     const Adjacency& layout_adjacency, const RegionCodes& codes,
-                                    std::span<const float> interior_positions,
-                                    const GeometryOptions& geometry, PolygonFaces* rebuilt = nullptr);
+                                    PolygonFaces* rebuilt = nullptr);
 
-// The polygon mesh a polygons section describes over the decoded layout: faces as rebuild_polygons
-// gives them, positions per output vertex (a layout ref's from `layout_positions`, per layout vertex).
-struct DecodedPolygons {
+// A polygons section's stream decoded: the faces rebuild_polygons gives, and the bytes after the stream
+// (`rest`, at file offset `rest_at`).
+struct PolygonStream {
   PolygonFaces faces;
-  std::vector<float> positions;
+  std::string_view rest;
+  std::uint64_t rest_at = 0;
 };
-// Inverse of encode_polygons_section. Throws Error(kFormat) naming what and the byte offset (or the
-// region, face and corner), kLimit past `limits`. Safe on untrusted input: the declared counts are
-// checked against the bytes and `limits` before anything is allocated by them.
-DecodedPolygons decode_polygons_section(std::string_view payload, std::uint64_t base_offset,
-                                        std::span<const std::uint32_t> layout_quads,
-                                        const Adjacency& layout_adjacency,
-                                        std::span<const float> layout_positions, const DecodeLimits& limits);
+// Inverse of encode_polygons_section, up to the positions. Throws Error(kFormat) naming what and the
+// byte offset (or the region, face and corner), kLimit past `limits`. Safe on untrusted input: the
+// declared counts are checked against the bytes and `limits` before anything is allocated by them.
+PolygonStream decode_polygon_stream(std::string_view payload, std::uint64_t base_offset,
+                                    std::span<const std::uint32_t> layout_quads,
+                                    const Adjacency& layout_adjacency, const DecodeLimits& limits);
+// The positions per output vertex: a layout ref's from `layout_positions` (per layout vertex), an owned
+// interior ref's from `interior_positions` (3.12: decoded by the geometry section, in ref order; the
+// stream must end the section) or, without them (3.1 to 3.11), from the geometry payload after the
+// stream, coded along a chain. Throws Error(kFormat) as decode_polygon_stream does. Safe on untrusted
+// input.
+std::vector<float> polygon_positions(const PolygonStream& stream, std::uint32_t layout_vertices,
+                                     std::span<const float> layout_positions,
+                                     const std::vector<float>* interior_positions);
+
+// The refs that own an output vertex (the smallest ref of each), in increasing order: those of the
+// first output vertices are layout refs, the rest interior refs.
+struct InteriorOwners {
+  std::vector<std::uint32_t> layout_owner;   // per output vertex u < L: its layout ref
+  std::vector<std::uint32_t> interior_refs;  // per owned interior vertex j (output vertex L + j): its ref
+};
+InteriorOwners interior_owners(const PolygonFaces& faces, std::uint32_t layout_vertices);
+
+// The stencils of the owned interior vertices of `faces` (format 3.12, "Interior positions section"),
+// coded after the `layout_vertices` layout vertices: entry j for coding position layout_vertices + j.
+// `coding`: the layout vertex at each coding position in patch order, empty in layout order. Time
+// O(corners + region corners log degree), so no file makes it quadratic. Safe on decoded faces.
+std::vector<Stencil> interior_stencils(const PolygonFaces& faces, std::uint32_t layout_vertices,
+                                       std::span<const std::uint32_t> coding);
 
 // What a section of values per corner calls itself in messages, and its fixed component count (0: 1 to
 // 3 as the flags say): the texture coordinates section's values, or the normals section's, which codes

@@ -1,6 +1,7 @@
 // The polygons section (format-spec/qsp_format.md, "Polygons section", format 3.1): the region codes
-// and glue of qsp/regions.h entropy-coded in the order rebuild_polygons' traversal asks for them, then
-// the interior vertices' positions as a geometry payload of their own.
+// and glue of qsp/regions.h entropy-coded in the order rebuild_polygons' traversal asks for them; in files
+// before 3.12, then the interior vertices' positions as a geometry payload of their own (from 3.12 the
+// geometry section codes them: interior_stencils.cpp).
 #include <algorithm>
 #include <string>
 #include <type_traits>
@@ -178,15 +179,9 @@ std::vector<Stencil> chain_stencils(std::uint32_t n) {
   return s;
 }
 
-// Per ref whether it holds its output vertex's position: the first (smallest) ref of each vertex.
-template <class F>
-void for_each_owner(const PolygonFaces& faces, F&& f) {
-  std::uint32_t owners = 0;
-  for (std::uint32_t x = 0; x < faces.ref_vertex.size(); ++x)
-    if (faces.ref_vertex[x] == owners) {
-      ++owners;
-      f(x);
-    }
+[[noreturn]] void fail(const std::string& what, std::uint64_t at) {
+  throw Error(ErrorCode::kFormat,
+              "polygons section: " + what + " (at byte offset " + std::to_string(at) + ")");
 }
 
 // Every symbol costs at least one binary decision, and none costs less than ~0.00156 bits (codec.cpp's
@@ -197,10 +192,7 @@ constexpr std::uint64_t kMaxSymbolsPerByte = 2048;
 
 std::string encode_polygons_section(std::span<const std::uint32_t> layout_quads,
                                     const Adjacency& layout_adjacency, const RegionCodes& codes,
-                                    std::span<const float> interior_positions,
-                                    const GeometryOptions& geometry, PolygonFaces* rebuilt) {
-  if (interior_positions.size() != 3 * std::size_t{codes.interior_vertices})
-    internal("interior positions do not match the interior vertices");
+                                    PolygonFaces* rebuilt) {
   std::string stream;
   RangeEncoder enc(stream);
   RecordingSource source(codes, enc);
@@ -215,41 +207,20 @@ std::string encode_polygons_section(std::span<const std::uint32_t> layout_quads,
       detail::rebuild_from(layout_quads, layout_adjacency, codes.layout_vertices, codes.interior_vertices,
                            codes.regions.size(), codes.glue_offsets, codes.glue, source, kPolygonSizeLimit);
   enc.finish();
-
-  std::vector<float> owned;
-  for_each_owner(faces, [&](std::uint32_t x) {
-    if (x >= codes.layout_vertices) {
-      const float* p = &interior_positions[3 * std::size_t{x - codes.layout_vertices}];
-      owned.insert(owned.end(), p, p + 3);
-    }
-  });
   std::string out;
   put_varint(out, codes.interior_vertices);
   put_varint(out, codes.regions.size());
   put_varint(out, groups);
   put_varint(out, stream.size());
   out += stream;
-  if (!owned.empty()) {
-    GeometryOptions g = geometry;
-    g.order = CodingOrder::kLayout;
-    g.choice = std::nullopt;
-    g.tools = std::nullopt;
-    g.coder_thread = false;
-    out += encode_geometry(owned, chain_stencils(static_cast<std::uint32_t>(owned.size() / 3)), g);
-  }
   if (rebuilt) *rebuilt = std::move(faces);
   return out;
 }
 
-DecodedPolygons decode_polygons_section(std::string_view payload, std::uint64_t base_offset,
-                                        std::span<const std::uint32_t> layout_quads,
-                                        const Adjacency& layout_adjacency,
-                                        std::span<const float> layout_positions, const DecodeLimits& limits) {
+PolygonStream decode_polygon_stream(std::string_view payload, std::uint64_t base_offset,
+                                    std::span<const std::uint32_t> layout_quads,
+                                    const Adjacency& layout_adjacency, const DecodeLimits& limits) {
   ByteReader r(payload, base_offset, "polygons section");
-  auto fail = [](const std::string& what, std::uint64_t at) {
-    throw Error(ErrorCode::kFormat,
-                "polygons section: " + what + " (at byte offset " + std::to_string(at) + ")");
-  };
   const std::uint64_t vq = layout_adjacency.vertex_count;
   std::uint64_t at = r.offset();
   const std::uint64_t interior = r.varint("interior vertex count");
@@ -272,7 +243,6 @@ DecodedPolygons decode_polygons_section(std::string_view payload, std::uint64_t 
   if (groups > most || 2 * groups > vq + interior) fail("more glue groups than the vertices allow", glue_at);
   const std::uint64_t stream_offset = r.offset();
   const std::string_view stream = payload.substr(r.pos(), length);
-  const std::string_view rest = payload.substr(r.pos() + length);
   const auto refs = static_cast<std::uint32_t>(vq + interior);
 
   RangeDecoder dec(stream, stream_offset, "polygons section");
@@ -293,7 +263,7 @@ DecodedPolygons decode_polygons_section(std::string_view payload, std::uint64_t 
     }
     glue_offsets.push_back(static_cast<std::uint32_t>(glue.size()));
   }
-  DecodedPolygons out;
+  PolygonStream out;
   try {
     out.faces = detail::rebuild_from(layout_quads, layout_adjacency, static_cast<std::uint32_t>(vq),
                                      static_cast<std::uint32_t>(interior), regions, glue_offsets, glue,
@@ -306,29 +276,44 @@ DecodedPolygons decode_polygons_section(std::string_view payload, std::uint64_t 
                               " (at byte offset " + std::to_string(dec.offset()) + ")");
   }
   dec.finish();
+  out.rest = payload.substr(r.pos() + length);
+  out.rest_at = stream_offset + length;
+  return out;
+}
 
-  std::vector<std::uint32_t> owners;
-  for_each_owner(out.faces, [&](std::uint32_t x) { owners.push_back(x); });
-  std::uint32_t interior_owned = 0;
-  for (std::uint32_t x : owners) interior_owned += x >= vq;
-  std::vector<float> positions;
-  const std::uint64_t rest_at = stream_offset + length;
-  if (interior_owned == 0) {
-    if (!rest.empty())
-      fail(std::to_string(rest.size()) + " bytes after the stream, with no interior position", rest_at);
+std::vector<float> polygon_positions(const PolygonStream& stream, std::uint32_t layout_vertices,
+                                     std::span<const float> layout_positions,
+                                     const std::vector<float>* interior_positions) {
+  const InteriorOwners own = interior_owners(stream.faces, layout_vertices);
+  const auto interior_owned = static_cast<std::uint32_t>(own.interior_refs.size());
+  std::vector<float> decoded;
+  const std::vector<float>* interior = interior_positions;
+  if (interior) {
+    if (!stream.rest.empty())
+      fail(std::to_string(stream.rest.size()) +
+               " bytes after the stream (the geometry section codes the "
+               "interior positions)",
+           stream.rest_at);
+    if (interior->size() != 3 * std::size_t{interior_owned})
+      throw Error(ErrorCode::kInternal, "decode: interior positions do not match the interior vertices");
+  } else if (interior_owned == 0) {
+    if (!stream.rest.empty())
+      fail(std::to_string(stream.rest.size()) + " bytes after the stream, with no interior position",
+           stream.rest_at);
   } else {
-    if (interior_owned > kMaxSymbolsPerByte * (rest.size() + 8))
-      fail("more interior positions than the geometry after the stream can hold", rest_at);
-    if (coding_order(geometry_tools(rest, rest_at)) != CodingOrder::kLayout)
-      fail("the interior positions are not in layout order (tools bit 1 clear)", rest_at);
-    positions = decode_geometry(rest, rest_at, chain_stencils(interior_owned), interior_owned);
+    if (interior_owned > kMaxSymbolsPerByte * (stream.rest.size() + 8))
+      fail("more interior positions than the geometry after the stream can hold", stream.rest_at);
+    if (coding_order(geometry_tools(stream.rest, stream.rest_at)) != CodingOrder::kLayout)
+      fail("the interior positions are not in layout order (tools bit 1 clear)", stream.rest_at);
+    decoded = decode_geometry(stream.rest, stream.rest_at, chain_stencils(interior_owned), interior_owned);
+    interior = &decoded;
   }
-  out.positions.resize(3 * std::size_t{out.faces.vertex_count});
-  std::size_t k = 0;
-  for (std::uint32_t x : owners) {
-    const float* p = x < vq ? &layout_positions[3 * std::size_t{x}] : &positions[3 * k++];
-    std::copy_n(p, 3, &out.positions[3 * std::size_t{out.faces.ref_vertex[x]}]);
-  }
+  std::vector<float> out(3 * std::size_t{stream.faces.vertex_count});
+  for (std::size_t u = 0; u < own.layout_owner.size(); ++u)
+    std::copy_n(&layout_positions[3 * std::size_t{own.layout_owner[u]}], 3, &out[3 * u]);
+  if (interior)
+    std::copy(interior->begin(), interior->end(),
+              out.begin() + 3 * static_cast<std::ptrdiff_t>(own.layout_owner.size()));
   return out;
 }
 

@@ -189,18 +189,22 @@ TEST(CliStats, PolygonCountsBesideTheQuadSubmeshRow) {
         << r.out;
     const std::size_t at = r.out.find("\"polygons_section\": {\"connectivity\": ");
     ASSERT_NE(at, std::string::npos) << r.out;
-    unsigned conn = 0, positions = 0;
+    unsigned conn = 0, positions = 0, in_geometry = 0;
     double bits = 0;
-    ASSERT_EQ(std::sscanf(r.out.c_str() + at,
-                          "\"polygons_section\": {\"connectivity\": %u, \"positions\": %u, "
-                          "\"connectivity_bits_per_non_quad_face\": %lf",
-                          &conn, &positions, &bits),
-              3)
+    ASSERT_EQ(
+        std::sscanf(r.out.c_str() + at,
+                    "\"polygons_section\": {\"connectivity\": %u, \"positions\": %u, "
+                    "\"connectivity_bits_per_non_quad_face\": %lf, \"interior_positions_in_geometry\": %u",
+                    &conn, &positions, &bits, &in_geometry),
+        4)
         << r.out;
     EXPECT_GT(conn, 4u);  // four counts and a stream
-    EXPECT_GT(positions, 0u) << "the pentagon's vertex 17 is in no quad";
+    // The pentagon's vertex 17 and the grid's corner (3,3) are in no quad: the geometry section codes
+    // their positions (3.12).
+    EXPECT_EQ(positions, 0u);
+    EXPECT_EQ(in_geometry, 2u) << "the pentagon's vertex 17 and corner (3,3) are in no quad";
     EXPECT_NEAR(bits, 8.0 * conn / 3, 1e-3) << "three faces are not quads";
-    EXPECT_NE(r.out.find("\"format\": \"3.1\""), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\"format\": \"3.12\""), std::string::npos) << r.out;
     // Bits per vertex over the mesh's 17 vertices, not the quad submesh's 16.
     const std::size_t c = r.out.find("\"connectivity\": ", r.out.find("\"bytes\": {")),
                       b = r.out.find("\"bits_per_vertex\": ");

@@ -29,6 +29,7 @@
 #include "qsp/polymesh.h"
 #include "qsp/submesh.h"
 #include "support/corpus.h"
+#include "support/minor.h"
 #include "support/polygon.h"
 #include "support/quantized.h"
 
@@ -277,7 +278,8 @@ TEST(Golden, BytesArePinned) {
       // The statement order: a 3.11 file, whose decoded mesh written as OBJ has the .obj's statements in
       // its order (its non-comment lines, the numbers as they were written: integers and short decimals).
       ++statements;
-      EXPECT_EQ(slurp(path)[9], 11) << "a file with the statement order says format 3.11";
+      EXPECT_EQ(slurp(path)[9], testing::minor_of_file_with(slurp(path), 11))
+          << "a file with the statement order says format 3.11";
       const PolygonMesh back = decode_polygons(slurp(path));
       ASSERT_EQ(back.statements.size(), poly.statements.size());
       const std::string text = write_obj_mesh(from_polygon_mesh(back));
@@ -292,7 +294,8 @@ TEST(Golden, BytesArePinned) {
       // Colours: a 3.8 file, decoded to the .obj's faces with each vertex's colour (found by its
       // position), exactly or on the grid of step 2^-8 ("_c8"); index for index with the order kept.
       ++colors;
-      EXPECT_EQ(slurp(path)[9], 8) << "a file with colours says format 3.8";
+      EXPECT_EQ(slurp(path)[9], testing::minor_of_file_with(slurp(path), 8))
+          << "a file with colours says format 3.8";
       const PolygonMesh back = decode_polygons(slurp(path));
       expect_same_polygons(poly, back);
       if (options_for(name).quantize_color_bits)
@@ -319,7 +322,8 @@ TEST(Golden, BytesArePinned) {
       // Kept lines: a 3.7 file (the section is optional), decoded to the .obj's faces and its lines kept
       // as text, in order; decode() skips them.
       ++kept;
-      EXPECT_EQ(slurp(path)[9], 7) << "a file with kept lines says format 3.7";
+      EXPECT_EQ(slurp(path)[9], testing::minor_of_file_with(slurp(path), 7))
+          << "a file with kept lines says format 3.7";
       const PolygonMesh back = decode_polygons(slurp(path));
       expect_same_polygons(poly, back);
       EXPECT_EQ(back.kept_lines, poly.kept_lines);
@@ -330,7 +334,8 @@ TEST(Golden, BytesArePinned) {
       // Exact positions: a 3.6 file, decoded to the .obj's faces with each coordinate's binary64 value
       // (found by its binary32 position), index for index with the order kept.
       ++exact;
-      EXPECT_EQ(slurp(path)[9], 6) << "a file with exact positions says format 3.6";
+      EXPECT_EQ(slurp(path)[9], testing::minor_of_file_with(slurp(path), 6))
+          << "a file with exact positions says format 3.6";
       const PolygonMesh back = decode_polygons(slurp(path));
       expect_same_polygons(poly, back);
       ASSERT_EQ(back.positions64.size(), back.positions.size());
@@ -389,7 +394,8 @@ TEST(Golden, BytesArePinned) {
       // Subdivision tags: a 3.4 file, decoded to the .obj's faces and its tags, their indices naming the
       // same vertices and faces (by position) in the decoder's numbering.
       ++tags;
-      EXPECT_EQ(slurp(path)[9], 4) << "a file with subdivision tags says format 3.4";
+      EXPECT_EQ(slurp(path)[9], testing::minor_of_file_with(slurp(path), 4))
+          << "a file with subdivision tags says format 3.4";
       const PolygonMesh back = decode_polygons(slurp(path));
       expect_same_polygons(poly, back);
       EXPECT_EQ(testing::tags_by_position(back), testing::tags_by_position(poly));
@@ -402,7 +408,8 @@ TEST(Golden, BytesArePinned) {
     if (poly.has_labels()) {
       // Face labels: a 3.3 file, decoded to the .obj's faces with their labels (and names, libraries).
       ++labels;
-      EXPECT_EQ(slurp(path)[9], name.find("_prefixes") != std::string::npos ? 9 : 3)
+      EXPECT_EQ(slurp(path)[9],
+                testing::minor_of_file_with(slurp(path), name.find("_prefixes") != std::string::npos ? 9 : 3))
           << "a file with face labels says format 3.3, 3.9 with front-coded names";
       const PolygonMesh back = decode_polygons(slurp(path));
       expect_same_polygons(poly, back);
@@ -425,7 +432,8 @@ TEST(Golden, BytesArePinned) {
     if (poly.texcoord_components) {
       // Texture coordinates: a 3.2 file, decoded to the .obj's corners and their texture coordinates.
       ++texcoords;
-      EXPECT_EQ(slurp(path)[9], 2) << "a file with texture coordinates says format 3.2";
+      EXPECT_EQ(slurp(path)[9], testing::minor_of_file_with(slurp(path), 2))
+          << "a file with texture coordinates says format 3.2";
       const PolygonMesh back = decode_polygons(slurp(path));
       if (const std::uint32_t bits = options_for(name).quantize_texcoord_bits) {
         // Rounded as the spec says: the binary32 nearest to round(x * 2^bits) * 2^-bits.
@@ -448,7 +456,8 @@ TEST(Golden, BytesArePinned) {
       // A polygon mesh: a 3.1 file with a polygons section, decoded to the .obj's faces and vertices.
       ++polygons;
       EXPECT_TRUE(inspect(slurp(path)).polygons);
-      EXPECT_EQ(slurp(path)[9], 1) << "a polygon file says format 3.1";
+      EXPECT_EQ(slurp(path)[9], testing::minor_of_file_with(slurp(path), 1))
+          << "a polygon file says format 3.1";
       expect_same_polygons(poly, decode_polygons(slurp(path)));
       continue;
     }
@@ -481,6 +490,27 @@ TEST(Golden, BytesArePinned) {
 // (format-spec/geometry_section.md: every combination is valid, and a decoder reads all of them), with
 // the tools and the level it says. The natural goldens use both coding orders, and the costly tools
 // where they are smaller.
+// Files written before 3.12 (testdata/golden/v3.11/: the polygon goldens whose interior positions the
+// polygons section coded along a chain, before the geometry section coded them from their neighbours)
+// decode forever, to what today's files of the same meshes decode to.
+TEST(Golden, PolygonFilesBefore312StillDecode) {
+  int files = 0;
+  for (const auto& e : fs::recursive_directory_iterator(kGolden + "/v3.11")) {
+    if (e.path().extension() != ".qsp") continue;
+    const std::string name = e.path().parent_path().filename().string() + "/" + e.path().stem().string();
+    SCOPED_TRACE(name);
+    ++files;
+    const std::string old = slurp(e.path().string()), now = slurp(kGolden + "/" + name + ".qsp");
+    EXPECT_LT(old[9], kFormatMinorInterior);
+    EXPECT_EQ(container::parse(old).find(container::kTagInterior), nullptr);
+    EXPECT_NE(container::parse(now).find(container::kTagInterior), nullptr)
+        << "the golden has vertices in no quad";
+    EXPECT_EQ(write_obj_mesh(from_polygon_mesh(decode_polygons(old))),
+              write_obj_mesh(from_polygon_mesh(decode_polygons(now))));
+  }
+  EXPECT_EQ(files, 5);
+}
+
 TEST(Golden, EveryToolCombinationIsPinned) {
   fs::create_directories(kTools);
   std::map<std::uint8_t, int> seen;
@@ -654,17 +684,17 @@ std::map<std::string, Crafted> crafted() {
     // A required section of a newer minor version: "upgrade qsp". The same tag in a file of this
     // version cannot come from a correct encoder.
     const std::string sections =
-        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(12, "x");
+        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(13, "x");
     Parts newer_minor = p;
     newer_minor.minor = kFormatMinor + 1;
     out["qsp_unknown_required_section_newer_minor"] = {
         seal(newer_minor, sections), "version",
-        "section 0x0c is required but unknown to this qsp, which reads "
-        "format 3.10 (upgrade qsp)"};
+        "section 0x0d is required but unknown to this qsp, which reads format 3." +
+            std::to_string(kFormatMinor) + " (upgrade qsp)"};
     out["qsp_unknown_required_section"] = {seal(p, sections), "format",
-                                           "section 0x0c is required but unknown to this qsp"};
+                                           "section 0x0d is required but unknown to this qsp"};
     // A section of a later minor version in a file that says it is the one before: 3.3's face labels,
-    // 3.4's subdivision tags, 3.5's normals, 3.6's exact positions, 3.8's colours.
+    // 3.4's subdivision tags, 3.5's normals, 3.6's exact positions, 3.8's colours, 3.12's interior positions.
     struct Later {
       const char* name;
       std::uint8_t tag, minor;
@@ -680,7 +710,9 @@ std::map<std::string, Crafted> crafted() {
           Later{"qsp_exact_section_in_3_5", 10, 5,
                 "section 0x0a (exact positions) is format 3.6's, and the file says it is 3.5"},
           Later{"qsp_colors_section_in_3_7", 11, 7,
-                "section 0x0b (colours) is format 3.8's, and the file says it is 3.7"}}) {
+                "section 0x0b (colours) is format 3.8's, and the file says it is 3.7"},
+          Later{"qsp_interior_section_in_3_11", 12, 11,
+                "section 0x0c (interior positions) is format 3.12's, and the file says it is 3.11"}}) {
       Parts earlier = p;
       earlier.minor = l.minor;
       out[l.name] = {seal(earlier, section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) +
@@ -693,7 +725,7 @@ std::map<std::string, Crafted> crafted() {
         "format", "section 0x05 (polygons) is format 3.1's, and the file says it is 3.0"};
   }
   {
-    // A polygon file (format 3.1): a 2x1 grid whose right cell is two triangles, its polygons section
+    // A polygon file (format 3.12): a 2x1 grid whose right cell is two triangles, its polygons section
     // replaced by what no encoder writes.
     PolygonMesh m;
     m.positions = {0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0, 1, 1, 0, 2, 1, 0};
@@ -704,14 +736,16 @@ std::map<std::string, Crafted> crafted() {
     std::string quads;
     for (std::uint8_t tag : {container::kTagCounts, container::kTagTopology, container::kTagGeometry})
       quads += section(tag, poly.find(tag)->payload);
-    Parts v31 = p;
-    v31.minor = 1;
+    // Its two triangles' far corners are interior vertices, which the geometry section codes (3.12).
+    Parts v312 = p;
+    v312.minor = kFormatMinorInterior;
     auto with = [&](std::uint64_t interior, std::uint64_t regions, std::uint64_t groups,
                     const std::string& stream) {
       std::string payload;
       for (std::uint64_t x : {interior, regions, groups, std::uint64_t{stream.size()}})
         put_varint(payload, x);
-      return seal(v31, quads + section(5, payload + stream));
+      return seal(v312, quads + section(5, payload + stream) +
+                            section(container::kTagInterior, poly.find(container::kTagInterior)->payload));
     };
     out["qsp_polygons_interior_past_the_format"] = {
         with(std::uint64_t{1} << 31, 1, 0, "x"), "format",

@@ -17,6 +17,7 @@
 #include "qsp/error.h"
 #include "qsp/submesh.h"
 #include "support/corpus.h"
+#include "support/minor.h"
 #include "support/polygon.h"
 
 namespace qsp {
@@ -125,7 +126,13 @@ TEST(PolygonCodec, HandCasesRoundTripAndAreCanonical) {
   for (const testing::PolyCase& c : testing::hand_polygon_cases()) {
     const Poly p = with_positions(c.p);
     const std::string bytes = expect_round_trip(p, c.name);
-    EXPECT_EQ(bytes[9], 1) << c.name << ": a polygon file is format 3.1";
+    EXPECT_EQ(bytes[9], testing::minor_of_file_with(bytes, 1)) << c.name << ": a polygon file is format 3.1";
+    // The interior positions section (3.12) exactly where a vertex with faces is in no quad.
+    std::vector<int> in_quad(p.nv), in_face(p.nv);
+    for (std::uint32_t f = 0; f < p.face_count(); ++f)
+      for (std::uint32_t k = p.offsets[f]; k < p.offsets[f + 1]; ++k)
+        in_face[p.corners[k]] = 1, in_quad[p.corners[k]] |= p.degree(f) == 4;
+    EXPECT_EQ(inspect(bytes).interior_positions > 0, in_face != in_quad) << c.name;
     EXPECT_TRUE(holds_polygons(bytes)) << c.name;
     for (std::uint32_t seed : {5u, 6u})
       EXPECT_EQ(encode_polygons(to_mesh(testing::shuffled(p, seed))), bytes) << c.name;
@@ -182,8 +189,9 @@ TEST(PolygonCodec, InspectSplitsThePolygonsSection) {
     for (const SectionInfo& si : info.sections)
       if (si.tag == 0x05) section = si.size;
     ASSERT_GT(section, 0u);
-    EXPECT_EQ(info.polygon_connectivity_bytes + info.polygon_positions_bytes, section);
-    EXPECT_EQ(info.polygon_positions_bytes > 0, interior) << "positions only where a vertex has no quad";
+    EXPECT_EQ(info.polygon_connectivity_bytes, section);
+    EXPECT_EQ(info.polygon_positions_bytes, 0u) << "from 3.12 the geometry section codes them";
+    EXPECT_EQ(info.interior_positions > 0, interior) << "positions only where a vertex has no quad";
     EXPECT_EQ(info.header_bytes + info.connectivity_bytes + info.geometry_bytes + info.order_bytes +
                   info.other_bytes,
               bytes.size());
@@ -287,15 +295,17 @@ TEST(PolygonCodec, EveryResealedBitFlipAndCutIsRefusedOrValid) {
     o.keep_order = k % 2 == 1;  // half of them with the order section over all faces
     const std::string file = encode_polygons(to_mesh(p), o);
     const std::string body = body_of(file);
+    const auto minor = static_cast<std::uint8_t>(file[9]);  // 3.12 where a vertex is in no quad
     int refused = 0;
     for (std::size_t i = 0; i < body.size(); ++i) {
       for (int b = 0; b < 8; ++b) {
         std::string flipped = body;
         flipped[i] = static_cast<char>(flipped[i] ^ (1 << b));
-        expect_clean(container::seal(3, 1, 0, flipped),
+        expect_clean(container::seal(3, minor, 0, flipped),
                      name + " flip " + std::to_string(i) + "." + std::to_string(b), refused);
       }
-      expect_clean(container::seal(3, 1, 0, body.substr(0, i)), name + " cut " + std::to_string(i), refused);
+      expect_clean(container::seal(3, minor, 0, body.substr(0, i)), name + " cut " + std::to_string(i),
+                   refused);
     }
     EXPECT_GT(refused, static_cast<int>(body.size())) << name;
     // Every prefix of the whole file is refused (truncated).

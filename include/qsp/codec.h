@@ -17,7 +17,8 @@
 
 namespace qsp {
 
-// The format version this library writes: the lowest whose sections the file holds. 3.10 for normals
+// The format version this library writes: the lowest whose sections the file holds. 3.12 for a polygon
+// mesh with interior vertices, 3.11 for a kept statement order, 3.10 for normals
 // predicted from the faces or octahedral, 3.9 for front-coded label names, 3.7 for a mesh with
 // kept lines (PolygonMesh::kept_lines), 3.6 for a lossless
 // mesh with coordinates binary32 does not hold (PolygonMesh::positions64), 3.5 for a mesh with normals, 3.4
@@ -28,7 +29,9 @@ namespace qsp {
 // refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
 // (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 11;
+inline constexpr std::uint8_t kFormatMinor = 12;
+// A polygon mesh's interior positions coded by the geometry section (the interior positions section).
+inline constexpr std::uint8_t kFormatMinorInterior = 12;
 inline constexpr std::uint8_t kFormatMinorStatements = 11;  // the statement order section (optional)
 // Normals predicted from the decoded faces, and octahedral normals (normals section flag bits 5 and 6).
 inline constexpr std::uint8_t kFormatMinorNormalsGeometry = 10;
@@ -213,8 +216,11 @@ struct FileInfo {
   std::uint64_t connectivity_bytes = 0;  // counts + topology sections (+ polygon_connectivity_bytes)
   std::uint64_t geometry_bytes = 0;      // the geometry section (+ polygon_positions_bytes)
   // A polygon file's polygons section: its counts and region codes (the non-quad faces, the glue of
-  // cut vertices) and the positions of the vertices no quad has.
+  // cut vertices) and, before 3.12, the positions of the vertices no quad has.
   std::uint64_t polygon_connectivity_bytes = 0, polygon_positions_bytes = 0;
+  // From 3.12: how many vertices no quad has the geometry section codes (the interior positions
+  // section; their bytes are in geometry_bytes, with the layout's).
+  std::uint64_t interior_positions = 0;
   std::uint64_t order_bytes = 0;     // keep-order permutations (0 if absent)
   std::uint64_t texcoord_bytes = 0;  // the texture coordinates section (3.2; 0 if absent)
   std::uint64_t label_bytes = 0;     // the face labels section (3.3; 0 if absent)

@@ -56,7 +56,7 @@ struct Row {
   PolygonCounts polygons;
   std::uint64_t mesh_vertices = 0;  // the polygon mesh's own vertices (cut copies once, interior ones too)
   // Its polygons section (with bytes): the counts and region codes, the interior vertices' positions.
-  std::uint64_t polygon_connectivity_bytes = 0, polygon_positions_bytes = 0;
+  std::uint64_t polygon_connectivity_bytes = 0, polygon_positions_bytes = 0, interior_positions = 0;
 };
 
 // Bits per vertex are over the mesh's vertices: a polygon mesh's own, not its quad submesh's (a
@@ -95,6 +95,7 @@ void add_sizes(Row& r, const FileInfo& info) {
   r.geometry_order = info.geometry_order == CodingOrder::kPatch ? "patch" : "layout";
   r.polygon_connectivity_bytes = info.polygon_connectivity_bytes;
   r.polygon_positions_bytes = info.polygon_positions_bytes;
+  r.interior_positions = info.interior_positions;
 }
 
 // A .qsp's bytes: everything from inspect(), without decoding positions.
@@ -217,9 +218,9 @@ void print_json(const std::vector<Row>& rows, bool verbose, bool lines) {
       if (r.polygon) {
         std::printf(
             ", \"polygons_section\": {\"connectivity\": %llu, \"positions\": %llu, "
-            "\"connectivity_bits_per_non_quad_face\": %.4f}",
+            "\"connectivity_bits_per_non_quad_face\": %.4f, \"interior_positions_in_geometry\": %llu}",
             (unsigned long long)r.polygon_connectivity_bytes, (unsigned long long)r.polygon_positions_bytes,
-            bits_per_non_quad(r));
+            bits_per_non_quad(r), (unsigned long long)r.interior_positions);
       }
       std::printf(
           ", \"bytes\": {\"total\": %llu, \"header\": %llu, \"connectivity\": %llu, \"geometry\": %llu, "
@@ -301,9 +302,15 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
       if (r.polygon) {
         std::printf(
             "\n  polygons section: %llu connectivity (%.2f bits per non-quad face, in the connectivity "
-            "above) + %llu interior positions (in the geometry above)",
-            (unsigned long long)r.polygon_connectivity_bytes, bits_per_non_quad(r),
-            (unsigned long long)r.polygon_positions_bytes);
+            "above)",
+            (unsigned long long)r.polygon_connectivity_bytes, bits_per_non_quad(r));
+        if (r.interior_positions > 0) {
+          std::printf("; the positions of its %llu vertices in no quad are in the geometry section",
+                      (unsigned long long)r.interior_positions);
+        } else if (r.polygon_positions_bytes > 0) {
+          std::printf(" + %llu interior positions (in the geometry above)",
+                      (unsigned long long)r.polygon_positions_bytes);
+        }
       }
       const std::string positions = r.quantize_bits > 0
                                         ? "quantized to " + std::to_string(r.quantize_bits) + " bits"
