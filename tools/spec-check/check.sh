@@ -48,6 +48,16 @@
 # testdata/golden/colors is checked the same way against its mesh. Until qsp reads 3.8 (`qsp
 # --version`) the files are --drop color files with the text's section put in, and qsp decompress is
 # not asked.
+# Interior positions (format 3.12's section: the polygons section's interior vertices coded in the
+# geometry section after the layout's, with stencils from their fans, from the text too): every file
+# above that has one (polygon goldens of 3.12, and every fresh polygon encode, polygen.py's meshes
+# and bishop among them) is decoded whole by qsppoly.py and compared with its .obj (positions bit for
+# bit when lossless) and index for index with what `qsp decompress` writes (dump_stencils reads a
+# polygon file's geometry as its quad submesh's alone, which such a file's is not); and both decoders
+# must refuse that section broken each way the text names (in a 3.11 file, a wrong count, bytes after
+# the count or after the polygons section's stream, the section beside no polygons section).
+# Polygon goldens of earlier versions (testdata/golden/v3.*/polygons) are checked as
+# testdata/golden/polygons' are.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -57,6 +67,11 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 files=("$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp "$root"/testdata/golden/tools/*.qsp)
 declare -A obj_of=()  # the files qsppoly.py decodes whole, and the mesh each was made from
+for f in "$root"/testdata/golden/v3.*/polygons/*.qsp; do  # polygon goldens of earlier versions
+  [[ -f $f ]] || continue
+  files+=("$f")
+  obj_of[$f]=${f%.qsp}.obj
+done
 declare -A tex_of=()  # the files with texture coordinates, and the mesh each was made from
 for f in "$root"/testdata/golden/texcoords/*.qsp; do tex_of[$f]=${f%.qsp}.obj; done
 for f in "$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp; do obj_of[$f]=${f%.qsp}.obj; done
@@ -154,6 +169,53 @@ encode polygons_1_q12 "$work/polygons_1.obj" --quantize 12
 obj_of[$work/polygons_1_q12.qsp]=$work/polygons_1.obj
 encode polygons_3_keep_order "$work/polygons_3.obj" --keep-order   # the order section over a polygon mesh
 obj_of[$work/polygons_3_keep_order.qsp]=$work/polygons_3.obj
+# The interior positions section's own refusals (3.12), by both decoders, on polygons_1 (cube_4 for
+# the section beside no polygons section).
+"$python" - "$here" "$work/polygons_1.qsp" "$root/testdata/golden/cube_4.qsp" "$qsp" "$work" <<'PY' ||
+import subprocess, sys
+sys.path.insert(0, sys.argv[1])
+import qspgeo as g
+import qsppoly as poly
+path, quad, qsp, work = sys.argv[2:]
+data = open(path, 'rb').read()
+secs = g.sections(data)
+if 0x0c not in secs:
+    print('spec decoder: %s has no interior positions section (0x0c)' % path, file=sys.stderr)
+    sys.exit(1)
+N, _ = g.read_varint(secs[0x0c], 0)
+minor = lambda b, m: b[:9] + bytes([m]) + b[10:11]
+without = {t: p for t, p in secs.items() if t != 0x0c}
+cases = [('the file itself', data, True),
+         ('an interior positions section in a 3.11 file', g.container(minor(data, 11), secs), False),
+         ('the geometry of a 3.12 file without its interior positions section', g.container(minor(data, 11), without), False),
+         ('a byte after the polygons section\'s stream', g.container(data, {**secs, 0x05: secs[0x05] + b'\0'}), False),
+         ('a byte after the interior position count', g.container(data, {**secs, 0x0c: secs[0x0c] + b'\0'}), False),
+         ('an empty interior positions section', g.container(data, {**secs, 0x0c: b''}), False)]
+for n in (0, N - 1, N + 1):
+    if n >= 0 and n != N:
+        cases.append(('interior position count %d, not %d' % (n, N), g.container(data, {**secs, 0x0c: g.varint(n)}), False))
+qdata = open(quad, 'rb').read()
+cases.append(('an interior positions section beside no polygons section',
+              g.container(minor(qdata, 12), {**g.sections(qdata), 0x0c: g.varint(1)}), False))
+failed = []
+for what, b, valid in cases:
+    try:
+        poly.decode_file(b)
+        ok = True
+    except g.FormatError:
+        ok = False
+    if ok != valid:
+        failed.append('qsppoly.py %s %s' % ('refuses' if valid else 'does not refuse', what))
+    f = '%s/interior_case.qsp' % work
+    open(f, 'wb').write(b)
+    r = subprocess.run([qsp, 'decompress', '-f', f, '-o', f + '.obj'], capture_output=True)
+    if (r.returncode == 0) != valid:
+        failed.append('qsp decompress %s %s' % ('refuses' if valid else 'does not refuse', what))
+for x in failed:
+    print(x, file=sys.stderr)
+sys.exit(1 if failed else 0)
+PY
+  { echo "interior positions sections from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
 # encode_kept KIND NAME MESH EXACT [OPTIONS...]: a fresh file to check as KIND (tex, lab, tag or nrm):
 # KIND_of[FILE]=MESH, and KIND_exact[FILE]=1 (compared index for index) when EXACT is 1.
 encode_kept() {
@@ -408,6 +470,11 @@ check() {  # check FILE: the text's decoder against the reference's dump (prints
     labelled "$f" "${lab_of[$f]}" || { echo "spec decoder's mesh with face labels disagrees: $f" >&2; return 1; }
     return 0
   fi
+  if [[ -n ${interior[$f]:-} ]]; then
+    whole "$f" "${obj_of[$f]}" ||
+      { echo "spec decoder's polygon mesh with interior positions disagrees: $f" >&2; return 1; }
+    return 0
+  fi
   prefix="$work/$(basename "$f" .qsp)_$BASHPID"
   if ! "$dump" "$f" "$prefix" || ! "$python" "$here/qspgeo.py" "$f" "$prefix"; then
     echo "spec decoder disagrees: $f" >&2
@@ -423,6 +490,20 @@ check() {  # check FILE: the text's decoder against the reference's dump (prints
     return 1
   fi
 }
+# Files with an interior positions section (3.12): dump_stencils reads a polygon file's counts,
+# topology and geometry as a file of its quad submesh, which such a file's geometry is not (it codes
+# the interior positions too); they are decoded whole against their mesh and what `qsp decompress`
+# writes instead.
+declare -A interior=()
+while read -r f; do interior[$f]=1; done < <("$python" - "$here" "${!obj_of[@]}" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[1])
+import qspgeo as g
+for f in sys.argv[2:]:
+    if 0x0c in g.sections(open(f, 'rb').read()):
+        print(f)
+PY
+)
 # Files are independent: as many at once as there are cores (the Python decoder is the long pole of
 # the release suite).
 failed=0 running=0
@@ -438,5 +519,5 @@ while ((running)); do
   wait -n || failed=1
   running=$((running - 1))
 done
-echo "spec decoder: $((${#files[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) of them decoded whole against their mesh, ${#tex_of[@]} with texture coordinates, ${#lab_of[@]} with face labels, ${#tag_of[@]} with subdivision tags, ${#nrm_of[@]} with normals; $colors_checked golden files with colours"
+echo "spec decoder: $((${#files[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) of them decoded whole against their mesh, ${#interior[@]} polygon files with interior positions, ${#tex_of[@]} with texture coordinates, ${#lab_of[@]} with face labels, ${#tag_of[@]} with subdivision tags, ${#nrm_of[@]} with normals; $colors_checked golden files with colours"
 exit $failed

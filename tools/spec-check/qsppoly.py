@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """The whole mesh of a .qsp file, polygons section (0x05), texture coordinates section (0x06), face
 labels section (0x07), subdivision tags section (0x08), normals section (0x09), colours section (0x0b,
-qspcolors.py), order section (0x04) and comments section (0x81) included, written from format-spec/qsp_format.md alone ("Grid layout",
-"Order section", "Polygons section", "Texture coordinates section", "Face labels section",
-"Subdivision tags section", "Normals section", "Comments section", "Decoding a mesh") without reading
-the codec's C++, on top of qsplayout.py (topology, layout) and qspgeo.py (container, range coder,
+qspcolors.py), interior positions section (0x0c), order section (0x04) and comments section (0x81)
+included, written from format-spec/qsp_format.md alone ("Grid layout", "Order section", "Polygons
+section", "Texture coordinates section", "Face labels section", "Subdivision tags section", "Normals
+section", "Interior positions section", "Comments section", "Decoding a mesh") without reading the
+codec's C++, on top of qsplayout.py (topology, layout) and qspgeo.py (container, range coder,
 geometry).
 
 usage: qsppoly.py FILE.qsp [--obj MESH.obj] [--reference PREFIX] [--tex-obj MESH.obj [--exact]]
@@ -1053,22 +1054,83 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
     return values, names, original, modes
 
 
+# ---------------- "Interior positions section" (3.12) ----------------
+def interior_count(payload, I):
+    """The interior positions section: N, 1 <= N <= I (the count of owned interior refs is checked
+    by the caller)."""
+    N, pos = g.read_varint(payload, 0)
+    need(pos == len(payload), 'bytes after the interior positions section\'s count')
+    need(1 <= N <= I, 'interior position count %d, the polygons section has %d interior refs' % (N, I))
+    return N
+
+
+def interior_stencils(V, L, N, at, owner, faces):
+    """"Interior stencils": the stencils of coding positions V .. V+N-1, those of the output vertices
+    L .. L+N-1 (the owned interior refs, in ref order). at[v]: the coding position of layout vertex v;
+    owner[u]: the layout ref that owns output vertex u < L; faces: the output faces (output vertices)
+    in output order."""
+    pos = lambda u: at[owner[u]] if u < L else V + (u - L)
+    around = [[] for _ in range(N)]   # per interior output vertex, (b, a) of each face that has it
+    for f in faces:
+        d = len(f)
+        for i, u in enumerate(f):
+            if u >= L:
+                around[u - L].append((f[i - 1], f[(i + 1) % d]))
+    out = []
+    for j in range(N):
+        k = V + j
+        s = lay.blank()
+        out.append(s)
+        occ = around[j]
+        need(occ, 'interior output vertex %d in no face' % (L + j))  # (every created ref is listed)
+        by_b = {}                     # b -> the faces with that b, in output order, and a cursor
+        for x, (b, a) in enumerate(occ):
+            by_b.setdefault(b, [[], 0])[0].append(x)
+        taken = [False] * len(occ)
+        taken[0] = True
+        fan = list(occ[0])
+        closed = False
+        while True:
+            entry = by_b.get(fan[-1])
+            if entry is None:
+                break
+            lst, c = entry
+            while c < len(lst) and taken[lst[c]]:
+                c += 1
+            entry[1] = c
+            if c == len(lst):
+                break
+            taken[lst[c]] = True
+            a = occ[lst[c]][1]
+            if a == fan[0]:
+                closed = True
+                break
+            fan.append(a)
+        n = len(fan)
+        seen('interior: %s fan' % ('closed' if closed else 'open'))
+        if not all(taken):
+            seen('interior: a face never taken')
+        i = next((i for i, y in enumerate(fan) if pos(y) < k), None)
+        if i is None:
+            seen('interior: empty stencil')
+            continue
+        s['w'] = pos(fan[i])
+        if closed:
+            z = fan[(i + n // 2) % n]
+        else:
+            z = fan[n - 1] if n - 1 > i else None
+        if z is not None and pos(z) < k and z != fan[i]:
+            s['far'], s['far_dist'] = pos(z), 1
+            seen('interior: w and far')
+        else:
+            seen('interior: w only')
+    return out
+
+
 # ---------------- "Decoding a mesh" ----------------
-def canonical_mesh(data, secs):
-    """The output mesh before an order section: (positions as float bits, faces, quantized?)."""
-    V, F, C, U = g.counts(secs[1])
-    n, quads = layout(secs[2], C, U)
-    need(n == V and len(quads) == F, 'counts disagree with the topology')
-    geo = secs[3]
-    coding, st = lay.stencils(secs[2], C, U, bool(geo[0] & g.LAYOUT_ORDER))
-    fb, _ = g.decode_geometry(geo, V, st)
-    pos = [None] * V
-    for k in range(V):
-        pos[coding[k]] = (fb[0][k], fb[1][k], fb[2][k])
-    if 0x05 not in secs:
-        return pos, [list(q) for q in quads], geo[1] != 0
-    need(data[9] >= 1, 'a polygons section in a 3.0 file')
-    I, groups, faces, rest = decode_polygons(secs[0x05], V, quads)
+def output_numbering(V, I, groups):
+    """"Interior positions and output": (class of each glued ref, output vertex of each ref that is
+    the smallest of its class)."""
     first_of = {}
     for grp in groups:
         for r in grp:
@@ -1077,6 +1139,27 @@ def canonical_mesh(data, secs):
     for r in range(V + I):
         if first_of.get(r, r) == r:
             out_index[r] = len(out_index)
+    return first_of, out_index
+
+
+def canonical_mesh(data, secs):
+    """The output mesh before an order section: (positions as float bits, faces, quantized?)."""
+    V, F, C, U = g.counts(secs[1])
+    n, quads = layout(secs[2], C, U)
+    need(n == V and len(quads) == F, 'counts disagree with the topology')
+    geo = secs[3]
+    coding, st = lay.stencils(secs[2], C, U, bool(geo[0] & g.LAYOUT_ORDER))
+    if 0x0c in secs:
+        return interior_mesh(data, secs, V, quads, coding, st)
+    fb, _ = g.decode_geometry(geo, V, st)
+    pos = [None] * V
+    for k in range(V):
+        pos[coding[k]] = (fb[0][k], fb[1][k], fb[2][k])
+    if 0x05 not in secs:
+        return pos, [list(q) for q in quads], geo[1] != 0
+    need(data[9] >= 1, 'a polygons section in a 3.0 file')
+    I, groups, faces, rest = decode_polygons(secs[0x05], V, quads)
+    first_of, out_index = output_numbering(V, I, groups)
     N = sum(1 for r in range(V, V + I) if first_of.get(r, r) == r)
     ipos = interior_positions(rest, N)
     out_pos = [None] * len(out_index)
@@ -1092,7 +1175,44 @@ def canonical_mesh(data, secs):
     return out_pos, out_faces, geo[1] != 0
 
 
-KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0a, 0x0b)
+def interior_mesh(data, secs, V, quads, coding, st):
+    """canonical_mesh of a file with an interior positions section (3.12): the polygons section's
+    faces first, then the geometry section over V + N vertices, the owned interior refs' positions
+    at coding positions V .. V+N-1."""
+    need(0x05 in secs, 'section 0x0c (interior positions) without a polygons section')
+    need(data[9] >= 12, 'section 0x0c (interior positions) is format 3.12\'s, and the file says it is 3.%d'
+         % data[9])
+    I, groups, faces, rest = decode_polygons(secs[0x05], V, quads)
+    need(len(rest) == 0, '%d bytes after the polygons section\'s stream, with an interior positions section'
+         % len(rest))
+    N = interior_count(secs[0x0c], I)
+    first_of, out_index = output_numbering(V, I, groups)
+    owned = [r for r in range(V, V + I) if r in out_index]
+    need(N == len(owned), 'interior position count %d, the polygons section gives %d owned interior refs'
+         % (N, len(owned)))
+    L = len(out_index) - N
+    owner = [r for r in range(V) if r in out_index]   # output vertex u < L: its layout ref
+    out_faces = []
+    for f in [list(q) for q in quads] + faces:
+        o = [out_index[first_of.get(r, r)] for r in f]
+        need(len(set(o)) == len(o), 'a face repeating an output vertex')
+        out_faces.append(o)
+    at = [None] * V
+    for k, v in enumerate(coding):
+        at[v] = k
+    geo = secs[3]
+    need(V + N <= 2048 * (len(geo) + 8), 'more vertices than the geometry section can hold')
+    ist = interior_stencils(V, L, N, at, owner, out_faces[len(quads):])
+    fb, _ = g.decode_geometry(geo, V + N, st + ist)
+    pos = [None] * V
+    for k in range(V):
+        pos[coding[k]] = (fb[0][k], fb[1][k], fb[2][k])
+    out_pos = [pos[r] for r in owner] + [(fb[0][V + j], fb[1][V + j], fb[2][V + j]) for j in range(N)]
+    seen('interior positions section')
+    return out_pos, out_faces, geo[1] != 0
+
+
+KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0a, 0x0b, 0x0c)
 
 
 def decode_file(data):
