@@ -169,6 +169,53 @@ encode polygons_1_q12 "$work/polygons_1.obj" --quantize 12
 obj_of[$work/polygons_1_q12.qsp]=$work/polygons_1.obj
 encode polygons_3_keep_order "$work/polygons_3.obj" --keep-order   # the order section over a polygon mesh
 obj_of[$work/polygons_3_keep_order.qsp]=$work/polygons_3.obj
+# Small polygon meshes with interior vertices (3.12): a quad with triangles beside it and a fan round
+# a pole, one coordinate of the fan off its decimal grid (an exception at an interior coding position,
+# past V; patch order), and quantized (layout order at --best); and a mesh of triangles only (no
+# layout vertex at all).
+cat >"$work/quad_fan.obj" <<'OBJ'
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+v 2 0.5 0.1
+v -1 0.5 0.2
+v -0.5 1.5 0.3
+v -0.5 -0.7 0.1
+v -1.6 0.6 0.40000004
+f 1 2 3 4
+f 2 5 3
+f 4 6 1
+f 6 4 7
+f 9 6 7
+f 9 8 6
+f 8 1 6
+OBJ
+cat >"$work/triangles.obj" <<'OBJ'
+v 0 0 0
+v 1 0 0
+v 2 0 0.1
+v 0.5 1 0
+v 1.5 1 0.2
+v 2.5 1 0
+v 1 2 0.3
+v 2 2 0
+v 1.5 3 0.1
+f 1 2 4
+f 2 5 4
+f 2 3 5
+f 3 6 5
+f 4 5 7
+f 5 8 7
+f 5 6 8
+f 7 8 9
+OBJ
+for t in "quad_fan quad_fan --float32" "quad_fan_q14_best quad_fan --quantize 14 --best" "triangles triangles" \
+         "triangles_q14_best triangles -q --quantize 14 --best"; do
+  read -r name mesh opts <<<"$t"
+  encode "$name" "$work/$mesh.obj" $opts
+  obj_of[$work/$name.qsp]=$work/$mesh.obj
+done
 # The interior positions section's own refusals (3.12), by both decoders, on polygons_1 (cube_4 for
 # the section beside no polygons section).
 "$python" - "$here" "$work/polygons_1.qsp" "$root/testdata/golden/cube_4.qsp" "$qsp" "$work" <<'PY' ||
