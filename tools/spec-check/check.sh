@@ -57,7 +57,7 @@
 # must refuse that section broken each way the text names (in a 3.11 file, a wrong count, bytes after
 # the count or after the polygons section's stream, the section beside no polygons section).
 # Polygon goldens of earlier versions (testdata/golden/v3.*/polygons) are checked as
-# testdata/golden/polygons' are.
+# testdata/golden/polygons' are, against the mesh of today's golden of the same name.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -70,13 +70,20 @@ declare -A obj_of=()  # the files qsppoly.py decodes whole, and the mesh each wa
 for f in "$root"/testdata/golden/v3.*/polygons/*.qsp; do  # polygon goldens of earlier versions
   [[ -f $f ]] || continue
   files+=("$f")
-  obj_of[$f]=${f%.qsp}.obj
+  name=$(basename "${f%.qsp}")
+  obj_of[$f]=$root/testdata/golden/polygons/$name.obj  # the mesh today's golden of that name is made from
 done
 declare -A tex_of=()  # the files with texture coordinates, and the mesh each was made from
 for f in "$root"/testdata/golden/texcoords/*.qsp; do tex_of[$f]=${f%.qsp}.obj; done
+for f in "$root"/testdata/golden/v3.*/texcoords/*.qsp; do  # earlier versions, against today's mesh
+  [[ -f $f ]] && tex_of[$f]=$root/testdata/golden/texcoords/$(basename "${f%.qsp}").obj
+done
 for f in "$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp; do obj_of[$f]=${f%.qsp}.obj; done
 declare -A lab_of=()  # the files with face labels, and the mesh each was made from
 for f in "$root"/testdata/golden/labels/*.qsp; do [[ -f $f ]] && lab_of[$f]=${f%.qsp}.obj; done
+for f in "$root"/testdata/golden/v3.*/labels/*.qsp; do  # earlier versions, against today's mesh
+  [[ -f $f ]] && lab_of[$f]=$root/testdata/golden/labels/$(basename "${f%.qsp}").obj
+done
 # The statement order golden (3.11) has face labels too; its optional section is one a decoder may skip.
 for f in "$root"/testdata/golden/statements/*.qsp; do [[ -f $f ]] && lab_of[$f]=${f%.qsp}.obj; done
 declare -A tag_of=() tag_exact=()  # the files with subdivision tags, the mesh each was made from, and
