@@ -327,12 +327,27 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   const Section* kept = p.file.find(container::kTagKeptLines);
   const Section* colors = p.file.find(container::kTagColors);
   const Section* statements = p.file.find(container::kTagStatements);
+  const Section* exact_values = p.file.find(container::kTagExactValues);
   if (const Section* interior = p.file.find(container::kTagInterior); interior && !poly)
     format_error("interior positions section without a polygons section", interior->offset);
-  if (!poly && !uv && !labels && !tags && !normals && !exact && !kept && !colors && !statements)
+  if (!poly && !uv && !labels && !tags && !normals && !exact && !kept && !colors && !statements &&
+      !exact_values)
     return polygon_mesh(decode_quads(p));
-  // The statement order describes the mesh as returned (after any order section).
+  // The exact values and the statement order describe the mesh as returned (after any order section).
   const auto with_statements = [&](PolygonMesh m) {
+    if (exact_values) {
+      const ExactArray arrays[] = {
+          {m.texcoords, {}, m.texcoord_components, "texture coordinates", "texture coordinate"},
+          {m.normals, {}, 3, "normals", "normal"},
+          {m.vertex_colors, {}, m.vertex_color_components, "vertex colours", "vertex colour"},
+          {m.face_colors, {}, m.face_color_components, "face colours", "face colour"}};
+      std::vector<std::vector<double>> v =
+          decode_exact_values_section(exact_values->payload, exact_values->payload_offset, arrays);
+      m.texcoords64 = std::move(v[0]);
+      m.normals64 = std::move(v[1]);
+      m.vertex_colors64 = std::move(v[2]);
+      m.face_colors64 = std::move(v[3]);
+    }
     if (statements)
       m.statements = decode_statements_section(statements->payload, statements->payload_offset, m);
     return m;
@@ -463,6 +478,24 @@ void split_polygons_section(const Section& s, FileInfo& info) {
   info.geometry_bytes += info.polygon_positions_bytes;
 }
 
+// The exact values section's bytes, each block (and its length) with its kind's: texture coordinates,
+// normals, colours; the section's own tag, length and kinds byte with the first kind it holds.
+void split_exact_values_section(const Section& s, FileInfo& info) {
+  std::uint64_t* kind_bytes[] = {&info.texcoord_bytes, &info.normal_bytes, &info.color_bytes,
+                                 &info.color_bytes};
+  ByteReader r(s.payload, s.payload_offset, "exact values section");
+  const std::uint8_t kinds = r.u8("kinds");
+  std::uint64_t head = s.size() - s.payload.size() + 1;
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (!(kinds >> k & 1u)) continue;
+    const std::size_t at = r.pos();
+    (void)r.take(r.varint("block length"), "block");
+    *kind_bytes[k] += r.pos() - at + head;
+    head = 0;
+  }
+  if (head) info.other_bytes += s.size();  // no kind (a section parse() let through): counted as other
+}
+
 }  // namespace
 
 FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
@@ -508,6 +541,8 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       info.exact_bytes += size;
     else if (s.tag == container::kTagColors)
       info.color_bytes += size;
+    else if (s.tag == container::kTagExactValues)
+      split_exact_values_section(s, info);
     else
       info.other_bytes += size;
   }

@@ -1,6 +1,7 @@
 // The exact positions section (format 3.6; format-spec/qsp_format.md, "Exact positions section"): per
 // coordinate the residual between its exact value and the binary32 the geometry holds, in decimal or
-// binary64 steps, packed at a fixed width per axis.
+// binary64 steps, packed at a fixed width per axis. The exact values section (format 3.13) codes texture
+// coordinates, normals and colours the same way, with as many axes as the values have components.
 #include <array>
 #include <bit>
 #include <charconv>
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bytes.h"
 #include "codec_sections.h"
 #include "geometry_values.h"
 #include "qsp/error.h"
@@ -17,7 +19,6 @@
 namespace qsp {
 namespace {
 
-constexpr const char* kSection = "exact positions section";
 constexpr std::uint8_t kMostDecimals = 22, kBinary64 = 64;
 constexpr double kProductBound = 4611686018427387904.0;  // 2^62
 using Wide = __int128;
@@ -95,21 +96,21 @@ Shortest shortest(double d) {
   return s;
 }
 
-// The residuals of one axis in decimal steps of 10^-k; false if one does not fit.
-bool decimal_residuals(std::span<const float> f, std::span<const double> d, std::size_t axis, unsigned k,
-                       std::vector<std::uint64_t>& out) {
-  const std::size_t n = f.size() / 3;
+// The residuals of one axis of `axes` in decimal steps of 10^-k; false if one does not fit.
+bool decimal_residuals(std::span<const float> f, std::span<const double> d, std::size_t axes,
+                       std::size_t axis, unsigned k, std::vector<std::uint64_t>& out) {
+  const std::size_t n = f.size() / axes;
   out.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const Shortest s = shortest(d[3 * i + axis]);
+    const Shortest s = shortest(d[axes * i + axis]);
     Wide value = s.digits;
     for (int e = s.exponent + static_cast<int>(k); e > 0; --e) {
       value *= 10;
       if (value >= kIntBound) return false;
     }
-    if (d[3 * i + axis] < 0) value = -value;
+    if (d[axes * i + axis] < 0) value = -value;
     std::int64_t m = 0;
-    if (!nearest_scaled(f[3 * i + axis], k, m)) return false;
+    if (!nearest_scaled(f[axes * i + axis], k, m)) return false;
     const Wide r = value - m;
     if (r >= kIntBound || r < -kIntBound) return false;  // decimal steps cannot say it: binary64 ones
     out[i] = zigzag(r);
@@ -126,28 +127,29 @@ void put_bits(std::string& out, std::uint64_t& acc, unsigned& used, std::uint64_
 
 }  // namespace
 
-std::string encode_exact_section(std::span<const float> positions, std::span<const double> exact) {
-  if (positions.size() != exact.size() || positions.size() % 3 != 0)
-    throw Error(ErrorCode::kInternal, "encode: exact positions do not match the positions");
+std::string encode_exact_values(std::span<const float> values, std::span<const double> exact,
+                                std::size_t axes) {
+  if (axes == 0 || values.size() != exact.size() || values.size() % axes != 0)
+    throw Error(ErrorCode::kInternal, "encode: exact values do not match their binary32 values");
   for (std::size_t i = 0; i < exact.size(); ++i)
-    if (!std::isfinite(exact[i]) || !same_bits(static_cast<float>(exact[i]), positions[i]))
-      throw Error(ErrorCode::kUsage, "encode: exact coordinate " + std::to_string(i) +
-                                         " is not finite or does not round to its binary32 position");
-  const std::size_t n = positions.size() / 3;
-  std::array<std::uint8_t, 3> mode{}, bits{};
-  std::array<std::vector<std::uint64_t>, 3> fields;
-  for (std::size_t a = 0; a < 3; ++a) {
+    if (!std::isfinite(exact[i]) || !same_bits(static_cast<float>(exact[i]), values[i]))
+      throw Error(ErrorCode::kUsage, "encode: exact value " + std::to_string(i) +
+                                         " is not finite or does not round to its binary32 value");
+  const std::size_t n = values.size() / axes;
+  std::vector<std::uint8_t> mode(axes), bits(axes);
+  std::vector<std::vector<std::uint64_t>> fields(axes);
+  for (std::size_t a = 0; a < axes; ++a) {
     std::vector<std::uint64_t> binary(n);
     std::uint64_t most = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      const Wide r = ord(exact[3 * i + a]) - ord(static_cast<double>(positions[3 * i + a]));
+      const Wide r = ord(exact[axes * i + a]) - ord(static_cast<double>(values[axes * i + a]));
       most |= binary[i] = zigzag(r);  // |r| < 2^62 between finite values rounding to one binary32
     }
     mode[a] = kBinary64, bits[a] = static_cast<std::uint8_t>(width(most)), fields[a] = std::move(binary);
     int k = 0;
-    for (std::size_t i = 0; i < n; ++i) k = std::max(k, shortest(exact[3 * i + a]).decimals());
+    for (std::size_t i = 0; i < n; ++i) k = std::max(k, shortest(exact[axes * i + a]).decimals());
     std::vector<std::uint64_t> decimal;
-    if (k > kMostDecimals || !decimal_residuals(positions, exact, a, static_cast<unsigned>(k), decimal))
+    if (k > kMostDecimals || !decimal_residuals(values, exact, axes, a, static_cast<unsigned>(k), decimal))
       continue;
     std::uint64_t most_decimal = 0;
     for (std::uint64_t u : decimal) most_decimal |= u;
@@ -159,76 +161,143 @@ std::string encode_exact_section(std::span<const float> positions, std::span<con
   out.append(bits.begin(), bits.end());
   std::uint64_t acc = 0;
   unsigned used = 0;
-  for (std::size_t a = 0; a < 3; ++a)
+  for (std::size_t a = 0; a < axes; ++a)
     for (std::uint64_t u : fields[a]) put_bits(out, acc, used, u, bits[a]);
   if (used) out.push_back(static_cast<char>(acc));
   return out;
 }
 
-std::vector<double> decode_exact_section(std::string_view payload, std::uint64_t base_offset,
-                                         std::span<const float> positions) {
+std::vector<double> decode_exact_values(std::string_view payload, std::uint64_t base_offset,
+                                        std::span<const float> values, std::size_t axes,
+                                        std::string_view section, std::string_view element) {
   const auto fail = [&](const std::string& what, std::uint64_t at) {
-    throw Error(ErrorCode::kFormat, std::string(kSection) + ": " + what + " (at byte offset " +
+    throw Error(ErrorCode::kFormat, std::string(section) + ": " + what + " (at byte offset " +
                                         std::to_string(base_offset + at) + ")");
   };
-  if (payload.size() < 6) fail("the section ends before its modes and widths", payload.size());
+  if (axes == 0 || values.size() % axes != 0)
+    throw Error(ErrorCode::kInternal, "decode: exact values over a partial array");
+  if (payload.size() < 2 * axes) fail("the section ends before its modes and widths", payload.size());
   const auto byte = [&](std::size_t i) { return static_cast<std::uint8_t>(payload[i]); };
-  for (std::size_t a = 0; a < 3; ++a) {
+  std::uint64_t per_value = 0;
+  for (std::size_t a = 0; a < axes; ++a) {
     if (byte(a) > kMostDecimals && byte(a) != kBinary64)
       fail("axis " + std::to_string(a) + " has mode " + std::to_string(byte(a)) + " (0-22 or 64)", a);
-    if (byte(3 + a) > 64)
-      fail("axis " + std::to_string(a) + " has residuals of " + std::to_string(byte(3 + a)) + " bits (0-64)",
-           3 + a);
+    if (byte(axes + a) > 64)
+      fail("axis " + std::to_string(a) + " has residuals of " + std::to_string(byte(axes + a)) +
+               " bits (0-64)",
+           axes + a);
+    per_value += byte(axes + a);
   }
-  const std::uint64_t n = positions.size() / 3;
-  const std::uint64_t total = n * (std::uint64_t{byte(3)} + byte(4) + byte(5));
+  const std::uint64_t n = values.size() / axes, head = 2 * axes;
+  const std::uint64_t total = n * per_value;
   const std::uint64_t need = (total + 7) / 8;
-  if (payload.size() - 6 != need)
+  if (payload.size() - head != need)
     fail("the residuals take " + std::to_string(need) + " bytes, the section has " +
-             std::to_string(payload.size() - 6),
-         6);
-  if (total % 8 && (byte(6 + total / 8) >> (total % 8)) != 0)
-    fail("bits after the last residual are not 0", 6 + total / 8);
-  std::vector<double> out(positions.size());
+             std::to_string(payload.size() - head),
+         head);
+  if (total % 8 && (byte(head + total / 8) >> (total % 8)) != 0)
+    fail("bits after the last residual are not 0", head + total / 8);
+  std::vector<double> out(values.size());
   std::uint64_t at = 0;  // bit position after the widths
   const auto read = [&](unsigned bits) {
     std::uint64_t u = 0;
-    for (unsigned b = 0; b < bits; ++b, ++at) u |= std::uint64_t((byte(6 + at / 8) >> (at % 8)) & 1u) << b;
+    for (unsigned b = 0; b < bits; ++b, ++at) u |= std::uint64_t((byte(head + at / 8) >> (at % 8)) & 1u) << b;
     return u;
   };
-  for (std::size_t a = 0; a < 3; ++a) {
-    const unsigned mode = byte(a), bits = byte(3 + a);
+  for (std::size_t a = 0; a < axes; ++a) {
+    const unsigned mode = byte(a), bits = byte(axes + a);
     for (std::uint64_t i = 0; i < n; ++i) {
-      const std::uint64_t field_at = 6 + at / 8;
+      const std::uint64_t field_at = head + at / 8;
       const Wide r = unzigzag64(read(bits));
-      const float f = positions[3 * i + a];
+      const float f = values[axes * i + a];
+      const std::string where = std::string(element) + " " + std::to_string(i) + " axis " + std::to_string(a);
       double v = 0;
       if (mode == kBinary64) {
         const Wide o = ord(static_cast<double>(f)) + r;
         if (o > ord(std::numeric_limits<double>::max()) || o < ord(-std::numeric_limits<double>::max()))
-          fail("vertex " + std::to_string(i) + " axis " + std::to_string(a) + " is not a finite number",
-               field_at);
+          fail(where + " is not a finite number", field_at);
         v = from_ord(o);
       } else {
         std::int64_t m = 0;
         if (!nearest_scaled(f, mode, m))
-          fail("vertex " + std::to_string(i) + " axis " + std::to_string(a) + ": its binary32 times 10^" +
-                   std::to_string(mode) + " is not below 2^62",
-               field_at);
+          fail(where + ": its binary32 times 10^" + std::to_string(mode) + " is not below 2^62", field_at);
         const Wide value = m + r;
-        if (value >= kIntBound || value <= -kIntBound)
-          fail("vertex " + std::to_string(i) + " axis " + std::to_string(a) + " has a decimal beyond 2^63",
-               field_at);
+        if (value >= kIntBound || value <= -kIntBound) fail(where + " has a decimal beyond 2^63", field_at);
         v = decimal_value(value, mode, f);
       }
       if (!same_bits(static_cast<float>(v), f))
-        fail("vertex " + std::to_string(i) + " axis " + std::to_string(a) +
-                 " has a value whose nearest binary32 is not its position's",
-             field_at);
-      out[3 * i + a] = v;
+        fail(where + " has a value whose nearest binary32 is not the binary32 it refines", field_at);
+      out[axes * i + a] = v;
     }
   }
   return out;
+}
+
+bool exact_needed(std::span<const float> values, std::span<const double> exact) {
+  for (std::size_t i = 0; i < exact.size() && i < values.size(); ++i) {
+    const double d = exact[i];
+    if (d == static_cast<double>(values[i]) && std::signbit(d) == std::signbit(values[i])) continue;
+    // The value the binary32's shortest text denotes ("0.1"): what a writer of the binary32 prints.
+    char text[32];
+    const char* end = std::to_chars(text, text + sizeof text, values[i]).ptr;
+    double shown = 0;
+    std::from_chars(text, end, shown);
+    if (shown != d || std::signbit(shown) != std::signbit(d)) return true;
+  }
+  return false;
+}
+
+std::string encode_exact_values_section(std::span<const ExactArray> arrays) {
+  std::uint8_t kinds = 0;
+  std::string blocks;
+  for (std::size_t k = 0; k < arrays.size() && k < 8; ++k) {
+    if (arrays[k].exact.empty()) continue;
+    kinds |= static_cast<std::uint8_t>(1u << k);
+    const std::string block = encode_exact_values(arrays[k].values, arrays[k].exact, arrays[k].axes);
+    put_varint(blocks, block.size());
+    blocks += block;
+  }
+  if (kinds == 0) throw Error(ErrorCode::kInternal, "encode: an exact values section with no values");
+  return std::string(1, static_cast<char>(kinds)) + blocks;
+}
+
+std::vector<std::vector<double>> decode_exact_values_section(std::string_view payload,
+                                                             std::uint64_t base_offset,
+                                                             std::span<const ExactArray> arrays) {
+  constexpr const char* kSection = "exact values section";
+  ByteReader r(payload, base_offset, kSection);
+  const std::uint64_t kinds_at = r.offset();
+  const std::uint8_t kinds = r.u8("kinds");
+  if (kinds == 0 || (kinds >> arrays.size()) != 0)
+    r.fail_at("kinds " + std::to_string(kinds) + " (bits 0-" + std::to_string(arrays.size() - 1) +
+                  ", at least one)",
+              kinds_at);
+  std::vector<std::vector<double>> out(arrays.size());
+  for (std::size_t k = 0; k < arrays.size(); ++k) {
+    if (!(kinds >> k & 1u)) continue;
+    const std::uint64_t at = r.offset();
+    if (arrays[k].values.empty())
+      r.fail_at(std::string(arrays[k].name) + " have exact values, and the mesh has none", at);
+    const std::uint64_t length = r.varint("block length");
+    if (length > r.left()) r.fail_at("a block runs past the section", at);
+    const std::uint64_t block_at = r.offset();
+    const std::string_view block = r.take(length, "block");
+    out[k] =
+        decode_exact_values(block, block_at, arrays[k].values, arrays[k].axes, kSection, arrays[k].element);
+  }
+  if (r.left() != 0) r.fail_at("bytes after the last block", r.offset());
+  return out;
+}
+
+std::string encode_exact_section(std::span<const float> positions, std::span<const double> exact) {
+  if (positions.size() != exact.size() || positions.size() % 3 != 0)
+    throw Error(ErrorCode::kInternal, "encode: exact positions do not match the positions");
+  return encode_exact_values(positions, exact, 3);
+}
+
+std::vector<double> decode_exact_section(std::string_view payload, std::uint64_t base_offset,
+                                         std::span<const float> positions) {
+  return decode_exact_values(payload, base_offset, positions, 3, "exact positions section", "vertex");
 }
 
 }  // namespace qsp

@@ -254,6 +254,116 @@ std::string corner_values_section(const PolygonMesh& mesh, const OutputCorners& 
                                   words);
 }
 
+// Whether each binary32 is the one nearest its exact value (ties to even), as the exact sections require.
+bool nearest(std::span<const float> values, std::span<const double> exact) {
+  for (std::size_t i = 0; i < exact.size(); ++i)
+    if (std::bit_cast<std::uint32_t>(static_cast<float>(exact[i])) != std::bit_cast<std::uint32_t>(values[i]))
+      return false;
+  return true;
+}
+void round_to(std::vector<float>& values, const std::vector<double>& exact) {
+  for (std::size_t i = 0; i < exact.size(); ++i) values[i] = static_cast<float>(exact[i]);
+}
+
+// The exact values section (format 3.13) of the attribute arrays whose exact values say more than their
+// binary32s and that `o` keeps exactly: over the arrays as the decoder returns `file` (after any order
+// section), so the file is decoded and each input value found at its output place. With the order kept
+// they are the input's own; else through the corners (texture coordinates and normals: an output
+// corner's value is its input corner's), the vertex map and the output faces, and values no corner
+// names matched by their binary32s. Empty when no array needs it.
+std::string exact_values_section(const PolygonMesh& mesh, const EncodeOptions& o, const FaceMap& map,
+                                 const OutputCorners& oc, std::span<const std::uint32_t> input_face,
+                                 const std::string& file) {
+  const bool uv = o.quantize_texcoord_bits == 0 && exact_needed(mesh.texcoords, mesh.texcoords64);
+  const bool normal = o.quantize_normal_bits == 0 && exact_needed(mesh.normals, mesh.normals64);
+  const bool vertex = o.quantize_color_bits == 0 && exact_needed(mesh.vertex_colors, mesh.vertex_colors64);
+  const bool face = o.quantize_color_bits == 0 && exact_needed(mesh.face_colors, mesh.face_colors64);
+  if (!uv && !normal && !vertex && !face) return {};
+  DecodeLimits all;
+  all.max_vertices = kMaxVertices;
+  all.max_faces = kMaxFaces;
+  all.max_texcoords = all.max_normals = kMaxVertices;
+  const PolygonMesh d = decode_polygons(file, all);
+  // Per output value its input value, through the corners; values no corner names by their binary32s.
+  const auto through_corners = [&](std::span<const float> values, std::span<const double> exact,
+                                   std::span<const std::uint32_t> corner_in,
+                                   std::span<const std::uint32_t> corner_out,
+                                   std::span<const float> out_values, std::size_t k) {
+    if (o.keep_order) return std::vector<double>(exact.begin(), exact.end());
+    const std::size_t n = values.size() / k;
+    if (out_values.size() != values.size() || corner_out.size() != oc.input.size())
+      internal("the decoded values have another size");
+    std::vector<std::uint32_t> from(n, kInvalid);
+    std::vector<bool> named(n);
+    for (std::size_t c = 0; c < corner_out.size(); ++c) {
+      const std::uint32_t t = corner_out[c], in = corner_in[oc.input[c]];
+      if (t == kInvalid) continue;
+      if (from[t] != kInvalid && from[t] != in) internal("an output value has two input values");
+      from[t] = in, named[in] = true;
+    }
+    std::vector<std::uint32_t> free_out, free_in;
+    for (std::uint32_t t = 0; t < n; ++t) {
+      if (from[t] == kInvalid) free_out.push_back(t);
+      if (!named[t]) free_in.push_back(t);
+    }
+    // By binary32s, then (input) by exact values, so equal binary32s get their exact values in one
+    // order whatever the input's numbering: the output's are alike but for their places.
+    const auto by_bits = [&](std::span<const float> v, std::span<const double> e) {
+      return [v, e, k](std::uint32_t a, std::uint32_t b) {
+        for (std::size_t i = 0; i < k; ++i) {
+          const auto x = std::bit_cast<std::uint32_t>(v[k * a + i]),
+                     y = std::bit_cast<std::uint32_t>(v[k * b + i]);
+          if (x != y) return x < y;
+        }
+        for (std::size_t i = 0; i < k && !e.empty(); ++i) {
+          const auto x = std::bit_cast<std::uint64_t>(e[k * a + i]),
+                     y = std::bit_cast<std::uint64_t>(e[k * b + i]);
+          if (x != y) return x < y;
+        }
+        return a < b;
+      };
+    };
+    std::sort(free_out.begin(), free_out.end(), by_bits(out_values, {}));
+    std::sort(free_in.begin(), free_in.end(), by_bits(values, exact));
+    if (free_out.size() != free_in.size()) internal("values no corner names differ in number");
+    for (std::size_t i = 0; i < free_out.size(); ++i) from[free_out[i]] = free_in[i];
+    std::vector<double> out(exact.size());
+    for (std::size_t t = 0; t < n; ++t) {
+      for (std::size_t i = 0; i < k; ++i)
+        if (std::bit_cast<std::uint32_t>(out_values[k * t + i]) !=
+            std::bit_cast<std::uint32_t>(values[k * from[t] + i]))
+          internal("an output value is not its input value's binary32");
+      std::copy_n(&exact[k * from[t]], k, &out[k * t]);
+    }
+    return out;
+  };
+  std::vector<double> uv64, normal64, vertex64, face64;
+  if (uv)
+    uv64 = through_corners(mesh.texcoords, mesh.texcoords64, mesh.corner_texcoords, d.corner_texcoords,
+                           d.texcoords, mesh.texcoord_components);
+  if (normal)
+    normal64 =
+        through_corners(mesh.normals, mesh.normals64, mesh.corner_normals, d.corner_normals, d.normals, 3);
+  const std::size_t kv = mesh.vertex_color_components, kf = mesh.face_color_components;
+  if (vertex) {
+    vertex64.resize(mesh.vertex_colors64.size());
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+      std::copy_n(&mesh.vertex_colors64[kv * v], kv, &vertex64[kv * (o.keep_order ? v : map.vertex[v])]);
+  }
+  if (face) {
+    face64.resize(mesh.face_colors64.size());
+    for (std::size_t g = 0; g < input_face.size(); ++g) {
+      const std::size_t f = input_face[g];
+      std::copy_n(&mesh.face_colors64[kf * f], kf, &face64[kf * (o.keep_order ? f : g)]);
+    }
+  }
+  const ExactArray arrays[] = {{d.texcoords, uv64, mesh.texcoord_components},
+                               {d.normals, normal64, 3},
+                               {d.vertex_colors, vertex64, kv},
+                               {d.face_colors, face64, kf}};
+  return encode_exact_values_section(arrays);
+}
+
 }  // namespace
 
 std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& options) {
@@ -274,15 +384,24 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     throw Error(ErrorCode::kUsage, "encode: exact positions are not 3 per vertex");
   // Lossless: the positions coded are the binary32 nearest the exact values (format-spec, "Exact
   // positions section"), which a reader's binary32 of the text may miss by an ulp.
-  if (!mesh.positions64.empty() && !options.quantize_bits) {
-    bool nearest = true;
-    for (std::size_t i = 0; i < mesh.positions64.size() && nearest; ++i)
-      nearest = std::bit_cast<std::uint32_t>(static_cast<float>(mesh.positions64[i])) ==
-                std::bit_cast<std::uint32_t>(mesh.positions[i]);
-    if (!nearest) {
+  if (!mesh.positions64.empty() && !options.quantize_bits && !nearest(mesh.positions, mesh.positions64)) {
+    PolygonMesh rounded = mesh;
+    round_to(rounded.positions, rounded.positions64);
+    return encode_polygons(rounded, options);
+  }
+  // So are texture coordinates, normals and colours with exact values (the exact values section).
+  for (const auto& [values, exact] :
+       {std::pair{&mesh.texcoords, &mesh.texcoords64}, std::pair{&mesh.normals, &mesh.normals64},
+        std::pair{&mesh.vertex_colors, &mesh.vertex_colors64},
+        std::pair{&mesh.face_colors, &mesh.face_colors64}}) {
+    if (!exact->empty() && exact->size() != values->size())
+      throw Error(ErrorCode::kUsage, "encode: exact attribute values are not one per value");
+    if (!exact->empty() && !nearest(*values, *exact)) {
       PolygonMesh rounded = mesh;
-      for (std::size_t i = 0; i < rounded.positions64.size(); ++i)
-        rounded.positions[i] = static_cast<float>(rounded.positions64[i]);
+      round_to(rounded.texcoords, rounded.texcoords64);
+      round_to(rounded.normals, rounded.normals64);
+      round_to(rounded.vertex_colors, rounded.vertex_colors64);
+      round_to(rounded.face_colors, rounded.face_colors64);
       return encode_polygons(rounded, options);
     }
   }
@@ -304,6 +423,8 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     std::string bytes = encode_faces(mesh, o, map);
     const bool exact = !mesh.positions64.empty() && o.quantize_bits == 0;
     const bool statements = o.keep_order && statements_needed(mesh);
+    const bool exact_values = !mesh.texcoords64.empty() || !mesh.normals64.empty() ||
+                              !mesh.vertex_colors64.empty() || !mesh.face_colors64.empty();
     if (!texcoords && !normals && !labels && mesh.tags.empty() && !exact && mesh.kept_lines.empty() &&
         !colors && !statements)
       return bytes;
@@ -344,6 +465,11 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     if (statements)
       bytes = container::with_section(bytes, container::kTagStatements,
                                       encode_statements_section(mesh, input_face), kFormatMinorStatements);
+    if (exact_values) {
+      const std::string section = exact_values_section(mesh, o, map, oc, input_face, bytes);
+      if (!section.empty())
+        bytes = container::with_section(bytes, container::kTagExactValues, section, kFormatMinorExactValues);
+    }
     return bytes;
   };
   // The levels that try every partition keep the smallest whole file: with texture coordinates the

@@ -207,6 +207,35 @@ std::vector<std::string> decode_kept_lines_section(std::string_view payload, std
 // `positions` and exact values `exact` (3 per vertex each, the decoder's output order before any order
 // section). Throws Error(kUsage) for an exact value that is not finite or does not round to its position.
 std::string encode_exact_section(std::span<const float> positions, std::span<const double> exact);
+// The exact positions section's block over any values with `axes` components (modes, widths, residuals:
+// qsp_format.md, "Exact positions section", with `axes` for 3). Throws Error(kUsage) as above.
+std::string encode_exact_values(std::span<const float> values, std::span<const double> exact,
+                                std::size_t axes);
+// Inverse of encode_exact_values over the decoded `values`; `section` and `element` name them in messages.
+// Throws Error(kFormat) naming the element, axis and byte offset. Safe on untrusted input.
+std::vector<double> decode_exact_values(std::string_view payload, std::uint64_t base_offset,
+                                        std::span<const float> values, std::size_t axes,
+                                        std::string_view section, std::string_view element);
+// Whether `exact` says more than `values`: some exact value is neither its binary32 nor the value of that
+// binary32's shortest text (what a writer of the binary32 prints: "0.1" needs no exact value).
+bool exact_needed(std::span<const float> values, std::span<const double> exact);
+// The arrays of the exact values section (format 3.13), kind k at bit k: texture coordinates, normals,
+// vertex colours, face colours, each as the decoded mesh returns it (after any order section); `exact`
+// empty where the kind has none.
+struct ExactArray {
+  std::span<const float> values;
+  std::span<const double> exact;
+  std::size_t axes = 0;
+  const char* name = "";     // "texture coordinates", in messages
+  const char* element = "";  // "texture coordinate", in messages
+};
+std::string encode_exact_values_section(std::span<const ExactArray> arrays);
+// Its inverse over the decoded arrays (their `exact` unused): per kind its exact values, empty where the
+// section has none. Throws Error(kFormat) for a reserved kind bit, a kind whose array is empty, a block
+// that is not its array's, bytes after the last. Safe on untrusted input.
+std::vector<std::vector<double>> decode_exact_values_section(std::string_view payload,
+                                                             std::uint64_t base_offset,
+                                                             std::span<const ExactArray> arrays);
 // Inverse of encode_exact_section over the decoded `positions`. Throws Error(kFormat) naming what and the
 // byte offset. Safe on untrusted input: the payload's size is checked against the vertex count and the
 // widths before anything is allocated; time and memory linear in the vertices.

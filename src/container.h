@@ -33,6 +33,8 @@ inline constexpr std::uint8_t kTagExact = 0x0a;   // exact positions, from 3.6
 inline constexpr std::uint8_t kTagColors = 0x0b;  // vertex and face colours, from 3.8
 // Format 3.12: the geometry section codes the polygons section's interior positions.
 inline constexpr std::uint8_t kTagInterior = 0x0c;
+// Format 3.13: texture coordinates, normals and colours binary32 does not hold.
+inline constexpr std::uint8_t kTagExactValues = 0x0d;
 inline constexpr std::uint8_t kOptionalBit = 0x80;
 inline constexpr std::uint8_t kTagComments = 0x81;    // optional, from 3.1
 inline constexpr std::uint8_t kTagKeptLines = 0x82;   // optional, from 3.7
@@ -61,6 +63,7 @@ inline constexpr SectionKind kSections[] = {
     {kTagExact, kFormatMinorExact, "exact positions"},
     {kTagColors, kFormatMinorColors, "colours"},
     {kTagInterior, kFormatMinorInterior, "interior positions"},
+    {kTagExactValues, kFormatMinorExactValues, "exact values"},
     {kTagComments, kFormatMinorPolygons, "comments"},
     {kTagKeptLines, kFormatMinorKeptLines, "kept lines"},
     {kTagStatements, kFormatMinorStatements, "statement order"},

@@ -62,6 +62,10 @@ PolygonMesh permute(const PolygonMesh& mesh, const PolygonRenumbering& r) {
                                        std::to_string(r.first.size()) + " first corners for a mesh of " +
                                        std::to_string(nv) + " vertices and " + std::to_string(nf) + " faces");
   if ((!mesh.positions64.empty() && mesh.positions64.size() != 3 * nv) ||
+      (!mesh.texcoords64.empty() && mesh.texcoords64.size() != mesh.texcoords.size()) ||
+      (!mesh.normals64.empty() && mesh.normals64.size() != mesh.normals.size()) ||
+      (!mesh.vertex_colors64.empty() && mesh.vertex_colors64.size() != mesh.vertex_colors.size()) ||
+      (!mesh.face_colors64.empty() && mesh.face_colors64.size() != mesh.face_colors.size()) ||
       mesh.vertex_colors.size() != mesh.vertex_color_components * nv ||
       mesh.face_colors.size() != mesh.face_color_components * nf ||
       (!mesh.corner_texcoords.empty() && mesh.corner_texcoords.size() != mesh.corners.size()) ||
@@ -82,6 +86,8 @@ PolygonMesh permute(const PolygonMesh& mesh, const PolygonRenumbering& r) {
   per_vertex(mesh.positions64, mesh.positions64.empty() ? 0 : 3, out.positions64);
   out.vertex_color_components = mesh.vertex_color_components;
   per_vertex(mesh.vertex_colors, mesh.vertex_color_components, out.vertex_colors);
+  per_vertex(mesh.vertex_colors64, mesh.vertex_colors64.empty() ? 0 : mesh.vertex_color_components,
+             out.vertex_colors64);
   const bool texcoords = !mesh.corner_texcoords.empty(), normals = !mesh.corner_normals.empty();
   out.corners.reserve(mesh.corners.size());
   out.face_offsets.reserve(nf + 1);
@@ -105,12 +111,18 @@ PolygonMesh permute(const PolygonMesh& mesh, const PolygonRenumbering& r) {
   }
   out.texcoord_components = mesh.texcoord_components;
   out.texcoords = mesh.texcoords;
+  out.texcoords64 = mesh.texcoords64;
   out.normals = mesh.normals;
+  out.normals64 = mesh.normals64;
   const std::size_t kf = mesh.face_color_components;
   out.face_color_components = mesh.face_color_components;
   out.face_colors.resize(mesh.face_colors.size());
-  for (std::size_t f = 0; f < nf && kf; ++f)
+  out.face_colors64.resize(mesh.face_colors64.size());
+  for (std::size_t f = 0; f < nf && kf; ++f) {
     std::copy_n(&mesh.face_colors[kf * r.face_from[f]], kf, &out.face_colors[kf * f]);
+    if (!mesh.face_colors64.empty())
+      std::copy_n(&mesh.face_colors64[kf * r.face_from[f]], kf, &out.face_colors64[kf * f]);
+  }
   for (auto [from, into] :
        {std::pair{&mesh.objects, &out.objects}, std::pair{&mesh.groups, &out.groups},
         std::pair{&mesh.materials, &out.materials}, std::pair{&mesh.smoothing, &out.smoothing}}) {

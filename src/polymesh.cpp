@@ -427,6 +427,7 @@ PolygonMesh to_polygon_mesh(Mesh m, unsigned categories) {
   }
   if (categories & kCategorySmoothing) out.smoothing = std::move(m.smoothing);
   if ((categories & kCategoryNormal) && !m.normals.empty()) {
+    if (m.normals.precision != Precision::kFloat32) out.normals64 = std::move(m.normals.f64);
     out.normals = std::move(m.normals.f32);
     out.corner_normals = std::move(m.corner_normals);
     if (out.corner_normals.empty()) out.corner_normals.assign(out.corners.size(), kInvalid);
@@ -443,14 +444,18 @@ PolygonMesh to_polygon_mesh(Mesh m, unsigned categories) {
   }
   if ((categories & kCategoryUv) && !m.texcoords.empty()) {
     out.texcoord_components = m.texcoord_components;
+    if (m.texcoords.precision != Precision::kFloat32) out.texcoords64 = std::move(m.texcoords.f64);
     out.texcoords = std::move(m.texcoords.f32);
     out.corner_texcoords = std::move(m.corner_texcoords);
     if (out.corner_texcoords.empty()) out.corner_texcoords.assign(out.corners.size(), kInvalid);
   }
   if (categories & kCategoryColor) {
     out.vertex_color_components = m.vertex_color_components;
+    if (m.vertex_colors.precision != Precision::kFloat32)
+      out.vertex_colors64 = std::move(m.vertex_colors.f64);
     out.vertex_colors = std::move(m.vertex_colors.f32);
     out.face_color_components = m.face_color_components;
+    if (m.face_colors.precision != Precision::kFloat32) out.face_colors64 = std::move(m.face_colors.f64);
     out.face_colors = std::move(m.face_colors.f32);
   }
   // The statement order of what is kept: comments are not (the leading block goes first).
@@ -470,6 +475,15 @@ PolygonMesh to_polygon_mesh(Mesh m, unsigned categories) {
   return out;
 }
 
+namespace {
+
+// The values as Numbers: the exact ones where there are (beside their float32s), else the float32s.
+Numbers exact_numbers(std::vector<float> f32, const std::vector<double>& f64) {
+  return f64.empty() ? numbers_from_float32(std::move(f32)) : numbers_from_float64(f64);
+}
+
+}  // namespace
+
 Mesh from_polygon_mesh(PolygonMesh m) {
   Mesh out;
   out.positions = m.positions64.empty() ? numbers_from_float32(std::move(m.positions))
@@ -480,17 +494,17 @@ Mesh from_polygon_mesh(PolygonMesh m) {
   out.corner_vertices = std::move(m.corners);
   if (m.texcoord_components) {
     out.texcoord_components = m.texcoord_components;
-    out.texcoords = numbers_from_float32(std::move(m.texcoords));
+    out.texcoords = exact_numbers(std::move(m.texcoords), m.texcoords64);
     out.corner_texcoords = std::move(m.corner_texcoords);
   }
   if (!m.normals.empty() || !m.corner_normals.empty()) {
-    out.normals = numbers_from_float32(std::move(m.normals));
+    out.normals = exact_numbers(std::move(m.normals), m.normals64);
     out.corner_normals = std::move(m.corner_normals);
   }
   out.vertex_color_components = m.vertex_color_components;
-  out.vertex_colors = numbers_from_float32(std::move(m.vertex_colors));
+  out.vertex_colors = exact_numbers(std::move(m.vertex_colors), m.vertex_colors64);
   out.face_color_components = m.face_color_components;
-  out.face_colors = numbers_from_float32(std::move(m.face_colors));
+  out.face_colors = exact_numbers(std::move(m.face_colors), m.face_colors64);
   out.objects = std::move(m.objects);
   out.groups = std::move(m.groups);
   out.materials = std::move(m.materials);

@@ -1,8 +1,9 @@
 // Colours end to end (compress, decompress): OBJ `v x y z r g b [a]`, OFF vertex and face colours and PLY
 // colour properties come back value for value, read back by this test's own parsers (not qsp's readers):
 // each vertex's colour found by its position, each face's by its corners' positions; PLY colours stay
-// uchar. Colour text float32 does not hold is refused unless --float32 or --drop color, naming the
-// value; a format that cannot hold what the file has (face colours in OBJ) is refused with no output.
+// uchar. Colour text float32 does not hold is kept as float64 (float64's refused unless --float32 or
+// --drop color, naming the value); a format that cannot hold what the file has (face colours in OBJ) is
+// refused with no output.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -274,15 +275,25 @@ TEST_F(ColorsCli, PlyColoursStayBytesThroughBinaryPly) {
   EXPECT_NE(slurp(p("back.ply")).find("format binary_little_endian 1.0"), std::string::npos);
 }
 
-TEST_F(ColorsCli, ColourTextFloat32DoesNotHoldIsRefusedUnlessRoundedOrDropped) {
+TEST_F(ColorsCli, ColourTextFloat32DoesNotHoldIsKeptUnlessRoundedOrDropped) {
   const std::string text =
       "v 0 0 0 0.1234567891 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 1 1 1\nf 1 2 3 4\n";
   spit(p("in.obj"), text);
   auto r = run_qsp("compress -f " + quote(p("in.obj")) + " " + quote(p("x.qsp")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_qsp("decompress -f " + quote(p("x.qsp")) + " -o " + quote(p("back.obj")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(slurp(p("back.obj")).find(" 0.1234567891 0 0\n"), std::string::npos) << slurp(p("back.obj"));
+  // More digits than float64 holds: refused unless rounded, naming the value.
+  spit(p("wide.obj"),
+       "v 0 0 0 0.12345678901234567890123 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 1 1 1\n"
+       "f 1 2 3 4\n");
+  r = run_qsp("compress -f " + quote(p("wide.obj")) + " " + quote(p("w.qsp")));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("vertex colour 0 (OBJ `v` 1) has 0.1234567891"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("vertex colour 0 (OBJ `v` 1) has 1.2345678901234567890123e-1"), std::string::npos)
+      << r.err;
   EXPECT_NE(r.err.find("--drop color"), std::string::npos) << r.err;
-  EXPECT_FALSE(fs::exists(p("x.qsp")));
+  EXPECT_FALSE(fs::exists(p("w.qsp")));
   r = run_qsp("compress -f --float32 " + quote(p("in.obj")) + " " + quote(p("x.qsp")));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("rounded 1 colour values to float32"), std::string::npos) << r.err;

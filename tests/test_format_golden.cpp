@@ -9,14 +9,17 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "bytes.h"
@@ -260,7 +263,7 @@ TEST(Golden, BytesArePinned) {
   auto names = golden_names();
   ASSERT_GE(names.size(), 5u);
   int polygons = 0, comments = 0, texcoords = 0, labels = 0, tags = 0, normals = 0, exact = 0, kept = 0,
-      colors = 0, statements = 0;
+      colors = 0, statements = 0, exact_values = 0;
   for (const auto& name : names) {
     SCOPED_TRACE(name);
     const std::string obj = kGolden + "/" + name + ".obj";
@@ -274,6 +277,33 @@ TEST(Golden, BytesArePinned) {
                                                                  : std::vector<std::string>{});
     comments += !lines.empty();
     PolygonMesh poly = read_polygons(obj);
+    if (!poly.texcoords64.empty() || !poly.normals64.empty() || !poly.vertex_colors64.empty()) {
+      // Exact values: a 3.13 file, decoded to the .obj's faces with each texture coordinate, normal and
+      // vertex colour's binary64 value (found by its binary32s), array for array with the order kept.
+      ++exact_values;
+      EXPECT_EQ(slurp(path)[9], testing::minor_of_file_with(slurp(path), 13))
+          << "a file with exact values says format 3.13";
+      const PolygonMesh back = decode_polygons(slurp(path));
+      expect_same_polygons(poly, back);
+      const auto pairs = [](const std::vector<float>& f, const std::vector<double>& d) {
+        std::multiset<std::pair<std::uint32_t, std::uint64_t>> out;
+        for (std::size_t i = 0; i < d.size(); ++i)
+          out.emplace(std::bit_cast<std::uint32_t>(f[i]), std::bit_cast<std::uint64_t>(d[i]));
+        return out;
+      };
+      for (const auto& [f, d, bf, bd] :
+           {std::tuple{&poly.texcoords, &poly.texcoords64, &back.texcoords, &back.texcoords64},
+            std::tuple{&poly.normals, &poly.normals64, &back.normals, &back.normals64},
+            std::tuple{&poly.vertex_colors, &poly.vertex_colors64, &back.vertex_colors,
+                       &back.vertex_colors64}}) {
+        ASSERT_EQ(bd->size(), d->size());
+        EXPECT_EQ(pairs(*bf, *bd), pairs(*f, *d));
+        if (options_for(name).keep_order) {
+          EXPECT_EQ(std::memcmp(bd->data(), d->data(), 8 * d->size()), 0);
+        }
+      }
+      continue;
+    }
     if (!poly.statements.empty()) {
       // The statement order: a 3.11 file, whose decoded mesh written as OBJ has the .obj's statements in
       // its order (its non-comment lines, the numbers as they were written: integers and short decimals).
@@ -481,6 +511,7 @@ TEST(Golden, BytesArePinned) {
   EXPECT_GE(tags, 3);
   EXPECT_GE(normals, 2);
   EXPECT_GE(exact, 2);
+  EXPECT_GE(exact_values, 2);
   EXPECT_GE(kept, 1);
   EXPECT_GE(statements, 1);
   EXPECT_GE(colors, 3);
@@ -684,17 +715,18 @@ std::map<std::string, Crafted> crafted() {
     // A required section of a newer minor version: "upgrade qsp". The same tag in a file of this
     // version cannot come from a correct encoder.
     const std::string sections =
-        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(13, "x");
+        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(14, "x");
     Parts newer_minor = p;
     newer_minor.minor = kFormatMinor + 1;
     out["qsp_unknown_required_section_newer_minor"] = {
         seal(newer_minor, sections), "version",
-        "section 0x0d is required but unknown to this qsp, which reads format 3." +
+        "section 0x0e is required but unknown to this qsp, which reads format 3." +
             std::to_string(kFormatMinor) + " (upgrade qsp)"};
     out["qsp_unknown_required_section"] = {seal(p, sections), "format",
-                                           "section 0x0d is required but unknown to this qsp"};
+                                           "section 0x0e is required but unknown to this qsp"};
     // A section of a later minor version in a file that says it is the one before: 3.3's face labels,
-    // 3.4's subdivision tags, 3.5's normals, 3.6's exact positions, 3.8's colours, 3.12's interior positions.
+    // 3.4's subdivision tags, 3.5's normals, 3.6's exact positions, 3.8's colours, 3.12's interior
+    // positions, 3.13's exact values.
     struct Later {
       const char* name;
       std::uint8_t tag, minor;
@@ -712,7 +744,9 @@ std::map<std::string, Crafted> crafted() {
           Later{"qsp_colors_section_in_3_7", 11, 7,
                 "section 0x0b (colours) is format 3.8's, and the file says it is 3.7"},
           Later{"qsp_interior_section_in_3_11", 12, 11,
-                "section 0x0c (interior positions) is format 3.12's, and the file says it is 3.11"}}) {
+                "section 0x0c (interior positions) is format 3.12's, and the file says it is 3.11"},
+          Later{"qsp_exact_values_section_in_3_12", 13, 12,
+                "section 0x0d (exact values) is format 3.13's, and the file says it is 3.12"}}) {
       Parts earlier = p;
       earlier.minor = l.minor;
       out[l.name] = {seal(earlier, section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) +

@@ -1045,7 +1045,8 @@ TEST(MeshModel, QuadMeshBridgeAndChecks) {
 
 // The codec's PolygonMesh and back: every mesh of testdata/ (golden/'s subfolders of textured, labelled,
 // tagged and normal files included) that carries what the codec keeps gives back its positions, faces,
-// texture coordinates, normals, labels, material libraries and tags, numbers bit for bit.
+// texture coordinates, normals, colours, labels, material libraries and tags, numbers bit for bit (their
+// float64s too).
 TEST(MeshModel, PolygonMeshBridgeGivesBackTheArrays) {
   constexpr unsigned kKept = qsp::kPolygonMeshCategories;
   int checked = 0;
@@ -1055,12 +1056,12 @@ TEST(MeshModel, PolygonMeshBridgeGivesBackTheArrays) {
     SCOPED_TRACE(p.string());
     qsp::Mesh m = qsp::read_mesh(p.string());
     if (!qsp::extras(m, kKept).any()) continue;
-    // What to_polygon_mesh keeps, in the canonical order; these files' numbers are all float32.
+    // What to_polygon_mesh keeps, in the canonical order; these files' numbers are float32 or float64
+    // (golden/exact: positions, texture coordinates, normals and colours float32 does not hold).
     qsp::drop(m, qsp::kCategoryAll & ~kKept);
     m.statements.clear();
-    ASSERT_EQ(m.positions.precision, qsp::Precision::kFloat32);
-    ASSERT_EQ(m.texcoords.precision, qsp::Precision::kFloat32);
-    ASSERT_EQ(m.normals.precision, qsp::Precision::kFloat32);
+    for (const qsp::Numbers* n : {&m.positions, &m.texcoords, &m.normals, &m.vertex_colors, &m.face_colors})
+      ASSERT_NE(n->precision, qsp::Precision::kDecimal);
     const qsp::Mesh back = qsp::from_polygon_mesh(qsp::to_polygon_mesh(m, kKept));
     expect_same_mesh(m, back);
     ++checked;

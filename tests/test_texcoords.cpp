@@ -128,28 +128,32 @@ TEST(Texcoords, QuantizedValuesAreWithinHalfAStepWhateverTheOutliers) {
   EXPECT_EQ(outs[1].texcoords, outs[0].texcoords);
 }
 
-// A texture coordinate with more digits than float32 holds is refused, naming the first and its value,
-// and nothing is written; --float32 rounds it and says so, --drop uv drops it.
-TEST(Texcoords, ValuesFloat32DoesNotHoldAreRefusedUntilRounded) {
+// A texture coordinate with more digits than float32 holds is kept exactly (format 3.13's exact values
+// section) and written back as its text; --float32 rounds it and says so, --quantize-uv rounds it on its
+// grid, --drop uv drops it.
+TEST(Texcoords, ValuesFloat32DoesNotHoldAreKeptUnlessRounded) {
   testing::TempDir dir;
   testing::spit(dir.p("in.obj"),
                 "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0.1234567891\nvt 1 1\nvt 0 1\n"
                 "f 1/1 2/2 3/3 4/4\n");
   const std::string in = testing::quote(dir.p("in.obj")), out = testing::quote(dir.p("in.qsp"));
   auto r = testing::run_qsp("compress " + in + " " + out);
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(
-      r.err.find("1 texture coordinate values have more digits than float32 holds (the first: texture "
-                 "coordinate 1 (OBJ `vt` 2) has 0.1234567891); a .qsp keeps float32 texture coordinates: "
-                 "pass --float32 to round them, or --drop uv"),
-      std::string::npos)
-      << r.err;
-  EXPECT_FALSE(std::filesystem::exists(dir.p("in.qsp")));
-  r = testing::run_qsp("compress --float32 " + in + " " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_EQ(testing::slurp(dir.p("in.qsp"))[9], kFormatMinorExactValues);
+  r = testing::run_qsp("decompress -f " + out + " -o " + testing::quote(dir.p("back.obj")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(testing::slurp(dir.p("back.obj")).find("\nvt 1 0.1234567891\n"), std::string::npos)
+      << testing::slurp(dir.p("back.obj"));
+  r = testing::run_qsp("compress -f --quantize-uv 12 " + in + " " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(decode_polygons(testing::slurp(dir.p("in.qsp"))).texcoords64.empty());
+  r = testing::run_qsp("compress -f --float32 " + in + " " + out);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("rounded 1 texture coordinate values to float32 (--float32)"), std::string::npos)
       << r.err;
   EXPECT_EQ(decode_polygons(testing::slurp(dir.p("in.qsp"))).texcoords.size(), 8u);
+  EXPECT_TRUE(decode_polygons(testing::slurp(dir.p("in.qsp"))).texcoords64.empty());
   r = testing::run_qsp("compress -f --drop uv " + in + " " + out);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(decode_polygons(testing::slurp(dir.p("in.qsp"))).texcoord_components, 0);

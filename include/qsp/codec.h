@@ -17,7 +17,8 @@
 
 namespace qsp {
 
-// The format version this library writes: the lowest whose sections the file holds. 3.12 for a polygon
+// The format version this library writes: the lowest whose sections the file holds. 3.13 for texture
+// coordinates, normals or colours binary32 does not hold, 3.12 for a polygon
 // mesh with interior vertices, 3.11 for a kept statement order, 3.10 for normals
 // predicted from the faces or octahedral, 3.9 for front-coded label names, 3.7 for a mesh with
 // kept lines (PolygonMesh::kept_lines), 3.6 for a lossless
@@ -29,7 +30,9 @@ namespace qsp {
 // refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
 // (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 12;
+inline constexpr std::uint8_t kFormatMinor = 13;
+// Texture coordinates, normals and colours binary32 does not hold (the exact values section).
+inline constexpr std::uint8_t kFormatMinorExactValues = 13;
 // A polygon mesh's interior positions coded by the geometry section (the interior positions section).
 inline constexpr std::uint8_t kFormatMinorInterior = 12;
 inline constexpr std::uint8_t kFormatMinorStatements = 11;  // the statement order section (optional)

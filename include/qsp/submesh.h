@@ -97,6 +97,11 @@ struct PolygonMesh {
   std::vector<float> vertex_colors;          // vertex_color_components per vertex
   std::uint8_t face_color_components = 0;    // 0 (none), 1, 3 or 4
   std::vector<float> face_colors;            // face_color_components per face
+  // The exact values of the four arrays above, where binary32 does not hold some value (a text of more
+  // digits, binary64 PLY data): empty, or one double per float of the array beside it, whose binary32
+  // value it must round to. A lossless encode keeps them (the exact values section, format 3.13); one
+  // that quantizes an array codes its floats.
+  std::vector<double> texcoords64, normals64, vertex_colors64, face_colors64;
   // Face labels (OBJ o, g, usemtl, s) and the material libraries (`mtllib` arguments); empty when none.
   FaceLabels objects, groups, materials, smoothing;
   std::vector<std::string> material_libraries;

@@ -221,7 +221,8 @@ inline std::vector<std::string> tags_by_position(const PolygonMesh& m) {
 }
 
 // The same mesh with vertices, faces, texture coordinates, normals and label names renumbered and corner
-// lists rotated (positions, exact positions, colours, texture coordinates, normals, labels and tags follow).
+// lists rotated (positions, exact positions, colours, texture coordinates, normals, their exact values,
+// labels and tags follow).
 inline PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
   std::mt19937 rng(seed);
   const std::size_t nv = m.vertex_count(), nf = m.face_count(), K = m.texcoord_components;
@@ -239,6 +240,9 @@ inline PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
   PolygonMesh out;
   out.normals.resize(m.normals.size());
   for (std::size_t i = 0; i < nn.size(); ++i) std::copy_n(&m.normals[3 * i], 3, &out.normals[3 * nn[i]]);
+  out.normals64.resize(m.normals64.size());
+  for (std::size_t i = 0; i < m.normals64.size() / 3; ++i)
+    std::copy_n(&m.normals64[3 * i], 3, &out.normals64[3 * nn[i]]);
   out.positions.resize(m.positions.size());
   for (std::size_t i = 0; i < nv; ++i)
     std::copy_n(&m.positions[3 * i], 3, &out.positions[3 * std::size_t{v[i]}]);
@@ -250,13 +254,22 @@ inline PolygonMesh renumbered(const PolygonMesh& m, std::uint32_t seed) {
   out.vertex_colors.resize(m.vertex_colors.size());
   for (std::size_t i = 0; i < nv && kv; ++i)
     std::copy_n(&m.vertex_colors[kv * i], kv, &out.vertex_colors[kv * v[i]]);
+  out.vertex_colors64.resize(m.vertex_colors64.size());
+  for (std::size_t i = 0; i < nv && kv && !m.vertex_colors64.empty(); ++i)
+    std::copy_n(&m.vertex_colors64[kv * i], kv, &out.vertex_colors64[kv * v[i]]);
   out.face_color_components = m.face_color_components;
   out.face_colors.resize(m.face_colors.size());
   for (std::size_t g = 0; g < nf && kf; ++g)
     std::copy_n(&m.face_colors[kf * f[g]], kf, &out.face_colors[kf * g]);
+  out.face_colors64.resize(m.face_colors64.size());
+  for (std::size_t g = 0; g < nf && kf && !m.face_colors64.empty(); ++g)
+    std::copy_n(&m.face_colors64[kf * f[g]], kf, &out.face_colors64[kf * g]);
   out.texcoord_components = m.texcoord_components;
   out.texcoords.resize(m.texcoords.size());
   for (std::size_t i = 0; i < nt; ++i) std::copy_n(&m.texcoords[K * i], K, &out.texcoords[K * t[i]]);
+  out.texcoords64.resize(m.texcoords64.size());
+  for (std::size_t i = 0; i < nt && !m.texcoords64.empty(); ++i)
+    std::copy_n(&m.texcoords64[K * i], K, &out.texcoords64[K * t[i]]);
   out.face_offsets.assign(1, 0);
   for (std::size_t g = 0; g < nf; ++g) {
     const std::uint32_t from = f[g], b = m.face_offsets[from], d = m.degree(from);

@@ -125,7 +125,9 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
   const std::string dropped = refuse_extra_data(in, refusable, ".qsp", o.drop, quiet, kPolygonMeshCategories);
   check_kept_values(
       in, input, mesh,
-      {".qsp", "decompress writes them back before the vertices", o.float32, o.quantize != 0, quiet});
+      {".qsp", "decompress writes them back before the vertices", o.float32, o.quantize != 0, quiet,
+       (o.quantize_uv ? kCategoryUv : 0u) | (o.quantize_normal ? kCategoryNormal : 0u) |
+           (o.quantize_color ? kCategoryColor : 0u)});
   if (mesh.face_count() == 0 && !quiet)
     std::fprintf(stderr, "qsp: warning: %s: has no faces (%zu vertices); writing an empty mesh\n", in.c_str(),
                  mesh.vertex_count());

@@ -359,6 +359,16 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
                                     unsigned category) {
     if (n.precision == Precision::kFloat32) return;
     std::size_t next_decimal = 0;
+    if (!n.decimals.empty() && in.values_beyond_float64 == 0) {
+      const DecimalNumber& d = n.decimals.front();
+      const std::size_t t = d.index / per;
+      in.first_value_beyond_float64 =
+          std::string(what) + " " + std::to_string(t) +
+          (keyword ? " (OBJ `" + std::string(keyword) + "` " + std::to_string(t + 1) + ")" : std::string()) +
+          " has " + (d.negative ? "-" : "") + d.digits.substr(0, 1) + "." + d.digits.substr(1) + "e" +
+          std::to_string(d.exponent + static_cast<std::int32_t>(d.digits.size()) - 1);
+    }
+    in.values_beyond_float64 += n.decimals.size();
     for (std::size_t i = 0; i < n.size(); ++i) {
       if (held(n, i, next_decimal)) continue;
       in.rounded_categories |= category;
@@ -605,20 +615,26 @@ void check_kept_values(const std::string& path, const PolygonInput& input, Polyg
                     (rules.what == ".qsp" ? ", or --quantize BITS" : ""));
   if (lossless && rules.float32)
     refuse_rounding(in, report, rules.what == ".qsp" ? "a lossless .qsp" : rules.what, true, rules.quiet, "");
-  // Texture coordinates, normals and colours, named by the first that float32 does not hold.
-  const std::string& first = input.first_rounded_texcoord;
+  // Texture coordinates, normals and colours float32 does not hold (the first named) are kept as
+  // float64, as positions are, unless rounded: --float32, or their own --quantize-* (which rounds them
+  // anyway); of more digits than float64 holds they are refused unless rounded.
   const unsigned kinds = input.rounded_categories;
   const std::string what = kinds == kCategoryNormal  ? "normal"
                            : kinds == kCategoryColor ? "colour"
                            : kinds == kCategoryUv    ? "texture coordinate"
                                                      : "texture coordinate, normal and colour";
-  if (input.rounded_texcoords && !rules.float32)
-    throw Error(ErrorCode::kUnsupported,
-                in + ": " + std::to_string(input.rounded_texcoords) + " " + what +
-                    " values have more digits than float32 holds (the first: " + first + "); " +
-                    (rules.what == ".qsp" ? "a .qsp" : rules.what) + " keeps float32 " + what +
-                    "s: pass --float32 to round them, or --drop " + category_list(kinds));
-  if (input.rounded_texcoords && !rules.quiet)
+  const unsigned rounded = rules.float32 ? kinds : kinds & rules.quantized_values;
+  if (rounded & kCategoryUv) mesh.texcoords64.clear();
+  if (rounded & kCategoryNormal) mesh.normals64.clear();
+  if (rounded & kCategoryColor) mesh.vertex_colors64.clear(), mesh.face_colors64.clear();
+  if (input.values_beyond_float64 && (kinds & ~rounded))
+    throw Error(
+        ErrorCode::kUnsupported,
+        in + ": " + std::to_string(input.values_beyond_float64) + " " + what +
+            " values have more digits than float64 holds (the first: " + input.first_value_beyond_float64 +
+            "); " + (rules.what == ".qsp" ? "a lossless .qsp" : rules.what) + " keeps float64 " + what +
+            "s: pass --float32 to round them, or --drop " + category_list(kinds));
+  if (input.rounded_texcoords && rules.float32 && !rules.quiet)
     std::fprintf(stderr, "qsp: %s: rounded %llu %s values to float32 (--float32)\n", in.c_str(),
                  static_cast<unsigned long long>(input.rounded_texcoords), what.c_str());
 }

@@ -154,10 +154,12 @@ struct PolygonInput {
       polygons;  // neither: float32 positions, faces and corners as read (texture coordinates if kept)
   std::uint64_t rounded_texcoords =
       0;  // kept texture coordinate, normal and colour values float32 does not hold
-  std::string first_rounded_texcoord;  // which is the first of them and its value, for messages
-  unsigned rounded_categories = 0;     // the categories (kCategoryUv, ...) of those values
-  std::uint64_t beyond_float64 = 0;    // coordinates of more digits than float64 holds (decimal text)
-  std::string first_beyond_float64;    // which is the first of them and its value, for messages
+  std::string first_rounded_texcoord;       // which is the first of them and its value, for messages
+  unsigned rounded_categories = 0;          // the categories (kCategoryUv, ...) of those values
+  std::uint64_t values_beyond_float64 = 0;  // of those, values of more digits than float64 holds
+  std::string first_value_beyond_float64;   // which is the first of them and its value, for messages
+  std::uint64_t beyond_float64 = 0;         // coordinates of more digits than float64 holds (decimal text)
+  std::string first_beyond_float64;         // which is the first of them and its value, for messages
   // The reader's report. A polygon mesh file's says what the quad reader's would (its data besides
   // positions and faces by kind, face lines, leading comments, coordinates float32 does not hold); a
   // decoded .qsp's has the lines of its comments section.
@@ -240,14 +242,16 @@ struct KeptRules {
   bool float32 = false;    // --float32: round what float32 does not hold instead of refusing
   bool quantized = false;  // --quantize: positions are rounded anyway
   bool quiet = false;
+  unsigned quantized_values = 0;  // kCategoryUv, kCategoryNormal, kCategoryColor quantized (rounded anyway)
 };
 // Checks `mesh`, read from `path` by read_polygon_input (`input`: its report and counts), as `rules`
 // keep it: text with no vertex but lines kept as text is not a mesh (kParse); a kept line that would read
 // as a statement is refused (--drop extra), else noted on stderr; coordinates of more digits than float64
 // holds are refused unless rounded (--float32 or quantized: then `mesh.positions64` is cleared, the
-// rounding noted); texture coordinates, normals and colours float32 does not hold are refused unless
-// --float32 (then noted), naming the first and the --drop that drops them. A lossless file must not change
-// a mesh without a word.
+// rounding noted); texture coordinates, normals and colours float32 does not hold are kept as float64
+// (format 3.13's exact values section) unless rounded (--float32, noted, or their quantization: then the
+// mesh's texcoords64 and the like are cleared), and refused where float64 does not hold them either,
+// naming the first and the --drop that drops them. A lossless file must not change a mesh without a word.
 void check_kept_values(const std::string& path, const PolygonInput& input, PolygonMesh& mesh,
                        const KeptRules& rules);
 
