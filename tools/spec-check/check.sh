@@ -455,6 +455,65 @@ if ((reads36)); then  # texts whose binary32 must come from their binary64 (--pu
   exa_of[$work/tricky.qsp]=$work/tricky.obj
   files+=("$work/tricky.qsp")
 fi
+# Exact values (format 3.13's section, from the text too: qspvalues.py, valuesgen.py): texture
+# coordinates, normals and vertex and face colours binary32 does not hold. Every golden file under
+# testdata/golden that has the section, and fresh encodes of valuesgen.py --make's meshes (2-, 3- and
+# 1-component texture coordinates and normals of 10 to 17 significant digits beside binary32 values,
+# short decimals and -0; OBJ vertex colours of 12 digits, rgb and rgba; triangles with all three; OFF
+# vertex and face colours; binary64 PLY colours; a mesh of short decimals that needs no section), with
+# and without --keep-order, are decoded whole by qsppoly.py and their values compared as binary64 with
+# their mesh's texts (index for index for a file whose name holds keep_order, else as multisets and
+# corner by corner; the section byte for byte with the text's encoder choices) and index for index with
+# what `qsp decompress` writes. Both decoders must read each golden file's section and three fresh ones
+# rewritten in other modes and widths to the same values, and refuse them broken each way the text
+# names (valuesgen.py --test: kinds 0, a reserved kind bit, a kind whose array the mesh does not have,
+# a block length past the section, a block not its array's size, bytes after the last block, a value
+# not rounding to its binary32, the section in a 3.12 file, ...).
+declare -A val_of=() val_only=()  # the files with exact values (or meant to test them), and their mesh
+reads313=0
+"$qsp" --version | grep -Eq 'reads 3\.0 to 3\.(1[3-9]|[2-9][0-9])' && reads313=1
+while read -r f; do
+  mesh=
+  for m in "${f%.qsp}.obj" "${f%.qsp}.off" "${f%.qsp}.ply"; do [[ -f $m ]] && mesh=$m; done
+  [[ -n $mesh ]] || { echo "spec decoder: no mesh beside $f" >&2; exit 1; }
+  val_of[$f]=$mesh
+done < <("$python" - "$here" "$root/testdata/golden" <<'PY'
+import os, sys
+sys.path.insert(0, sys.argv[1])
+import qspgeo as g
+for d, _, names in sorted(os.walk(sys.argv[2])):
+    for n in sorted(names):
+        if n.endswith('.qsp') and 0x0d in g.sections(open(os.path.join(d, n), 'rb').read()):
+            print(os.path.join(d, n))
+PY
+)
+values_tests=("${!val_of[@]}")  # valuesgen.py --test: every golden file with the section, three fresh
+if ((reads313)); then
+  mkdir -p "$work/values" "$work/values_test"
+  while IFS=$'\t' read -r name mesh opts; do
+    "$qsp" compress -f -q $opts "$mesh" "$work/values/$name.qsp" ||
+      { echo "spec decoder: qsp compress refuses valuesgen.py's $mesh ($opts)" >&2; exit 1; }
+    val_of[$work/values/$name.qsp]=$mesh
+    val_only[$work/values/$name.qsp]=1
+    case $name in values_triangles | values_off_3_keep_order | values_ply) values_tests+=("$work/values/$name.qsp") ;; esac
+  done < <("$python" "$here/valuesgen.py" --make "$work/values")
+  for f in "${values_tests[@]}"; do
+    "$python" "$here/valuesgen.py" --test "$f" "$qsp" "$work/values_test" ||
+      { echo "exact values sections from the text: the spec decoder or qsp decompress disagrees on $f" >&2; exit 1; }
+  done
+else
+  echo "spec decoder: qsp does not say it reads format 3.13: its exact values encodes are skipped"
+  ((${#val_of[@]} == 0)) || { echo "spec decoder: golden files with exact values, and qsp does not read 3.13" >&2; exit 1; }
+fi
+valued() {  # valued FILE MESH: binary64 texture coordinates, normals and colours against MESH's texts
+  local f=$1 out exact=() whole=() ext=obj  # and what `qsp decompress` writes
+  [[ $2 == *.off || $2 == *.ply ]] && ext=off
+  out="$work/$(basename "$f" .qsp)_values_$BASHPID.$ext"
+  [[ $(basename "$f") == *keep_order* ]] && exact=(--exact)
+  [[ $ext == obj ]] && whole=(--obj "$2" --tex-obj "$2" --normals-obj "$2" --decompressed "$out" --normals-decompressed "$out")
+  "$qsp" decompress -f "$f" -o "$out" >/dev/null &&
+    "$python" "$here/qsppoly.py" "$f" "${whole[@]}" --values-obj "$2" "${exact[@]}" --values-decompressed "$out"
+}
 exacted() {  # exacted FILE MESH: binary64 positions against MESH's text and what `qsp decompress` writes
   local f=$1 out exact=() obj=()
   out="$work/$(basename "$f" .qsp)_$BASHPID.obj"
@@ -504,6 +563,10 @@ normalled() {  # normalled FILE MESH: the whole mesh, normals included, against 
 }
 check() {  # check FILE: the text's decoder against the reference's dump (prints nothing on success)
   local f=$1 prefix
+  if [[ -n ${val_of[$f]:-} ]]; then
+    valued "$f" "${val_of[$f]}" || { echo "spec decoder's exact values disagree: $f" >&2; return 1; }
+    [[ -n ${val_only[$f]:-} ]] && return 0
+  fi
   if [[ -n ${exa_of[$f]:-} ]]; then
     exacted "$f" "${exa_of[$f]}" || { echo "spec decoder's exact positions disagree: $f" >&2; return 1; }
     return 0
@@ -560,8 +623,11 @@ PY
 )
 # Files are independent: as many at once as there are cores (the Python decoder is the long pole of
 # the release suite).
+declare -A queued=()  # golden files with exact values that no check above takes: their values alone
+for f in "${!nrm_of[@]}" "${!tag_of[@]}" "${!lab_of[@]}" "${!tex_of[@]}" "${files[@]}"; do queued[$f]=1; done
+for f in "${!val_of[@]}"; do [[ -n ${queued[$f]:-} ]] || val_only[$f]=1; done
 failed=0 running=0
-for f in "${!nrm_of[@]}" "${!tag_of[@]}" "${!lab_of[@]}" "${!tex_of[@]}" "${files[@]}"; do
+for f in "${!nrm_of[@]}" "${!tag_of[@]}" "${!lab_of[@]}" "${!tex_of[@]}" "${files[@]}" "${!val_only[@]}"; do
   if ((running >= $(nproc))); then
     wait -n || failed=1
     running=$((running - 1))
@@ -573,5 +639,5 @@ while ((running)); do
   wait -n || failed=1
   running=$((running - 1))
 done
-echo "spec decoder: $((${#files[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) of them decoded whole against their mesh, ${#interior[@]} polygon files with interior positions, ${#tex_of[@]} with texture coordinates, ${#lab_of[@]} with face labels, ${#tag_of[@]} with subdivision tags, ${#nrm_of[@]} with normals; $colors_checked golden files with colours"
+echo "spec decoder: $((${#files[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) of them decoded whole against their mesh, ${#interior[@]} polygon files with interior positions, ${#tex_of[@]} with texture coordinates, ${#lab_of[@]} with face labels, ${#tag_of[@]} with subdivision tags, ${#nrm_of[@]} with normals; $colors_checked golden files with colours; ${#val_of[@]} with exact values (${#values_tests[@]} of them broken each way the text names)"
 exit $failed

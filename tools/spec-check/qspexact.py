@@ -116,30 +116,39 @@ def decode_exact(payload, V, positions, quantized, minor):
     need(minor >= 6, 'section 0x0a (exact positions) is format 3.6\'s, and the file says it is 3.%d' % minor)
     need(not quantized, 'section 0x0a (exact positions) in a file whose geometry section is quantized')
     need(len(positions) == V, 'exact positions: %d positions for %d output vertices' % (len(positions), V))
-    need(len(payload) >= 6, 'exact positions: %d bytes, fewer than the 6 of the modes and widths' % len(payload))
-    modes, widths = payload[0:3], payload[3:6]
-    for a in range(3):
-        need(modes[a] in MODES, 'exact positions: axis %d mode %d (neither 0..22 nor 64)' % (a, modes[a]))
-        need(widths[a] <= MAX_WIDTH, 'exact positions: axis %d width %d (above 64)' % (a, widths[a]))
-    nbits = V * sum(widths)
-    need(len(payload) - 6 == (nbits + 7) // 8,
-         'exact positions: %d bytes of residuals, %d fields of %s bits need %d' % (
-             len(payload) - 6, V, '+'.join(map(str, widths)), (nbits + 7) // 8))
-    bits = int.from_bytes(payload[6:], 'little')   # bit i of the string: bit i % 8 of byte i // 8
-    need(bits >> nbits == 0, 'exact positions: a bit after the last residual is set')
-    out = [[None] * 3 for _ in range(V)]
-    at = 0
-    for a in range(3):
-        B, mask = widths[a], (1 << widths[a]) - 1
-        for v in range(V):
-            r = unzigzag((bits >> at) & mask)
-            at += B
-            x, why = value_of(positions[v][a], modes[a], r)
-            need(why is None, 'exact positions: vertex %d axis %d: %s' % (v, a, why))
-            out[v][a] = x
-    out = [tuple(p) for p in out]
+    out = decode_block(payload, positions, 3, 'exact positions', 'vertex')
     LAST.update(positions=[tuple(p) for p in positions], values=out)
     return out
+
+
+def decode_block(payload, fs, K, what, item='value'):
+    """The exact positions section's layout with K axes over n = len(fs) values ("Exact values
+    section" reuses it per kind): K modes, K widths, the n residuals of axis 0, then of axis 1, ...;
+    each value from its component's binary32 fs[i][a] (a Python float) and its residual. Returns the
+    binary64 values per item, a tuple of K each. Raises FormatError on anything the text refuses."""
+    n = len(fs)
+    need(len(payload) >= 2 * K, '%s: %d bytes, fewer than the %d of the modes and widths' % (what, len(payload), 2 * K))
+    modes, widths = payload[0:K], payload[K:2 * K]
+    for a in range(K):
+        need(modes[a] in MODES, '%s: axis %d mode %d (neither 0..22 nor 64)' % (what, a, modes[a]))
+        need(widths[a] <= MAX_WIDTH, '%s: axis %d width %d (above 64)' % (what, a, widths[a]))
+    nbits = n * sum(widths)
+    need(len(payload) - 2 * K == (nbits + 7) // 8,
+         '%s: %d bytes of residuals, %d fields of %s bits need %d' % (
+             what, len(payload) - 2 * K, n, '+'.join(map(str, widths)), (nbits + 7) // 8))
+    bits = int.from_bytes(payload[2 * K:], 'little')   # bit i of the string: bit i % 8 of byte i // 8
+    need(bits >> nbits == 0, '%s: a bit after the last residual is set' % what)
+    out = [[None] * K for _ in range(n)]
+    at = 0
+    for a in range(K):
+        B, mask = widths[a], (1 << widths[a]) - 1
+        for v in range(n):
+            r = unzigzag((bits >> at) & mask)
+            at += B
+            x, why = value_of(fs[v][a], modes[a], r)
+            need(why is None, '%s: %s %d axis %d: %s' % (what, item, v, a, why))
+            out[v][a] = x
+    return [tuple(p) for p in out]
 
 
 # ---------------- the reference encoder's choices ("The reference encoder chooses per axis") -------
@@ -193,7 +202,7 @@ def pack(modes, residuals, widths=None):
     if widths is None:
         widths = [width(rs) for rs in residuals]
     bits, at = 0, 0
-    for a in range(3):
+    for a in range(len(modes)):
         for r in residuals[a]:
             z = zigzag(r)
             assert z < 1 << widths[a], (r, widths[a])
@@ -202,12 +211,13 @@ def pack(modes, residuals, widths=None):
     return bytes(modes) + bytes(widths) + bits.to_bytes((at + 7) // 8, 'little')
 
 
-def encode_exact(values, fs, modes=None):
+def encode_exact(values, fs, modes=None, K=3):
     """The section of binary64 values[v][a] over binary32 fs[v][a] (Python floats), with the reference
-    encoder's choices, or the given modes."""
+    encoder's choices, or the given modes; K axes (an exact values section's block: K components)."""
     if modes is None:
-        modes = [choose_mode([v[a] for v in values], [f[a] for f in fs]) for a in range(3)]
-    residuals = [[residual(v[a], f[a], modes[a]) for v, f in zip(values, fs)] for a in range(3)]
+        modes = [choose_mode([v[a] for v in values], [f[a] for f in fs]) for a in range(K)]
+    K = len(modes)
+    residuals = [[residual(v[a], f[a], modes[a]) for v, f in zip(values, fs)] for a in range(K)]
     assert all(None not in rs for rs in residuals), 'a value this mode cannot give'
     return pack(modes, residuals)
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The whole mesh of a .qsp file, polygons section (0x05), texture coordinates section (0x06), face
 labels section (0x07), subdivision tags section (0x08), normals section (0x09), colours section (0x0b,
-qspcolors.py), interior positions section (0x0c), order section (0x04) and comments section (0x81)
+qspcolors.py), interior positions section (0x0c), exact values section (0x0d, qspvalues.py), order
+section (0x04) and comments section (0x81)
 included, written from format-spec/qsp_format.md alone ("Grid layout", "Order section", "Polygons
 section", "Texture coordinates section", "Face labels section", "Subdivision tags section", "Normals
 section", "Interior positions section", "Comments section", "Decoding a mesh") without reading the
@@ -12,6 +13,7 @@ usage: qsppoly.py FILE.qsp [--obj MESH.obj] [--reference PREFIX] [--tex-obj MESH
                   [--labels-obj MESH.obj [--exact]] [--labels-decompressed OUT.obj]
                   [--tags-obj MESH.obj [--exact]] [--tags-decompressed OUT.obj]
                   [--normals-obj MESH.obj [--exact]] [--normals-decompressed OUT.obj]
+                  [--values-obj MESH [--exact]] [--values-decompressed OUT]
                   [--decompressed OUT.obj] [--stats]
        decodes FILE to its output mesh (vertices, faces with their corners, float bits, each corner's
        texture coordinate and normal, in the original order when the file has an order section), its
@@ -42,6 +44,13 @@ usage: qsppoly.py FILE.qsp [--obj MESH.obj] [--reference PREFIX] [--tex-obj MESH
        `f v/vt/vn`) with MESH.obj's up to renumbering, face order and rotation, and the normals no
        corner names; with --exact index for index. --normals-decompressed: the same, index for index,
        with OUT.obj.
+       --values-obj: compares the texture coordinates, normals, vertex and face colours as binary64
+       values (the exact values section's, else the value of each binary32's shortest text) with the
+       values MESH's texts denote (MESH: .obj, .off or .ply; index for index with --exact, else as
+       multisets and corner by corner), and the section byte for byte with the one the text's encoder
+       choices give (qspvalues.py). --values-decompressed: the same values, index for index, with the
+       texts `qsp decompress FILE` wrote to OUT (each read as binary64, and no longer in significant
+       digits than the shortest text).
        --stats: prints how often each rule of the text was met. Exit 0 if all agree, else 1.
 """
 import math
@@ -52,6 +61,7 @@ import qspgeo as g
 import qsplayout as lay
 import qspexact
 import qspcolors
+import qspvalues
 
 need = g.need
 NONE = g.NONE
@@ -1212,7 +1222,7 @@ def interior_mesh(data, secs, V, quads, coding, st):
     return out_pos, out_faces, geo[1] != 0
 
 
-KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0a, 0x0b, 0x0c)
+KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0a, 0x0b, 0x0c, 0x0d)
 
 
 def decode_file(data):
@@ -1236,7 +1246,8 @@ def decode_file(data):
     colors = None  # "Colours section": per output vertex and face, moved as vertices and faces are
     if 0x0b in secs:
         vc, fc, modes = qspcolors.decode_colors(secs[0x0b], len(pos), len(faces), faces, data[9])
-        colors = {'vertex': vc, 'face': fc, 'modes': modes}
+        Kv, Kf = qspcolors.parse_header(secs[0x0b], len(pos), len(faces))[:2]
+        colors = {'vertex': vc, 'face': fc, 'modes': modes, 'K': (Kv, Kf)}
     lines = comments(secs[0x81]) if 0x81 in secs else []
     tex = None
     if 0x06 in secs:
@@ -1304,7 +1315,10 @@ def decode_file(data):
             tex[1] = onames
         if nrm:
             nrm[1] = onormals
-    return pos, faces, lines, quantized, tex, labels, tags, nrm, exact, colors
+    values = None  # "Exact values section": over the values as returned above, the order section applied
+    if 0x0d in secs:
+        values = qspvalues.decode_values(secs[0x0d], qspvalues.arrays_of(tex, nrm, colors), data[9])
+    return pos, faces, lines, quantized, tex, labels, tags, nrm, exact, colors, values
 
 
 # ---------------- comparisons ----------------
@@ -1754,6 +1768,11 @@ def main():
                                           qspexact.exact_values(mesh))
     if '--exact-decompressed' in opts:
         bad += qspexact.compare_written(mesh, qspexact.read_mesh64(opts['--exact-decompressed']), 'qsp decompress\'s output')
+    if '--values-obj' in opts:   # binary64 texture coordinates, normals, colours (exact values section)
+        bad += qspvalues.compare_source(mesh, qspvalues.read_values64(opts['--values-obj']), '--exact' in args)
+        bad += qspvalues.compare_encoder(mesh, g.sections(open(path, 'rb').read()))
+    if '--values-decompressed' in opts:
+        bad += qspvalues.compare_written(mesh, opts['--values-decompressed'])
     if '--stats' in args:
         print(' '.join('%s=%d' % kv for kv in sorted(list(STATS.items()) + list(qspcolors.STATS.items()))))
     if 'tex: unreferenced values not sorted (an encoder rule)' in STATS:
