@@ -14,7 +14,6 @@ decoded values with the binary64 values a mesh file's text denotes and with what
 Points where the text leaves a choice are named by the constants below the imports.
 """
 import decimal
-import math
 import struct
 
 import qspgeo as g
