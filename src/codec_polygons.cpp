@@ -251,7 +251,7 @@ std::string corner_values_section(const PolygonMesh& mesh, const OutputCorners& 
   for (std::size_t k = 0; k < oc.input.size(); ++k) named[k] = corner_values[oc.input[k]];
   return encode_texcoords_section(oc.offsets, oc.vertices, static_cast<std::uint32_t>(mesh.vertex_count()),
                                   positions, components, values, named, options.keep_order, quantize_bits,
-                                  words);
+                                  words, level_effort(options.level, mesh.vertex_count()).header_sample);
 }
 
 // Whether each binary32 is the one nearest its exact value (ties to even), as the exact sections require.

@@ -127,14 +127,14 @@ inline std::uint8_t normals_section_minor(std::string_view payload) {
 // them exactly. Normals (`words.normals`) are tried predicted from the faces too (the smallest section
 // kept), and `quantize_bits` 2-24 makes them octahedral (kept exact if one has zero length). Throws
 // Error(kBadNumber) for a value that is not finite, Error(kUsage) for more than 24 bits (1 for
-// normals), Error(kInternal) for inconsistent sizes.
-std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets,
-                                     std::span<const std::uint32_t> corner_vertices,
-                                     std::uint32_t vertex_count, std::span<const float> positions,
-                                     std::uint8_t components, std::span<const float> values,
-                                     std::span<const std::uint32_t> corner_texcoords, bool keep_order,
-                                     std::uint32_t quantize_bits,
-                                     const CornerValueWords& words = kTexcoordWords);
+// normals), Error(kInternal) for inconsistent sizes. `sample` > 0: from 2 * `sample` values the predictions
+// are compared on about `sample` values spread over the mesh and only the smallest coded whole (0, or
+// fewer values: each coded whole, the smallest kept).
+std::string encode_texcoords_section(
+    std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> corner_vertices,
+    std::uint32_t vertex_count, std::span<const float> positions, std::uint8_t components,
+    std::span<const float> values, std::span<const std::uint32_t> corner_texcoords, bool keep_order,
+    std::uint32_t quantize_bits, const CornerValueWords& words = kTexcoordWords, std::uint32_t sample = 0);
 
 struct DecodedTexcoords {
   std::uint8_t components = 0;

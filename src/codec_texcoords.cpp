@@ -8,6 +8,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -257,7 +258,8 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
                                      std::uint32_t vertex_count, std::span<const float> positions,
                                      std::uint8_t components, std::span<const float> values,
                                      std::span<const std::uint32_t> corner_texcoords, bool keep_order,
-                                     std::uint32_t quantize_bits, const CornerValueWords& w) {
+                                     std::uint32_t quantize_bits, const CornerValueWords& w,
+                                     std::uint32_t sample) {
   const unsigned K = components;
   if (K < 1 || K > 3 || values.size() % K != 0 || corner_texcoords.size() != corner_vertices.size() ||
       positions.size() != 3 * std::size_t{vertex_count} || face_offsets.empty() ||
@@ -397,11 +399,13 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
   const std::array<Domain, 3>& plain_domain = domain;
   const std::vector<std::int64_t>& plain_integers = integers;
   // The section with one of the prediction tools (flag bits 3 and 4), or neither; normals predicted from
-  // the faces where they can be (bit 5).
-  const auto section = [&](std::uint8_t tools) {
+  // the faces where they can be (bit 5). With `period` above 1 only the residuals of one run of 256 values
+  // in every `period` (predictions read the input's values, so any may be left out): a stream to compare
+  // tools by, over the whole mesh (the symbols before them are the same for every tool).
+  const auto section = [&](std::uint8_t tools, std::uint32_t period) {
     std::string stream;
     RangeEncoder enc(stream);
-    put_symbols(enc);
+    if (period == 1) put_symbols(enc);
     std::vector<IntModel> residual(kContexts * K);
     const bool faces = (tools & kGeometryBit) != 0;
     const std::array<Domain, 3>& doms = faces ? signed_domain : plain_domain;
@@ -414,6 +418,7 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     };
     BitModel copy{};
     for (std::uint32_t i = 0; i < T; ++i) {
+      if (period > 1 && (i >> 8) % period != 0) continue;
       const std::uint32_t j =
           faces && i < referenced ? copy_source(creating[i], face_of_corner, face_offsets, names) : kInvalid;
       if (j != kInvalid) {
@@ -441,6 +446,10 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
         encode_residual(enc, residual[K * p.context + c], r);
         sign(i, c);
       }
+    }
+    if (period > 1) {
+      enc.finish();
+      return stream;
     }
     std::array<std::uint8_t, 3> modes{};
     for (unsigned c = 0; c < K; ++c) modes[c] = doms[c].mode;
@@ -477,14 +486,27 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
   // The smallest of the predictions (the first on a tie): the plain parallelogram, corrected by the quads
   // across (smooth layouts), or shaped by the corners' positions (charts that follow the surface's shape
   // rather than the patches); for normals each also with the faces' normals where they exist (3.10), tried
-  // last so a file they do not make smaller keeps its 3.5 bytes.
-  std::string best;
+  // last so a file they do not make smaller keeps its 3.5 bytes. With a sample, they are compared on about
+  // `sample` values spread over the mesh and only the smallest is coded whole.
+  std::vector<std::uint8_t> candidates;
   for (const std::uint8_t faces : {std::uint8_t{0}, kGeometryBit}) {
     if (faces && !w.normals) break;
-    for (const std::uint8_t tools : {std::uint8_t{0}, kCorrectionBit, kShapeBit}) {
-      std::string bytes = section(static_cast<std::uint8_t>(tools | faces));
-      if (best.empty() || bytes.size() < best.size()) best = std::move(bytes);
-    }
+    for (const std::uint8_t tools : {std::uint8_t{0}, kCorrectionBit, kShapeBit})
+      candidates.push_back(static_cast<std::uint8_t>(tools | faces));
+  }
+  if (sample > 0 && T >= 2 * sample) {
+    const std::uint32_t period = T / sample;
+    std::uint8_t chosen = candidates.front();
+    std::size_t smallest = std::numeric_limits<std::size_t>::max();
+    for (const std::uint8_t tools : candidates)
+      if (const std::size_t size = section(tools, period).size(); size < smallest)
+        smallest = size, chosen = tools;
+    return section(chosen, 1);
+  }
+  std::string best;
+  for (const std::uint8_t tools : candidates) {
+    std::string bytes = section(tools, 1);
+    if (best.empty() || bytes.size() < best.size()) best = std::move(bytes);
   }
   return best;
 }

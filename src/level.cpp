@@ -24,11 +24,13 @@ struct Level {
 constexpr std::array<Level, kMaxLevel> kLevels = {{
     {{false, false, kSmallSample, false, false, true},
      "motorcycle graph, patch order, header chosen on 1024 vertices (value repeats where they save 3%), "
-     "no chaining trial"},
+     "texture coordinate and normal predictions on 1024 values, no chaining trial"},
     {{false, false, kSmallSample, true, false, true}, "as 1, with the normal-chaining trial"},
-    {{false, false, kSample, true, false}, "as 2, header chosen on 4096 vertices (often no smaller than 2)"},
+    {{false, false, kSample, true, false},
+     "as 2, header and predictions chosen on 4096 (often no smaller than 2)"},
     {{false, true, kSample, true, false}, "as 3, in both coding orders (the smaller kept)"},
-    {{false, false, 0, true, false}, "motorcycle graph, patch order, every header coded in full"},
+    {{false, false, 0, true, false},
+     "motorcycle graph, patch order, every header and prediction coded in full"},
     {{false, true, 0, true, false}, "as 5, in both coding orders"},
     {{false, true, 0, true, true}, "as 6, and the cell shapes and logistic mixing tools where smaller"},
     {{true, false, 0, true, true},

@@ -256,9 +256,9 @@ void register_compress(CLI::App& app, int& rc) {
   add_drop_options(sub, opt->drop, "", kPolygonMeshCategories);
   sub->add_flag(
       "--float32", opt->float32,
-      "Round coordinates with more digits than float32 holds to the nearest float32 instead of keeping "
-      "them as float64 (a smaller file, lossless for those float32 values); needed for text of more "
-      "than 17 significant digits, which float64 does not hold");
+      "Round coordinates, texture coordinates, normals and colours with more digits than float32 holds to "
+      "the nearest float32 instead of keeping them as float64 (a smaller file, lossless for those float32 "
+      "values); needed for text of more than 17 significant digits, which float64 does not hold");
   // gzip's and zstd's spelling: -1 fastest .. -9 smallest, --fast = -1, --best = -9.
   for (int l = kMinLevel; l <= kMaxLevel; ++l) {
     const std::string name = "-" + std::to_string(l);

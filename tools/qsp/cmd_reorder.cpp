@@ -216,9 +216,9 @@ void register_reorder(CLI::App& app, int& rc) {
                 "index (the identity where it is one), the nearest among those keeping as many");
   add_drop_options(cmd, opt->drop, "IN's ", kPolygonMeshCategories);
   cmd->add_flag("--float32", opt->float32,
-                "Round IN's coordinates with more digits than float32 holds to the nearest float32 instead "
-                "of keeping them as float64 (needed beyond 17 significant digits), and its texture "
-                "coordinates, normals and colours instead of refusing");
+                "Round IN's coordinates, texture coordinates, normals and colours with more digits than "
+                "float32 holds to the nearest float32 instead of keeping them as float64 (needed beyond 17 "
+                "significant digits)");
   cmd->callback([opt, &rc] { rc = run(*opt); });
 }
 
