@@ -14,7 +14,8 @@
 # -preserve_polygons`; `qsp decompress -f` against `draco_decoder`, both writing OBJ.
 # Environment: QSP (default build/qsp), ROUNDS (default 15), BITS (default 14), LEVEL (default: none,
 # the default level; e.g. -9), QSP_OTHER (optional: a second qsp binary, paired against QSP instead of
-# Draco, e.g. the previous commit's build).
+# Draco, e.g. the previous commit's build), ATTRIBUTES=1 (issue 19's speed: the whole OBJ, UVs, normals and
+# labels included, with `--quantize-uv 12 --quantize-normal 10` against Draco's `-qt 12 -qn 10`).
 # Needs: draco (draco_encoder, draco_decoder), bash 5, python3.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -44,15 +45,20 @@ elapsed() {  # command... ; prints its wall time in seconds
 printf '%-28s %7s | %9s %9s %7s | %9s %9s %7s\n' mesh V "compress" "vs" "ratio" "decomp." "vs" "ratio"
 for mesh in "${meshes[@]}"; do
   name=$(basename "$mesh" .obj)
-  awk -f "$here/positions_only.awk" \
-    "$mesh" > "$work/in.obj"
-  qc=("$QSP" compress -f $LEVEL --quantize "$BITS" "$work/in.obj" "$work/q.qsp")
+  attr_q=() attr_d=()
+  if [ "${ATTRIBUTES:-0}" = 1 ]; then
+    cp "$mesh" "$work/in.obj"
+    attr_q=(-q --quantize-uv 12 --quantize-normal 10) attr_d=(-qt 12 -qn 10)
+  else
+    awk -f "$here/positions_only.awk" "$mesh" > "$work/in.obj"
+  fi
+  qc=("$QSP" compress -f $LEVEL --quantize "$BITS" "${attr_q[@]}" "$work/in.obj" "$work/q.qsp")
   qd=("$QSP" decompress -f "$work/q.qsp" "$work/q.obj")
   if [ -n "$QSP_OTHER" ]; then
-    bc=("$QSP_OTHER" compress -f $LEVEL --quantize "$BITS" "$work/in.obj" "$work/o.qsp")
+    bc=("$QSP_OTHER" compress -f $LEVEL --quantize "$BITS" "${attr_q[@]}" "$work/in.obj" "$work/o.qsp")
     bd=("$QSP_OTHER" decompress -f "$work/o.qsp" "$work/o.obj")
   else
-    bc=(draco_encoder -i "$work/in.obj" -o "$work/d.drc" -qp "$BITS" -cl 7 -preserve_polygons)
+    bc=(draco_encoder -i "$work/in.obj" -o "$work/d.drc" -qp "$BITS" "${attr_d[@]}" -cl 7 -preserve_polygons)
     bd=(draco_decoder -i "$work/d.drc" -o "$work/d.obj")
   fi
   : > "$work/t"
