@@ -101,7 +101,7 @@ PolygonMesh grid() {
 }
 
 bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), 8 * a.size()) == 0;
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), 8 * a.size()) == 0);
 }
 
 // Every golden and shared OBJ with texture coordinates or normals (up to 20,000 faces), given exact

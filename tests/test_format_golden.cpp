@@ -298,7 +298,7 @@ TEST(Golden, BytesArePinned) {
                        &back.vertex_colors64}}) {
         ASSERT_EQ(bd->size(), d->size());
         EXPECT_EQ(pairs(*bf, *bd), pairs(*f, *d));
-        if (options_for(name).keep_order) {
+        if (options_for(name).keep_order && !d->empty()) {
           EXPECT_EQ(std::memcmp(bd->data(), d->data(), 8 * d->size()), 0);
         }
       }
