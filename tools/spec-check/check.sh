@@ -100,7 +100,7 @@ for f in "$root"/testdata/golden/normals/*.qsp; do  # with an order section (com
 done
 if [[ -f $root/testdata/golden/normals/cube_normals.qsp ]]; then  # the normals section's own refusals
   "$python" - "$here" "$root/testdata/golden/normals/cube_normals.qsp" "$qsp" "$work" <<'PY' ||
-import subprocess, sys
+import sys
 sys.path.insert(0, sys.argv[1])
 import qspgeo as g
 import qsppoly as poly
@@ -115,20 +115,7 @@ for K in (0, 1, 2):
 if secs[0x09][0] & 0x20:  # 3.10's normals from the faces, in a file that says it is 3.9; bit 7 reserved
     cases.append(('normals from the faces in a 3.9 file', g.container(data[:9] + bytes([9]) + data[10:11], secs), False))
 cases.append(('normals flag bit 7', g.container(data, {**secs, 0x09: bytes([secs[0x09][0] | 0x80]) + secs[0x09][1:]}), False))
-failed = []
-for what, b, valid in cases:
-    try:
-        poly.decode_file(b)
-        ok = True
-    except g.FormatError:
-        ok = False
-    if ok != valid:
-        failed.append('qsppoly.py %s %s' % ('refuses' if valid else 'does not refuse', what))
-    f = '%s/normals_case.qsp' % work
-    open(f, 'wb').write(b)
-    r = subprocess.run([qsp, 'decompress', '-f', f, '-o', f + '.obj'], capture_output=True)
-    if (r.returncode == 0) != valid:
-        failed.append('qsp decompress %s %s' % ('refuses' if valid else 'does not refuse', what))
+failed = poly.refusals(cases, qsp, '%s/normals_case.qsp' % work)
 for x in failed:
     print(x, file=sys.stderr)
 sys.exit(1 if failed else 0)
@@ -226,7 +213,7 @@ done
 # The interior positions section's own refusals (3.12), by both decoders, on polygons_1 (cube_4 for
 # the section beside no polygons section).
 "$python" - "$here" "$work/polygons_1.qsp" "$root/testdata/golden/cube_4.qsp" "$qsp" "$work" <<'PY' ||
-import subprocess, sys
+import sys
 sys.path.insert(0, sys.argv[1])
 import qspgeo as g
 import qsppoly as poly
@@ -251,20 +238,7 @@ for n in (0, N - 1, N + 1):
 qdata = open(quad, 'rb').read()
 cases.append(('an interior positions section beside no polygons section',
               g.container(minor(qdata, 12), {**g.sections(qdata), 0x0c: g.varint(1)}), False))
-failed = []
-for what, b, valid in cases:
-    try:
-        poly.decode_file(b)
-        ok = True
-    except g.FormatError:
-        ok = False
-    if ok != valid:
-        failed.append('qsppoly.py %s %s' % ('refuses' if valid else 'does not refuse', what))
-    f = '%s/interior_case.qsp' % work
-    open(f, 'wb').write(b)
-    r = subprocess.run([qsp, 'decompress', '-f', f, '-o', f + '.obj'], capture_output=True)
-    if (r.returncode == 0) != valid:
-        failed.append('qsp decompress %s %s' % ('refuses' if valid else 'does not refuse', what))
+failed = poly.refusals(cases, qsp, '%s/interior_case.qsp' % work)
 for x in failed:
     print(x, file=sys.stderr)
 sys.exit(1 if failed else 0)

@@ -55,6 +55,7 @@ import sys
 import tempfile
 
 import qspcolors as c
+import qspexact
 import qspgeo as g
 import qsppoly as poly
 
@@ -302,17 +303,7 @@ def read_colored(path):
 
 
 def read_ply(data):
-    end = data.index(b'end_header') + len(b'end_header')
-    end = data.index(b'\n', end) + 1
-    elements, fmt = [], None
-    for line in data[:end].split(b'\n'):
-        w = line.split()
-        if w[:1] == [b'format']:
-            fmt = w[1]
-        elif w[:1] == [b'element']:
-            elements.append((w[1], int(w[2]), []))
-        elif w[:1] == [b'property']:
-            elements[-1][2].append((w[-1], w[1:-1]))
+    elements, fmt, end = qspexact.ply_header(data)
     assert fmt in (b'ascii', b'binary_little_endian', b'binary_big_endian'), fmt
     endian = '>' if fmt == b'binary_big_endian' else '<'
     words = data[end:].split() if fmt == b'ascii' else None

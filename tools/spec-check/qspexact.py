@@ -275,10 +275,12 @@ PLY_TYPES = {b'char': 'b', b'int8': 'b', b'uchar': 'B', b'uint8': 'B', b'short':
              b'float': 'f', b'float32': 'f', b'double': 'd', b'float64': 'd'}
 
 
-def read_ply64(path):
-    """read_mesh64 of a PLY file (ascii or binary_little_endian; vertex x y z, face vertex_indices)."""
-    data = open(path, 'rb').read()
-    end = data.index(b'end_header\n') + len(b'end_header\n')
+def ply_header(data):
+    """A PLY file's header: its elements as (name, count, [(property name, type words)]), its format
+    word and the offset of the first byte after it (the test readers here and in qspvalues.py and
+    colorsgen.py share it)."""
+    end = data.index(b'end_header') + len(b'end_header')
+    end = data.index(b'\n', end) + 1
     elements, fmt = [], None
     for line in data[:end].split(b'\n'):
         w = line.split()
@@ -288,6 +290,13 @@ def read_ply64(path):
             elements.append((w[1], int(w[2]), []))
         elif w[:1] == [b'property']:
             elements[-1][2].append((w[-1], w[1:-1]))
+    return elements, fmt, end
+
+
+def read_ply64(path):
+    """read_mesh64 of a PLY file (ascii or binary_little_endian; vertex x y z, face vertex_indices)."""
+    data = open(path, 'rb').read()
+    elements, fmt, end = ply_header(data)
     need(fmt in (b'ascii', b'binary_little_endian'), '%s: PLY format %s' % (path, fmt))
     pos, texts, faces = [], [], []
     at = end

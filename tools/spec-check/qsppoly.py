@@ -55,6 +55,7 @@ usage: qsppoly.py FILE.qsp [--obj MESH.obj] [--reference PREFIX] [--tex-obj MESH
 """
 import math
 import struct
+import subprocess
 import sys
 
 import qspgeo as g
@@ -1223,6 +1224,26 @@ def interior_mesh(data, secs, V, quads, coding, st):
 
 
 KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0a, 0x0b, 0x0c, 0x0d)
+
+
+def refusals(cases, qsp, scratch):
+    """For each case (what, file bytes, valid): whether this decoder and `qsp decompress` (writing the
+    file to `scratch` and an OBJ beside it) both accept it exactly when it is valid. Returns the
+    disagreements as messages (check.sh's sections broken each way the text names)."""
+    failed = []
+    for what, b, valid in cases:
+        try:
+            decode_file(b)
+            ok = True
+        except g.FormatError:
+            ok = False
+        if ok != valid:
+            failed.append('qsppoly.py %s %s' % ('refuses' if valid else 'does not refuse', what))
+        open(scratch, 'wb').write(b)
+        r = subprocess.run([qsp, 'decompress', '-f', scratch, '-o', scratch + '.obj'], capture_output=True)
+        if (r.returncode == 0) != valid:
+            failed.append('qsp decompress %s %s' % ('refuses' if valid else 'does not refuse', what))
+    return failed
 
 
 def decode_file(data):

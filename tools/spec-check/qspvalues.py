@@ -193,17 +193,7 @@ NOT_COLOUR = {b'x', b'y', b'z', b'nx', b'ny', b'nz', b'u', b'v', b's', b't', b't
 
 
 def read_ply(data):
-    end = data.index(b'end_header') + len(b'end_header')
-    end = data.index(b'\n', end) + 1
-    elements, fmt = [], None
-    for line in data[:end].split(b'\n'):
-        w = line.split()
-        if w[:1] == [b'format']:
-            fmt = w[1]
-        elif w[:1] == [b'element']:
-            elements.append((w[1], int(w[2]), []))
-        elif w[:1] == [b'property']:
-            elements[-1][2].append((w[-1], w[1:-1]))
+    elements, fmt, end = x.ply_header(data)
     need(fmt in (b'ascii', b'binary_little_endian'), 'PLY format %s' % fmt)
     words = data[end:].split() if fmt == b'ascii' else None
     at, wi = end, 0
