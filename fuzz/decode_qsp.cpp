@@ -97,6 +97,16 @@ void check_polygons(std::string_view bytes, const qsp::DecodeLimits& limits) {
       if (i < 0 || static_cast<std::uint64_t>(i) >= (faces ? m.face_count() : m.vertex_count()))
         fuzz::finding("decoded a tag index out of range");
   }
+  // Properties (3.14): one value, or one list, per vertex or face; names a PLY header can hold.
+  for (const auto* props : {&m.vertex_properties, &m.face_properties}) {
+    const std::size_t n = props == &m.vertex_properties ? m.vertex_count() : m.face_count();
+    for (const ValueProperty& p : *props) {
+      if (p.list ? p.offsets.size() != n + 1 || p.offsets.back() != p.values.size() : p.values.size() != n)
+        fuzz::finding("decoded a property of another element count");
+      for (const char c : p.name)
+        if (c <= ' ' || c > '~') fuzz::finding("decoded a property name a PLY header cannot hold");
+    }
+  }
   for (const std::string& n : m.material_libraries)
     if (n.find_first_of("\r\n") != std::string::npos) fuzz::finding("a material library holds a line break");
   std::vector<std::uint32_t> seen(m.vertex_count(), ~0u);

@@ -328,10 +328,11 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   const Section* colors = p.file.find(container::kTagColors);
   const Section* statements = p.file.find(container::kTagStatements);
   const Section* exact_values = p.file.find(container::kTagExactValues);
+  const Section* properties = p.file.find(container::kTagProperties);
   if (const Section* interior = p.file.find(container::kTagInterior); interior && !poly)
     format_error("interior positions section without a polygons section", interior->offset);
   if (!poly && !uv && !labels && !tags && !normals && !exact && !kept && !colors && !statements &&
-      !exact_values)
+      !exact_values && !properties)
     return polygon_mesh(decode_quads(p));
   // The exact values and the statement order describe the mesh as returned (after any order section).
   const auto with_statements = [&](PolygonMesh m) {
@@ -393,6 +394,12 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
     out.vertex_colors = std::move(c.vertex);
     out.face_color_components = c.face_components;
     out.face_colors = std::move(c.face);
+  }
+  if (properties) {
+    DecodedProperties d =
+        decode_properties_section(properties->payload, properties->payload_offset, nv, out.face_count());
+    out.vertex_properties = std::move(d.vertex);
+    out.face_properties = std::move(d.face);
   }
   if (labels) {
     DecodedLabels l = decode_labels_section(labels->payload, labels->payload_offset,
@@ -543,6 +550,8 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       info.color_bytes += size;
     else if (s.tag == container::kTagExactValues)
       split_exact_values_section(s, info);
+    else if (s.tag == container::kTagProperties)
+      info.property_bytes += size;
     else
       info.other_bytes += size;
   }

@@ -13,6 +13,7 @@
 #include "geometry_values.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
+#include "qsp/permute.h"
 #include "qsp/regions.h"
 #include "qsp/submesh.h"
 
@@ -415,6 +416,7 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
                                          std::to_string(mesh.corner_normals[c]) + " of " +
                                          std::to_string(mesh.normals.size() / 3));
   const bool colors = mesh.vertex_color_components != 0 || mesh.face_color_components != 0;
+  const bool properties = !mesh.vertex_properties.empty() || !mesh.face_properties.empty();
   if (mesh.vertex_colors.size() != mesh.vertex_color_components * mesh.vertex_count() ||
       mesh.face_colors.size() != mesh.face_color_components * mesh.face_count())
     throw Error(ErrorCode::kUsage, "encode: colour arrays disagree with the vertex and face counts");
@@ -426,7 +428,7 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     const bool exact_values = !mesh.texcoords64.empty() || !mesh.normals64.empty() ||
                               !mesh.vertex_colors64.empty() || !mesh.face_colors64.empty();
     if (!texcoords && !normals && !labels && mesh.tags.empty() && !exact && mesh.kept_lines.empty() &&
-        !colors && !statements)
+        !colors && !statements && !properties)
       return bytes;
     const std::vector<std::uint32_t> input_face = input_faces(map, mesh.face_count());
     const OutputCorners oc =
@@ -469,6 +471,17 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
       const std::string section = exact_values_section(mesh, o, map, oc, input_face, bytes);
       if (!section.empty())
         bytes = container::with_section(bytes, container::kTagExactValues, section, kFormatMinorExactValues);
+    }
+    if (properties) {
+      // Per output vertex and face, as the colours: the decoder applies any order section after them.
+      std::vector<std::uint32_t> vertex_from(mesh.vertex_count());
+      for (std::uint32_t v = 0; v < vertex_from.size(); ++v) vertex_from[map.vertex[v]] = v;
+      bytes = container::with_section(
+          bytes, container::kTagProperties,
+          encode_properties_section(permute_properties(mesh.vertex_properties, vertex_from),
+                                    permute_properties(mesh.face_properties, input_face), mesh.vertex_count(),
+                                    mesh.face_count()),
+          kFormatMinorProperties);
     }
     return bytes;
   };

@@ -197,6 +197,22 @@ std::string encode_statements_section(const PolygonMesh& mesh, std::span<const s
 std::vector<Statement> decode_statements_section(std::string_view payload, std::uint64_t offset,
                                                  const PolygonMesh& mesh);
 
+// The properties section (format 3.14): PLY vertex and face properties and the OBJ vertex weight (the
+// vertex property named ""), each per output vertex (`vertices` of them) and face (`faces`), in the
+// decoder's output order before any order section. Throws Error(kUsage) for a property whose arrays
+// disagree with its element count, a value its type cannot hold, a float binary32 does not hold that is
+// not marked float64, a name a PLY header cannot hold, or more than one vertex weight.
+std::string encode_properties_section(const std::vector<ValueProperty>& vertex,
+                                      const std::vector<ValueProperty>& face, std::size_t vertices,
+                                      std::size_t faces);
+struct DecodedProperties {
+  std::vector<ValueProperty> vertex, face;
+};
+// Inverse of encode_properties_section. Throws Error(kFormat) naming the property and byte offset. Safe
+// on untrusted input: every count is checked against the bytes left before anything is allocated.
+DecodedProperties decode_properties_section(std::string_view payload, std::uint64_t offset,
+                                            std::uint64_t vertices, std::uint64_t faces);
+
 // The kept lines section (format 3.7, optional): the lines in order. Throws Error(kUsage) for a line
 // kept_line_problem() refuses.
 std::string encode_kept_lines_section(const std::vector<std::string>& lines);

@@ -35,6 +35,8 @@ inline constexpr std::uint8_t kTagColors = 0x0b;  // vertex and face colours, fr
 inline constexpr std::uint8_t kTagInterior = 0x0c;
 // Format 3.13: texture coordinates, normals and colours binary32 does not hold.
 inline constexpr std::uint8_t kTagExactValues = 0x0d;
+// Format 3.14: PLY vertex and face properties and the OBJ vertex weight.
+inline constexpr std::uint8_t kTagProperties = 0x0e;
 inline constexpr std::uint8_t kOptionalBit = 0x80;
 inline constexpr std::uint8_t kTagComments = 0x81;    // optional, from 3.1
 inline constexpr std::uint8_t kTagKeptLines = 0x82;   // optional, from 3.7
@@ -64,6 +66,7 @@ inline constexpr SectionKind kSections[] = {
     {kTagColors, kFormatMinorColors, "colours"},
     {kTagInterior, kFormatMinorInterior, "interior positions"},
     {kTagExactValues, kFormatMinorExactValues, "exact values"},
+    {kTagProperties, kFormatMinorProperties, "properties"},
     {kTagComments, kFormatMinorPolygons, "comments"},
     {kTagKeptLines, kFormatMinorKeptLines, "kept lines"},
     {kTagStatements, kFormatMinorStatements, "statement order"},

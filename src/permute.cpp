@@ -54,6 +54,33 @@ QuadMesh permute(const QuadMesh& mesh, const Renumbering& r) {
   return out;
 }
 
+std::vector<ValueProperty> permute_properties(const std::vector<ValueProperty>& props,
+                                              std::span<const std::uint32_t> from) {
+  std::vector<ValueProperty> out;
+  for (const ValueProperty& p : props) {
+    bool bad = p.list ? p.offsets.size() != from.size() + 1 || p.offsets.front() != 0 ||
+                            p.offsets.back() != p.values.size()
+                      : p.values.size() != from.size();
+    for (std::size_t e = 0; p.list && !bad && e < from.size(); ++e)
+      bad = p.offsets[e + 1] < p.offsets[e] || from[e] >= from.size();
+    for (std::size_t e = 0; !p.list && !bad && e < from.size(); ++e) bad = from[e] >= from.size();
+    if (bad)
+      throw Error(ErrorCode::kUsage, "permute: property '" + p.name + "' disagrees with its element count");
+    ValueProperty& q = out.emplace_back(p);
+    if (!p.list) {
+      for (std::size_t e = 0; e < from.size(); ++e) q.values[e] = p.values[from[e]];
+      continue;
+    }
+    q.values.clear();
+    for (std::size_t e = 0; e < from.size(); ++e) {
+      q.values.insert(q.values.end(), p.values.begin() + p.offsets[from[e]],
+                      p.values.begin() + p.offsets[from[e] + 1]);
+      q.offsets[e + 1] = static_cast<std::uint32_t>(q.values.size());
+    }
+  }
+  return out;
+}
+
 PolygonMesh permute(const PolygonMesh& mesh, const PolygonRenumbering& r) {
   const std::size_t nv = mesh.vertex_count(), nf = mesh.face_count();
   if (r.vertex_from.size() != nv || r.face_from.size() != nf || (!r.first.empty() && r.first.size() != nf))
@@ -131,6 +158,8 @@ PolygonMesh permute(const PolygonMesh& mesh, const PolygonRenumbering& r) {
     into->face.resize(nf);
     for (std::size_t f = 0; f < nf; ++f) into->face[f] = from->face[r.face_from[f]];
   }
+  out.vertex_properties = permute_properties(mesh.vertex_properties, r.vertex_from);
+  out.face_properties = permute_properties(mesh.face_properties, r.face_from);
   out.material_libraries = mesh.material_libraries;
   out.kept_lines = mesh.kept_lines;
   out.tags = mesh.tags;

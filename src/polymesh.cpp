@@ -413,8 +413,46 @@ Extras drop(Mesh& m, unsigned c) {
   return dropped;
 }
 
+namespace {
+
+// A property's values as the codec keeps them: each exactly (the nearest binary64 of a kDecimal list).
+ValueProperty value_property(std::string name, ScalarType type, Numbers& n) {
+  ValueProperty p;
+  p.name = std::move(name);
+  p.type = type;
+  p.float64 =
+      n.precision != Precision::kFloat32 && (type == ScalarType::kFloat32 || type == ScalarType::kFloat64);
+  p.values.resize(n.size());
+  for (std::size_t i = 0; i < n.size(); ++i) p.values[i] = n.approx(i);
+  n = {};
+  return p;
+}
+
+std::vector<ValueProperty> value_properties(std::vector<Property>& props) {
+  std::vector<ValueProperty> out;
+  for (Property& q : props) {
+    ValueProperty& p = out.emplace_back(value_property(std::move(q.name), q.type, q.values));
+    p.list = q.list;
+    p.count_type = q.count_type;
+    p.offsets = std::move(q.offsets);
+  }
+  return out;
+}
+
+}  // namespace
+
 PolygonMesh to_polygon_mesh(Mesh m, unsigned categories) {
   PolygonMesh out;
+  if (categories & kCategoryExtra) {
+    // The OBJ vertex weight first (the vertex property named ""), then the PLY properties.
+    if (!m.vertex_weights.empty())
+      out.vertex_properties.push_back(value_property(
+          "", m.vertex_weights.precision == Precision::kFloat32 ? ScalarType::kFloat32 : ScalarType::kFloat64,
+          m.vertex_weights));
+    for (ValueProperty& p : value_properties(m.vertex_properties))
+      out.vertex_properties.push_back(std::move(p));
+    out.face_properties = value_properties(m.face_properties);
+  }
   out.positions = std::move(m.positions.f32);
   if (m.positions.precision != Precision::kFloat32) out.positions64 = std::move(m.positions.f64);
   if (categories & kCategoryExtra) out.kept_lines = std::move(m.verbatim);
@@ -482,6 +520,33 @@ Numbers exact_numbers(std::vector<float> f32, const std::vector<double>& f64) {
   return f64.empty() ? numbers_from_float32(std::move(f32)) : numbers_from_float64(f64);
 }
 
+// A kept property's values as Numbers: binary64 where a float needs it or an integer is beyond binary32.
+Numbers property_numbers(const ValueProperty& p) {
+  bool wide = p.float64;
+  for (std::size_t i = 0; i < p.values.size() && !wide; ++i)
+    wide = static_cast<double>(static_cast<float>(p.values[i])) != p.values[i];
+  if (wide) return numbers_from_float64(p.values);
+  return numbers_from_float32(std::vector<float>(p.values.begin(), p.values.end()));
+}
+
+std::vector<Property> properties_of(std::vector<ValueProperty>& props, Numbers* weights) {
+  std::vector<Property> out;
+  for (ValueProperty& p : props) {
+    if (p.name.empty() && weights) {
+      *weights = property_numbers(p);
+      continue;
+    }
+    Property& q = out.emplace_back();
+    q.values = property_numbers(p);
+    q.name = std::move(p.name);
+    q.type = p.type;
+    q.list = p.list;
+    q.count_type = p.count_type;
+    q.offsets = std::move(p.offsets);
+  }
+  return out;
+}
+
 }  // namespace
 
 Mesh from_polygon_mesh(PolygonMesh m) {
@@ -489,6 +554,8 @@ Mesh from_polygon_mesh(PolygonMesh m) {
   out.positions = m.positions64.empty() ? numbers_from_float32(std::move(m.positions))
                                         : numbers_from_float64(m.positions64);
   out.verbatim = std::move(m.kept_lines);
+  out.vertex_properties = properties_of(m.vertex_properties, &out.vertex_weights);
+  out.face_properties = properties_of(m.face_properties, nullptr);
   out.statements = std::move(m.statements);
   out.face_offsets = std::move(m.face_offsets);
   out.corner_vertices = std::move(m.corners);

@@ -34,8 +34,8 @@ struct Kind {
   const char* said;
 };
 
-// Each kind, alone on a one-quad mesh (extra: vertex weights, which compress does not keep; the lines
-// it keeps as text have a test of their own below).
+// Each kind, alone on a one-quad mesh (extra: vertex weights; the lines it keeps as text have a test of
+// their own below, PLY obj_info lines, the one kind compress does not keep, test_properties.cpp).
 std::vector<Kind> kinds() {
   return {
       {"uv", kSquare + "vt 0 0\nvt 1 0\nf 1/1 2/2 3/1 4/2\n",
@@ -82,10 +82,11 @@ TEST_F(CliDrop, EachKindAloneIsRefusedByNameAndDroppedByName) {
     const std::string in = p(std::string(k.name) + ".obj"), out = p("out.qsp");
     spit(in, k.text);
     const std::string what = said(k.said, in);
-    // A .qsp keeps texture coordinates (3.2), face labels (3.3), tags (3.4), normals (3.5), colours (3.8).
+    // A .qsp keeps texture coordinates (3.2), face labels (3.3), tags (3.4), normals (3.5), colours (3.8),
+    // vertex weights (3.14).
     const std::string name = k.name;
     const bool kept = name == "uv" || name == "normal" || name == "color" || name == "group" ||
-                      name == "material" || name == "smoothing" || name == "tag";
+                      name == "material" || name == "smoothing" || name == "tag" || name == "extra";
     auto r = compress(in, "", out);
     if (kept) {
       ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -122,6 +123,14 @@ TEST_F(CliDrop, EachKindAloneIsRefusedByNameAndDroppedByName) {
       if (name == "normal") {
         EXPECT_EQ(m.normals, (std::vector<float>{0, 0, 1}));
         EXPECT_EQ(m.corner_normals, (std::vector<std::uint32_t>{0, 0, 0, 0}));
+      }
+      if (name == "extra") {  // each vertex its weight: the vertex property named ""
+        ASSERT_EQ(m.vertex_properties.size(), 1u);
+        EXPECT_EQ(m.vertex_properties[0].name, "");
+        for (std::size_t v = 0; v < 4; ++v) {
+          const bool last = m.positions[3 * v] == 0 && m.positions[3 * v + 1] == 1;
+          EXPECT_EQ(m.vertex_properties[0].values.at(v), last ? 0.5 : 1.0);
+        }
       }
       if (name == "tag") {
         ASSERT_EQ(m.tags.size(), 2u);
@@ -169,6 +178,7 @@ TEST_F(CliDrop, EachKindAloneIsRefusedByNameAndDroppedByName) {
                                : name == "group"     ? "g a b\n"
                                : name == "material"  ? "usemtl red\n"
                                : name == "smoothing" ? "s 1\n"
+                               : name == "extra"     ? "v 0 1 0 0.5\n"
                                                      : "t corner 1/1/0 0 2\n";
       EXPECT_NE(written.find(says), std::string::npos) << written;
     } else {

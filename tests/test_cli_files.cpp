@@ -447,12 +447,14 @@ TEST_F(CliFiles, MessagesNameTheWayOut) {
       << r.err;
   r = run_qsp("stats --jsn " + quote(a));
   EXPECT_NE(r.err.find("did you mean --json?"), std::string::npos) << r.err;
-  // Extra data: the refusal names the --drop that drops it (tests/test_cli_drop.cpp has the rest).
+  // Weights and colours compress keeps, so a file where one vertex has one is refused at that vertex's
+  // line (tests/test_cli_drop.cpp has the refusals that name a --drop).
   const std::string normal = add_bytes("normal.obj", slurp(a) + "v 0 0 0 1\n");  // a vertex weight
   r = run_qsp("compress " + quote(normal));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("pass --drop extra (or --positions-only)"), std::string::npos) << r.err;
-  // Colours compress keeps, so a file where one vertex has one is refused at that vertex's line.
+  EXPECT_NE(r.err.find("normal.obj:197: `v` has 4 numbers but the first vertex (line 3) has 3"),
+            std::string::npos)
+      << r.err;
   const std::string one = add_bytes("one.obj", slurp(a) + "v 0 0 0 1 0 0\n");
   r = run_qsp("compress " + quote(one));
   EXPECT_EQ(r.exit_code, 1);

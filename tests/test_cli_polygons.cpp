@@ -113,7 +113,7 @@ TEST_F(CliPolygons, WhatIsNotAMeshKeepsItsMessage) {
   EXPECT_NE(d.exit_code, 0);
   EXPECT_NE(d.err.find("repeat.obj:6:"), std::string::npos) << d.err;
   EXPECT_NE(d.err.find("repeats vertex"), std::string::npos) << d.err;
-  // Data a .qsp does not keep is refused unless dropped, as for quad meshes; a line kept as text is kept.
+  // Extra data is kept, as for quad meshes (vertex weights, a line kept as text), and dropped on request.
   std::string weighted;  // every vertex with a weight: v x y z w
   for (std::size_t at = 0, end = 0; (end = std::string_view(kPolygonObj).find('\n', at)) != std::string::npos;
        at = end + 1) {
@@ -121,11 +121,13 @@ TEST_F(CliPolygons, WhatIsNotAMeshKeepsItsMessage) {
     weighted += line + (line.starts_with("v ") ? " 1\n" : "\n");
   }
   testing::spit(p("weights.obj"), weighted + "vp 0.5\n");
-  const auto u = run_qsp("compress " + quote(p("weights.obj")));
-  EXPECT_NE(u.exit_code, 0);
-  EXPECT_NE(u.err.find("vertex weight"), std::string::npos) << u.err;
-  EXPECT_NE(u.err.find("--drop extra"), std::string::npos) << u.err;
-  EXPECT_EQ(run_qsp("compress -q --drop extra " + quote(p("weights.obj"))).exit_code, 0);
+  const auto u = run_qsp("compress -q " + quote(p("weights.obj")));
+  EXPECT_EQ(u.exit_code, 0) << u.err;
+  const PolygonMesh weights = decode_polygons(testing::slurp(p("weights.obj.qsp")));
+  ASSERT_EQ(weights.vertex_properties.size(), 1u);
+  EXPECT_EQ(weights.vertex_properties[0].values, std::vector<double>(weights.vertex_count(), 1.0));
+  EXPECT_EQ(run_qsp("compress -f -q --drop extra " + quote(p("weights.obj"))).exit_code, 0);
+  EXPECT_TRUE(decode_polygons(testing::slurp(p("weights.obj.qsp"))).vertex_properties.empty());
   testing::spit(p("prose.obj"), std::string(kPolygonObj) + "vp 0.5\n");
   ASSERT_EQ(run_qsp("compress -q " + quote(p("prose.obj"))).exit_code, 0);
   EXPECT_EQ(decode_polygons(testing::slurp(p("prose.obj.qsp"))).kept_lines,

@@ -28,14 +28,14 @@ const std::string kData = QSP_TESTDATA_DIR;
 using CliReport = testing::TempDirTest;
 
 // The numbers of "bytes: T total = H header + C connectivity (...) + G geometry (...)[ + O order][ + U
-// texture coordinates][ + X other]".
+// texture coordinates]...[ + P properties][ + X other]".
 std::vector<std::uint64_t> byte_parts(const std::string& out) {
   std::smatch m;
   static const std::regex re(
-      R"(bytes: (\d+) total = (\d+) header \+ (\d+) connectivity \([^)]*\) \+ (\d+) geometry \([^)]*\)(?: \+ (\d+) order)?(?: \+ (\d+) texture coordinates)?(?: \+ (\d+) face labels)?(?: \+ (\d+) subdivision tags)?(?: \+ (\d+) normals)?(?: \+ (\d+) exact positions)?(?: \+ (\d+) colours)?(?: \+ (\d+) other)?)");
+      R"(bytes: (\d+) total = (\d+) header \+ (\d+) connectivity \([^)]*\) \+ (\d+) geometry \([^)]*\)(?: \+ (\d+) order)?(?: \+ (\d+) texture coordinates)?(?: \+ (\d+) face labels)?(?: \+ (\d+) subdivision tags)?(?: \+ (\d+) normals)?(?: \+ (\d+) exact positions)?(?: \+ (\d+) colours)?(?: \+ (\d+) properties)?(?: \+ (\d+) other)?)");
   if (!std::regex_search(out, m, re)) return {};
   std::vector<std::uint64_t> v;
-  for (int i = 1; i <= 12; ++i) v.push_back(m[i].matched ? std::stoull(m[i].str()) : 0);
+  for (int i = 1; i <= 13; ++i) v.push_back(m[i].matched ? std::stoull(m[i].str()) : 0);
   return v;
 }
 
@@ -57,10 +57,10 @@ TEST_F(CliReport, StatsOnAQspSaysWhatItHoldsAndItsBytesAddUp) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find(c.says), std::string::npos) << r.out;
     const auto parts = byte_parts(r.out);
-    ASSERT_EQ(parts.size(), 12u) << r.out;
+    ASSERT_EQ(parts.size(), 13u) << r.out;
     EXPECT_EQ(parts[0], fs::file_size(q));
     EXPECT_EQ(parts[0], parts[1] + parts[2] + parts[3] + parts[4] + parts[5] + parts[6] + parts[7] +
-                            parts[8] + parts[9] + parts[10] + parts[11])
+                            parts[8] + parts[9] + parts[10] + parts[11] + parts[12])
         << r.out;
     EXPECT_EQ(parts[4] > 0, c.options.find("--keep-order") != std::string::npos) << r.out;
     r = run_qsp("stats --json " + quote(q));
@@ -71,7 +71,7 @@ TEST_F(CliReport, StatsOnAQspSaysWhatItHoldsAndItsBytesAddUp) {
                          std::to_string(parts[2]) + ", \"geometry\": " + std::to_string(parts[3]) +
                          ", \"order\": " + std::to_string(parts[4]) +
                          ", \"texcoords\": 0, \"labels\": 0, \"tags\": 0, \"normals\": 0, "
-                         "\"exact_positions\": 0, \"colors\": 0, \"other\": 0}"),
+                         "\"exact_positions\": 0, \"colors\": 0, \"properties\": 0, \"other\": 0}"),
               std::string::npos)
         << r.out;
   }
@@ -93,11 +93,11 @@ TEST_F(CliReport, EveryGoldenFilesBytesAddUpAndNameItsPrecision) {
       continue;
     }
     const auto parts = byte_parts(r.out);
-    ASSERT_EQ(parts.size(), 12u) << r.out;
+    ASSERT_EQ(parts.size(), 13u) << r.out;
     EXPECT_EQ(parts[0], fs::file_size(e.path()));
     // "other": sections the stats do not name, such as a comments section (3.1).
     EXPECT_EQ(parts[0], parts[1] + parts[2] + parts[3] + parts[4] + parts[5] + parts[6] + parts[7] +
-                            parts[8] + parts[9] + parts[10] + parts[11])
+                            parts[8] + parts[9] + parts[10] + parts[11] + parts[12])
         << r.out;
     // Texture coordinates (3.2) and face labels (3.3) have their own parts (the statement order golden
     // has both).

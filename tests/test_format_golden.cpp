@@ -715,18 +715,18 @@ std::map<std::string, Crafted> crafted() {
     // A required section of a newer minor version: "upgrade qsp". The same tag in a file of this
     // version cannot come from a correct encoder.
     const std::string sections =
-        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(14, "x");
+        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(15, "x");
     Parts newer_minor = p;
     newer_minor.minor = kFormatMinor + 1;
     out["qsp_unknown_required_section_newer_minor"] = {
         seal(newer_minor, sections), "version",
-        "section 0x0e is required but unknown to this qsp, which reads format 3." +
+        "section 0x0f is required but unknown to this qsp, which reads format 3." +
             std::to_string(kFormatMinor) + " (upgrade qsp)"};
     out["qsp_unknown_required_section"] = {seal(p, sections), "format",
-                                           "section 0x0e is required but unknown to this qsp"};
+                                           "section 0x0f is required but unknown to this qsp"};
     // A section of a later minor version in a file that says it is the one before: 3.3's face labels,
     // 3.4's subdivision tags, 3.5's normals, 3.6's exact positions, 3.8's colours, 3.12's interior
-    // positions, 3.13's exact values.
+    // positions, 3.13's exact values, 3.14's properties.
     struct Later {
       const char* name;
       std::uint8_t tag, minor;
@@ -746,7 +746,9 @@ std::map<std::string, Crafted> crafted() {
           Later{"qsp_interior_section_in_3_11", 12, 11,
                 "section 0x0c (interior positions) is format 3.12's, and the file says it is 3.11"},
           Later{"qsp_exact_values_section_in_3_12", 13, 12,
-                "section 0x0d (exact values) is format 3.13's, and the file says it is 3.12"}}) {
+                "section 0x0d (exact values) is format 3.13's, and the file says it is 3.12"},
+          Later{"qsp_properties_section_in_3_13", 14, 13,
+                "section 0x0e (properties) is format 3.14's, and the file says it is 3.13"}}) {
       Parts earlier = p;
       earlier.minor = l.minor;
       out[l.name] = {seal(earlier, section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) +

@@ -17,7 +17,8 @@
 
 namespace qsp {
 
-// The format version this library writes: the lowest whose sections the file holds. 3.13 for texture
+// The format version this library writes: the lowest whose sections the file holds. 3.14 for PLY
+// properties or OBJ vertex weights (PolygonMesh::vertex_properties, face_properties), 3.13 for texture
 // coordinates, normals or colours binary32 does not hold, 3.12 for a polygon
 // mesh with interior vertices, 3.11 for a kept statement order, 3.10 for normals
 // predicted from the faces or octahedral, 3.9 for front-coded label names, 3.7 for a mesh with
@@ -30,7 +31,9 @@ namespace qsp {
 // refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
 // (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 13;
+inline constexpr std::uint8_t kFormatMinor = 14;
+// PLY vertex and face properties and the OBJ vertex weight (the properties section).
+inline constexpr std::uint8_t kFormatMinorProperties = 14;
 // Texture coordinates, normals and colours binary32 does not hold (the exact values section).
 inline constexpr std::uint8_t kFormatMinorExactValues = 13;
 // A polygon mesh's interior positions coded by the geometry section (the interior positions section).
@@ -231,6 +234,7 @@ struct FileInfo {
   std::uint64_t normal_bytes = 0;    // the normals section (3.5; 0 if absent)
   std::uint64_t exact_bytes = 0;     // the exact positions section (3.6; 0 if absent)
   std::uint64_t color_bytes = 0;     // the colours section (3.8; 0 if absent)
+  std::uint64_t property_bytes = 0;  // the properties section (3.14; 0 if absent)
   std::uint64_t other_bytes = 0;     // optional sections this decoder skipped
   std::uint8_t geometry_tools = 0;   // qsp/geometry.h's geometry_tool bits (geometry_tool_names() says them)
   std::uint8_t quantize_bits = 0;    // 0: lossless positions; 1..30: quantized to that many bits

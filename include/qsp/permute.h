@@ -42,13 +42,19 @@ struct PolygonRenumbering {
   bool renumber_tags = true;  // tags' vertex and face indices follow (else they are kept as they are)
 };
 
-// `mesh` renumbered by `r`: vertex attributes (positions, exact positions, colours) move with their
-// vertices, face attributes (colours, labels) with their faces, each corner's texture coordinate and
-// normal with its corner; value arrays, label names, libraries and kept lines stay as they are; tags as
-// `r.renumber_tags` says (renumber_tags, polymesh.h). Throws Error(kUsage) as the quad permute() does, for
-// a first corner beyond its face, or a tag that cannot be renumbered. O(V + corners); safe on untrusted
-// maps.
+// `mesh` renumbered by `r`: vertex attributes (positions, exact positions, colours, properties) move with
+// their vertices, face attributes (colours, labels, properties) with their faces, each corner's texture
+// coordinate and normal with its corner; value arrays, label names, libraries and kept lines stay as they
+// are; tags as `r.renumber_tags` says (renumber_tags, polymesh.h). Throws Error(kUsage) as the quad permute()
+// does, for a first corner beyond its face, or a tag that cannot be renumbered. O(V + corners); safe on
+// untrusted maps.
 PolygonMesh permute(const PolygonMesh& mesh, const PolygonRenumbering& r);
+
+// Vertex or face properties renumbered: element e of each is element from[e] of `props` (a list keeps its
+// values in order). Throws Error(kUsage) for a property whose values or list offsets disagree with
+// from.size() elements; `from` must be a permutation (the caller's: permute() checks its own). O(values).
+std::vector<ValueProperty> permute_properties(const std::vector<ValueProperty>& props,
+                                              std::span<const std::uint32_t> from);
 
 // The inverse of a permutation: out[p[i]] = i. Throws Error(kUsage) unless `p` is a permutation of
 // 0..p.size()-1.

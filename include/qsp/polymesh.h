@@ -82,8 +82,7 @@ TagIndices tag_indices(std::string_view name);
 void renumber_tags(std::vector<SubdivisionTag>& tags, std::span<const std::uint32_t> vertex,
                    std::span<const std::uint32_t> face);
 
-// A PLY scalar type; integers are kept as exact values in Numbers.
-enum class ScalarType : std::uint8_t { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };
+// ScalarType (qsp/submesh.h) by PLY 1.0's name.
 std::string_view scalar_type_name(ScalarType t);  // PLY 1.0's name: "char", "uchar", ..., "double"
 
 // A PLY vertex or face property qsp has no other place for ("quality", "flags", a `texcoord` list).
@@ -242,8 +241,10 @@ QuadMesh to_quad_mesh(const Mesh& mesh);
 // and groups, kCategoryMaterial its materials and material libraries, kCategorySmoothing its smoothing
 // groups, kCategoryNormal its normals (float32, as texture coordinates), kCategoryTag its OpenSubdiv tags
 // (their floats as binary32 values where the list is kFloat32, else as the nearest binary64: a kDecimal list
-// is not held exactly), kCategoryExtra its lines kept as text (vertex weights and PLY properties are
-// not kept); every other attribute ignored. Never throws but for memory.
+// is not held exactly), kCategoryExtra its lines kept as text, its vertex weights (the vertex property
+// named "", first) and PLY vertex and face properties (each value exactly as a binary64: a kDecimal list's
+// nearest; `float64` where a float list is not kFloat32), not its PLY obj_info lines; every other
+// attribute ignored. Never throws but for memory.
 PolygonMesh to_polygon_mesh(Mesh mesh, unsigned categories);
 
 // The categories to_polygon_mesh carries into a PolygonMesh.
@@ -255,7 +256,8 @@ inline constexpr unsigned kPolygonMeshCategories = kCategoryUv | kCategoryNormal
 // PolygonMesh's positions (its float64 positions64 where it has them, else its float32 ones) and its faces,
 // its texture coordinates (when texcoord_components is not 0) and normals (when it has any) with their
 // corners, vertex and face colours (float32), face labels, material libraries, kept lines and OpenSubdiv tags
-// (their floats as kFloat64 Numbers where the tag says float64, else as float32); nothing else, and no
+// (their floats as kFloat64 Numbers where the tag says float64, else as float32), vertex weights and PLY
+// properties (kFloat64 Numbers where `float64` says so or an integer is beyond float32); nothing else, and no
 // statements (the writers use the canonical order). A Mesh whose numbers are float32 and which carries only
 // kPolygonMeshCategories comes back from to_polygon_mesh(m, kPolygonMeshCategories) with the same arrays (a
 // corner array it left empty beside values comes back as kInvalid per corner). Checks nothing (check_mesh

@@ -52,6 +52,22 @@ struct SubdivisionTag {
   std::vector<std::string> strings;  // creasemethod's "chaikin", ...
 };
 
+// A PLY scalar type; integers are kept as exact values.
+enum class ScalarType : std::uint8_t { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };
+
+// A per-vertex or per-face property qsp has no other place for, as the codec keeps it: a PLY property
+// ("quality", "flags", a `texcoord` list) or the OBJ vertex weight (`v x y z w`: the vertex property
+// named "", a scalar float).
+struct ValueProperty {
+  std::string name;                            // the PLY property's name; "" for the OBJ vertex weight
+  ScalarType type = ScalarType::kFloat32;      // of the values
+  bool list = false;                           // a list per element (offsets) rather than one value
+  ScalarType count_type = ScalarType::kUint8;  // a list's length type (an integer type)
+  bool float64 = false;  // a float type some value of which binary32 does not hold (written as binary64)
+  std::vector<std::uint32_t> offsets;  // list: per element and one more, where its values start; else empty
+  std::vector<double> values;          // exact: scalar: one per element; list: the lists end to end
+};
+
 // One OBJ statement, or a run of them, in file order. Runs consume the next entries of their array.
 enum class ObjStatement : std::uint8_t {
   kVertex,           // run of `v`
@@ -107,10 +123,19 @@ struct PolygonMesh {
   std::vector<std::string> material_libraries;
   std::vector<SubdivisionTag> tags;     // OpenSubdiv tags in file order; indices in this mesh's numbering
   std::vector<std::string> kept_lines;  // OBJ lines kept as text (vp, cstype, prose), file order
+  // PLY properties and the OBJ vertex weight, per vertex and per face; empty when none.
+  std::vector<ValueProperty> vertex_properties, face_properties;
   // The OBJ file's statement order (Mesh::statements, its comment runs left out: the leading comment
   // block goes first), kept with --keep-order: runs consume the arrays above in order, label statements
   // name their kind's names by index. Empty: none kept (writers use the canonical order).
   std::vector<Statement> statements;
+  // Positions (binary32) and faces only: no attribute, label, tag, property, kept line or statement order.
+  bool bare() const {
+    return texcoord_components == 0 && corner_normals.empty() && normals.empty() &&
+           vertex_color_components == 0 && face_color_components == 0 && positions64.empty() &&
+           !has_labels() && tags.empty() && kept_lines.empty() && vertex_properties.empty() &&
+           face_properties.empty() && statements.empty();
+  }
   bool has_labels() const {
     return !objects.empty() || !groups.empty() || !materials.empty() || !smoothing.empty() ||
            !material_libraries.empty();

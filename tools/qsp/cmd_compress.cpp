@@ -113,15 +113,14 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
     throw Error(ErrorCode::kIo,
                 "-: refusing to write compressed data to a terminal (redirect it, or give OUT)");
 
-  // Lines kept as text (vp, cstype, prose) are kept too, unless extra is dropped; the rest of extra
-  // (vertex weights, PLY properties) is not.
+  // Extra data is kept too (lines kept as text, vertex weights, PLY properties), unless dropped; only PLY
+  // obj_info lines are not.
   const unsigned keep = (kPolygonMeshCategories | kCategoryExtra) & ~o.drop.categories();
   PolygonInput input = read_polygon_input(in, format, QspInput::kRefused, keep);
   PolygonMesh mesh = polygons_of(std::move(input));
   const ReadReport& report = input.report;
   const bool quiet = o.verbosity.quiet;
-  ReadReport refusable = report;
-  if (keep & kCategoryExtra) refusable.kept_lines = 0;
+  const ReadReport refusable = refusable_extra(report, keep);
   const std::string dropped = refuse_extra_data(in, refusable, ".qsp", o.drop, quiet, kPolygonMeshCategories);
   check_kept_values(
       in, input, mesh,

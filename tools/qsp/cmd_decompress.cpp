@@ -40,9 +40,7 @@ std::string mesh_text(PolygonMesh m, MeshFormat format, const std::vector<std::s
   bool quads = true;
   for (std::size_t f = 0; f < m.face_count(); ++f)
     quads = quads && m.face_offsets[f + 1] - m.face_offsets[f] == 4;
-  if (format != MeshFormat::kPly && quads && m.texcoord_components == 0 && m.corner_normals.empty() &&
-      !m.has_labels() && m.tags.empty() && m.positions64.empty() && m.kept_lines.empty() &&
-      m.vertex_color_components == 0 && m.face_color_components == 0 && m.statements.empty()) {
+  if (format != MeshFormat::kPly && quads && m.bare()) {
     const QuadMesh q{std::move(m.positions), std::move(m.corners)};
     return format == MeshFormat::kOff ? write_off(q, comments) : write_obj(q, comments);
   }

@@ -124,8 +124,7 @@ int run(const ReorderOptions& o) {
   const unsigned keep = (kPolygonMeshCategories | kCategoryExtra) & ~o.drop.categories();
   const PolygonInput ref = read_polygon_input(o.ref, in_format, QspInput::kDecoded),
                      in = read_polygon_input(o.input, in_format, QspInput::kDecoded, keep);
-  ReadReport refusable = in.report;
-  if (keep & kCategoryExtra) refusable.kept_lines = 0;
+  const ReadReport refusable = refusable_extra(in.report, keep);
   const std::string dropped =
       refuse_extra_data(o.input, refusable, "reorder", o.drop, false, kPolygonMeshCategories);
   // A mesh file with more than positions and faces (or coordinates float32 does not hold) was read by the

@@ -312,7 +312,8 @@ ReadReport report_of(const Mesh& m, ReadNotes&& notes, const std::string& path) 
   r.vertex_weights = x.vertex_weights;
   r.kept_lines = x.verbatim;
   if (!notes.warnings.empty()) r.first_kept = notes.warnings.front();
-  r.other_properties = x.properties;
+  r.other_properties = m.vertex_properties.size() + m.face_properties.size();
+  r.obj_info = m.ply.obj_info.size();
   r.face_line = std::move(notes.face_line);
   for (std::size_t i = 0; i < m.positions.size(); ++i) {
     const float f = m.positions.f32[i];
@@ -395,6 +396,19 @@ void read_polygons(PolygonInput& in, std::string_view bytes, const std::string& 
     rounded(m.face_colors, std::max<std::size_t>(m.face_color_components, 1), "face colour", nullptr,
             kCategoryColor);
   }
+  // Properties are kept as binary64: refuse what it does not hold rather than round it.
+  if (keep & kCategoryExtra) {
+    const auto beyond = [&](const Numbers& n, const std::string& what) {
+      if (n.precision == Precision::kDecimal && !n.decimals.empty())
+        throw Error(ErrorCode::kUnsupported,
+                    path + ": " + what + " value " + std::to_string(n.decimals.front().index) +
+                        " has more digits than float64 holds; a .qsp keeps binary64 property values: pass "
+                        "--drop extra");
+    };
+    beyond(m.vertex_weights, "the vertex weights (v x y z w), one per vertex:");
+    for (const Property& q : m.vertex_properties) beyond(q.values, "PLY vertex property '" + q.name + "'");
+    for (const Property& q : m.face_properties) beyond(q.values, "PLY face property '" + q.name + "'");
+  }
   if (keep & kCategoryTag)
     for (std::size_t t = 0; t < m.tags.size(); ++t)
       if (m.tags[t].floats.precision == Precision::kDecimal)
@@ -466,7 +480,8 @@ PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspI
   // Texture coordinates, labels and coordinates float32 does not hold come from the exact reader, which
   // the quad reader's report says it needs.
   if ((in.report.categories() & keep & kPolygonMeshCategories) || in.report.rounded_coordinates ||
-      (in.report.kept_lines && (keep & kCategoryExtra))) {
+      ((in.report.kept_lines || in.report.vertex_weights || in.report.other_properties) &&
+       (keep & kCategoryExtra))) {
     ReadReport report = std::move(in.report);  // the same kinds; its words for the quad path's messages
     in.mesh = {};
     in.quads = false;
@@ -526,6 +541,12 @@ void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose
       "Drop all of them (--drop " + category_list(kCategoryAll) + "): keep positions and faces only");
 }
 
+ReadReport refusable_extra(const ReadReport& report, unsigned keep) {
+  ReadReport r = report;
+  if (keep & kCategoryExtra) r.kept_lines = r.vertex_weights = r.other_properties = 0;
+  return r;
+}
+
 std::string refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
                               const DropOptions& drop, bool quiet, unsigned kept) {
   const unsigned has = report.categories() & ~(kept & ~drop.categories()), dropped = drop.categories() & has;
@@ -577,7 +598,8 @@ std::string drop_polygon_data(PolygonMesh& m, const std::string& path, const Dro
        [&] { m.materials = {}, m.material_libraries.clear(); });
   take(kCategorySmoothing, !m.smoothing.empty(), [&] { m.smoothing = {}; });
   take(kCategoryTag, !m.tags.empty(), [&] { m.tags.clear(); });
-  take(kCategoryExtra, !m.kept_lines.empty(), [&] { m.kept_lines.clear(); });
+  take(kCategoryExtra, !m.kept_lines.empty() || !m.vertex_properties.empty() || !m.face_properties.empty(),
+       [&] { m.kept_lines.clear(), m.vertex_properties.clear(), m.face_properties.clear(); });
   if (!had) return {};
   return "qsp: " + path + ": dropped its " + category_list(had, ", ") + " (" +
          (drop.positions_only ? "--positions-only" : "--drop " + drop.list) + ")\n";

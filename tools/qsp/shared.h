@@ -216,6 +216,9 @@ void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose
 // print once its output is written. The leading comment block is kept by both (kKeptCategories):
 // never refused, dropped only when `drop` names it.
 inline constexpr unsigned kKeptCategories = kCategoryComment;
+// The report without the extra data a PolygonMesh keeps when `keep` has kCategoryExtra (lines kept as text,
+// vertex weights, PLY properties): what is left for refuse_extra_data (PLY obj_info lines).
+ReadReport refusable_extra(const ReadReport& report, unsigned keep);
 // `kept`: the categories `what` keeps (compress: uv), refused only when `drop` names them.
 std::string refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
                               const DropOptions& drop, bool quiet, unsigned kept = 0);
