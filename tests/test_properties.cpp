@@ -362,6 +362,23 @@ TEST_F(PropertiesCli, RenumberingGivesTheSameBytes) {
   }
 }
 
+// reorder --like REF IN: IN's properties, each with its vertex or face, in REF's order.
+TEST_F(PropertiesCli, ReorderKeepsThemWithTheirVerticesAndFaces) {
+  spit(p("in.ply"), kPly);
+  round_trip("in.ply", "", ".ply");  // back.ply: the same mesh, renumbered canonically
+  const auto r = run_qsp("reorder --like " + quote(p("back.ply")) + " " + quote(p("in.ply")) + " -o " +
+                         quote(p("r.ply")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const PlyFile ref = parse_ply(slurp(p("back.ply"))), in = parse_ply(kPly),
+                out = parse_ply(slurp(p("r.ply")));
+  EXPECT_EQ(out.positions, ref.positions);
+  EXPECT_EQ(out.faces, ref.faces);
+  const auto va = by_position(in), vb = by_position(out);
+  for (const auto& [at, values] : va) expect_same_values(values, vb.at(at));
+  const auto fa = by_corners(in), fb = by_corners(out);
+  for (const auto& [at, values] : fa) expect_same_values(values, fb.at(at));
+}
+
 TEST_F(PropertiesCli, ValuesFloat64DoesNotHoldAreRefusedUnlessDropped) {
   std::string text = kPly;
   const std::size_t at = text.find("0.123456789012345");
