@@ -65,10 +65,19 @@ std::string property_problem(const ValueProperty& p, bool face, std::size_t elem
   return "";
 }
 
+// Whether one of the first `n` properties has `name` (a PLY element cannot hold two of one name).
+bool named_before(const std::vector<ValueProperty>& props, std::size_t n, const std::string& name) {
+  for (std::size_t i = 0; i < n; ++i)
+    if (props[i].name == name) return true;
+  return false;
+}
+
 void put_properties(std::string& out, const std::vector<ValueProperty>& props, bool face,
                     std::size_t elements) {
   for (std::size_t i = 0; i < props.size(); ++i) {
     const ValueProperty& p = props[i];
+    if (named_before(props, i, p.name))
+      throw Error(ErrorCode::kUsage, "encode: two properties of one element named '" + p.name + "'");
     if (const std::string why = property_problem(p, face, elements); !why.empty())
       throw Error(ErrorCode::kUsage, std::string("encode: ") + (face ? "face" : "vertex") + " property " +
                                          std::to_string(i) + " ('" + p.name + "') " + why);
@@ -181,7 +190,10 @@ DecodedProperties decode_properties_section(std::string_view payload, std::uint6
       }
     }
     if (const std::string why = property_problem(p, face, elements); !why.empty()) fail(why);
-    (face ? out.face : out.vertex).push_back(std::move(p));
+    std::vector<ValueProperty>& element = face ? out.face : out.vertex;
+    if (named_before(element, element.size(), p.name))
+      fail("has the name of an earlier property of its element");
+    element.push_back(std::move(p));
   }
   if (r.left()) r.fail("bytes after the last property");
   return out;

@@ -554,6 +554,7 @@ class PlyWriter {
     static constexpr const char* kXyz[] = {"x", "y", "z"};
     static constexpr const char* kNormal[] = {"nx", "ny", "nz"};
     static constexpr const char* kUv[] = {"u", "v"};
+    static constexpr const char* kSt[] = {"s", "t"};
     static constexpr const char* kRgba[] = {"red", "green", "blue", "alpha"};
     const auto fresh = [&](std::vector<Field>& to, PlyRole role, std::uint32_t k, const char* name,
                            const Numbers& n, std::size_t stride, bool colors) {
@@ -570,8 +571,12 @@ class PlyWriter {
     for (std::uint32_t k = 0; k < 3 && !m_.normals.empty(); ++k) {
       if (!normal[k]) fresh(vertex_, PlyRole::kNormal, k, kNormal[k], m_.normals, 3, false);
     }
+    // u v, or s t where a property already has one of those names (a lone `u` is a property of its own).
+    bool uv_taken = false;
+    for (const Property& q : m_.vertex_properties) uv_taken = uv_taken || q.name == "u" || q.name == "v";
     for (std::uint32_t k = 0; k < 2 && !m_.texcoords.empty(); ++k) {
-      if (!texcoord[k]) fresh(vertex_, PlyRole::kTexcoord, k, kUv[k], m_.texcoords, 2, false);
+      if (!texcoord[k])
+        fresh(vertex_, PlyRole::kTexcoord, k, (uv_taken ? kSt : kUv)[k], m_.texcoords, 2, false);
     }
     for (std::uint32_t k = 0; k < m_.vertex_color_components && !m_.vertex_colors.empty(); ++k) {
       if (!color[k])
@@ -606,6 +611,14 @@ class PlyWriter {
       if (!fits_unsigned(f.field.count_type, most) || is_float(f.field.count_type))
         f.field.count_type = ScalarType::kUint32;
     }
+    // Two fields of one name would not read back (a decoded property named as a field the writer adds).
+    for (const auto* fields : {&vertex_, &face_})
+      for (std::size_t i = 0; i < fields->size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+          if ((*fields)[i].field.name == (*fields)[j].field.name)
+            throw Error(ErrorCode::kUsage, std::string("PLY cannot hold two ") +
+                                               (fields == &vertex_ ? "vertex" : "face") +
+                                               " properties named '" + (*fields)[i].field.name + "'");
   }
 
   // Whether float32 holds every value of a column (a float32 field of a file whose other fields are
@@ -614,6 +627,7 @@ class PlyWriter {
     const Numbers& n = *c.values;
     if (n.precision == Precision::kFloat32) return true;
     const auto holds = [&n](std::size_t i) {
+      if (std::isnan(n.f32[i])) return std::isnan(n.f64[i]);  // a NaN is as much a float32 as a float64
       return !detail::find_decimal(n, i) && detail::shortest_double(n.f32[i]) == n.f64[i];
     };
     if (c.list) {

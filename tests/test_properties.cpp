@@ -497,6 +497,7 @@ TEST(PropertiesSection, BrokenRulesAreFormatErrors) {
       {payload({1, 4, 1, 1, 'q', 0}), "binary64"},                    // binary64 on an integer type
       {payload({1, 2, 0x11, 1, 'q', 0x7f}), "values"},                // 127 values, no bytes
       {payload({2, 1, 1, 1, 'f', 0, 0, 1, 'v', 0}), "after a face"},  // vertex after face
+      {payload({2, 0, 1, 1, 'q', 0, 0, 1, 1, 'q', 0}), "earlier property"},  // two of one name
       {payload({1, 0, 1, 1, 'q', 0, 0}), "after the last"},           // a byte left over
   };
   for (const auto& [bytes, what] : cases) {
