@@ -56,6 +56,16 @@
 # polygon file's geometry as its quad submesh's alone, which such a file's is not); and both decoders
 # must refuse that section broken each way the text names (in a 3.11 file, a wrong count, bytes after
 # the count or after the polygons section's stream, the section beside no polygons section).
+# Properties (format 3.14's section, from the text too: qspprops.py, propsgen.py): each golden file of
+# testdata/golden/properties, and fresh encodes (default and --keep-order) of propsgen.py --make's
+# meshes (PLY vertex properties of every type and face lists with each count type, floats of more
+# digits than binary32, a triangle beside quads, OBJ vertex weights), are decoded whole by qsppoly.py
+# and every vertex's and face's property values compared with what `qsp decompress` writes (a PLY, and
+# an OBJ for a weight); both decoders must read valid rewrites of the section (binary64 floats, NaN and
+# infinities, every printable name byte, an added weight) to the same values and refuse the section
+# broken each way the text names (in a 3.13 file, reserved bits, invalid types, bad names, misplaced or
+# repeated empty names, a vertex property after a face property, list lengths and values outside their
+# types' ranges, bytes after the last property, ...).
 # Polygon goldens of earlier versions (testdata/golden/v3.*/polygons) are checked as
 # testdata/golden/polygons' are, against the mesh of today's golden of the same name.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
@@ -479,6 +489,40 @@ else
   echo "spec decoder: qsp does not say it reads format 3.13: its exact values encodes are skipped"
   ((${#val_of[@]} == 0)) || { echo "spec decoder: golden files with exact values, and qsp does not read 3.13" >&2; exit 1; }
 fi
+# Properties (format 3.14's section, from the text too: qspprops.py, propsgen.py): each golden file of
+# testdata/golden/properties, and fresh encodes (default and --keep-order) of propsgen.py --make's
+# meshes (a binary PLY with vertex properties of every type and face lists with each count type; an
+# ASCII PLY with a triangle, floats of more digits than binary32 and lists of floats; an OBJ with
+# vertex weights), are decoded whole by qsppoly.py and each vertex's and face's property values
+# compared with the PLY (and, with a weight, the OBJ) `qsp decompress` writes; both decoders must read
+# valid rewrites of the section to the same values and refuse it broken each way the text names
+# (propsgen.py --test).
+props_checked=0
+if "$qsp" --version | grep -Eq 'reads 3\.0 to 3\.(1[4-9]|[2-9][0-9])'; then
+  mkdir -p "$work/props" "$work/props_test"
+  props_files=()
+  for f in "$root"/testdata/golden/properties/*.qsp; do [[ -f $f ]] && props_files+=("$f"); done
+  while IFS=$'\t' read -r name mesh; do
+    for opts in "" --keep-order; do
+      out=$work/props/$name${opts:+_keep_order}.qsp
+      "$qsp" compress -f -q $opts "$mesh" "$out" ||
+        { echo "spec decoder: qsp compress refuses propsgen.py's $mesh ($opts)" >&2; exit 1; }
+      props_files+=("$out")
+    done
+  done < <("$python" "$here/propsgen.py" --make "$work/props")
+  for f in "${props_files[@]}"; do
+    "$python" "$here/propsgen.py" --test "$f" "$qsp" "$work/props_test" ||
+      { echo "properties sections from the text: the spec decoder or qsp decompress disagrees on $f" \
+             "(propsgen.py --test $f $qsp DIR says where)" >&2; exit 1; }
+    props_checked=$((props_checked + 1))
+  done
+else
+  echo "spec decoder: qsp does not say it reads format 3.14: its properties are skipped"
+  if compgen -G "$root/testdata/golden/properties/*.qsp" >/dev/null; then
+    echo "spec decoder: golden files with properties, and qsp does not read 3.14" >&2
+    exit 1
+  fi
+fi
 valued() {  # valued FILE MESH: binary64 texture coordinates, normals and colours against MESH's texts
   local f=$1 out exact=() whole=() ext=obj  # and what `qsp decompress` writes
   [[ $2 == *.off || $2 == *.ply ]] && ext=off
@@ -613,5 +657,5 @@ while ((running)); do
   wait -n || failed=1
   running=$((running - 1))
 done
-echo "spec decoder: $((${#files[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) of them decoded whole against their mesh, ${#interior[@]} polygon files with interior positions, ${#tex_of[@]} with texture coordinates, ${#lab_of[@]} with face labels, ${#tag_of[@]} with subdivision tags, ${#nrm_of[@]} with normals; $colors_checked golden files with colours; ${#val_of[@]} with exact values (${#values_tests[@]} of them broken each way the text names)"
+echo "spec decoder: $((${#files[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) files checked, $((${#obj_of[@]} + ${#tex_of[@]} + ${#lab_of[@]} + ${#tag_of[@]} + ${#nrm_of[@]})) of them decoded whole against their mesh, ${#interior[@]} polygon files with interior positions, ${#tex_of[@]} with texture coordinates, ${#lab_of[@]} with face labels, ${#tag_of[@]} with subdivision tags, ${#nrm_of[@]} with normals; $colors_checked golden files with colours; ${#val_of[@]} with exact values (${#values_tests[@]} of them broken each way the text names); $props_checked with properties (each broken each way the text names)"
 exit $failed

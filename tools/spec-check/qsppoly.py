@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The whole mesh of a .qsp file, polygons section (0x05), texture coordinates section (0x06), face
 labels section (0x07), subdivision tags section (0x08), normals section (0x09), colours section (0x0b,
-qspcolors.py), interior positions section (0x0c), exact values section (0x0d, qspvalues.py), order
-section (0x04) and comments section (0x81)
+qspcolors.py), interior positions section (0x0c), exact values section (0x0d, qspvalues.py), properties section
+(0x0e, qspprops.py), order section (0x04) and comments section (0x81)
 included, written from format-spec/qsp_format.md alone ("Grid layout", "Order section", "Polygons
 section", "Texture coordinates section", "Face labels section", "Subdivision tags section", "Normals
 section", "Interior positions section", "Comments section", "Decoding a mesh") without reading the
@@ -63,6 +63,7 @@ import qsplayout as lay
 import qspexact
 import qspcolors
 import qspvalues
+import qspprops
 
 need = g.need
 NONE = g.NONE
@@ -1223,7 +1224,7 @@ def interior_mesh(data, secs, V, quads, coding, st):
     return out_pos, out_faces, geo[1] != 0
 
 
-KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0a, 0x0b, 0x0c, 0x0d)
+KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0a, 0x0b, 0x0c, 0x0d, 0x0e)
 
 
 def refusals(cases, qsp, scratch):
@@ -1255,7 +1256,9 @@ def decode_file(data):
     or [values as binary32 bits, per face the normal each corner names or None, modes], as texture
     coordinates are; exact positions None or binary64 values per vertex; colours None or {'vertex':
     None or per vertex a tuple of binary32 bits, 'face': None or the same per face, 'modes': the
-    components' modes}, moved with their vertices and faces by an order section."""
+    components' modes}, moved with their vertices and faces by an order section; exact values None or
+    qspvalues.decode_values'; properties None or qspprops.decode_props' list, their values moved with
+    their vertices and faces by an order section."""
     secs = g.sections(data)
     for tag in secs:
         need(tag & 0x80 or tag in KNOWN_REQUIRED, 'section 0x%02x is required but unknown' % tag)
@@ -1269,6 +1272,9 @@ def decode_file(data):
         vc, fc, modes = qspcolors.decode_colors(secs[0x0b], len(pos), len(faces), faces, data[9])
         Kv, Kf = qspcolors.parse_header(secs[0x0b], len(pos), len(faces))[:2]
         colors = {'vertex': vc, 'face': fc, 'modes': modes, 'K': (Kv, Kf)}
+    props = None   # "Properties section": per output vertex and face, moved as vertices and faces are
+    if 0x0e in secs:
+        props = qspprops.decode_props(secs[0x0e], len(pos), len(faces), data[9])
     lines = comments(secs[0x81]) if 0x81 in secs else []
     tex = None
     if 0x06 in secs:
@@ -1318,6 +1324,8 @@ def decode_file(data):
             colors['vertex'] = [colors['vertex'][c] for c in cv]
         if colors and colors['face']:
             colors['face'] = [colors['face'][c] for c, _ in of]
+        if props:
+            qspprops.permute(props, cv, of)
         ofaces, onames, onormals = [], [], []
         for c, r in of:
             d = len(faces[c])
@@ -1339,7 +1347,7 @@ def decode_file(data):
     values = None  # "Exact values section": over the values as returned above, the order section applied
     if 0x0d in secs:
         values = qspvalues.decode_values(secs[0x0d], qspvalues.arrays_of(tex, nrm, colors), data[9])
-    return pos, faces, lines, quantized, tex, labels, tags, nrm, exact, colors, values
+    return pos, faces, lines, quantized, tex, labels, tags, nrm, exact, colors, values, props
 
 
 # ---------------- comparisons ----------------
