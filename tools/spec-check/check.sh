@@ -60,8 +60,8 @@
 # testdata/golden/properties, and fresh encodes (default and --keep-order) of propsgen.py --make's
 # meshes (PLY vertex properties of every type and face lists with each count type, floats of more
 # digits than binary32, a triangle beside quads, OBJ vertex weights), are decoded whole by qsppoly.py
-# and every vertex's and face's property values compared with what `qsp decompress` writes (a PLY, and
-# an OBJ for a weight); both decoders must read valid rewrites of the section (binary64 floats, NaN and
+# and every vertex's and face's property values compared with their mesh's and with what `qsp
+# decompress` writes (a PLY, or an OBJ for a weight); both decoders must read valid rewrites of the section (binary64 floats, NaN and
 # infinities, every printable name byte, an added weight) to the same values and refuse the section
 # broken each way the text names (in a 3.13 file, reserved bits, invalid types, bad names, misplaced or
 # repeated empty names, a vertex property after a face property, list lengths and values outside their
@@ -494,24 +494,32 @@ fi
 # meshes (a binary PLY with vertex properties of every type and face lists with each count type; an
 # ASCII PLY with a triangle, floats of more digits than binary32 and lists of floats; an OBJ with
 # vertex weights), are decoded whole by qsppoly.py and each vertex's and face's property values
-# compared with the PLY (and, with a weight, the OBJ) `qsp decompress` writes; both decoders must read
+# compared with their mesh's (names, types, header order, values exactly, flags bit 2 on a float
+# property exactly where a value is not binary32's) and with the PLY (or, for a weight, the OBJ) `qsp
+# decompress` writes; both decoders must read
 # valid rewrites of the section to the same values and refuse it broken each way the text names
 # (propsgen.py --test).
 props_checked=0
 if "$qsp" --version | grep -Eq 'reads 3\.0 to 3\.(1[4-9]|[2-9][0-9])'; then
   mkdir -p "$work/props" "$work/props_test"
   props_files=()
-  for f in "$root"/testdata/golden/properties/*.qsp; do [[ -f $f ]] && props_files+=("$f"); done
+  declare -A props_mesh=()  # the mesh each was made from
+  for f in "$root"/testdata/golden/properties/*.qsp; do
+    [[ -f $f ]] || continue
+    props_files+=("$f")
+    for m in "${f%.qsp}.ply" "${f%.qsp}.obj"; do [[ -f $m ]] && props_mesh[$f]=$m; done
+  done
   while IFS=$'\t' read -r name mesh; do
     for opts in "" --keep-order; do
       out=$work/props/$name${opts:+_keep_order}.qsp
       "$qsp" compress -f -q $opts "$mesh" "$out" ||
         { echo "spec decoder: qsp compress refuses propsgen.py's $mesh ($opts)" >&2; exit 1; }
       props_files+=("$out")
+      props_mesh[$out]=$mesh
     done
   done < <("$python" "$here/propsgen.py" --make "$work/props")
   for f in "${props_files[@]}"; do
-    "$python" "$here/propsgen.py" --test "$f" "$qsp" "$work/props_test" ||
+    "$python" "$here/propsgen.py" --test "$f" "$qsp" "$work/props_test" ${props_mesh[$f]:+"${props_mesh[$f]}"} ||
       { echo "properties sections from the text: the spec decoder or qsp decompress disagrees on $f" \
              "(propsgen.py --test $f $qsp DIR says where)" >&2; exit 1; }
     props_checked=$((props_checked + 1))

@@ -6,14 +6,17 @@ qsppoly.py's decoder of that section (qspprops.py) and qsp decompress.
 usage: propsgen.py --make DIR
        writes small meshes into DIR and prints a line `NAME<TAB>MESH` for each: a binary PLY quad grid
        with vertex properties of every type (char .. double, each type's extremes, float and double
-       NaN, infinities, -0 and subnormals, doubles binary32 does not hold) and face lists with each
+       NaN, infinities, -0 and subnormals, doubles binary32 does not hold, doubles binary32's shortest
+       texts hold, a double equal to a widened binary32 whose text is long) and face lists with each
        count type (char .. uint); an ASCII PLY with a triangle beside quads, a float property with
-       values of more digits than binary32 and lists of floats; and an OBJ with vertex weights
-       `v x y z w` (some of more digits than binary32).
-       propsgen.py --test FILE.qsp QSP WORKDIR
-       FILE holds a properties section: decodes it with qsppoly.py, runs `QSP decompress -f FILE -o
-       WORKDIR/x.ply` (and x.obj when FILE has a vertex weight) and checks that every vertex's and
-       face's property values are the Python decoder's (vertices matched by position bits, faces by
+       values of more digits than binary32, a double one of short texts and lists of floats; and an
+       OBJ with vertex weights `v x y z w` (some of more digits than binary32).
+       propsgen.py --test FILE.qsp QSP WORKDIR [MESH]
+       FILE holds a properties section: decodes it with qsppoly.py; with MESH (the mesh FILE was made
+       from), compares the properties with MESH's (names, types, header order, every value exactly,
+       flags bit 2 on a float property exactly where some value is not binary32's); runs `QSP
+       decompress -f FILE -o WORKDIR/x.ply` (x.obj for a section of a weight alone) and checks that
+       every vertex's and face's property values are the Python decoder's (vertices matched by position bits, faces by
        their corners' positions; index for index with an order section), each property's type, list
        count type and header order; that the section is the one qspprops.encode_props writes back
        (every varint minimal, nothing else); and that both decoders read valid rewrites of the section
@@ -37,6 +40,7 @@ import qspgeo as g
 import qspexact as x
 import qsppoly as poly
 import qspprops as qp
+import qspvalues as qv
 
 TYPES = qp.TYPES
 ALIASES = {b'int8': b'char', b'uint8': b'uchar', b'int16': b'short', b'uint16': b'ushort', b'int32': b'int',
@@ -44,6 +48,13 @@ ALIASES = {b'int8': b'char', b'uint8': b'uchar', b'int16': b'short', b'uint16': 
 FMT = {b'char': 'b', b'uchar': 'B', b'short': 'h', b'ushort': 'H', b'int': 'i', b'uint': 'I', b'float': 'f',
        b'double': 'd'}
 KNOWN = {b'x', b'y', b'z', b'vertex_indices', b'vertex_index'}
+DOUBLE_CLEAR_IS_SHORTEST = True  # "each the exact value of its type (a binary64 for floats) ... text as a
+                              # text that reads back to the value (binary32's shortest where bit 2 is
+                              # clear)": which binary64 a `double` property's value with bit 2 clear is
+                              # (its binary32 widened, or the value of the binary32's shortest text) the
+                              # text leaves open; qsp writes the latter to a binary PLY `double` (and
+                              # its encoder clears bit 2 only where every value is that, so the source's
+                              # binary64 comes back), a `float` property's written as `double` the former
 NAN_FLOAT_AS_DOUBLE = True    # qsp writes a `float` property (flags bit 2 clear) that holds a NaN as a
                               # PLY `double`, where the text says "in their types" and a binary PLY
                               # `float` holds the NaN's binary32 bits: accepted (values compared as
@@ -120,6 +131,10 @@ def same_value(p, mine, theirs):
     kind, v = theirs
     nan = is_nan(mine)
     if kind == 'd':
+        if nan:
+            return is_nan(v), ''
+        if DOUBLE_CLEAR_IS_SHORTEST and p['type'] == 7 and not p['wide']:
+            return v == shortest_value(qp.narrow(mine)), ''
         return v == mine, ''
     if kind == 'f':
         n = qp.narrow(mine)
@@ -271,6 +286,114 @@ def compare_obj_weights(mesh, path, exact):
         if not ok:
             bad.append('vertex %d: weight %r, qsp decompress wrote %s %s' % (i, qp.as_float(v), rest[0].decode(), why))
             break
+    return bad
+
+
+# ---------------- the mesh the file was made from ----------------
+OTHER_PLACES = {b'x', b'y', b'z', b'nx', b'ny', b'nz', b'u', b'v', b's', b't', b'texture_u', b'texture_v', b'red',
+                b'green', b'blue', b'alpha', b'vertex_indices', b'vertex_index'}   # the places qsp has for them
+
+
+def source_value(p, v):
+    """A source value (read_ply's, or ('t', text) of an OBJ weight) as the binary64 bits or int the
+    decoded property must give, and whether binary32 holds it the way bit 2 clear keeps it (its
+    binary32's shortest text's value, or binary32 data)."""
+    if p['type'] not in qp.FLOATS:
+        return v, True
+    kind, u = v
+    if kind == 'f':
+        return qp.widen(u), True
+    y = qp.as_float(u) if kind == 'd' else float(u)
+    b = f64(y)
+    if y != y or math.isinf(y):
+        return b, True
+    n = g.f32_bits_of_double(y)
+    held = n & 0x7FFFFFFF != 0x7F800000 and shortest_value(n) == b
+    return (qp.widen(n) if held and p['type'] == 6 and not p['wide'] else b), held
+
+
+def shortest_value(n):
+    """The binary64 bits of the value binary32 n's shortest text denotes (n itself if not finite)."""
+    if n & 0x7F800000 == 0x7F800000:
+        return qp.widen(n)
+    return f64(qv.text_value(n))
+
+
+def compare_source(mesh, path, exact):
+    """The decoded properties against the mesh FILE was made from (PLY: every vertex and face property
+    but those qsp has other places for, in header order; OBJ: the weight of `v x y z w`): names, types,
+    list count types, order, and every value exactly (a value of bit 2 clear: its binary32's, or, for a
+    `double`, its shortest text's value); bit 2 set on a `float` property exactly where some value is
+    not binary32's (the reference encoder's choice the text states)."""
+    pos, faces, props = mesh[0], mesh[1], mesh[11]
+    if path.endswith('.obj'):
+        spos, sfaces, w = [], [], []
+        for raw in open(path, 'rb').read().split(b'\n'):
+            t = raw.split()
+            if t[:1] == [b'v']:
+                spos.append(tuple(g.f32_bits_of_double(float(a)) for a in t[1:4]))
+                w.append(('t', t[4].decode()) if len(t) == 5 else None)
+            elif t[:1] == [b'f']:
+                sfaces.append([int(a.split(b'/')[0]) - 1 for a in t[1:]])
+        want = [(b'', False, None, None, w)] if any(w) else []
+    else:
+        ply = read_ply(path)
+        _, vprops, vrows = ply[b'vertex']
+        _, fprops, frows = ply[b'face']
+        spos = [tuple(pos_bits(r[k]) for k in (b'x', b'y', b'z')) for r in vrows]
+        fkey = b'vertex_index' if any(n == b'vertex_index' for n, _ in fprops) else b'vertex_indices'
+        sfaces = [r[fkey] for r in frows]
+        want = [(n, face, [ALIASES.get(a, a) for a in t], None, [r[n] for r in rows])
+                for face, hp, rows in ((False, vprops, vrows), (True, fprops, frows)) for n, t in hp
+                if n not in OTHER_PLACES]
+    bad = []
+    if [(p['name'], p['face']) for p in props] != [(n, f) for n, f, _, _, _ in want]:
+        return ['properties %s, the mesh has %s' % ([(p['name'], p['face']) for p in props],
+                                                    [(n, f) for n, f, _, _, _ in want])]
+
+    def cyc(c):
+        c = list(c)
+        k = min(range(len(c)), key=lambda i: c[i:] + c[:i])
+        return tuple(c[k:] + c[:k])
+
+    if exact:
+        vmap, fmap = list(range(len(pos))), list(range(len(faces)))
+    else:
+        at = {q: j for j, q in enumerate(spos)}
+        vmap = [at.get(q) for q in pos]
+        fat = {}
+        for j, f in enumerate(sfaces):
+            fat.setdefault(cyc(spos[v] for v in f), []).append(j)
+        fmap = [(fat.get(cyc(pos[v] for v in f)) or [None]).pop(0) for f in faces]
+        if None in vmap or None in fmap or len(set(vmap)) != len(vmap):
+            return ['vertices or faces not matched to the mesh\'s by their positions']
+    for p, (n, face, t, _, vals) in zip(props, want):
+        if t is not None:
+            mine = [b'list', TYPES[p['count_type']].encode(), TYPES[p['type']].encode()] if p['list'] else [TYPES[p['type']].encode()]
+            if mine != t:
+                bad.append('%r: type %s, the mesh %s' % (n, b' '.join(mine).decode(), b' '.join(t).decode()))
+                continue
+        mp = fmap if face else vmap
+        held, wrong = True, None
+        for i, v in enumerate(p['values']):
+            sv = vals[mp[i]]
+            pairs = list(zip(v, sv)) if p['list'] else [(v, sv)]
+            if p['list'] and len(v) != len(sv):
+                wrong = wrong or (i, 'a list of %d, the mesh %d' % (len(v), len(sv)))
+                continue
+            for a, b in pairs:
+                e, h = source_value(p, b)
+                held = held and h
+                if p['type'] in qp.FLOATS and not p['wide'] and not is_nan(a) and p['type'] == 7:
+                    a = shortest_value(qp.narrow(a)) if DOUBLE_CLEAR_IS_SHORTEST else a
+                ok = (is_nan(a) and is_nan(e)) if p['type'] in qp.FLOATS and is_nan(e) else a == e
+                if not ok:
+                    wrong = wrong or (i, '%s, the mesh %s' % (hex(a) if p['type'] in qp.FLOATS else a, b))
+        if wrong:
+            bad.append('%r: values differ from the mesh\'s (first: %s %d: %s)' % (n, 'face' if face else 'vertex', *wrong))
+        if p['type'] == 6 and p['wide'] == held:
+            bad.append('%r: flags bit 2 %s, and %s value binary32 does not hold' % (
+                n, 'set' if p['wide'] else 'clear', 'no' if held else 'some'))
     return bad
 
 
@@ -506,7 +629,7 @@ def refusals(path, qsp, tmp):
     return failed
 
 
-def test(path, qsp, tmp):
+def test(path, qsp, tmp, source=None):
     os.makedirs(tmp, exist_ok=True)
     data = open(path, 'rb').read()
     secs = g.sections(data)
@@ -516,7 +639,8 @@ def test(path, qsp, tmp):
         mesh = poly.decode_file(data)
     except g.FormatError as e:
         return ['qsppoly.py refuses the file: %s' % e]
-    return refusals(path, qsp, tmp)   # case 0, the file itself, compares it with qsp decompress's PLY
+    bad = compare_source(mesh, source, 0x04 in secs) if source else []
+    return bad + refusals(path, qsp, tmp)   # case 0, the file itself, compares it with qsp decompress's PLY
 
 
 # ---------------- meshes ----------------
@@ -559,6 +683,7 @@ def make(d):
     head = ['ply', 'format binary_little_endian 1.0', 'comment properties of every type',
             'element vertex %d' % V, 'property float x', 'property float y', 'property float z']
     head += ['property %s %s' % (t, n) for t, n in vp]
+    head += ['property double d_short', 'property double d_widened']
     head += ['property list uchar int v_ids', 'element face %d' % F, 'property list uchar int vertex_indices']
     head += ['property list %s %s f_list_%s' % (c, vt, c) for c, vt in zip(counts, vtypes)]
     head += ['property float f_quality', 'end_header']
@@ -573,6 +698,8 @@ def make(d):
                 body += struct.pack('<Q', dspecial[i])
             else:
                 body += struct.pack('<' + FMT[t.encode()], v)
+        body += struct.pack('<d', [0.5, 2.0, -0.0, 0.25, 1e10, -3.0][i % 6])   # binary32's shortest texts' values
+        body += struct.pack('<Q', [0x3FB99999A0000000, 0x3FE0000000000000][i % 2])   # 0.1's binary32, widened
         k = i % 4
         body += struct.pack('<B', k) + struct.pack('<%di' % k, *[rng.randint(-2 ** 31, 2 ** 31 - 1) for _ in range(k)])
     for j, f in enumerate(faces):
@@ -595,7 +722,8 @@ def make(d):
     # ASCII PLY with a triangle beside quads: floats of more digits than binary32, lists of floats
     pos, faces = grid(4, 4, tri=True)
     lines = ['ply', 'format ascii 1.0', 'element vertex %d' % len(pos), 'property float x', 'property float y',
-             'property float z', 'property float quality', 'property double confidence', 'property uchar flags',
+             'property float z', 'property float quality', 'property double confidence', 'property double d_text',
+             'property uchar flags',
              'property list ushort float samples', 'element face %d' % len(faces),
              'property list uchar int vertex_indices', 'property int label', 'property list uint double w',
              'end_header']
@@ -604,7 +732,8 @@ def make(d):
         q = texts[i % len(texts)] if i % 3 else '%.9g' % rng.uniform(-5, 5)
         c = rng.choice(['0.1', '%.17g' % rng.random(), '1e300', '-4.000000000000001', '2'])
         s = ' '.join('%.9g' % rng.uniform(-1, 1) if k % 2 else rng.choice(['0.5', '0.123456789']) for k in range(i % 3))
-        lines.append('%g %g %g %s %s %d %d %s' % (p_ + (q, c, i % 256, i % 3, s)))
+        t = ['0.1', '0.5', '2', '-0', '1e-45', '0.2'][i % 6]   # doubles of binary32's shortest texts
+        lines.append('%g %g %g %s %s %s %d %d %s' % (p_ + (q, c, t, i % 256, i % 3, s)))
     for j, f in enumerate(faces):
         lines.append('%d %s %d %d %s' % (len(f), ' '.join(map(str, f)), rng.randint(-2 ** 31, 2 ** 31 - 1), j % 3,
                                          ' '.join('%.17g' % rng.random() for _ in range(j % 3))))
@@ -630,8 +759,8 @@ def main():
     if args[:1] == ['--make'] and len(args) == 2:
         make(args[1])
         return 0
-    if args[:1] == ['--test'] and len(args) == 4:
-        failed = test(args[1], args[2], args[3])
+    if args[:1] == ['--test'] and len(args) in (4, 5):
+        failed = test(*args[1:])
         for f in failed:
             print('propsgen: %s: %s' % (args[1], f), file=sys.stderr)
         return 1 if failed else 0
