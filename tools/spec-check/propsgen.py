@@ -545,8 +545,12 @@ def variants(data):
             before = qp.encode_props(base[:i])[len(g.varint(i)):] if i else b''
             after = qp.encode_props(base[i + 1:])[len(g.varint(len(base) - i - 1)):] if i + 1 < len(base) else b''
             put('list %r with lengths summing to 2^32' % p['name'], g.varint(len(base)) + before + head + body + after)
-    for i in ints:
+    types_done = set()
+    for i in ints:   # each integer type the section has, once
         p = base[i]
+        if p['type'] in types_done:
+            continue
+        types_done.add(p['type'])
         lo, hi = qp.RANGE[p['type']]
         for val, what in ((hi + 1, 'above'), (lo - 1, 'below')):
             ps = clone(base)
@@ -561,7 +565,6 @@ def variants(data):
                     continue
                 vs[0] = val
             with_props('value %d of %r, %s %s\'s range' % (val, p['name'], what, TYPES[p['type']]), ps)
-        break
     for i in ints:
         p = base[i]
         n = sum(len(v) for v in p['values']) if p['list'] else len(p['values'])
