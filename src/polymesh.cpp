@@ -524,7 +524,7 @@ Numbers exact_numbers(std::vector<float> f32, const std::vector<double>& f64) {
 Numbers property_numbers(const ValueProperty& p) {
   bool wide = p.float64;
   for (std::size_t i = 0; i < p.values.size() && !wide; ++i)
-    wide = static_cast<double>(static_cast<float>(p.values[i])) != p.values[i];
+    wide = !std::isnan(p.values[i]) && static_cast<double>(static_cast<float>(p.values[i])) != p.values[i];
   if (wide) return numbers_from_float64(p.values);
   return numbers_from_float32(std::vector<float>(p.values.begin(), p.values.end()));
 }

@@ -27,7 +27,8 @@ usage: propsgen.py --make DIR
        the section, empty names other than one scalar float vertex weight, a vertex property after a
        face property, a list length past its type's maximum, list lengths summing to 2^32, integer
        values outside their type's range, a zigzag value of 2^34, a non-minimal varint, a byte after
-       the last property, a byte short). Exit 0 if all hold, else 1.
+       the last property, a byte short, two properties of one element with one name). Exit 0 if all hold,
+       else 1.
 """
 import math
 import os
@@ -55,10 +56,8 @@ DOUBLE_CLEAR_IS_SHORTEST = True  # "each the exact value of its type (a binary64
                               # text leaves open; qsp writes the latter to a binary PLY `double` (and
                               # its encoder clears bit 2 only where every value is that, so the source's
                               # binary64 comes back), a `float` property's written as `double` the former
-NAN_FLOAT_AS_DOUBLE = True    # qsp writes a `float` property (flags bit 2 clear) that holds a NaN as a
-                              # PLY `double`, where the text says "in their types" and a binary PLY
-                              # `float` holds the NaN's binary32 bits: accepted (values compared as
-                              # binary64, the NaN's bits widened exactly), and named in the report
+NAN_FLOAT_AS_DOUBLE = False   # qsp once wrote a `float` property (flags bit 2 clear) holding a NaN as a
+                              # PLY `double`; the text says "in their types", and it now keeps `float`
 WIDE_FLOAT_AS_DOUBLE = True   # "the decoder writes them back in their types (PLY: `property TYPE NAME`
                               # ...), text as a text that reads back to the value": a `float` property
                               # with flags bit 2 (values binary32 does not hold) cannot be written back
@@ -512,6 +511,12 @@ def variants(data):
     with_props('an empty name on a vertex property after a face property',
                [dict(weight, name=b'q', face=True, values=[f64(1.0)] * F), dict(weight)])
     vcount = sum(1 for p in base if not p['face'])
+    if named:
+        i = named[0]
+        ps = clone(base)
+        twin = dict(ps[i])
+        ps.insert(i + 1, twin)
+        with_props('two %s properties named %r' % ('face' if base[i]['face'] else 'vertex', base[i]['name']), ps)
     faces_ = [i for i, p in enumerate(base) if p['face']]
     verts_ = [i for i, p in enumerate(base) if not p['face']]
     if faces_ and verts_:

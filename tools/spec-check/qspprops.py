@@ -72,6 +72,7 @@ def decode_props(payload, V, F, minor):
     need(3 * P <= len(payload) - at, 'properties: %d properties in %d bytes' % (P, len(payload) - at))
     out = []
     face_seen = weight_seen = False
+    names = set()  # (face, name) of the properties so far: "two properties of one element with the same name"
     for k in range(P):
         need(at + 2 <= len(payload), 'properties: property %d\'s flags and types past the section' % k)
         flags, types = payload[at], payload[at + 1]
@@ -101,6 +102,9 @@ def decode_props(payload, V, F, minor):
             face_seen = True
         else:
             need(not face_seen, 'properties: vertex property %r after a face property' % name)
+        need(N == 0 or (face, name) not in names, 'properties: two %s properties named %r'
+             % ('face' if face else 'vertex', name))
+        names.add((face, name))
         n = F if face else V
         lengths = None
         if is_list:
