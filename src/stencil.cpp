@@ -263,20 +263,26 @@ void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layou
       for (std::int64_t i = 0; i <= a; ++i) {
         const std::uint32_t p = nb(i, j);
         if (id[p] != kInvalid) continue;
+        // Fields hold coding positions, set as they are found (a coded point's id is final): no
+        // second pass over the stencil's 19 vertex fields to map them (a quarter of this function).
         Stencil t;
+        auto to_pos = [&](std::uint32_t q) { return id[q] + base; };  // q coded
+        auto coded_pos = [&](std::uint32_t q) {
+          return q != kInvalid && id[q] != kInvalid ? id[q] + base : kInvalid;
+        };
         const std::uint32_t w = coded(nb(i - 1, j)), s0 = coded(nb(i, j - 1));
         const std::uint32_t sw = w != kInvalid && s0 != kInvalid ? coded(nb(i - 1, j - 1)) : kInvalid;
         if (sw != kInvalid) {  // the frame: everything a patch-inner point of layout order has, and more
-          t.w = w, t.s = s0, t.sw = sw;
-          t.ww = coded(nb(i - 2, j));
-          t.se = coded(nb(i + 1, j - 1));
-          t.ss = coded(nb(i, j - 2));
-          t.sww = t.ww != kInvalid ? coded(nb(i - 2, j - 1)) : kInvalid;
-          t.ssw = t.ss != kInvalid ? coded(nb(i - 1, j - 2)) : kInvalid;
+          t.w = to_pos(w), t.s = to_pos(s0), t.sw = to_pos(sw);
+          t.ww = coded_pos(nb(i - 2, j));
+          t.se = coded_pos(nb(i + 1, j - 1));
+          t.ss = coded_pos(nb(i, j - 2));
+          t.sww = t.ww != kInvalid ? coded_pos(nb(i - 2, j - 1)) : kInvalid;
+          t.ssw = t.ss != kInvalid ? coded_pos(nb(i - 1, j - 2)) : kInvalid;
           if (i < a && coded(nb(a, j)) != kInvalid && coded(nb(a, j - 1)) != kInvalid)
-            t.e = nb(a, j), t.es = nb(a, j - 1), t.e_dist = static_cast<std::uint32_t>(a - i);
+            t.e = to_pos(nb(a, j)), t.es = to_pos(nb(a, j - 1)), t.e_dist = static_cast<std::uint32_t>(a - i);
           if (j < b && coded(nb(i, b)) != kInvalid && coded(nb(i - 1, b)) != kInvalid)
-            t.n = nb(i, b), t.nw = nb(i - 1, b), t.n_dist = static_cast<std::uint32_t>(b - j);
+            t.n = to_pos(nb(i, b)), t.nw = to_pos(nb(i - 1, b)), t.n_dist = static_cast<std::uint32_t>(b - j);
         } else {
           // A finished cell around p (the first in layout face order), as w, s, sw.
           const std::span<const std::uint32_t> around(at_cell.data() + first[p], first[p + 1] - first[p]);
@@ -285,31 +291,28 @@ void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layou
             const std::uint32_t u1 = layout.quads[q + ((r + 1) & 3)], u2 = layout.quads[q + ((r + 2) & 3)],
                                 u3 = layout.quads[q + ((r + 3) & 3)];
             if (coded(u1) != kInvalid && coded(u2) != kInvalid && coded(u3) != kInvalid)
-              t.w = u3, t.s = u1, t.sw = u2;
+              t.w = to_pos(u3), t.s = to_pos(u1), t.sw = to_pos(u2);
           }
           if (t.w != kInvalid) {
             // done
           } else if (w != kInvalid) {  // along the row, towards its end if that is coded
-            t.w = w;
-            t.ww = coded(nb(i - 2, j));
+            t.w = to_pos(w);
+            t.ww = coded_pos(nb(i - 2, j));
             if (i < a && coded(nb(a, j)) != kInvalid)
-              t.far = nb(a, j), t.far_dist = static_cast<std::uint32_t>(a - i);
+              t.far = to_pos(nb(a, j)), t.far_dist = static_cast<std::uint32_t>(a - i);
           } else if (s0 != kInvalid) {  // along the column
-            t.w = s0;
-            t.ww = coded(nb(i, j - 2));
+            t.w = to_pos(s0);
+            t.ww = coded_pos(nb(i, j - 2));
             if (j < b && coded(nb(i, b)) != kInvalid)
-              t.far = nb(i, b), t.far_dist = static_cast<std::uint32_t>(b - j);
+              t.far = to_pos(nb(i, b)), t.far_dist = static_cast<std::uint32_t>(b - j);
           } else {  // any coded neighbour (else the previous vertex stands in)
             for (std::size_t k = 0; k < around.size() && t.w == kInvalid; ++k) {
               const std::uint32_t q = around[k] & ~3u, r = around[k] & 3u;
-              t.w = coded(layout.quads[q + ((r + 1) & 3)]);
-              if (t.w == kInvalid) t.w = coded(layout.quads[q + ((r + 3) & 3)]);
+              t.w = coded_pos(layout.quads[q + ((r + 1) & 3)]);
+              if (t.w == kInvalid) t.w = coded_pos(layout.quads[q + ((r + 3) & 3)]);
             }
           }
         }
-        // Every field names a coded vertex: into coding positions now, while t is in cache.
-        for (std::uint32_t* v : t.vertex_fields())
-          if (*v != kInvalid) *v = id[*v] + base;
         id[p] = position++;
         coding.push_back(p + base);
         stencil.push_back(t);
