@@ -30,8 +30,11 @@ std::string encode_tuned(const QuadMesh& mesh, const EncodeOptions& options, con
   // always (mh_fedora, osd_catmark_car, igl_teddy at 14 bits): the highest levels try all three.
   if (options.partition || !effort.all_partitions) {
     const PartitionMode mode = options.partition.value_or(PartitionMode::kMotorcycle);
-    return encode_partition(mesh, adj, qsp::partition(adj, mode, mesh.positions), options, effort, tuning,
-                            order_out);
+    // The partition's tiling is not checked here: encode_canonical checks the canonical layouts, the
+    // same patches, as maps onto every vertex and face one-to-one and quad by quad (a quarter of the
+    // partition's instructions on mh_base).
+    return encode_partition(mesh, adj, qsp::partition(adj, mode, mesh.positions, false), options, effort,
+                            tuning, order_out);
   }
   // The three encodes are independent whole pipelines over read-only inputs: greedy runs on another
   // thread while this one does the motorcycle graph and merge (the heuristics take longer).
@@ -41,8 +44,8 @@ std::string encode_tuned(const QuadMesh& mesh, const EncodeOptions& options, con
   };
   auto run = [&](PartitionMode mode, ChoiceRole role) {
     Result r;
-    r.bytes = encode_partition(mesh, adj, qsp::partition(adj, mode, mesh.positions), options, effort, tuning,
-                               order_out ? &r.order : nullptr, std::move(role));
+    r.bytes = encode_partition(mesh, adj, qsp::partition(adj, mode, mesh.positions, false), options, effort,
+                               tuning, order_out ? &r.order : nullptr, std::move(role));
     return r;
   };
   // The motorcycle pipeline chooses the geometry header; the heuristics' pipelines wait for it.

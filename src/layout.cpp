@@ -105,6 +105,10 @@ std::string link(const ComponentPartition& part, const Adjacency& adj, LayoutMap
     }
     return true;
   });
+  // Every grid point a mesh vertex, whatever the caller checks next: canonicalize reads the positions
+  // of these vertices, and a partition need not have had its tiling checked (partition_from_cuts).
+  if (why.empty() && std::find(map.vertex.begin(), map.vertex.end(), kInvalid) != map.vertex.end())
+    why = "a grid point has no mesh vertex";
   return why;
 }
 

@@ -558,9 +558,9 @@ std::vector<std::uint32_t> merge_cuts(const Adjacency& adj, std::span<const std:
   return cut_list(adj, cut);
 }
 
-Partition partition(const Adjacency& adj, PartitionMode mode, std::span<const float> positions) {
+Partition partition(const Adjacency& adj, PartitionMode mode, std::span<const float> positions, bool tiling) {
   const std::vector<std::uint32_t> motorcycle = trace_motorcycles(adj, extraordinary_vertices(adj)).traced;
-  if (mode == PartitionMode::kMotorcycle) return partition_from_cuts(adj, motorcycle);
+  if (mode == PartitionMode::kMotorcycle) return partition_from_cuts(adj, motorcycle, tiling);
   std::vector<std::uint32_t> cuts = motorcycle;
   if (mode == PartitionMode::kGreedy) {
     try {

@@ -92,7 +92,11 @@ Partition partition_motorcycle(const Adjacency& adj);
 // always cut), e.g. a smaller partition than the motorcycle graph's. Throws Error(kInternal) naming
 // the problem if a region is not an (a,b)-grid whose boundary is cut at schematic vertices: a cut set
 // must leave every extraordinary vertex with no two consecutive uncut edges, and no region an annulus.
-Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_t> cuts);
+// `check_tiling` false leaves out the last check, that the patches' layouts map one-to-one onto the
+// mesh (every patch a grid, every schematic checked, still): for a caller that checks the layouts it
+// uses itself (the encoder checks its canonical layouts in full, encode_canonical).
+Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_t> cuts,
+                              bool check_tiling = true);
 
 // Which structured partition to build. All three give partitions that partition_from_cuts has validated
 // (every patch an (a,b)-grid, exact tiling), so any of them decodes with the same decoder:
@@ -119,8 +123,10 @@ bool parse_partition_mode(std::string_view name, PartitionMode& out) noexcept;
 // partition_motorcycle itself would. Deterministic; depends only on connectivity and orientation
 // (isomorphic meshes give isomorphic partitions) and, among symmetric choices, on `positions` (3
 // floats per vertex; empty: the choice follows the numbering). Safe on any mesh build_adjacency
-// accepted.
-Partition partition(const Adjacency& adj, PartitionMode mode, std::span<const float> positions = {});
+// accepted. `check_tiling` false: as partition_from_cuts' for the motorcycle graph (the heuristics'
+// partitions are always checked in full: their fallback depends on it).
+Partition partition(const Adjacency& adj, PartitionMode mode, std::span<const float> positions = {},
+                    bool check_tiling = true);
 
 // Checks every condition of §4's definition of a schematic partition, and — when the schematic is
 // linked to `adj` — that its patches tile the component exactly once as (a,b)-grids. Returns an empty
