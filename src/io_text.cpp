@@ -286,6 +286,13 @@ class Scanner {
     return out;
   }
   void mark_token() { token_start_ = p_; }
+  // Past the LF at `lf`, as finish_line() goes past it, after a statement a fast path read up to it
+  // (the last token it read starting at `token`).
+  void next_line(const char* token, const char* lf) {
+    token_start_ = token;
+    p_ = lf + 1;
+    ++line_;
+  }
   const char* token_start() const { return token_start_; }
   void advance() { ++p_; }
   char peek() const { return p_ < end_ ? *p_ : '\0'; }
@@ -607,6 +614,10 @@ class ObjReader {
 
   void parse_statements() {
     while (!in_.done()) {
+      if constexpr (!kExact) {
+        if (plain_line()) [[likely]]
+          continue;
+      }
       in_.skip_blank();
       if (in_.at_eol()) {
         if constexpr (kExact) {
@@ -981,6 +992,69 @@ class ObjReader {
     ++face_count_;
     for (const std::uint32_t c : q) corners_out_.push(c);
     face_line_.push(clamp_line(line));
+  }
+
+  // Quads mode's fast path for the two common lines, a `v` of three numbers and an `f` of four plain
+  // indices, each item after spaces and the last one right before the LF: read as statement() and
+  // finish_line() read them, with the same effects, without their general checks per character
+  // (continuations, lone CRs, comments, signs, slashes). Anything else, errors included, is left to
+  // them: false, nothing done. Half of parse_statements' own instructions on mh_base.
+  bool plain_line() {
+    const char* const p = in_.pos();
+    if (in_.end() - p < 2 || p[1] != ' ') return false;
+    if (p[0] == 'v') return plain_vertex(p + 1);
+    return p[0] == 'f' && plain_quad(p + 1);
+  }
+
+  bool plain_vertex(const char* p) {
+    const char* const end = in_.end();
+    TextNumber t[3];
+    const auto ends = [end](const char* e) { return e < end && (*e == ' ' || *e == '\n'); };
+    for (TextNumber& x : t) {
+      if (p == end || *p != ' ') return false;
+      do ++p;
+      while (p < end && *p == ' ');
+      if (p == end || *p == '+' || detail::read_number(p, end, ends, x) != NumberStatus::kOk) return false;
+      p = x.end;
+    }
+    if (*p != '\n' || vertex_count_ >= kMaxVertices) return false;  // p < end: ends() took it
+    const std::uint64_t line = in_.line();
+    for (const TextNumber& x : t) {
+      positions_.push(x.f);
+      if (!detail::float32_by_digits(x)) [[unlikely]]
+        check_rounded(line, x);
+    }
+    ++vertex_count_;
+    in_.next_line(in_.token_start(), p);
+    return true;
+  }
+
+  bool plain_quad(const char* p) {
+    const char *const end = in_.end(), *token = p;
+    std::uint32_t q[4];
+    for (std::uint32_t& index : q) {
+      if (p == end || *p != ' ') return false;
+      do ++p;
+      while (p < end && *p == ' ');
+      token = p;
+      const char* const last = end - p > 9 ? p + 9 : end;  // 9 digits stay below 2^32
+      std::uint32_t v = 0;
+      for (; p < last; ++p) {
+        const auto d = static_cast<std::uint32_t>(static_cast<unsigned char>(*p)) - '0';
+        if (d > 9) break;
+        v = v * 10 + d;
+      }
+      if (p == token || p == end || (*p != ' ' && *p != '\n') || v == 0 || v > kMaxVertices) return false;
+      index = v - 1;
+    }
+    std::size_t i = 0, j = 0;
+    if (*p != '\n' || repeated_corner(q, scratch_, i, j) || face_count_ >= kMaxFaces) return false;
+    for (const std::uint32_t c : q) max_index_ = std::max(max_index_, c);
+    ++face_count_;
+    for (const std::uint32_t c : q) corners_out_.push(c);
+    face_line_.push(clamp_line(in_.line()));
+    in_.next_line(token, p);
+    return true;
   }
 
   // Quads mode: vt/vn indices are checked for syntax only.
