@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 #include "bytes.h"
@@ -16,6 +17,9 @@ namespace {
 
 constexpr std::uint8_t kFaceBit = 0x01, kListBit = 0x02, kBinary64Bit = 0x04, kReservedFlags = 0xF8;
 constexpr const char* kSection = "properties section";
+// The format's limit on properties: far beyond any PLY file's few, and it bounds what a section of many
+// tiny properties costs beside its bytes (each property is an object and a name).
+constexpr std::uint64_t kMaxProperties = 65536;
 
 // The integer types' ranges, in ScalarType order.
 constexpr std::int64_t kLow[] = {-128, 0, -32768, 0, -2147483648LL, 0};
@@ -65,18 +69,16 @@ std::string property_problem(const ValueProperty& p, bool face, std::size_t elem
   return "";
 }
 
-// Whether one of the first `n` properties has `name` (a PLY element cannot hold two of one name).
-bool named_before(const std::vector<ValueProperty>& props, std::size_t n, const std::string& name) {
-  for (std::size_t i = 0; i < n; ++i)
-    if (props[i].name == name) return true;
-  return false;
-}
+// The names an element's properties have taken so far: a PLY element cannot hold two of one name. A set,
+// not a scan of the earlier properties: a hostile section of a million tiny properties stays linear.
+using Names = std::unordered_set<std::string>;
 
 void put_properties(std::string& out, const std::vector<ValueProperty>& props, bool face,
                     std::size_t elements) {
+  Names names;
   for (std::size_t i = 0; i < props.size(); ++i) {
     const ValueProperty& p = props[i];
-    if (named_before(props, i, p.name))
+    if (!names.insert(p.name).second)
       throw Error(ErrorCode::kUsage, "encode: two properties of one element named '" + p.name + "'");
     if (const std::string why = property_problem(p, face, elements); !why.empty())
       throw Error(ErrorCode::kUsage, std::string("encode: ") + (face ? "face" : "vertex") + " property " +
@@ -111,6 +113,8 @@ std::string encode_properties_section(const std::vector<ValueProperty>& vertex,
   std::size_t weights = 0;
   for (const ValueProperty& p : vertex) weights += p.name.empty();
   if (weights > 1) throw Error(ErrorCode::kUsage, "encode: more than one vertex weight property");
+  if (vertex.size() + face.size() > kMaxProperties)
+    throw Error(ErrorCode::kUsage, "encode: more than " + std::to_string(kMaxProperties) + " properties");
   std::string out;
   put_varint(out, vertex.size() + face.size());
   put_properties(out, vertex, false, vertices);
@@ -123,10 +127,12 @@ DecodedProperties decode_properties_section(std::string_view payload, std::uint6
   ByteReader r(payload, offset, kSection);
   const std::uint64_t count = r.varint("property count");
   // Every property takes at least 3 bytes (flags, types, name length): no allocation a file cannot back.
-  if (count == 0 || count > r.left() / 3)
-    r.fail("property count " + std::to_string(count) + " does not fit the section");
+  if (count == 0 || count > r.left() / 3 || count > kMaxProperties)
+    r.fail("property count " + std::to_string(count) + " does not fit the section or the limit of " +
+           std::to_string(kMaxProperties));
   DecodedProperties out;
   bool face_seen = false, weight_seen = false;
+  Names vertex_names, face_names;
   for (std::uint64_t i = 0; i < count; ++i) {
     const std::uint64_t at = r.offset();
     const std::uint8_t flags = r.u8("property flags");
@@ -190,10 +196,9 @@ DecodedProperties decode_properties_section(std::string_view payload, std::uint6
       }
     }
     if (const std::string why = property_problem(p, face, elements); !why.empty()) fail(why);
-    std::vector<ValueProperty>& element = face ? out.face : out.vertex;
-    if (named_before(element, element.size(), p.name))
+    if (!(face ? face_names : vertex_names).insert(p.name).second)
       fail("has the name of an earlier property of its element");
-    element.push_back(std::move(p));
+    (face ? out.face : out.vertex).push_back(std::move(p));
   }
   if (r.left()) r.fail("bytes after the last property");
   return out;

@@ -487,20 +487,23 @@ TEST(PropertiesSection, BrokenRulesAreFormatErrors) {
   };
   const std::pair<std::string, const char*> cases[] = {
       {payload({0}), "property count"},
-      {payload({0x7f, 0, 6, 0}), "property count"},                   // more than the bytes back
-      {payload({1, 0x08, 6, 1, 'q', 0, 0, 0, 0}), "reserved flag"},   // reserved flag bit
-      {payload({1, 0, 9, 1, 'q', 0, 0, 0, 0}), "type byte"},          // value type 9
-      {payload({1, 0, 0x16, 1, 'q', 0, 0, 0, 0}), "type byte"},       // a scalar with a length type
-      {payload({1, 0, 1, 1, 'q', 0x80, 0x04}), "integer type"},       // uchar 256
-      {payload({1, 1, 6, 0, 0, 0, 0, 0}), "no name"},                 // empty name on a face property
-      {payload({1, 0, 6, 1, ' ', 0, 0, 0, 0}), "name"},               // a space in the name
-      {payload({1, 4, 1, 1, 'q', 0}), "binary64"},                    // binary64 on an integer type
-      {payload({1, 2, 0x11, 1, 'q', 0x7f}), "values"},                // 127 values, no bytes
-      {payload({2, 1, 1, 1, 'f', 0, 0, 1, 'v', 0}), "after a face"},  // vertex after face
+      {payload({0x7f, 0, 6, 0}), "property count"},                          // more than the bytes back
+      {payload({1, 0x08, 6, 1, 'q', 0, 0, 0, 0}), "reserved flag"},          // reserved flag bit
+      {payload({1, 0, 9, 1, 'q', 0, 0, 0, 0}), "type byte"},                 // value type 9
+      {payload({1, 0, 0x16, 1, 'q', 0, 0, 0, 0}), "type byte"},              // a scalar with a length type
+      {payload({1, 0, 1, 1, 'q', 0x80, 0x04}), "integer type"},              // uchar 256
+      {payload({1, 1, 6, 0, 0, 0, 0, 0}), "no name"},                        // empty name on a face property
+      {payload({1, 0, 6, 1, ' ', 0, 0, 0, 0}), "name"},                      // a space in the name
+      {payload({1, 4, 1, 1, 'q', 0}), "binary64"},                           // binary64 on an integer type
+      {payload({1, 2, 0x11, 1, 'q', 0x7f}), "values"},                       // 127 values, no bytes
+      {payload({2, 1, 1, 1, 'f', 0, 0, 1, 'v', 0}), "after a face"},         // vertex after face
       {payload({2, 0, 1, 1, 'q', 0, 0, 1, 1, 'q', 0}), "earlier property"},  // two of one name
-      {payload({1, 0, 1, 1, 'q', 0, 0}), "after the last"},           // a byte left over
+      {payload({1, 0, 1, 1, 'q', 0, 0}), "after the last"},                  // a byte left over
   };
-  for (const auto& [bytes, what] : cases) {
+  // 65,537 properties in bytes enough for them: over the format's limit, refused before any is read.
+  std::vector<std::pair<std::string, const char*>> all(std::begin(cases), std::end(cases));
+  all.emplace_back(payload({0x81, 0x80, 0x04}) + std::string(3 * 65537, '\0'), "limit");
+  for (const auto& [bytes, what] : all) {
     SCOPED_TRACE(what);
     try {
       (void)decode_properties_section(bytes, 100, 1, 1);

@@ -26,7 +26,7 @@ usage: propsgen.py --make DIR
        a float list length type, bit 2 on an integer type, names with bytes outside 0x21-0x7e or past
        the section, empty names other than one scalar float vertex weight, a vertex property after a
        face property, a list length past its type's maximum, list lengths summing to 2^32, integer
-       values outside their type's range, a zigzag value of 2^34, a non-minimal varint, a byte after
+       values outside their type's range, a zigzag value of 2^34, a count above 65,536, a non-minimal varint, a byte after
        the last property, a byte short, two properties of one element with one name). Exit 0 if all hold,
        else 1.
 """
@@ -455,6 +455,7 @@ def variants(data):
     rest = sec[len(g.varint(len(base))):]
     put('count past the bytes left / 3', g.varint(len(rest) // 3 + 1) + rest)
     put('count one more than the properties', g.varint(len(base) + 1) + rest)
+    put('count 65,537, above the limit, in bytes enough for it', g.varint(65537) + bytes(3 * 65537))
     if len(base) > 1:
         put('count one less than the properties (bytes after the last)', g.varint(len(base) - 1) + rest)
     first = len(g.varint(len(base)))

@@ -25,6 +25,7 @@ TYPES = ('char', 'uchar', 'short', 'ushort', 'int', 'uint', 'float', 'double')
 RANGE = {0: (-128, 127), 1: (0, 255), 2: (-32768, 32767), 3: (0, 65535), 4: (-2 ** 31, 2 ** 31 - 1),
          5: (0, 2 ** 32 - 1)}
 FLOATS = (6, 7)
+MAX_PROPERTIES = 65536         # "count P ... ≤ 65,536"
 DIFFS_ACROSS_ELEMENTS = True   # "its difference d from the property's previous value (the first from
                                # 0)": for a list, taken as the previous value in the flat run of all
                                # its elements' values (the last of the element before for an element's
@@ -70,6 +71,7 @@ def decode_props(payload, V, F, minor):
     P, at = g.read_varint(payload, 0)
     need(P >= 1, 'properties: count 0')
     need(3 * P <= len(payload) - at, 'properties: %d properties in %d bytes' % (P, len(payload) - at))
+    need(P <= MAX_PROPERTIES, 'properties: %d properties, above the limit of %d' % (P, MAX_PROPERTIES))
     out = []
     face_seen = weight_seen = False
     names = set()  # (face, name) of the properties so far: "two properties of one element with the same name"
