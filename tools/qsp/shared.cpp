@@ -516,15 +516,16 @@ unsigned DropOptions::categories() const {
 void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose, unsigned kept) {
   // What the subcommand keeps unless dropped is said first: it refuses only the rest.
   const std::string keeps = kept ? category_list(kept, ", ") + " and comment are kept unless dropped; " : "";
-  cmd->add_option(
-         "--drop", drop.list,
-         "Drop " + whose + "data of these kinds (comma-separated: " + category_list(kCategoryAll, ", ") +
-             "); " + keeps + (kept ? "a file with any of the others" : "a file with any of them") +
-             " is refused unless they are dropped. extra: lines qsp keeps only as text (vp, cstype, "
-             "a stray line of prose" +
-             (kept ? std::string("; kept unless dropped") : std::string()) +
-             "), vertex weights, other PLY properties. comment: the leading comment block (licence lines), "
-             "which is kept unless dropped; later comments are never kept")
+  cmd->add_option("--drop", drop.list,
+                  "Drop " + whose +
+                      "data of these kinds (comma-separated: " + category_list(kCategoryAll, ", ") + "); " +
+                      keeps + (kept ? "a file with any of the others" : "a file with any of them") +
+                      " is refused unless they are dropped. extra: lines qsp keeps only as text (vp, cstype, "
+                      "a stray line of prose), vertex weights (v x y z w) and other PLY properties" +
+                      (kept ? std::string(" (kept unless dropped), and PLY obj_info lines (refused)")
+                            : std::string(", PLY obj_info lines")) +
+                      ". comment: the leading comment block (licence lines), "
+                      "which is kept unless dropped; later comments are never kept")
       ->type_name("LIST")
       ->check(CLI::Validator(
           [](std::string& value) {
