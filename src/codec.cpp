@@ -329,10 +329,11 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   const Section* statements = p.file.find(container::kTagStatements);
   const Section* exact_values = p.file.find(container::kTagExactValues);
   const Section* properties = p.file.find(container::kTagProperties);
+  const Section* ply_info = p.file.find(container::kTagPlyInfo);
   if (const Section* interior = p.file.find(container::kTagInterior); interior && !poly)
     format_error("interior positions section without a polygons section", interior->offset);
   if (!poly && !uv && !labels && !tags && !normals && !exact && !kept && !colors && !statements &&
-      !exact_values && !properties)
+      !exact_values && !properties && !ply_info)
     return polygon_mesh(decode_quads(p));
   // The exact values and the statement order describe the mesh as returned (after any order section).
   const auto with_statements = [&](PolygonMesh m) {
@@ -367,6 +368,7 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
     nv = static_cast<std::uint32_t>(p.counts.vertices);
   }
   if (kept) out.kept_lines = decode_kept_lines_section(kept->payload, kept->payload_offset);
+  if (ply_info) out.ply_info = decode_ply_info_section(ply_info->payload, ply_info->payload_offset);
   if (exact) {
     if (geometry_quantize_bits(p.geometry->payload, p.geometry->payload_offset) != 0)
       throw Error(ErrorCode::kFormat, "exact positions section: the geometry is quantized (at byte offset " +
@@ -451,7 +453,8 @@ bool holds_polygons(std::string_view bytes) {
                      [&](const container::SectionKind& k) {
                        return container::added_required(k) && f.find(k.tag) != nullptr;
                      }) ||
-         f.find(container::kTagKeptLines) != nullptr || f.find(container::kTagStatements) != nullptr;
+         f.find(container::kTagKeptLines) != nullptr || f.find(container::kTagStatements) != nullptr ||
+         f.find(container::kTagPlyInfo) != nullptr;
 }
 
 FileTopology file_topology(std::string_view bytes, const DecodeLimits& limits) {

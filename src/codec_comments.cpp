@@ -100,4 +100,15 @@ std::vector<std::string> decode_kept_lines_section(std::string_view payload, std
   return read_lines(payload, offset, "kept lines section", "kept line", kept_line_problem);
 }
 
+std::string encode_ply_info_section(const std::vector<std::string>& lines) {
+  for (std::size_t i = 0; i < lines.size(); ++i)
+    if (const std::string why = comment_problem(lines[i]); !why.empty())
+      throw Error(ErrorCode::kUsage, "encode: PLY obj_info line " + std::to_string(i) + " " + why);
+  return lines_payload(lines);
+}
+
+std::vector<std::string> decode_ply_info_section(std::string_view payload, std::uint64_t offset) {
+  return read_lines(payload, offset, "PLY obj_info lines section", "obj_info line", comment_problem);
+}
+
 }  // namespace qsp

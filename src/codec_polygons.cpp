@@ -428,7 +428,7 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     const bool exact_values = !mesh.texcoords64.empty() || !mesh.normals64.empty() ||
                               !mesh.vertex_colors64.empty() || !mesh.face_colors64.empty();
     if (!texcoords && !normals && !labels && mesh.tags.empty() && !exact && mesh.kept_lines.empty() &&
-        !colors && !statements && !properties)
+        !colors && !statements && !properties && mesh.ply_info.empty())
       return bytes;
     const std::vector<std::uint32_t> input_face = input_faces(map, mesh.face_count());
     const OutputCorners oc =
@@ -464,6 +464,9 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     if (!mesh.kept_lines.empty())
       bytes = container::with_section(bytes, container::kTagKeptLines,
                                       encode_kept_lines_section(mesh.kept_lines), kFormatMinorKeptLines);
+    if (!mesh.ply_info.empty())
+      bytes = container::with_section(bytes, container::kTagPlyInfo, encode_ply_info_section(mesh.ply_info),
+                                      kFormatMinorPlyInfo);
     if (statements)
       bytes = container::with_section(bytes, container::kTagStatements,
                                       encode_statements_section(mesh, input_face), kFormatMinorStatements);

@@ -219,6 +219,12 @@ std::string encode_kept_lines_section(const std::vector<std::string>& lines);
 // Inverse of encode_kept_lines_section. Throws Error(kFormat) naming the line and byte offset. Safe on
 // untrusted input: no line is allocated before its length is checked against the bytes left.
 std::vector<std::string> decode_kept_lines_section(std::string_view payload, std::uint64_t offset);
+// The PLY obj_info lines section (format 3.15, optional): the lines' text after `obj_info `, in order.
+// Throws Error(kUsage) for a line holding a line break.
+std::string encode_ply_info_section(const std::vector<std::string>& lines);
+// Inverse of encode_ply_info_section. Throws Error(kFormat) naming the line and byte offset. Safe on
+// untrusted input: no line is allocated before its length is checked against the bytes left.
+std::vector<std::string> decode_ply_info_section(std::string_view payload, std::uint64_t offset);
 // The exact positions section (format 3.6) of the output vertices whose binary32 positions are
 // `positions` and exact values `exact` (3 per vertex each, the decoder's output order before any order
 // section). Throws Error(kUsage) for an exact value that is not finite or does not round to its position.

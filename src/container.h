@@ -41,6 +41,7 @@ inline constexpr std::uint8_t kOptionalBit = 0x80;
 inline constexpr std::uint8_t kTagComments = 0x81;    // optional, from 3.1
 inline constexpr std::uint8_t kTagKeptLines = 0x82;   // optional, from 3.7
 inline constexpr std::uint8_t kTagStatements = 0x83;  // optional, from 3.11
+inline constexpr std::uint8_t kTagPlyInfo = 0x84;     // optional, from 3.15: PLY obj_info lines
 
 // A section tag, the format minor version that defines it, and its name in messages.
 struct SectionKind {
@@ -70,6 +71,7 @@ inline constexpr SectionKind kSections[] = {
     {kTagComments, kFormatMinorPolygons, "comments"},
     {kTagKeptLines, kFormatMinorKeptLines, "kept lines"},
     {kTagStatements, kFormatMinorStatements, "statement order"},
+    {kTagPlyInfo, kFormatMinorPlyInfo, "PLY obj_info lines"},
 };
 
 // Whether the section is a required one added after 3.0 (a file holding it is not a 3.0 quad file).

@@ -162,6 +162,7 @@ PolygonMesh permute(const PolygonMesh& mesh, const PolygonRenumbering& r) {
   out.face_properties = permute_properties(mesh.face_properties, r.face_from);
   out.material_libraries = mesh.material_libraries;
   out.kept_lines = mesh.kept_lines;
+  out.ply_info = mesh.ply_info;
   out.tags = mesh.tags;
   if (r.renumber_tags) renumber_tags(out.tags, to, face_to);
   return out;

@@ -452,6 +452,7 @@ PolygonMesh to_polygon_mesh(Mesh m, unsigned categories) {
     for (ValueProperty& p : value_properties(m.vertex_properties))
       out.vertex_properties.push_back(std::move(p));
     out.face_properties = value_properties(m.face_properties);
+    out.ply_info = std::move(m.ply.obj_info);
   }
   out.positions = std::move(m.positions.f32);
   if (m.positions.precision != Precision::kFloat32) out.positions64 = std::move(m.positions.f64);
@@ -556,6 +557,7 @@ Mesh from_polygon_mesh(PolygonMesh m) {
   out.verbatim = std::move(m.kept_lines);
   out.vertex_properties = properties_of(m.vertex_properties, &out.vertex_weights);
   out.face_properties = properties_of(m.face_properties, nullptr);
+  out.ply.obj_info = std::move(m.ply_info);
   out.statements = std::move(m.statements);
   out.face_offsets = std::move(m.face_offsets);
   out.corner_vertices = std::move(m.corners);

@@ -123,7 +123,7 @@ TEST_F(CliTest, ExtraDataIsRefusedUnlessDropped) {
          "f 1/1/1 2/2/1 3/3/1 4/4/1\nvp 0.5\n";
   }
   // Texture coordinates, the group, the normal, the vertex weights and the `vp` line (as text) are kept:
-  // nothing is refused. A PLY obj_info line is refused until dropped.
+  // nothing is refused; nor is a PLY obj_info line (format 3.15), dropped only on request.
   CliRun r = run_cli("compress -f " + p("uv.obj"));
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(fs::exists(p("uv.obj.qsp")));
@@ -136,11 +136,10 @@ TEST_F(CliTest, ExtraDataIsRefusedUnlessDropped) {
          "1 1 0\n0 1 0\n4 0 1 2 3\n";
   }
   r = run_cli("compress " + p("info.ply"));
-  EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.err.find("--drop extra (or --positions-only)"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("obj_info"), std::string::npos) << r.err;
-  EXPECT_FALSE(fs::exists(p("info.ply.qsp")));
-  r = run_cli("compress --positions-only " + p("info.ply"));
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(decode_polygons(read_file_bytes(p("info.ply.qsp"))).ply_info,
+            std::vector<std::string>{"scanned 2026"});
+  r = run_cli("compress -f --positions-only " + p("info.ply"));
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("dropped"), std::string::npos) << r.err;
   r = run_cli("compress -f --positions-only " + p("uv.obj"));

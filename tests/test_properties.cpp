@@ -406,6 +406,43 @@ TEST_F(PropertiesCli, AnOutputThatCannotHoldThemIsRefused) {
   }
 }
 
+// PLY obj_info header lines (format 3.15's optional section): kept in order, written back to PLY, refused
+// by OBJ, dropped with extra; a broken section is a format error naming the byte offset.
+TEST_F(PropertiesCli, PlyObjInfoLinesComeBackInOrder) {
+  std::string text = kPly;
+  text.insert(text.find("element vertex"), "obj_info scanned 2026-12-04\nobj_info  two  spaces\n");
+  spit(p("in.ply"), text);
+  round_trip("in.ply", "", ".ply");
+  const std::string back = slurp(p("back.ply"));
+  EXPECT_NE(back.find("\nobj_info scanned 2026-12-04\nobj_info  two  spaces\n"), std::string::npos) << back;
+  EXPECT_EQ(slurp(p("x.qsp"))[9], kFormatMinorPlyInfo);
+  auto r = run_qsp("decompress -f " + quote(p("x.qsp")) + " -o " + quote(p("back.obj")));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("obj_info"), std::string::npos) << r.err;
+  r = run_qsp("compress -f --drop extra " + quote(p("in.ply")) + " " + quote(p("x.qsp")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(decode_polygons(slurp(p("x.qsp"))).ply_info.empty());
+  for (const auto& [payload, what] : {std::pair<std::string, const char*>{std::string(1, '\0'), "line count"},
+                                      {std::string("\x01\x02"
+                                                   "a\n",
+                                                   4),
+                                       "line break"},
+                                      {std::string("\x01\x01"
+                                                   "ab",
+                                                   4),
+                                       "after the last line"}}) {
+    SCOPED_TRACE(what);
+    try {
+      (void)decode_ply_info_section(payload, 50);
+      ADD_FAILURE() << "decoded";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kFormat);
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("byte offset 5"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // ---- The section itself ----
 
 const std::string kGoldenDir = std::string(QSP_TESTDATA_DIR) + "/golden/properties";

@@ -17,7 +17,8 @@
 
 namespace qsp {
 
-// The format version this library writes: the lowest whose sections the file holds. 3.14 for PLY
+// The format version this library writes: the lowest whose sections the file holds. 3.15 for PLY
+// obj_info lines (PolygonMesh::ply_info), 3.14 for PLY
 // properties or OBJ vertex weights (PolygonMesh::vertex_properties, face_properties), 3.13 for texture
 // coordinates, normals or colours binary32 does not hold, 3.12 for a polygon
 // mesh with interior vertices, 3.11 for a kept statement order, 3.10 for normals
@@ -31,7 +32,9 @@ namespace qsp {
 // refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
 // (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 14;
+inline constexpr std::uint8_t kFormatMinor = 15;
+// A PLY file's obj_info header lines (the PLY obj_info lines section, optional).
+inline constexpr std::uint8_t kFormatMinorPlyInfo = 15;
 // PLY vertex and face properties and the OBJ vertex weight (the properties section).
 inline constexpr std::uint8_t kFormatMinorProperties = 14;
 // Texture coordinates, normals and colours binary32 does not hold (the exact values section).

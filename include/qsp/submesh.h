@@ -125,16 +125,18 @@ struct PolygonMesh {
   std::vector<std::string> kept_lines;  // OBJ lines kept as text (vp, cstype, prose), file order
   // PLY properties and the OBJ vertex weight, per vertex and per face; empty when none.
   std::vector<ValueProperty> vertex_properties, face_properties;
+  std::vector<std::string> ply_info;  // PLY `obj_info` header lines' text, in order
   // The OBJ file's statement order (Mesh::statements, its comment runs left out: the leading comment
   // block goes first), kept with --keep-order: runs consume the arrays above in order, label statements
   // name their kind's names by index. Empty: none kept (writers use the canonical order).
   std::vector<Statement> statements;
-  // Positions (binary32) and faces only: no attribute, label, tag, property, kept line or statement order.
+  // Positions (binary32) and faces only: no attribute, label, tag, property, kept or obj_info line, or
+  // statement order.
   bool bare() const {
     return texcoord_components == 0 && corner_normals.empty() && normals.empty() &&
            vertex_color_components == 0 && face_color_components == 0 && positions64.empty() &&
            !has_labels() && tags.empty() && kept_lines.empty() && vertex_properties.empty() &&
-           face_properties.empty() && statements.empty();
+           face_properties.empty() && ply_info.empty() && statements.empty();
   }
   bool has_labels() const {
     return !objects.empty() || !groups.empty() || !materials.empty() || !smoothing.empty() ||

@@ -113,8 +113,8 @@ void compress_one(const Job& job, MeshFormat format, const CompressOptions& o) {
     throw Error(ErrorCode::kIo,
                 "-: refusing to write compressed data to a terminal (redirect it, or give OUT)");
 
-  // Extra data is kept too (lines kept as text, vertex weights, PLY properties), unless dropped; only PLY
-  // obj_info lines are not.
+  // Extra data is kept too (lines kept as text, vertex weights, PLY properties and obj_info lines), unless
+  // dropped.
   const unsigned keep = (kPolygonMeshCategories | kCategoryExtra) & ~o.drop.categories();
   PolygonInput input = read_polygon_input(in, format, QspInput::kRefused, keep);
   PolygonMesh mesh = polygons_of(std::move(input));

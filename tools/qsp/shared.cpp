@@ -480,7 +480,8 @@ PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspI
   // Texture coordinates, labels and coordinates float32 does not hold come from the exact reader, which
   // the quad reader's report says it needs.
   if ((in.report.categories() & keep & kPolygonMeshCategories) || in.report.rounded_coordinates ||
-      ((in.report.kept_lines || in.report.vertex_weights || in.report.other_properties) &&
+      ((in.report.kept_lines || in.report.vertex_weights || in.report.other_properties ||
+        in.report.obj_info) &&
        (keep & kCategoryExtra))) {
     ReadReport report = std::move(in.report);  // the same kinds; its words for the quad path's messages
     in.mesh = {};
@@ -521,9 +522,9 @@ void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose
                       "data of these kinds (comma-separated: " + category_list(kCategoryAll, ", ") + "); " +
                       keeps + (kept ? "a file with any of the others" : "a file with any of them") +
                       " is refused unless they are dropped. extra: lines qsp keeps only as text (vp, cstype, "
-                      "a stray line of prose), vertex weights (v x y z w) and other PLY properties" +
-                      (kept ? std::string(" (kept unless dropped), and PLY obj_info lines (refused)")
-                            : std::string(", PLY obj_info lines")) +
+                      "a stray line of prose), vertex weights (v x y z w), other PLY properties, PLY "
+                      "obj_info lines" +
+                      (kept ? std::string(" (kept unless dropped)") : std::string()) +
                       ". comment: the leading comment block (licence lines), "
                       "which is kept unless dropped; later comments are never kept")
       ->type_name("LIST")
@@ -544,7 +545,7 @@ void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose
 
 ReadReport refusable_extra(const ReadReport& report, unsigned keep) {
   ReadReport r = report;
-  if (keep & kCategoryExtra) r.kept_lines = r.vertex_weights = r.other_properties = 0;
+  if (keep & kCategoryExtra) r.kept_lines = r.vertex_weights = r.other_properties = r.obj_info = 0;
   return r;
 }
 
@@ -599,8 +600,12 @@ std::string drop_polygon_data(PolygonMesh& m, const std::string& path, const Dro
        [&] { m.materials = {}, m.material_libraries.clear(); });
   take(kCategorySmoothing, !m.smoothing.empty(), [&] { m.smoothing = {}; });
   take(kCategoryTag, !m.tags.empty(), [&] { m.tags.clear(); });
-  take(kCategoryExtra, !m.kept_lines.empty() || !m.vertex_properties.empty() || !m.face_properties.empty(),
-       [&] { m.kept_lines.clear(), m.vertex_properties.clear(), m.face_properties.clear(); });
+  take(kCategoryExtra,
+       !m.kept_lines.empty() || !m.vertex_properties.empty() || !m.face_properties.empty() ||
+           !m.ply_info.empty(),
+       [&] {
+         m.kept_lines.clear(), m.vertex_properties.clear(), m.face_properties.clear(), m.ply_info.clear();
+       });
   if (!had) return {};
   return "qsp: " + path + ": dropped its " + category_list(had, ", ") + " (" +
          (drop.positions_only ? "--positions-only" : "--drop " + drop.list) + ")\n";

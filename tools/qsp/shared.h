@@ -217,7 +217,7 @@ void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose
 // never refused, dropped only when `drop` names it.
 inline constexpr unsigned kKeptCategories = kCategoryComment;
 // The report without the extra data a PolygonMesh keeps when `keep` has kCategoryExtra (lines kept as text,
-// vertex weights, PLY properties): what is left for refuse_extra_data (PLY obj_info lines).
+// vertex weights, PLY properties and obj_info lines): what is left for refuse_extra_data.
 ReadReport refusable_extra(const ReadReport& report, unsigned keep);
 // `kept`: the categories `what` keeps (compress: uv), refused only when `drop` names them.
 std::string refuse_extra_data(const std::string& path, const ReadReport& report, const std::string& what,
