@@ -51,6 +51,15 @@ std::string comment_problem(std::string_view line) {
   return std::any_of(line.begin(), line.end(), breaks_line) ? "holds a line break" : "";
 }
 
+// lines_payload of lines `problem` accepts; Error(kUsage) naming the first it does not (`what` names one).
+std::string checked_payload(const std::vector<std::string>& lines, const char* what,
+                            std::string (*problem)(std::string_view line)) {
+  for (std::size_t i = 0; i < lines.size(); ++i)
+    if (const std::string why = problem(lines[i]); !why.empty())
+      throw Error(ErrorCode::kUsage, "encode: " + std::string(what) + " " + std::to_string(i) + " " + why);
+  return lines_payload(lines);
+}
+
 }  // namespace
 
 std::string kept_line_problem(std::string_view line) {
@@ -90,10 +99,7 @@ std::vector<std::string> file_comments(std::string_view bytes) {
 }
 
 std::string encode_kept_lines_section(const std::vector<std::string>& lines) {
-  for (std::size_t i = 0; i < lines.size(); ++i)
-    if (const std::string why = kept_line_problem(lines[i]); !why.empty())
-      throw Error(ErrorCode::kUsage, "encode: kept line " + std::to_string(i) + " " + why);
-  return lines_payload(lines);
+  return checked_payload(lines, "kept line", kept_line_problem);
 }
 
 std::vector<std::string> decode_kept_lines_section(std::string_view payload, std::uint64_t offset) {
@@ -101,10 +107,7 @@ std::vector<std::string> decode_kept_lines_section(std::string_view payload, std
 }
 
 std::string encode_ply_info_section(const std::vector<std::string>& lines) {
-  for (std::size_t i = 0; i < lines.size(); ++i)
-    if (const std::string why = comment_problem(lines[i]); !why.empty())
-      throw Error(ErrorCode::kUsage, "encode: PLY obj_info line " + std::to_string(i) + " " + why);
-  return lines_payload(lines);
+  return checked_payload(lines, "PLY obj_info line", comment_problem);
 }
 
 std::vector<std::string> decode_ply_info_section(std::string_view payload, std::uint64_t offset) {
