@@ -145,7 +145,8 @@ PlyHeader parse_header(std::string_view bytes, const std::string& path) {
     std::string_view line = bytes.substr(pos, nl - pos);
     pos = nl + 1;
     ++line_no;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    // Every CR before the LF is the line end (a comment text ending in CR could not be written back).
+    while (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     const auto w = split_words(line);
     if (line_no == 1) {
       if (w.size() != 1 || w[0] != "ply")

@@ -1140,6 +1140,21 @@ TEST(MeshHostile, LargeDeclarationsAndDegreesStayLinear) {
 
 // fuzz_read_mesh: a binary PLY whose x is int and y, z float was refused on writing: the int check read
 // y's and z's fractions too. Each column is checked alone; the mesh writes and reads back.
+// A fuzzer finding: a header line ending in several CRs. Every CR before the LF ends the line, so a
+// comment comes back as its text without them, and writing it again gives the same bytes.
+TEST(MeshPly, HeaderLinesEndingInSeveralCrsReadAndWriteBackTheSame) {
+  const std::string ply =
+      "ply\r\nformat ascii 1.0\r\r\ncomment seed\r\r\r\nobj_info note\r\r\nelement vertex 3\nproperty float "
+      "x\n"
+      "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+      "end_header\r\r\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const qsp::Mesh m = qsp::read_ply_mesh(ply, "crs.ply");
+  EXPECT_EQ(m.comments, std::vector<std::string>{"seed"});
+  EXPECT_EQ(m.ply.obj_info, std::vector<std::string>{"note"});
+  const std::string once = qsp::write_mesh(m, qsp::MeshFormat::kPly);
+  EXPECT_EQ(qsp::write_mesh(qsp::read_ply_mesh(once, "once.ply"), qsp::MeshFormat::kPly), once);
+}
+
 TEST(MeshPly, AnIntegerColumnBesideFloatColumnsWritesAndReadsBack) {
   const std::string ply =
       "ply\nformat ascii 1.0\nelement vertex 4\nproperty int x\nproperty float y\nproperty float z\n"
