@@ -477,8 +477,7 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     }
     if (properties) {
       // Per output vertex and face, as the colours: the decoder applies any order section after them.
-      std::vector<std::uint32_t> vertex_from(mesh.vertex_count());
-      for (std::uint32_t v = 0; v < vertex_from.size(); ++v) vertex_from[map.vertex[v]] = v;
+      const std::vector<std::uint32_t> vertex_from = inverse_permutation(map.vertex);
       bytes = container::with_section(
           bytes, container::kTagProperties,
           encode_properties_section(permute_properties(mesh.vertex_properties, vertex_from),
