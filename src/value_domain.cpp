@@ -10,14 +10,13 @@ constexpr unsigned kWideHalf = 21;  // w < 2^42 follows an escape as two 21-bit 
 }  // namespace
 
 bool quantize(std::span<float> values, unsigned K, unsigned c, std::uint32_t bits) {
-  const int b = static_cast<int>(bits);
+  const double up = pow2(static_cast<int>(bits)), down = pow2(-static_cast<int>(bits));
   for (std::size_t i = c; i < values.size(); i += K)
-    if (!(std::fabs(std::ldexp(static_cast<double>(values[i]), b)) < static_cast<double>(kDecimalLimit - 1)))
+    if (!(std::fabs(static_cast<double>(values[i]) * up) < static_cast<double>(kDecimalLimit - 1)))
       return false;
   for (std::size_t i = c; i < values.size(); i += K)
-    values[i] =
-        static_cast<float>(std::ldexp(std::nearbyint(std::ldexp(static_cast<double>(values[i]), b)), -b)) +
-        0.0f;  // -0 becomes 0, the grid's zero
+    values[i] = static_cast<float>(std::nearbyint(static_cast<double>(values[i]) * up) * down) +
+                0.0f;  // -0 becomes 0, the grid's zero
   return true;
 }
 

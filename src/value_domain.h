@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -17,6 +18,10 @@ namespace qsp {
 inline constexpr std::uint8_t kModeFloat = 0;  // 1 + k: decimal grid of k decimals; kModeGrid + b: step 2^-b
 inline constexpr std::uint8_t kModeGrid = 0x10;
 inline constexpr std::uint32_t kMaxGridBits = 24;
+
+// 2^e for e in [-1022, 1023], built from its bits: x * pow2(e) is ldexp(x, e) exactly (one rounding,
+// the same), without a library call per value (3% of compressing a mesh with UVs).
+inline double pow2(int e) { return std::bit_cast<double>(static_cast<std::uint64_t>(1023 + e) << 52); }
 
 // Whether a mode byte names a mode (0 to 10, or 17 to 40).
 inline bool valid_mode(std::uint8_t mode) {
@@ -31,13 +36,13 @@ struct Domain {
   // The integer a value stands for (exact for the values the encoder writes).
   std::int64_t integer(float x) const {
     if (mode == kModeFloat) return float_image(x);
-    if (grid()) return std::llround(std::ldexp(static_cast<double>(x), mode - kModeGrid));
+    if (grid()) return std::llround(static_cast<double>(x) * pow2(mode - kModeGrid));
     return std::llround(static_cast<double>(x) * kPow10[mode - 1u]);
   }
   // The value an integer stands for (|n| < 2^40, or a float image).
   float value(std::int64_t n) const {
     if (mode == kModeFloat) return image_float(static_cast<std::uint32_t>(n));
-    if (grid()) return static_cast<float>(std::ldexp(static_cast<double>(n), -(mode - kModeGrid)));
+    if (grid()) return static_cast<float>(static_cast<double>(n) * pow2(kModeGrid - mode));
     return decimal_grid_value(n, mode - 1);
   }
   // Whether a decoded integer is in the domain's range: an image in [0, 2^32), a grid integer in
@@ -54,7 +59,7 @@ struct Domain {
   // by 10^k or 2^b first), the image of its binary32 nearest (ties to even) in float bits.
   std::int64_t nearest(double x) const {
     if (mode == kModeFloat) return float_image(static_cast<float>(x));
-    const double scaled = grid() ? std::ldexp(x, mode - kModeGrid) : x * kPow10[mode - 1u];
+    const double scaled = grid() ? x * pow2(mode - kModeGrid) : x * kPow10[mode - 1u];
     if (!(std::fabs(scaled) < static_cast<double>(kDecimalLimit - 1))) return 0;
     return clamp_decimal(static_cast<std::int64_t>(std::round(scaled)));
   }
