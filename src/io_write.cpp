@@ -79,13 +79,50 @@ void refuse_what_off_and_ply_lack(Refusal& r, const Mesh& m) {
 // ----------------------------------------------------------------------------------------------
 // OBJ
 
+// The shortest text of floats already written, by their bits (direct-mapped, the newest kept): a
+// decompressed mesh's numbers repeat (mh_base at 14 bits: 57k position numbers, 15k distinct; 12-bit
+// UVs: 32k numbers, 4k distinct), and to_chars' shortest form was a quarter of decompressing one.
+class FloatTexts {
+ public:
+  // Room for about `numbers` distinct floats, at most 16,384 (384 KiB).
+  explicit FloatTexts(std::size_t numbers)
+      : shift_(32 - std::bit_width(std::bit_ceil(std::clamp<std::size_t>(numbers / 2, 256, 16384)) - 1)),
+        entries_(std::size_t{1} << (32 - shift_)) {}
+  // Writes f's shortest text at `to`, which has room for 32 characters; returns its end.
+  char* put(char* to, float f) {
+    const auto bits = std::bit_cast<std::uint32_t>(f);
+    Entry& e = entries_[(bits * 0x9E3779B1u) >> shift_];
+    if (e.length != 0 && e.bits == bits) {
+      std::memcpy(to, e.text, sizeof e.text);
+      return to + e.length;
+    }
+    char* const end = std::to_chars(to, to + 32, f).ptr;
+    const auto length = static_cast<std::size_t>(end - to);
+    if (length <= sizeof e.text) {
+      e.bits = bits;
+      e.length = static_cast<std::uint8_t>(length);
+      std::memcpy(e.text, to, length);
+    }
+    return end;
+  }
+
+ private:
+  struct Entry {
+    std::uint32_t bits;
+    std::uint8_t length;  // 0: empty
+    char text[19];        // a float's shortest text is at most 15
+  };
+  int shift_;
+  std::vector<Entry> entries_;
+};
+
 // A line built in a buffer on the stack and appended once: appending each word and space to the
 // string (a capacity check each) was a third of writing mh_base's face lines. The user calls flush()
 // before writing to the string itself and at the end (not the destructor: an append there that ran out
 // of memory would end the process instead of reaching the caller's error).
 class Line {
  public:
-  explicit Line(std::string& out) : out_(out) {}
+  explicit Line(std::string& out, FloatTexts* texts = nullptr) : out_(out), texts_(texts) {}
   Line(const Line&) = delete;
   Line& operator=(const Line&) = delete;
   void put(char c) {
@@ -107,7 +144,9 @@ class Line {
   }
   void put_float(float f) {
     room(32);
-    n_ = static_cast<std::size_t>(std::to_chars(buf_ + n_, buf_ + sizeof buf_, f).ptr - buf_);
+    char* const end =
+        texts_ ? texts_->put(buf_ + n_, f) : std::to_chars(buf_ + n_, buf_ + sizeof buf_, f).ptr;
+    n_ = static_cast<std::size_t>(end - buf_);
   }
   // A number as append_number writes it.
   void put_number(const Numbers& x, std::size_t i) {
@@ -125,14 +164,15 @@ class Line {
     if (n_ + k > sizeof buf_) flush();
   }
   std::string& out_;
+  FloatTexts* texts_;
   char buf_[256];
   std::size_t n_ = 0;
 };
 
 // The `v` lines of vertices [begin, end).
-void vertex_lines(std::string& out, const Mesh& m, std::size_t begin, std::size_t end) {
+void vertex_lines(std::string& out, const Mesh& m, std::size_t begin, std::size_t end, FloatTexts* texts) {
   const std::size_t c = m.vertex_color_components;
-  Line line(out);
+  Line line(out, texts);
   for (std::size_t v = begin; v < end; ++v) {
     line.put("v ");
     line.put_number(m.positions, 3 * v);
@@ -159,35 +199,33 @@ void vertex_lines(std::string& out, const Mesh& m, std::size_t begin, std::size_
 // face lines and half the vertex lines beside). The text is the same either way (a test compares it
 // with one thread's).
 template <class Lines>
-void split_lines(std::string& out, std::size_t begin, std::size_t end, Lines lines) {
+void split_lines(std::string& out, std::size_t begin, std::size_t end, FloatTexts* texts, Lines lines) {
   constexpr std::size_t kSplitFrom = 1 << 16;
   const std::size_t half = begin + (end - begin) / 2;
   auto second = beside(end - begin >= kSplitFrom, [&lines, half, end] {
     std::string t;
     t.reserve((end - half) * 40);
-    lines(t, half, end);
+    FloatTexts own(3 * (end - half));
+    lines(t, half, end, &own);
     return t;
   });
-  lines(out, begin, half);
+  lines(out, begin, half, texts);
   out += second.get();
 }
 
-void texcoord_line(std::string& out, const Mesh& m, std::size_t t) {
-  out += "vt";
-  for (std::size_t k = 0; k < m.texcoord_components; ++k) {
-    out += ' ';
-    append_number(out, m.texcoords, t * m.texcoord_components + k);
+// The `vt` or `vn` lines of values [begin, end) of `values` (`components` numbers each).
+void value_lines(std::string& out, const char* keyword, const Numbers& values, std::size_t components,
+                 std::size_t begin, std::size_t end, FloatTexts* texts) {
+  Line line(out, texts);
+  for (std::size_t i = begin; i < end; ++i) {
+    line.put(keyword);
+    for (std::size_t k = 0; k < components; ++k) {
+      line.put(' ');
+      line.put_number(values, i * components + k);
+    }
+    line.put('\n');
   }
-  out += '\n';
-}
-
-void normal_line(std::string& out, const Mesh& m, std::size_t n) {
-  out += "vn";
-  for (std::size_t k = 0; k < 3; ++k) {
-    out += ' ';
-    append_number(out, m.normals, 3 * n + k);
-  }
-  out += '\n';
+  line.flush();
 }
 
 void face_line(Line& line, const Mesh& m, std::size_t f) {
@@ -324,22 +362,30 @@ void faces_with_labels(std::string& out, const Mesh& m, std::span<const std::uin
   }
 }
 
+// How many vertex, UV and normal numbers a mesh has (a FloatTexts' size).
+std::size_t number_count(const Mesh& m) { return m.positions.size() + m.texcoords.size() + m.normals.size(); }
+
 // OBJ in the file's statement order; label statements must match the per-face labels.
 void obj_in_order(std::string& out, const Mesh& m) {
   std::size_t v = 0, t = 0, n = 0, f = 0, lib = 0, tag = 0, comment = 0, text = 0;
+  FloatTexts texts(number_count(m));
   std::uint32_t current[4] = {kInvalid, kInvalid, kInvalid, kInvalid};
   for (const Statement& s : m.statements) {
     switch (s.kind) {
       case ObjStatement::kVertex:
-        split_lines(out, v, v + s.value,
-                    [&m](std::string& o, std::size_t b, std::size_t e) { vertex_lines(o, m, b, e); });
+        split_lines(out, v, v + s.value, &texts,
+                    [&m](std::string& o, std::size_t b, std::size_t e, FloatTexts* ts) {
+                      vertex_lines(o, m, b, e, ts);
+                    });
         v += s.value;
         break;
       case ObjStatement::kTexcoord:
-        for (std::uint32_t i = 0; i < s.value; ++i) texcoord_line(out, m, t++);
+        value_lines(out, "vt", m.texcoords, m.texcoord_components, t, t + s.value, &texts);
+        t += s.value;
         break;
       case ObjStatement::kNormal:
-        for (std::uint32_t i = 0; i < s.value; ++i) normal_line(out, m, n++);
+        value_lines(out, "vn", m.normals, 3, n, n + s.value, &texts);
+        n += s.value;
         break;
       case ObjStatement::kFace: {
         Line line(out);
@@ -392,10 +438,13 @@ void obj_canonical(std::string& out, const Mesh& m) {
     out += t;
     end_text_line(out);
   }
-  split_lines(out, 0, m.vertex_count(),
-              [&m](std::string& o, std::size_t b, std::size_t e) { vertex_lines(o, m, b, e); });
-  for (std::size_t t = 0; t < m.texcoords.size() / m.texcoord_components; ++t) texcoord_line(out, m, t);
-  for (std::size_t n = 0; n < m.normals.size() / 3; ++n) normal_line(out, m, n);
+  FloatTexts texts(number_count(m));
+  split_lines(
+      out, 0, m.vertex_count(), &texts,
+      [&m](std::string& o, std::size_t b, std::size_t e, FloatTexts* ts) { vertex_lines(o, m, b, e, ts); });
+  value_lines(out, "vt", m.texcoords, m.texcoord_components, 0, m.texcoords.size() / m.texcoord_components,
+              &texts);
+  value_lines(out, "vn", m.normals, 3, 0, m.normals.size() / 3, &texts);
   const std::vector<std::uint32_t> order = face_write_order(m);
   faces_with_labels(out, m, order);
   // A face index (hole) names the face where it is written.
@@ -811,21 +860,26 @@ std::string write_off_mesh(const Mesh& m) {
   out += ' ';
   append_uint(out, m.face_count());
   out += " 0\n";
-  split_lines(out, 0, m.vertex_count(), [&m, uv](std::string& o, std::size_t b, std::size_t e) {
-    const std::size_t c = m.vertex_color_components;
-    for (std::size_t v = b; v < e; ++v) {
-      for (std::size_t k = 0; k < 3; ++k) {
-        if (k) o += ' ';
-        append_number(o, m.positions, 3 * v + k);
-      }
-      for (std::size_t k = 0; k < 3 && !m.normals.empty(); ++k)
-        (o += ' '), append_number(o, m.normals, 3 * v + k);
-      for (std::size_t k = 0; k < c && !m.vertex_colors.empty(); ++k)
-        (o += ' '), append_number(o, m.vertex_colors, c * v + k);
-      for (std::size_t k = 0; k < 2 && uv; ++k) (o += ' '), append_number(o, m.texcoords, 2 * v + k);
-      o += '\n';
-    }
-  });
+  FloatTexts texts(number_count(m));
+  split_lines(out, 0, m.vertex_count(), &texts,
+              [&m, uv](std::string& o, std::size_t b, std::size_t e, FloatTexts* ts) {
+                const std::size_t c = m.vertex_color_components;
+                Line line(o, ts);
+                const auto numbers = [&line](const Numbers& x, std::size_t from, std::size_t count) {
+                  for (std::size_t k = 0; k < count; ++k) {
+                    if (k) line.put(' ');
+                    line.put_number(x, from + k);
+                  }
+                };
+                for (std::size_t v = b; v < e; ++v) {
+                  numbers(m.positions, 3 * v, 3);
+                  if (!m.normals.empty()) line.put(' '), numbers(m.normals, 3 * v, 3);
+                  if (!m.vertex_colors.empty()) line.put(' '), numbers(m.vertex_colors, c * v, c);
+                  if (uv) line.put(' '), numbers(m.texcoords, 2 * v, 2);
+                  line.put('\n');
+                }
+                line.flush();
+              });
   const std::size_t fc = m.face_color_components;
   for (std::size_t f = 0; f < m.face_count(); ++f) {
     append_uint(out, m.degree(f));
