@@ -79,12 +79,12 @@ void refuse_what_off_and_ply_lack(Refusal& r, const Mesh& m) {
 // ----------------------------------------------------------------------------------------------
 // OBJ
 
-// The shortest text of floats already written, by their bits (direct-mapped, the newest kept): a
-// decompressed mesh's numbers repeat (mh_base at 14 bits: 57k position numbers, 15k distinct; 12-bit
-// UVs: 32k numbers, 4k distinct), and to_chars' shortest form was a quarter of decompressing one.
+// The shortest text of floats already written, by their bits (direct-mapped, the newest kept; 16 bytes an
+// entry): a decompressed mesh's numbers repeat (mh_base at 14 bits: 57k position numbers, 15k distinct;
+// 12-bit UVs: 32k numbers, 4k distinct), and to_chars' shortest form was a quarter of decompressing one.
 class FloatTexts {
  public:
-  // Room for about `numbers` distinct floats, at most 16,384 (384 KiB).
+  // Room for about `numbers` distinct floats, at most 16,384 (256 KiB).
   explicit FloatTexts(std::size_t numbers)
       : shift_(32 - std::bit_width(std::bit_ceil(std::clamp<std::size_t>(numbers / 2, 256, 16384)) - 1)),
         entries_(std::size_t{1} << (32 - shift_)) {}
@@ -110,7 +110,7 @@ class FloatTexts {
   struct Entry {
     std::uint32_t bits;
     std::uint8_t length;  // 0: empty
-    char text[19];        // a float's shortest text is at most 15
+    char text[11];        // most floats' shortest texts (at most 15)
   };
   int shift_;
   std::vector<Entry> entries_;
