@@ -434,6 +434,51 @@ TEST(MeshNumbers, SevenToNineDigitsAgreeWithTheShortestText) {
   EXPECT_GT(float64, 5000);
 }
 
+// The writers keep the shortest text of floats already written (io_write.cpp, FloatTexts): with far
+// more distinct floats than it holds, repeats near and far, and signed zeros, every number written is
+// still its own shortest text, in OBJ and OFF.
+TEST(MeshNumbers, RepeatedAndEvictedFloatsAreWrittenAsTheirShortestText) {
+  std::mt19937 rng(7);
+  std::vector<float> pool;
+  for (int i = 0; i < 40000; ++i) {
+    float f = 0;
+    do {
+      f = std::bit_cast<float>(static_cast<std::uint32_t>(rng()));
+    } while (!std::isfinite(f));
+    pool.push_back(i % 7 == 0 ? std::ldexp(static_cast<float>(i), -12) : f);
+  }
+  pool.push_back(-0.0f);
+  pool.push_back(0.0f);
+  const auto shortest = [](float f) {
+    char t[64];
+    return std::string(t, std::to_chars(t, t + sizeof t, f).ptr);
+  };
+  std::string obj, off_rows;
+  const int vertices = 30000;
+  for (int v = 0; v < vertices; ++v) {
+    std::string row;
+    for (int k = 0; k < 3; ++k) {  // new floats, and ones written 1 to 30,000 numbers before
+      const float f = pool[rng() % 3 == 0 ? pool.size() - 1 - rng() % 2 : rng() % pool.size()];
+      if (k) row += ' ';
+      row += shortest(f);
+    }
+    ((obj += "v ") += row) += '\n';
+    (off_rows += row) += '\n';
+  }
+  for (int t = 0; t < 5000; ++t)
+    obj += "vt " + shortest(pool[rng() % 64]) + " " + shortest(pool[rng() % 4096]) + "\n";
+  obj += "f 1/1 2/2 3/3 4/4\n";
+  const qsp::Mesh m = qsp::read_obj_mesh(obj, "t.obj");
+  ASSERT_EQ(m.positions.precision, qsp::Precision::kFloat32);
+  EXPECT_EQ(qsp::write_obj_mesh(m), obj);
+  qsp::Mesh positions_only = m;
+  positions_only.texcoords = qsp::Numbers{};
+  positions_only.corner_texcoords.clear();
+  positions_only.statements.clear();
+  const std::string off = qsp::write_mesh(positions_only, qsp::MeshFormat::kOff);
+  EXPECT_NE(off.find(off_rows), std::string::npos);
+}
+
 // Coordinates with 10 and 17 significant digits come back with the same doubles, through every
 // format that holds them, and the independent parser reads the same decimals.
 TEST(MeshNumbers, TenAndSeventeenDigitCoordinatesKeepTheirDoubles) {
