@@ -14,8 +14,9 @@ namespace qsp::detail {
 
 // read_obj reads text of at least this size on two threads, in this many parts. With the other core
 // idle, two threads read 0.6 MB in about half the time; near 0.3 MB the gain is lost in the thread's
-// start and the noise, and below 1 MiB it is under 2 ms, nothing next to a command's run time.
-inline constexpr std::size_t kParallelObjBytes = std::size_t{1} << 20;
+// start and the noise. From 512 KiB, not 1 MiB: reading is a fifth of compress's main thread on
+// meshes of 14-19k vertices (mh_female_generic 0.65 MB, mh_base 0.9 MB), and it halves there.
+inline constexpr std::size_t kParallelObjBytes = std::size_t{1} << 19;
 inline constexpr std::size_t kParallelObjParts = 8;
 
 // The first offset after `from` where a split leaves both parts starting where the sequential
