@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "geometry_chain.h"
@@ -84,7 +85,10 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
   const bool any_int = h.any_integer_axis(), all_int = h.integer_axes(),
              repeats = h.has(geometry_tool::kValueRepeats);
   constexpr int nc = kShapes ? kCandidates : kBaseCandidates;
-  std::vector<std::uint32_t> errors(any_int ? std::size_t{count} * nc : 0, kNoError);  // [vertex][candidate]
+  const std::array<bool, 3> int_axis = {h.integer_axis(0), h.integer_axis(1), h.integer_axis(2)};
+  // [vertex][candidate]: each vertex's row is written whole once it is coded, and only later vertices
+  // read it, so it needs no filling first (which cost a pass over 44 bytes a vertex).
+  const auto errors = std::make_unique_for_overwrite<std::uint32_t[]>(any_int ? std::size_t{count} * nc : 0);
   std::array<std::vector<std::uint8_t>, 3> lengths;  // per axis: each coded L
   for (auto& l : lengths) l.assign(count, 0);
   std::array<std::vector<std::uint32_t>, 3> mags;  // logistic mixing: each coded u, at most 2^32 - 1
@@ -113,7 +117,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
       if (mask >> 12) mask &= ~shape_transfers(x, ints, mask, shape);
     }
     const bool blended = any_int && x.kind == kParallelogram;
-    const int blend_class = blended ? blend_weights<nc>(x, mask, errors.data(), weight) : 0;
+    const int blend_class = blended ? blend_weights<nc>(x, mask, errors.get(), weight) : 0;
     const bool across = x.kind == kOpposite || x.kind == kCorners;
     // Its across class: which running means it uses.
     const std::size_t cls = !across               ? 0
@@ -200,15 +204,23 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
     }
     if (chained) chain.finish();
     if (!any_int) continue;
+    // The vertex's values in locals, and the axes tested once: the stores to the row may alias both.
+    std::array<std::int64_t, 3> value{};
+    for (std::size_t a = 0; a < 3; ++a)
+      if (h.integer_axis(static_cast<int>(a))) value[a] = ints[a][i];
+    std::uint32_t* const row = errors.get() + std::size_t{i} * nc;
     for (int k = 0; k < nc; ++k) {
-      std::uint32_t& slot = errors[std::size_t{i} * nc + static_cast<std::size_t>(k)];
-      if (!((mask >> k) & 1)) continue;  // stays kNoError
+      const auto uk = static_cast<std::size_t>(k);
+      if (!((mask >> k) & 1)) {
+        row[uk] = kNoError;
+        continue;
+      }
       std::uint64_t err = 0;
       for (std::size_t a = 0; a < 3; ++a)
-        if (h.integer_axis(static_cast<int>(a)))
-          err += static_cast<std::uint64_t>(
-              std::min<std::int64_t>(std::abs(ints[a][i] - cand[a][static_cast<std::size_t>(k)]), kNoError));
-      slot = static_cast<std::uint32_t>(std::min<std::uint64_t>(err, kNoError - 1));
+        if (int_axis[a])
+          err +=
+              static_cast<std::uint64_t>(std::min<std::int64_t>(std::abs(value[a] - cand[a][uk]), kNoError));
+      row[uk] = static_cast<std::uint32_t>(std::min<std::uint64_t>(err, kNoError - 1));
     }
   }
 }
