@@ -150,15 +150,25 @@ inline unsigned shape_transfers(const Hood& x, const std::array<std::vector<std:
 template <int nc>
 int blend_weights(const Hood& x, unsigned mask, const std::uint32_t* errors,
                   std::array<std::int64_t, kCandidates>& weight) {
-  const std::array<std::uint32_t, 4> near = {x.w, x.s, x.sw, x.se};
+  // w, s and sw are there at every parallelogram vertex (Hoods gives the kind only then); a missing se
+  // reads a row of kNoError. So each candidate sums four loads without a branch per neighbour.
+  static constexpr std::array<std::uint32_t, kCandidates> kNone = [] {
+    std::array<std::uint32_t, kCandidates> r{};
+    r.fill(kNoError);
+    return r;
+  }();
+  const std::uint32_t* const e0 = errors + std::size_t{x.w} * nc;
+  const std::uint32_t* const e1 = errors + std::size_t{x.s} * nc;
+  const std::uint32_t* const e2 = errors + std::size_t{x.sw} * nc;
+  const std::uint32_t* const e3 = x.se != kInvalid ? errors + std::size_t{x.se} * nc : kNone.data();
   std::uint64_t best = ~std::uint64_t{0};
   for (int k = 0; k < nc; ++k) {
     if (!((mask >> k) & 1)) continue;
     std::uint64_t sum = 0, cnt = 0;
-    for (std::uint32_t j : near) {
-      if (j == kInvalid || errors[std::size_t{j} * nc + k] == kNoError) continue;
-      sum += errors[std::size_t{j} * nc + k];
-      ++cnt;
+    for (const std::uint32_t e : {e0[k], e1[k], e2[k], e3[k]}) {
+      const bool known = e != kNoError;
+      sum += known ? e : 0;
+      cnt += known;
     }
     if (cnt == 0) sum = 1000000, cnt = 1;
     // floor(2^15 cnt / (2 sum + cnt)) and floor((4 sum + 2 cnt) / cnt), without 64-bit divisions
