@@ -111,6 +111,11 @@ std::string encode_with(std::span<const float> pos, const Hoods& hoods, std::uin
       continue;
     }
     values.ints[a].resize(count);
+    if (h.bits && h.grid.all_finite(axis, h.bits)) {  // no test per value
+      for (std::uint32_t i = 0; i < count; ++i)
+        values.ints[a][i] = h.grid.nearest(axis, pos[3 * std::size_t{i} + a], h.bits);
+      continue;
+    }
     const std::vector<Exception>& ex = h.plans[a].exceptions;
     std::size_t e = 0;
     for (std::uint32_t i = 0; i < count; ++i) {

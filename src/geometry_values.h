@@ -144,11 +144,19 @@ struct Grid {
   // Nearest grid integer, clamped to the grid, and never one that decodes to infinity.
   std::int64_t quantize(int axis, float x, std::uint32_t bits) const {
     if (step == 0) return 0;
-    const double top = static_cast<double>((std::uint64_t{1} << bits) - 1);
-    auto q = static_cast<std::int64_t>(
-        std::clamp(std::nearbyint((double{x} - origin[static_cast<std::size_t>(axis)]) / step), 0.0, top));
+    std::int64_t q = nearest(axis, x, bits);
     while (q > 0 && !std::isfinite(value(axis, q))) --q;
     return q;
+  }
+  // Nearest grid integer, clamped to the grid (step > 0). The same as quantize() where the grid's top
+  // point decodes finitely (all_finite): value() grows with q, so then every point does.
+  std::int64_t nearest(int axis, float x, std::uint32_t bits) const {
+    const double top = static_cast<double>((std::uint64_t{1} << bits) - 1);
+    return static_cast<std::int64_t>(
+        std::clamp(std::nearbyint((double{x} - origin[static_cast<std::size_t>(axis)]) / step), 0.0, top));
+  }
+  bool all_finite(int axis, std::uint32_t bits) const {
+    return step != 0 && std::isfinite(value(axis, static_cast<std::int64_t>((std::uint64_t{1} << bits) - 1)));
   }
 };
 
