@@ -85,7 +85,10 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
   const bool any_int = h.any_integer_axis(), all_int = h.integer_axes(),
              repeats = h.has(geometry_tool::kValueRepeats);
   constexpr int nc = kShapes ? kCandidates : kBaseCandidates;
+  // The header's answers in locals: the loop's byte stores could alias it, so each use reloaded it.
   const std::array<bool, 3> int_axis = {h.integer_axis(0), h.integer_axis(1), h.integer_axis(2)};
+  const std::array<int, 3> max_length = {h.max_length(0), h.max_length(1), h.max_length(2)};
+  const bool quantized = h.bits != 0;
   // [vertex][candidate]: each vertex's row is written whole once it is coded, and only later vertices
   // read it, so it needs no filling first (which cost a pass over 44 bytes a vertex).
   const auto errors = std::make_unique_for_overwrite<std::uint32_t[]>(any_int ? std::size_t{count} * nc : 0);
@@ -124,7 +127,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
                             : x.kind == kOpposite ? (x.has(Hood::kOppositeFar) ? 0 : 1)
                                                   : (x.t->x2 != kInvalid ? 2 : 3);
     for (std::size_t a = 0; a < 3; ++a) {
-      if (!h.integer_axis(static_cast<int>(a))) continue;
+      if (!int_axis[a]) continue;
       candidates(x, ints[a].data(), mask, cand[a]);
       if constexpr (kShapes) cand[a][12] = shape[0][a], cand[a][13] = shape[1][a];
     }
@@ -136,7 +139,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
     std::array<std::int64_t, 3> blended_pred{};
     for (int a = 0; a < 3; ++a) {
       const auto ua = static_cast<std::size_t>(a);
-      Coordinate c{i, a, 0, {x.ctx, 0, h.max_length(a), a, 0, 0}, previous, nullptr};
+      Coordinate c{i, a, 0, {x.ctx, 0, max_length[ua], a, 0, 0}, previous, nullptr};
       // Magnitude class: neighbours' residual lengths, averaged with the blend's expected error.
       int cls_l = length_class(lengths[ua].data(), x), neighbour = cls_l;
       if (blended) {
@@ -148,7 +151,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
         c.context.neighbour_cls = neighbour;
         c.context.previous = a == 0 ? 0 : std::min<int>(kClasses - 1, lengths[ua - 1][i]);
       }
-      if (h.integer_axis(a)) {
+      if (int_axis[ua]) {
         const std::int64_t* v = ints[ua].data();
         std::int64_t pred;
         if (blended) {
@@ -161,7 +164,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
         } else {
           pred = predict_kind(x, x.kind, v);
         }
-        if (h.bits) {
+        if (quantized) {
           c.pred = std::clamp<std::int64_t>(pred, 0, qmax);
         } else {
           c.pred = clamp_decimal(pred);
@@ -184,7 +187,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
         mags[ua][i] = static_cast<std::uint32_t>(std::min<std::uint64_t>(coded.u, 0xFFFFFFFFu));
       if (chained) {
         const std::int64_t r = ints[ua][i] - blended_pred[ua];
-        chain.record(a, h.bits ? wrapped(r, qmax) : r);
+        chain.record(a, quantized ? wrapped(r, qmax) : r);
       }
       if (repeats) previous = coded.repeat ? 2 : 1;
     }
@@ -192,7 +195,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
       for (std::size_t p = 0; p < 2; ++p) {
         std::uint64_t err = 0;
         for (std::size_t a = 0; a < 3; ++a) {
-          const bool is_int = h.integer_axis(static_cast<int>(a));
+          const bool is_int = int_axis[a];
           if (any_int && !is_int) continue;
           const std::int64_t value =
               is_int ? ints[a][i] : static_cast<std::int64_t>(float_image(floats[a][i]));
@@ -207,7 +210,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
     // The vertex's values in locals, and the axes tested once: the stores to the row may alias both.
     std::array<std::int64_t, 3> value{};
     for (std::size_t a = 0; a < 3; ++a)
-      if (h.integer_axis(static_cast<int>(a))) value[a] = ints[a][i];
+      if (int_axis[a]) value[a] = ints[a][i];
     std::uint32_t* const row = errors.get() + std::size_t{i} * nc;
     for (int k = 0; k < nc; ++k) {
       const auto uk = static_cast<std::size_t>(k);
