@@ -203,7 +203,7 @@ void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layou
   };
   std::priority_queue<Candidate> next;
   std::uint32_t scan = 0;  // lowest patch not yet visited, when no patch touches the coded part
-  std::vector<std::uint32_t> turned;
+  std::vector<std::uint32_t> turned, grid;
   for (;;) {
     std::uint32_t f = kInvalid;
     while (!next.empty()) {
@@ -221,44 +221,64 @@ void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layou
     }
     visited[f] = 1;
     const PatchGrid& g = n.patches[f];
+    // The patch's points row by row (PatchGrid::at, without its tests of which side a point is on at
+    // every read below: they were a seventh of this function).
+    const std::int64_t width = std::int64_t{g.a} + 1;
+    grid.resize(static_cast<std::size_t>(width * (std::int64_t{g.b} + 1)));
+    if (g.a >= 1 && g.b >= 1) {
+      for (std::uint32_t i = 0; i <= g.a; ++i) grid[i] = g.ring[i];
+      for (std::uint32_t j = 1; j < g.b; ++j) {
+        std::uint32_t* const row = &grid[static_cast<std::size_t>(j * width)];
+        row[0] = g.ring[2 * g.a + 2 * g.b - j];
+        for (std::uint32_t i = 1; i < g.a; ++i) row[i] = g.interior_base + (j - 1) * (g.a - 1) + (i - 1);
+        row[g.a] = g.ring[g.a + j];
+      }
+      std::uint32_t* const top = &grid[static_cast<std::size_t>(g.b * width)];
+      for (std::uint32_t i = 0; i <= g.a; ++i) top[i] = g.ring[2 * g.a + g.b - i];
+    } else {
+      for (std::uint32_t j = 0; j <= g.b; ++j)
+        for (std::uint32_t i = 0; i <= g.a; ++i) grid[static_cast<std::size_t>(j * width + i)] = g.at(i, j);
+    }
     // The patch turned so that its raster starts at corner `rot` (0 = face_dart's): point (i, j) of
-    // the turned (a, b)-grid.
+    // the turned (a, b)-grid, grid[origin + i * di + j * dj].
     int rot = 0;
-    std::int64_t a = g.a, b = g.b;
+    std::int64_t a = g.a, b = g.b, origin = 0, di = 1, dj = width;
+    auto turn = [&](int r) {
+      rot = r;
+      const std::int64_t top = std::int64_t{g.b} * width;
+      origin = r == 0 ? 0 : r == 1 ? g.a : r == 2 ? top + g.a : top;
+      di = r == 0 ? 1 : r == 1 ? width : r == 2 ? -1 : -width;
+      dj = r == 0 ? width : r == 1 ? -1 : r == 2 ? -width : 1;
+    };
     auto at = [&](std::int64_t i, std::int64_t j) {
-      std::int64_t x = i, y = j;
-      if (rot == 1) x = g.a - j, y = i;
-      if (rot == 2) x = g.a - i, y = g.b - j;
-      if (rot == 3) x = j, y = g.b - i;
-      return g.at(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y));
+      return grid[static_cast<std::size_t>(origin + i * di + j * dj)];
     };
     // Grid point (i, j) of the turned patch, or one step beyond its left or bottom side: looked up in
-    // `turned`, the turned grid's points row by row with that extra row and column (filled below).
-    auto nb = [&](std::int64_t i, std::int64_t j) {
-      return i >= -1 && i <= a && j >= -1 && j <= b
-                 ? turned[static_cast<std::size_t>((j + 1) * (a + 2) + i + 1)]
-                 : kInvalid;
+    // `turned`, the turned grid's points row by row with that extra row and column (filled below), in
+    // a border of kInvalid wide enough for every (i, j) read, -2 <= i <= a + 1 and -2 <= j <= b (no
+    // bounds tests).
+    auto cell = [&](std::int64_t i, std::int64_t j) {
+      return static_cast<std::size_t>((j + 2) * (a + 4) + i + 2);
     };
+    auto nb = [&](std::int64_t i, std::int64_t j) { return turned[cell(i, j)]; };
     // Start where most of the bottom and left sides are coded already (their rows then have a frame).
     std::int64_t best = -1;
     int rot_best = 0;
     for (int r = 0; r < 4; ++r) {
-      rot = r;
+      turn(r);
       a = (r & 1) ? g.b : g.a, b = (r & 1) ? g.a : g.b;
       std::int64_t score = 0;
       for (std::int64_t i = 0; i <= a; ++i) score += id[at(i, 0)] != kInvalid;
       for (std::int64_t j = 1; j <= b; ++j) score += id[at(0, j)] != kInvalid;
       if (score > best) best = score, rot_best = r;
     }
-    rot = rot_best;
+    turn(rot_best);
     a = (rot & 1) ? g.b : g.a, b = (rot & 1) ? g.a : g.b;
-    turned.assign(static_cast<std::size_t>((a + 2) * (b + 2)), kInvalid);
+    turned.assign(static_cast<std::size_t>((a + 4) * (b + 3)), kInvalid);
     for (std::int64_t j = 0; j <= b; ++j)
-      for (std::int64_t i = 0; i <= a; ++i)
-        turned[static_cast<std::size_t>((j + 1) * (a + 2) + i + 1)] = at(i, j);
-    for (std::int64_t j = 0; j <= b; ++j)
-      turned[static_cast<std::size_t>((j + 1) * (a + 2))] = across(at(0, j), f);
-    for (std::int64_t i = 0; i <= a; ++i) turned[static_cast<std::size_t>(i + 1)] = across(at(i, 0), f);
+      for (std::int64_t i = 0; i <= a; ++i) turned[cell(i, j)] = at(i, j);
+    for (std::int64_t j = 0; j <= b; ++j) turned[cell(-1, j)] = across(at(0, j), f);
+    for (std::int64_t i = 0; i <= a; ++i) turned[cell(i, -1)] = across(at(i, 0), f);
     for (std::int64_t j = 0; j <= b; ++j)
       for (std::int64_t i = 0; i <= a; ++i) {
         const std::uint32_t p = nb(i, j);
