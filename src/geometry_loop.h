@@ -218,11 +218,10 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
         row[uk] = kNoError;
         continue;
       }
+      // A float axis adds |0 - 0|: its value and candidates stay 0 (no test per axis and candidate).
       std::uint64_t err = 0;
       for (std::size_t a = 0; a < 3; ++a)
-        if (int_axis[a])
-          err +=
-              static_cast<std::uint64_t>(std::min<std::int64_t>(std::abs(value[a] - cand[a][uk]), kNoError));
+        err += static_cast<std::uint64_t>(std::min<std::int64_t>(std::abs(value[a] - cand[a][uk]), kNoError));
       row[uk] = static_cast<std::uint32_t>(std::min<std::uint64_t>(err, kNoError - 1));
     }
   }
