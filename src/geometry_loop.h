@@ -88,7 +88,7 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
   // The header's answers in locals: the loop's byte stores could alias it, so each use reloaded it.
   const std::array<bool, 3> int_axis = {h.integer_axis(0), h.integer_axis(1), h.integer_axis(2)};
   const std::array<int, 3> max_length = {h.max_length(0), h.max_length(1), h.max_length(2)};
-  const bool quantized = h.bits != 0;
+  const bool quantized = h.bits != 0, unclamped = blend_unclamped(kShapes, h.bits);
   // [vertex][candidate]: each vertex's row is written whole once it is coded, and only later vertices
   // read it, so it needs no filling first (which cost a pass over 44 bytes a vertex).
   const auto errors = std::make_unique_for_overwrite<std::uint32_t[]>(any_int ? std::size_t{count} * nc : 0);
@@ -155,7 +155,8 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
         const std::int64_t* v = ints[ua].data();
         std::int64_t pred;
         if (blended) {
-          pred = blended_pred[ua] = blend<nc>(cand[ua], mask, weight);
+          pred = blended_pred[ua] =
+              unclamped ? blend<nc, false>(cand[ua], mask, weight) : blend<nc>(cand[ua], mask, weight);
           if (chaining) pred += chain.offset(a);
         } else if (across) {
           const std::int64_t pa = predict_kind(x, x.kind, v), pf = predict_kind(x, x.fallback, v);

@@ -189,18 +189,25 @@ int blend_weights(const Hood& x, unsigned mask, const std::uint32_t* errors,
 // The weighted mean of the available candidates p[k] (mask bit k), as an offset from the
 // parallelogram p[0] (clamped to +-2^28 so the sums cannot overflow), rounded half up. Integer only,
 // so exactly reproducible.
-template <int nc>  // as for blend_weights
+// kClamp false: the caller knows every |p[k] - p[0]| <= 2^28 (blend_unclamped), so the clamps are no-ops.
+template <int nc, bool kClamp = true>  // nc as for blend_weights
 std::int64_t blend(const std::array<std::int64_t, kCandidates>& p, unsigned mask,
                    const std::array<std::int64_t, kCandidates>& weight) {
   std::int64_t num = 0, den = 0;
   for (int k = 0; k < nc; ++k) {
     if (!((mask >> k) & 1)) continue;
-    num += weight[static_cast<std::size_t>(k)] *
-           std::clamp<std::int64_t>(p[static_cast<std::size_t>(k)] - p[0], -(1 << 28), 1 << 28);
+    const std::int64_t d = p[static_cast<std::size_t>(k)] - p[0];
+    num +=
+        weight[static_cast<std::size_t>(k)] * (kClamp ? std::clamp<std::int64_t>(d, -(1 << 28), 1 << 28) : d);
     den += weight[static_cast<std::size_t>(k)];
   }
   return den == 0 ? p[0] : p[0] + floor_div(2 * num + den, 2 * den);
 }
+
+// Whether blend's clamps cannot bind: without the shape transfers (which can reach far), candidates
+// 0-10 of grid values in [0, q] lie in [-8q, 8q] and the parallelogram in [-q, 2q], so every offset
+// is within 10q < 2^28 for q < 2^24.
+inline bool blend_unclamped(bool shapes, std::uint32_t bits) { return !shapes && bits != 0 && bits <= 20; }
 
 // The fixed predictor of kinds other than kParallelogram on an integer axis (values v), and the
 // across-patch predictions of kOpposite and kCorners.
