@@ -198,25 +198,41 @@ void ResidualModel::code_mantissa_bit(Coder& rc, unsigned& bit, int len, const R
 
 // Length decision i (of weight 2^i) is left out when a 1 could only lead to lengths above max_len,
 // given the decisions above it (`high`): at 14 bits, the top two never vary.
-inline bool excluded(int high, int i, int max_len) { return (high | (1 << i)) > max_len; }
+constexpr bool excluded(int high, int i, int max_len) { return (high | (1 << i)) > max_len; }
+
+// By max_len (at most 42), the length tree's nodes whose decision is coded (bit `node`, 1..63), and
+// the top level that may have one: a table lookup and a bit test, where testing each level's
+// exclusion was a quarter of coding a residual.
+inline constexpr std::array<std::uint64_t, 64> kCodedNodes = [] {
+  std::array<std::uint64_t, 64> t{};
+  for (int max_len = 0; max_len < 64; ++max_len) {
+    for (int node = 1; node < 64; ++node) {
+      const int i = 6 - std::bit_width(static_cast<unsigned>(node));  // the node's level
+      if (!excluded((node << (i + 1)) - 64, i, max_len))
+        t[static_cast<std::size_t>(max_len)] |= std::uint64_t{1} << node;
+    }
+  }
+  return t;
+}();
+inline bool coded_node(std::uint64_t coded, int node) { return (coded >> node) & 1u; }
+// Levels above it are never coded: their 1 alone passes max_len.
+inline int top_level(int max_len) { return std::bit_width(static_cast<unsigned>(max_len)) - 1; }
 
 template <bool kLogistic>
 inline void ResidualModel::encode(RangeEncoder& rc, std::uint64_t u, const ResidualContext& c) {
   const int len = std::bit_width(u);
   BitModel* tree = length_tree(c.kind, c.cls);
   BitModel* kind_tree = &general_[static_cast<std::size_t>(c.kind) * 64];
-  for (int i = 5, node = 1; i >= 0; --i) {
+  const std::uint64_t coded = kCodedNodes[static_cast<std::size_t>(c.max_len)];
+  for (int i = top_level(c.max_len); i >= 0; --i) {
+    const int node = (64 + len) >> (i + 1);  // 1, then the bits of len above bit i
+    if (!coded_node(coded, node)) continue;  // b is 0: len <= max_len
     unsigned b = (len >> i) & 1;
-    if (excluded(len & ~((2 << i) - 1), i, c.max_len)) {
-      node = 2 * node;  // b is 0: len <= max_len
-      continue;
-    }
     if constexpr (kLogistic) {
       code_length_bit(rc, b, c, node);
     } else {
       encode_mixed(rc, tree[node], kind_tree[node], b);
     }
-    node = 2 * node + static_cast<int>(b);
   }
   if (len <= 1) return;
   BitModel* m = mantissa_tree(len);
@@ -242,9 +258,11 @@ template <bool kLogistic>
 inline std::uint64_t ResidualModel::decode(RangeDecoder& rc, const ResidualContext& c) {
   BitModel* tree = length_tree(c.kind, c.cls);
   BitModel* kind_tree = &general_[static_cast<std::size_t>(c.kind) * 64];
-  int node = 1;
-  for (int i = 5; i >= 0; --i) {
-    if (excluded((node << (i + 1)) - 64, i, c.max_len)) {
+  const std::uint64_t coded = kCodedNodes[static_cast<std::size_t>(c.max_len)];
+  const int top = top_level(c.max_len);
+  int node = 64 >> (top + 1);  // the levels above top decided 0
+  for (int i = top; i >= 0; --i) {
+    if (!coded_node(coded, node)) {
       node = 2 * node;
       continue;
     }
