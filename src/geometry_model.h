@@ -119,15 +119,13 @@ class ResidualModel {
   // `logistic`: the logistic mixing tool (its tables, weights and length prior).
   explicit ResidualModel(bool logistic);
 
-  // Inlined into code_symbol (geometry_sink.cpp), which builds the context from a symbol's bytes.
+  // Inlined into code_symbols (geometry_sink.cpp), which builds the context from a symbol's bytes.
   template <bool kLogistic>
   [[gnu::always_inline]] inline void encode(RangeEncoder& rc, std::uint64_t u, const ResidualContext& c);
   // Inlined into the decoder's loop: a call per coordinate cost 3% of a decode.
   template <bool kLogistic>
   [[gnu::always_inline]] inline std::uint64_t decode(RangeDecoder& rc, const ResidualContext& c);
-  void encode(RangeEncoder& rc, std::uint64_t u, const ResidualContext& c) {
-    logistic_ ? encode<true>(rc, u, c) : encode<false>(rc, u, c);
-  }
+  bool logistic() const { return logistic_; }
 
   // Trailing decimal zeros t (0..12) as a 4-decision tree, most significant first, by the digit count
   // of the prediction (0..15).

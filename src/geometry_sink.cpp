@@ -5,10 +5,13 @@
 
 namespace qsp {
 
-void code_symbol(const Symbol& s, ResidualModel& m, RangeEncoder& rc) {
+namespace {
+
+template <bool kLogistic>
+[[gnu::always_inline]] inline void code_one(const Symbol& s, ResidualModel& m, RangeEncoder& rc) {
   switch (s.op) {
     case Symbol::kResidual:
-      m.encode(rc, s.value, {s.ctx, s.arg, s.arg2, s.axis, s.neighbour_cls, s.previous});
+      m.encode<kLogistic>(rc, s.value, {s.ctx, s.arg, s.arg2, s.axis, s.neighbour_cls, s.previous});
       break;
     case Symbol::kZeros:
       m.encode_zeros(rc, static_cast<int>(s.value), s.arg);
@@ -18,6 +21,19 @@ void code_symbol(const Symbol& s, ResidualModel& m, RangeEncoder& rc) {
       if (s.arg2) m.rank.encode(rc, static_cast<std::uint32_t>(s.value));
       break;
   }
+}
+
+template <bool kLogistic>
+void code_all(std::span<const Symbol> block, ResidualModel& m, RangeEncoder& rc) {
+  for (const Symbol& s : block) code_one<kLogistic>(s, m, rc);
+}
+
+}  // namespace
+
+void code_symbol(const Symbol& s, ResidualModel& m, RangeEncoder& rc) { code_symbols({&s, 1}, m, rc); }
+
+void code_symbols(std::span<const Symbol> block, ResidualModel& m, RangeEncoder& rc) {
+  m.logistic() ? code_all<true>(block, m, rc) : code_all<false>(block, m, rc);
 }
 
 SymbolSink::SymbolSink(bool logistic, std::string& payload, bool threaded)
@@ -82,7 +98,7 @@ void SymbolSink::run() {
     lock.unlock();
     taken_.notify_one();
     try {
-      for (const Symbol& s : block) code_symbol(s, coder_->model, coder_->rc);
+      code_symbols(block, coder_->model, coder_->rc);
     } catch (...) {
       lock.lock();
       error_ = std::current_exception();

@@ -8,6 +8,7 @@
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -30,6 +31,9 @@ struct Symbol {
 
 // Codes `s` through `m` into `rc`.
 void code_symbol(const Symbol& s, ResidualModel& m, RangeEncoder& rc);
+// Codes `block` through `m` into `rc`: the coder thread's loop, with the model's kind chosen once and
+// every residual's coding inlined (a call per symbol and its context on the stack were an eighth of it).
+void code_symbols(std::span<const Symbol> block, ResidualModel& m, RangeEncoder& rc);
 
 // Where the encoder's coding loop puts its symbols: coded at once, or (large sections) handed in blocks
 // to a second thread that codes them while the loop predicts the next vertices. The model's state never
