@@ -18,15 +18,17 @@ namespace qsp {
 // saves ~20% on them over fixed rates.
 struct BitModel {
   std::uint16_t fast = 32768, slow = 32768;
-  std::uint8_t seen = 0;
+  std::uint8_t seen = 0;  // counts up to kMature only (see learn)
   std::uint32_t p0() const { return (std::uint32_t{fast} + slow) >> 1; }
 };
 
-// What coding `bit` teaches model m (the rates above). Inline: the geometry section's logistic
-// decisions update four models a bit.
-inline void learn(BitModel& m, unsigned bit) {
-  const auto warm = static_cast<unsigned>(std::bit_width(static_cast<unsigned>(m.seen) + 1u));
-  const unsigned fast_shift = warm < 4 ? warm : 4, slow_shift = warm < 7 ? warm : 7;
+// From this many bits seen on, nothing depends on the count: the rates are 1/16 and 1/128, and the
+// geometry section's mixed decisions use the model alone. So the count stops there (the format
+// describes a count saturating at 255, which gives the same probabilities).
+inline constexpr unsigned kMature = 64;
+
+// Moves m's estimates towards `bit` by 2^-fast_shift and 2^-slow_shift.
+inline void adapt(BitModel& m, unsigned bit, unsigned fast_shift, unsigned slow_shift) {
   if (bit) {
     m.fast = static_cast<std::uint16_t>(m.fast - (m.fast >> fast_shift));
     m.slow = static_cast<std::uint16_t>(m.slow - (m.slow >> slow_shift));
@@ -34,7 +36,15 @@ inline void learn(BitModel& m, unsigned bit) {
     m.fast = static_cast<std::uint16_t>(m.fast + ((65536u - m.fast) >> fast_shift));
     m.slow = static_cast<std::uint16_t>(m.slow + ((65536u - m.slow) >> slow_shift));
   }
-  if (m.seen < 255) ++m.seen;
+}
+
+// What coding `bit` teaches model m (the rates above). Inline: the geometry section's logistic
+// decisions update four models a bit. A mature model, the common case, takes fixed shifts.
+inline void learn(BitModel& m, unsigned bit) {
+  if (m.seen >= kMature) return adapt(m, bit, 4, 7);
+  const auto warm = static_cast<unsigned>(std::bit_width(static_cast<unsigned>(m.seen) + 1u));
+  adapt(m, bit, warm < 4 ? warm : 4, warm < 7 ? warm : 7);
+  ++m.seen;
 }
 
 // How a stream ends ("Compact ends"): LZMA's range coder without its first byte (always 0), and a flush

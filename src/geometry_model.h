@@ -27,6 +27,7 @@ inline constexpr int kModelledBits = 2;  // mantissa bits with their own context
 // it): mixing then gains nothing, and a large mesh decodes almost as fast as with one model.
 
 inline constexpr unsigned kMixUntil = 64;
+static_assert(kMixUntil <= kMature, "a model's count must reach kMixUntil");
 
 inline std::uint32_t mixed_p0(const BitModel& a, const BitModel& b) {
   const std::uint32_t wa = std::min<std::uint32_t>(a.seen, 30) + 1,
