@@ -56,17 +56,6 @@ void RangeDecoder::normalize() {
   }
 }
 
-void RangeEncoder::encode_raw(std::uint32_t value, unsigned count) {
-  for (unsigned i = count; i-- > 0;) {
-    range_ >>= 1;
-    if ((value >> i) & 1u) low_ += range_;
-    while (range_ < kTop) {
-      range_ <<= 8;
-      shift_low();
-    }
-  }
-}
-
 void RangeEncoder::finish() {
   // The value in [low, low + range) with the most trailing zero bytes (k of the 4 bytes of low): any
   // value of the final interval decodes the same symbols, and zeros need not be written.
@@ -96,47 +85,26 @@ void RangeDecoder::check_code() const {
   }
 }
 
-std::uint8_t RangeDecoder::next_byte() {
-  if (pos_ >= bytes_.size()) {
-    if (pos_ < bytes_.size() + 4) {
-      ++pos_;
-      window_ <<= 8;
-      return 0;  // a zero the compact flush left out
-    }
-    throw Error(ErrorCode::kFormat, std::string(what_) + " ends too early: needs more than its " +
-                                        std::to_string(bytes_.size()) + " bytes (at byte offset " +
-                                        std::to_string(base_offset_ + bytes_.size()) + ")");
+std::uint8_t RangeDecoder::byte_past_end() {
+  if (pos_ < bytes_.size() + 4) {
+    ++pos_;
+    return 0;  // a zero the compact flush left out
   }
-  const auto byte = static_cast<std::uint8_t>(bytes_[pos_++]);
-  window_ = (window_ << 8) | byte;
-  return byte;
-}
-
-std::uint32_t RangeDecoder::decode_raw(unsigned count) {
-  std::uint32_t value = 0;
-  for (unsigned i = 0; i < count; ++i) {
-    range_ >>= 1;
-    unsigned bit = 0;
-    if (code_ >= range_) {
-      code_ -= range_;
-      bit = 1;
-      check_code();
-    }
-    value = (value << 1) | bit;
-    while (range_ < kTop) {
-      range_ <<= 8;
-      code_ = (code_ << 8) | next_byte();
-    }
-  }
-  return value;
+  throw Error(ErrorCode::kFormat, std::string(what_) + " ends too early: needs more than its " +
+                                      std::to_string(bytes_.size()) + " bytes (at byte offset " +
+                                      std::to_string(base_offset_ + bytes_.size()) + ")");
 }
 
 void RangeDecoder::finish() const {
+  // The last 4 bytes read (the constructor reads 4), the zeros past the end included.
+  std::uint32_t window = 0;
+  for (std::size_t k = pos_ - 4; k < pos_; ++k)
+    window = (window << 8) | (k < bytes_.size() ? static_cast<std::uint8_t>(bytes_[k]) : 0u);
   // The final interval starts at (last 4 bytes read) - code; the stream must end on the value the
   // encoder picks in it, with exactly its trailing zero bytes left out.
-  const CompactEnd end = compact_end(static_cast<std::uint32_t>(window_ - code_), range_);
+  const CompactEnd end = compact_end(static_cast<std::uint32_t>(window - code_), range_);
   if (pos_ == bytes_.size() + static_cast<std::size_t>(end.zeros) &&
-      end.value % (std::uint64_t{1} << 32) == window_)
+      end.value % (std::uint64_t{1} << 32) == window)
     return;
   if (pos_ < bytes_.size()) {
     throw Error(ErrorCode::kFormat, std::string(what_) + " does not end where its symbols end (" +

@@ -66,8 +66,15 @@ class RangeEncoder {
     encode_p0(m.p0(), bit);
     learn(m, bit);
   }
-  // `count` (<= 32) bits of `value`, most significant first, each with probability 1/2.
-  void encode_raw(std::uint32_t value, unsigned count);
+  // `count` (<= 32) bits of `value`, most significant first, each with probability 1/2. Inline: the
+  // geometry section codes a few after most residuals, often none.
+  void encode_raw(std::uint32_t value, unsigned count) {
+    for (unsigned i = count; i-- > 0;) {
+      range_ >>= 1;
+      if ((value >> i) & 1u) low_ += range_;
+      if (range_ < kTop) normalize();
+    }
+  }
   // One bit with probability p0 / 2^16 of a 0 (1 <= p0 <= 65535), from a model outside this class.
   void encode_p0(std::uint32_t p0, unsigned bit) {
     const std::uint32_t bound = (range_ >> kProbBits) * p0;
@@ -109,7 +116,23 @@ class RangeDecoder {
     learn(m, bit);
     return bit;
   }
-  std::uint32_t decode_raw(unsigned count);
+  // Inline, as encode_raw.
+  std::uint32_t decode_raw(unsigned count) {
+    std::uint32_t value = 0;
+    for (unsigned i = 0; i < count; ++i) {
+      range_ >>= 1;
+      unsigned bit = 0;
+      if (code_ >= range_) {
+        code_ -= range_;
+        bit = 1;
+        if (code_ >= range_) [[unlikely]]
+          check_code();  // throws
+      }
+      value = (value << 1) | bit;
+      if (range_ < RangeEncoder::kTop) normalize();
+    }
+    return value;
+  }
   unsigned decode_p0(std::uint32_t p0) {
     const std::uint32_t bound = (range_ >> RangeEncoder::kProbBits) * p0;
     unsigned bit;
@@ -130,7 +153,10 @@ class RangeDecoder {
 
  private:
   void normalize();  // reads bytes in while range < kTop
-  std::uint8_t next_byte();
+  std::uint8_t next_byte() {
+    return pos_ < bytes_.size() ? static_cast<std::uint8_t>(bytes_[pos_++]) : byte_past_end();
+  }
+  std::uint8_t byte_past_end();
   void check_code() const;
   std::string_view bytes_;
   std::uint64_t base_offset_;
@@ -138,7 +164,6 @@ class RangeDecoder {
   std::size_t pos_ = 0;  // may pass bytes_.size() by up to 4 (zeros the flush left out)
   std::uint32_t range_ = 0xFFFFFFFFu;
   std::uint32_t code_ = 0;
-  std::uint32_t window_ = 0;  // the last 4 bytes read (the end check)
 };
 
 // Adaptive Exp-Golomb model for unsigned integers 0 .. 2^32 - 2. Codes n = bit length of (v + 1)
