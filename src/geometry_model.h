@@ -43,8 +43,8 @@ inline void encode_mixed(RangeEncoder& rc, BitModel& a, BitModel& b, unsigned bi
 inline unsigned decode_mixed(RangeDecoder& rc, BitModel& a, BitModel& b) {
   if (a.seen >= kMixUntil) return rc.decode_bit(a);
   const unsigned bit = rc.decode_p0(mixed_p0(a, b));
-  learn(a, bit);
-  learn(b, bit);
+  learn<true>(a, bit);
+  learn<true>(b, bit);
   return bit;
 }
 
@@ -101,7 +101,7 @@ void code_logistic(Coder& rc, unsigned& bit, const std::array<BitModel*, 4>& mod
   const int err = ((static_cast<int>(bit) << 12) - p1) * 6;
   for (std::size_t k = 0; k < kMixInputs; ++k)
     mw.w[k] = std::clamp(mw.w[k] + ((st[k] * err) >> 14), -kMaxWeight, kMaxWeight);
-  for (BitModel* m : models) learn(*m, bit);
+  for (BitModel* m : models) learn<true>(*m, bit);
 }
 
 // A residual's contexts.
