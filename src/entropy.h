@@ -27,14 +27,26 @@ struct BitModel {
 // describes a count saturating at 255, which gives the same probabilities).
 inline constexpr unsigned kMature = 64;
 
-// Moves m's estimates towards `bit` by 2^-fast_shift and 2^-slow_shift. kBranchless: without a branch
-// on the bit, for a decoder, which has only just computed it (mispredicted, a branch stalled the next
-// decision: a 7% faster decode), and for the logistic decisions' four models; an encoder's other
-// decisions are faster branching.
-template <bool kBranchless>
+// How learn() moves a model's estimates: kBranch branches on the bit (an encoder, which knows its bits
+// ahead); kMask takes both ways by masks (a decoder, which has only just computed the bit: a
+// mispredicted branch stalled the next decision, whose model the bit picks; a 10% faster decode of
+// residuals); kSelect by conditional selects (the logistic decisions' four models: 6% faster than
+// either there). Masks, as a compiler may turn a select back into a branch.
+enum class Learn { kBranch, kSelect, kMask };
+
+// Moves m's estimates towards `bit` by 2^-fast_shift and 2^-slow_shift.
+template <Learn kHow>
 inline void adapt(BitModel& m, unsigned bit, unsigned fast_shift, unsigned slow_shift) {
-  if constexpr (kBranchless) {
-    const std::uint32_t fast = m.fast, slow = m.slow;  // by the distance to 0 (bit 1) or 65536 (bit 0)
+  if constexpr (kHow == Learn::kMask) {
+    const std::uint32_t fast = m.fast, slow = m.slow;
+    // The distance to 0 (bit 1) or 65536 (bit 0), shifted, then subtracted (bit 1) or added.
+    const std::uint32_t mask = 0u - bit;
+    const std::uint32_t df = (65536u - fast + ((2 * fast - 65536u) & mask)) >> fast_shift;
+    const std::uint32_t ds = (65536u - slow + ((2 * slow - 65536u) & mask)) >> slow_shift;
+    m.fast = static_cast<std::uint16_t>(fast + ((df ^ mask) - mask));
+    m.slow = static_cast<std::uint16_t>(slow + ((ds ^ mask) - mask));
+  } else if constexpr (kHow == Learn::kSelect) {
+    const std::uint32_t fast = m.fast, slow = m.slow;
     const std::uint32_t df = (bit ? fast : 65536u - fast) >> fast_shift;
     const std::uint32_t ds = (bit ? slow : 65536u - slow) >> slow_shift;
     m.fast = static_cast<std::uint16_t>(bit ? fast - df : fast + df);
@@ -48,14 +60,19 @@ inline void adapt(BitModel& m, unsigned bit, unsigned fast_shift, unsigned slow_
   }
 }
 
-// What coding `bit` teaches model m (the rates above); kBranchless as in adapt. Inline: the geometry
-// section's logistic decisions update four models a bit. A mature model, the common case, takes fixed
-// shifts.
-template <bool kBranchless = false>
+// learn() for a model known to have seen kMature bits: its count no longer moves, its shifts are fixed.
+template <Learn kHow = Learn::kBranch>
+inline void learn_mature(BitModel& m, unsigned bit) {
+  adapt<kHow>(m, bit, 4, 7);
+}
+
+// What coding `bit` teaches model m (the rates above). Inline: the geometry section's logistic
+// decisions update four models a bit. A mature model, the common case, takes fixed shifts.
+template <Learn kHow = Learn::kBranch>
 inline void learn(BitModel& m, unsigned bit) {
-  if (m.seen >= kMature) return adapt<kBranchless>(m, bit, 4, 7);
+  if (m.seen >= kMature) return learn_mature<kHow>(m, bit);
   const auto warm = static_cast<unsigned>(std::bit_width(static_cast<unsigned>(m.seen) + 1u));
-  adapt<kBranchless>(m, bit, warm < 4 ? warm : 4, warm < 7 ? warm : 7);
+  adapt<kHow>(m, bit, warm < 4 ? warm : 4, warm < 7 ? warm : 7);
   ++m.seen;
 }
 
@@ -125,7 +142,7 @@ class RangeDecoder {
   // Inline, as decode_p0: a call per decision was a tenth of decoding a mesh's geometry.
   unsigned decode_bit(BitModel& m) {
     const unsigned bit = decode_p0(m.p0());
-    learn<true>(m, bit);
+    learn<Learn::kMask>(m, bit);
     return bit;
   }
   // Inline, as encode_raw.
@@ -145,12 +162,13 @@ class RangeDecoder {
     }
     return value;
   }
-  // Without a branch on the bit, as learn<true> (mispredicted, it stalled the next decision).
+  // Without a branch on the bit, as learn<Learn::kMask>.
   unsigned decode_p0(std::uint32_t p0) {
     const std::uint32_t bound = (range_ >> RangeEncoder::kProbBits) * p0;
     const unsigned bit = code_ >= bound;
-    code_ -= bit ? bound : 0;
-    range_ = bit ? range_ - bound : bound;
+    const std::uint32_t mask = 0u - bit;  // masks, not selects, which a compiler may make branches
+    code_ -= bound & mask;
+    range_ = bound + ((range_ - 2 * bound) & mask);
     if (range_ < RangeEncoder::kTop) normalize();
     return bit;
   }

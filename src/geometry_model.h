@@ -27,7 +27,8 @@ inline constexpr int kModelledBits = 2;  // mantissa bits with their own context
 // it): mixing then gains nothing, and a large mesh decodes almost as fast as with one model.
 
 inline constexpr unsigned kMixUntil = 64;
-static_assert(kMixUntil <= kMature, "a model's count must reach kMixUntil");
+// So a model coding alone is mature (learn_mature, without testing its count again).
+static_assert(kMixUntil == kMature);
 
 inline std::uint32_t mixed_p0(const BitModel& a, const BitModel& b) {
   const std::uint32_t wa = std::min<std::uint32_t>(a.seen, 30) + 1,
@@ -35,16 +36,23 @@ inline std::uint32_t mixed_p0(const BitModel& a, const BitModel& b) {
   return (a.p0() * wa + b.p0() * wb) / (wa + wb);
 }
 inline void encode_mixed(RangeEncoder& rc, BitModel& a, BitModel& b, unsigned bit) {
-  if (a.seen >= kMixUntil) return rc.encode_bit(a, bit);
+  if (a.seen >= kMixUntil) {
+    rc.encode_p0(a.p0(), bit);
+    return learn_mature(a, bit);
+  }
   rc.encode_p0(mixed_p0(a, b), bit);
   learn(a, bit);
   learn(b, bit);
 }
 inline unsigned decode_mixed(RangeDecoder& rc, BitModel& a, BitModel& b) {
-  if (a.seen >= kMixUntil) return rc.decode_bit(a);
+  if (a.seen >= kMixUntil) {
+    const unsigned bit = rc.decode_p0(a.p0());
+    learn_mature<Learn::kMask>(a, bit);
+    return bit;
+  }
   const unsigned bit = rc.decode_p0(mixed_p0(a, b));
-  learn<true>(a, bit);
-  learn<true>(b, bit);
+  learn<Learn::kMask>(a, bit);
+  learn<Learn::kMask>(b, bit);
   return bit;
 }
 
@@ -101,7 +109,7 @@ void code_logistic(Coder& rc, unsigned& bit, const std::array<BitModel*, 4>& mod
   const int err = ((static_cast<int>(bit) << 12) - p1) * 6;
   for (std::size_t k = 0; k < kMixInputs; ++k)
     mw.w[k] = std::clamp(mw.w[k] + ((st[k] * err) >> 14), -kMaxWeight, kMaxWeight);
-  for (BitModel* m : models) learn<true>(*m, bit);
+  for (BitModel* m : models) learn<Learn::kSelect>(*m, bit);
 }
 
 // A residual's contexts.
