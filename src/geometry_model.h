@@ -30,10 +30,20 @@ inline constexpr unsigned kMixUntil = 64;
 // So a model coding alone is mature (learn_mature, without testing its count again).
 static_assert(kMixUntil == kMature);
 
+// ceil(2^32 / d) for d = wa + wb in 2..62: (n * it) >> 32 is n / d for every n below 65536 * 62 (checked
+// exhaustively), a multiplication where the division was on the decoder's critical path.
+inline constexpr std::array<std::uint32_t, 63> kMixReciprocal = [] {
+  std::array<std::uint32_t, 63> t{};
+  for (std::uint64_t d = 2; d < 63; ++d)
+    t[d] = static_cast<std::uint32_t>(((std::uint64_t{1} << 32) + d - 1) / d);
+  return t;
+}();
+
 inline std::uint32_t mixed_p0(const BitModel& a, const BitModel& b) {
   const std::uint32_t wa = std::min<std::uint32_t>(a.seen, 30) + 1,
                       wb = std::min<std::uint32_t>(b.seen, 30) + 1;
-  return (a.p0() * wa + b.p0() * wb) / (wa + wb);
+  const std::uint64_t n = a.p0() * wa + b.p0() * wb;  // / (wa + wb)
+  return static_cast<std::uint32_t>((n * kMixReciprocal[wa + wb]) >> 32);
 }
 inline void encode_mixed(RangeEncoder& rc, BitModel& a, BitModel& b, unsigned bit) {
   if (a.seen >= kMixUntil) {
