@@ -88,6 +88,22 @@ inline constexpr std::array<std::int16_t, 4096> kStretch = [] {
   return t;
 }();
 
+// The two as the coder uses them, one lookup each: squash(d) by d + 2047, and the stretch of a model's
+// probability of a 1, clamp(4096 - (p0 >> 4), 1, 4095), by p0 >> 4 (interpolating and clamping were a
+// fifth of a logistic decision).
+inline constexpr std::array<std::int16_t, 4095> kSquashed = [] {
+  std::array<std::int16_t, 4095> t{};
+  for (int d = -2047; d <= 2047; ++d)
+    t[static_cast<std::size_t>(d + 2047)] = static_cast<std::int16_t>(squash(d));
+  return t;
+}();
+inline constexpr std::array<std::int16_t, 4096> kStretchOfP0 = [] {
+  std::array<std::int16_t, 4096> t{};
+  for (int q = 0; q < 4096; ++q)
+    t[static_cast<std::size_t>(q)] = kStretch[static_cast<std::size_t>(std::clamp(4096 - q, 1, 4095))];
+  return t;
+}();
+
 // One weight set: four models' weights and the bias's, 16.16 fixed point.
 inline constexpr int kMixInputs = 5;
 inline constexpr std::int32_t kMaxWeight = std::int32_t{1} << 22;  // a hostile stream cannot overflow them
@@ -101,13 +117,10 @@ template <typename Coder>
 void code_logistic(Coder& rc, unsigned& bit, const std::array<BitModel*, 4>& models, MixWeights& mw) {
   std::array<int, kMixInputs> st{};
   std::int64_t dot = 0;
-  for (std::size_t k = 0; k < 4; ++k) {
-    const int p1 = std::clamp(4096 - static_cast<int>(models[k]->p0() >> 4), 1, 4095);
-    st[k] = kStretch[static_cast<std::size_t>(p1)];
-  }
+  for (std::size_t k = 0; k < 4; ++k) st[k] = kStretchOfP0[models[k]->p0() >> 4];
   st[4] = 256;
   for (std::size_t k = 0; k < kMixInputs; ++k) dot += std::int64_t{mw.w[k]} * st[k];
-  const int p1 = squash(static_cast<int>(std::clamp<std::int64_t>(dot >> 16, -2047, 2047)));
+  const int p1 = kSquashed[static_cast<std::size_t>(std::clamp<std::int64_t>(dot >> 16, -2047, 2047) + 2047)];
   // Clamped to the adaptive models' own range, so no decision costs less than log2(65536 / 65465) bits
   // and the decoder's bound on vertices per geometry byte (codec.cpp) holds.
   const std::uint32_t p0 = std::clamp<std::uint32_t>(static_cast<std::uint32_t>(4096 - p1) << 4, 71, 65465);
