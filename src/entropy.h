@@ -100,7 +100,7 @@ class RangeEncoder {
   void encode_raw(std::uint32_t value, unsigned count) {
     for (unsigned i = count; i-- > 0;) {
       range_ >>= 1;
-      if ((value >> i) & 1u) low_ += range_;
+      low_ += range_ & (0u - ((value >> i) & 1u));  // a mask: a branch on a random bit mispredicts
       if (range_ < kTop) normalize();
     }
   }
@@ -150,13 +150,10 @@ class RangeDecoder {
     std::uint32_t value = 0;
     for (unsigned i = 0; i < count; ++i) {
       range_ >>= 1;
-      unsigned bit = 0;
-      if (code_ >= range_) {
-        code_ -= range_;
-        bit = 1;
-        if (code_ >= range_) [[unlikely]]
-          check_code();  // throws
-      }
+      const std::uint32_t bit = code_ >= range_;
+      code_ -= range_ & (0u - bit);  // a mask: a branch on a random bit mispredicts
+      if (code_ >= range_) [[unlikely]]
+        check_code();  // throws
       value = (value << 1) | bit;
       if (range_ < RangeEncoder::kTop) normalize();
     }
