@@ -6,6 +6,9 @@
 
 namespace qsp {
 
+// kCodedNodes is indexed by an axis's largest valid length.
+static_assert(kFloatMaxLength < 64 && kDecimalMaxLength < 64);
+
 ResidualModel::ResidualModel(bool logistic)
     : logistic_(logistic),
       length_(std::size_t{kContextKinds} * kClasses * 64),
