@@ -138,10 +138,6 @@ class Line {
     std::memcpy(buf_ + n_, s.data(), s.size());
     n_ += s.size();
   }
-  void put_uint(std::uint64_t x) {
-    room(24);
-    n_ = static_cast<std::size_t>(std::to_chars(buf_ + n_, buf_ + sizeof buf_, x).ptr - buf_);
-  }
   void put_float(float f) {
     room(32);
     char* const end =
@@ -158,6 +154,12 @@ class Line {
     out_.append(buf_, n_);
     n_ = 0;
   }
+  // Room for k characters (k at most 256) written at the returned pointer, then advance(their end).
+  char* reserve(std::size_t k) {
+    room(k);
+    return buf_ + n_;
+  }
+  void advance(char* end) { n_ = static_cast<std::size_t>(end - buf_); }
 
  private:
   void room(std::size_t k) {
@@ -228,19 +230,30 @@ void value_lines(std::string& out, const char* keyword, const Numbers& values, s
   line.flush();
 }
 
+// A corner's text at most: " v/t/n", each index up to 10 digits.
+constexpr std::size_t kCornerText = 1 + 3 * 10 + 2;
+
+// One OBJ index (0-based i written 1-based) at `to`; returns its end.
+char* put_index(char* to, std::uint32_t i) { return std::to_chars(to, to + 10, std::uint64_t{i} + 1).ptr; }
+
+// One room check a corner, not one a word: face lines were a twelfth of decompressing a quad mesh.
 void face_line(Line& line, const Mesh& m, std::size_t f) {
   line.put('f');
   for (std::uint32_t c = m.face_offsets[f]; c < m.face_offsets[f + 1]; ++c) {
-    line.put(' ');
-    line.put_uint(std::uint64_t{m.corner_vertices[c]} + 1);
+    char* p = line.reserve(kCornerText);
+    *p++ = ' ';
+    p = put_index(p, m.corner_vertices[c]);
     const std::uint32_t t = m.corner_texcoords.empty() ? kInvalid : m.corner_texcoords[c];
     const std::uint32_t n = m.corner_normals.empty() ? kInvalid : m.corner_normals[c];
-    if (t == kInvalid && n == kInvalid) continue;
-    line.put('/');
-    if (t != kInvalid) line.put_uint(std::uint64_t{t} + 1);
-    if (n == kInvalid) continue;
-    line.put('/');
-    line.put_uint(std::uint64_t{n} + 1);
+    if (t != kInvalid || n != kInvalid) {
+      *p++ = '/';
+      if (t != kInvalid) p = put_index(p, t);
+      if (n != kInvalid) {
+        *p++ = '/';
+        p = put_index(p, n);
+      }
+    }
+    line.advance(p);
   }
   line.put('\n');
 }
