@@ -614,10 +614,8 @@ class ObjReader {
 
   void parse_statements() {
     while (!in_.done()) {
-      if constexpr (!kExact) {
-        if (plain_line()) [[likely]]
-          continue;
-      }
+      if (plain_line()) [[likely]]
+        continue;
       in_.skip_blank();
       if (in_.at_eol()) {
         if constexpr (kExact) {
@@ -815,6 +813,11 @@ class ObjReader {
     TextNumber t[3];
     const std::uint64_t n = read_numbers<kExact>(in_, t, "`vt` statement");
     check_count(n, 1, 3, "`vt` statement");
+    add_texcoord(t, n);
+  }
+
+  // Exact mode: a `vt` of n (1 to 3) numbers read.
+  void add_texcoord(const TextNumber* t, std::uint64_t n) {
     ++report_.texcoords;
     std::uint8_t& comps = out_.texcoord_components;
     if (comps == 0) {
@@ -835,6 +838,11 @@ class ObjReader {
     TextNumber t[3];
     const std::uint64_t n = read_numbers<kExact>(in_, t, "`vn` statement");
     check_count(n, 3, 3, "`vn` statement");
+    add_normal(t);
+  }
+
+  // Exact mode: a `vn` read.
+  void add_normal(const TextNumber (&t)[3]) {
     ++report_.normals;
     for (const TextNumber& x : t) detail::push_text(mesh_.normals, x);
     ++normal_count_;
@@ -906,18 +914,23 @@ class ObjReader {
       add_corner_attribute(mesh_.corner_texcoords, texcoords_, any_t, base, degree);
     if (any_n || !mesh_.corner_normals.empty())
       add_corner_attribute(mesh_.corner_normals, normals_, any_n, base, degree);
+    add_face_labels();
+    run(ObjStatement::kFace);
+    face_line_.push(clamp_line(line));
+  }
+
+  // The current o, g, usemtl and s of a face read (those the file has so far).
+  void add_face_labels() {
     if (active_labels_) {
       for (int k = 0; k < 4; ++k) {
         if (out_.labels[k].seen) label_array(mesh_, k).face.push_back(out_.labels[k].current);
       }
     }
-    run(ObjStatement::kFace);
-    face_line_.push(clamp_line(line));
   }
 
   // Per-corner indices of one kind: created (kInvalid for earlier corners) by the first face with one;
   // `face` is empty when this face has none.
-  static void add_corner_attribute(std::vector<std::uint32_t>& to, const std::vector<std::uint32_t>& face,
+  static void add_corner_attribute(std::vector<std::uint32_t>& to, std::span<const std::uint32_t> face,
                                    bool any, std::size_t base, std::size_t degree) {
     to.resize(base, kInvalid);
     if (any) {
@@ -994,16 +1007,159 @@ class ObjReader {
     face_line_.push(clamp_line(line));
   }
 
-  // Quads mode's fast path for the two common lines, a `v` of three numbers and an `f` of four plain
-  // indices, each item after spaces and the last one right before the LF: read as statement() and
-  // finish_line() read them, with the same effects, without their general checks per character
-  // (continuations, lone CRs, comments, signs, slashes). Anything else, errors included, is left to
-  // them: false, nothing done. Half of parse_statements' own instructions on mh_base.
+  // The fast path for the common lines, a `v` of three numbers, a `vt` or `vn` of numbers and an `f` of
+  // corners of plain indices (v, v/vt, v//vn, v/vt/vn; quads mode: four), each item after spaces and the last
+  // one right before the LF: read as statement() and finish_line() read them, with the same effects, without
+  // their general checks per character (continuations, lone CRs, comments, signs). Anything else, errors
+  // included, is left to them: false, nothing done. Half of parse_statements' own instructions on mh_base; a
+  // third of both reads of mh_female_generic (`vt`, v/vt corners), which compress reads twice (quads, then
+  // exact).
   bool plain_line() {
     const char* const p = in_.pos();
-    if (in_.end() - p < 2 || p[1] != ' ') return false;
-    if (p[0] == 'v') return plain_vertex(p + 1);
-    return p[0] == 'f' && plain_quad(p + 1);
+    if (in_.end() - p < 3) return false;
+    if (p[1] == ' ') {
+      if (p[0] == 'v') return plain_vertex(p + 1);
+      if constexpr (kExact) return p[0] == 'f' && plain_face(p + 1);
+      return p[0] == 'f' && plain_quad(p + 1);
+    }
+    if (p[0] != 'v' || p[2] != ' ') return false;
+    if (p[1] == 't') {
+      if constexpr (kExact) return plain_texcoord(p + 2);
+      return plain_counted(p + 2, 1, 3, report_.texcoords);
+    }
+    if constexpr (kExact) return p[1] == 'n' && plain_normal(p + 2);
+    return p[1] == 'n' && plain_counted(p + 2, 3, 3, report_.normals);
+  }
+
+  // A `vt` or `vn` of `min` to `max` numbers, which quads mode validates and counts (count_numbers).
+  bool plain_counted(const char* p, unsigned min, unsigned max, std::uint64_t& counter) {
+    const char* const end = in_.end();
+    const auto ends = [end](const char* e) { return e < end && (*e == ' ' || *e == '\n'); };
+    TextNumber x;
+    unsigned n = 0;
+    do {
+      if (p == end || *p != ' ') return false;
+      do ++p;
+      while (p < end && *p == ' ');
+      if (p == end || !plain_number(p, end, ends, x)) return false;
+      p = x.end;
+      ++n;
+    } while (*p != '\n' && n < max);  // p < end: ends() took it
+    if (*p != '\n' || n < min) return false;
+    ++counter;
+    in_.next_line(in_.token_start(), p);
+    return true;
+  }
+
+  // Exact mode: a `vt` of 1 to 3 numbers float32 reads (texcoord()).
+  bool plain_texcoord(const char* p) {
+    const char* const end = in_.end();
+    const auto ends = [end](const char* e) { return e < end && (*e == ' ' || *e == '\n'); };
+    TextNumber t[3];
+    unsigned n = 0;
+    do {
+      if (p == end || *p != ' ') return false;
+      do ++p;
+      while (p < end && *p == ' ');
+      if (p == end || !plain_number(p, end, ends, t[n])) return false;
+      p = t[n++].end;
+    } while (*p != '\n' && n < 3);  // p < end: ends() took it
+    if (*p != '\n') return false;
+    add_texcoord(t, n);
+    in_.next_line(in_.token_start(), p);
+    return true;
+  }
+
+  // Exact mode: a `vn` of 3 numbers float32 reads (normal()).
+  bool plain_normal(const char* p) {
+    const char* const end = in_.end();
+    const auto ends = [end](const char* e) { return e < end && (*e == ' ' || *e == '\n'); };
+    TextNumber t[3];
+    for (TextNumber& x : t) {
+      if (p == end || *p != ' ') return false;
+      do ++p;
+      while (p < end && *p == ' ');
+      if (p == end || !plain_number(p, end, ends, x)) return false;
+      p = x.end;
+    }
+    if (*p != '\n') return false;  // p < end: ends() took it
+    add_normal(t);
+    in_.next_line(in_.token_start(), p);
+    return true;
+  }
+
+  // Exact mode: a face of 3 to 8 corners of plain indices (v, v/vt, v//vn, v/vt/vn), as face() reads it.
+  bool plain_face(const char* p) {
+    constexpr std::size_t kMaxPlain = 8;
+    const char *const end = in_.end(), *token = p;
+    std::uint32_t v[kMaxPlain], t[kMaxPlain], n[kMaxPlain];
+    bool any_t = false, any_n = false;
+    std::size_t degree = 0;
+    do {
+      if (degree == kMaxPlain || p == end || *p != ' ') return false;
+      do ++p;
+      while (p < end && *p == ' ');
+      token = p;
+      std::uint32_t x = 0;
+      if (!plain_index(p, end, x) || x > kMaxVertices) return false;
+      v[degree] = x - 1;
+      t[degree] = n[degree] = kInvalid;
+      if (*p == '/') {
+        if (++p < end && *p != '/') {
+          if (!plain_index(p, end, x)) return false;
+          t[degree] = x - 1;
+          any_t = true;
+        }
+        if (p < end && *p == '/') {
+          if (!plain_index(++p, end, x)) return false;
+          n[degree] = x - 1;
+          any_n = true;
+        }
+      }
+      if (p == end || (*p != ' ' && *p != '\n')) return false;
+      ++degree;
+    } while (*p != '\n');
+    const std::size_t base = corners_out_.size();
+    std::size_t i = 0, j = 0;
+    if (degree < 3 || repeated_corner({v, degree}, scratch_, i, j) || face_count_ >= kMaxFaces ||
+        base + degree > kMaxCorners)
+      return false;
+    for (std::size_t k = 0; k < degree; ++k) {
+      max_index_ = std::max(max_index_, v[k]);
+      corners_out_.push(v[k]);
+    }
+    const auto refs = [degree](const std::uint32_t* a, bool& any_ref, std::uint32_t& most) {
+      any_ref = true;
+      for (std::size_t k = 0; k < degree; ++k) {
+        if (a[k] != kInvalid) most = std::max(most, a[k]);
+      }
+    };
+    if (any_t) {
+      refs(t, out_.any_texcoord_ref, max_texcoord_);
+      ++report_.faces_with_texcoords;
+    }
+    if (any_n) {
+      refs(n, out_.any_normal_ref, max_normal_);
+      ++report_.faces_with_normals;
+    }
+    ++face_count_;
+    offsets_.push(static_cast<std::uint32_t>(base + degree));
+    if (any_t || !mesh_.corner_texcoords.empty())
+      add_corner_attribute(mesh_.corner_texcoords, {t, degree}, any_t, base, degree);
+    if (any_n || !mesh_.corner_normals.empty())
+      add_corner_attribute(mesh_.corner_normals, {n, degree}, any_n, base, degree);
+    add_face_labels();
+    run(ObjStatement::kFace);
+    face_line_.push(clamp_line(in_.line()));
+    in_.next_line(token, p);
+    return true;
+  }
+
+  // The number at p (p < end), as Scanner::number() reads it without a '+' and when it is kOk: false
+  // otherwise.
+  template <class Ends>
+  [[gnu::always_inline]] static bool plain_number(const char* p, const char* end, Ends ends, TextNumber& x) {
+    return *p != '+' && detail::read_number(p, end, ends, x) == NumberStatus::kOk;
   }
 
   bool plain_vertex(const char* p) {
@@ -1014,11 +1170,26 @@ class ObjReader {
       if (p == end || *p != ' ') return false;
       do ++p;
       while (p < end && *p == ' ');
-      if (p == end || *p == '+' || detail::read_number(p, end, ends, x) != NumberStatus::kOk) return false;
+      if (p == end || !plain_number(p, end, ends, x)) return false;
       p = x.end;
     }
     if (*p != '\n' || vertex_count_ >= kMaxVertices) return false;  // p < end: ends() took it
     const std::uint64_t line = in_.line();
+    if constexpr (kExact) {
+      if (out_.vertex_extras > 0) return false;  // vertex_shape() refuses it
+      for (const TextNumber& x : t) {
+        if (mesh_.positions.precision == Precision::kFloat32 && detail::float32_by_digits(x)) [[likely]] {
+          positions_.push(x.f);
+        } else {
+          positions_.push(detail::push_text_at(mesh_.positions, positions_.size(), x));
+        }
+      }
+      ++vertex_count_;
+      run(ObjStatement::kVertex);
+      if (out_.vertex_extras != 0) vertex_shape(line, 0);
+      in_.next_line(in_.token_start(), p);
+      return true;
+    }
     for (const TextNumber& x : t) {
       positions_.push(x.f);
       if (!detail::float32_by_digits(x)) [[unlikely]]
@@ -1029,26 +1200,48 @@ class ObjReader {
     return true;
   }
 
+  // 1 to 9 digits at p (9 stay below 2^32), not 0 and not the text's end after them: their value.
+  static bool plain_index(const char*& p, const char* end, std::uint32_t& v) {
+    const char* const first = p;
+    const char* const last = end - p > 9 ? p + 9 : end;
+    v = 0;
+    for (; p < last; ++p) {
+      const auto d = static_cast<std::uint32_t>(static_cast<unsigned char>(*p)) - '0';
+      if (d > 9) break;
+      v = v * 10 + d;
+    }
+    return p != first && p != end && v != 0;
+  }
+
   bool plain_quad(const char* p) {
     const char *const end = in_.end(), *token = p;
     std::uint32_t q[4];
+    bool any_t = false, any_n = false;
     for (std::uint32_t& index : q) {
       if (p == end || *p != ' ') return false;
       do ++p;
       while (p < end && *p == ' ');
       token = p;
-      const char* const last = end - p > 9 ? p + 9 : end;  // 9 digits stay below 2^32
       std::uint32_t v = 0;
-      for (; p < last; ++p) {
-        const auto d = static_cast<std::uint32_t>(static_cast<unsigned char>(*p)) - '0';
-        if (d > 9) break;
-        v = v * 10 + d;
+      if (!plain_index(p, end, v) || v > kMaxVertices) return false;
+      if (*p == '/') {  // v/vt, v//vn or v/vt/vn: checked for syntax only, as attribute_syntax does
+        std::uint32_t a = 0;
+        if (++p < end && *p != '/') {
+          if (!plain_index(p, end, a)) return false;
+          any_t = true;
+        }
+        if (p < end && *p == '/') {
+          if (!plain_index(++p, end, a)) return false;
+          any_n = true;
+        }
       }
-      if (p == token || p == end || (*p != ' ' && *p != '\n') || v == 0 || v > kMaxVertices) return false;
+      if (p == end || (*p != ' ' && *p != '\n')) return false;
       index = v - 1;
     }
     std::size_t i = 0, j = 0;
     if (*p != '\n' || repeated_corner(q, scratch_, i, j) || face_count_ >= kMaxFaces) return false;
+    if (any_t) ++report_.faces_with_texcoords;
+    if (any_n) ++report_.faces_with_normals;
     for (const std::uint32_t c : q) max_index_ = std::max(max_index_, c);
     ++face_count_;
     for (const std::uint32_t c : q) corners_out_.push(c);

@@ -509,3 +509,107 @@ TEST(ReadObjMeshParallel, LargeInputsAreReadOnTwoThreads) {
   expect_same(want, read_mesh(text, qsp::detail::obj_read_splits(text), &parallel));
   EXPECT_TRUE(parallel);
 }
+
+namespace {
+
+// `text` with a tab for every space between the items of its `v`, `vt`, `vn` and `f` lines: the same
+// statements, which the readers' fast path for plain lines leaves to the general one.
+std::string tabbed(std::string_view text) {
+  std::string out(text);
+  std::size_t line = 0;
+  while (line < out.size()) {
+    const std::size_t end = std::min(out.find('\n', line), out.size());
+    const std::string_view l = std::string_view(out).substr(line, end - line);
+    if (l.starts_with("v ") || l.starts_with("vt ") || l.starts_with("vn ") || l.starts_with("f ")) {
+      std::replace(out.begin() + static_cast<std::ptrdiff_t>(line),
+                   out.begin() + static_cast<std::ptrdiff_t>(end), ' ', '\t');
+    }
+    line = end + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+// The fast path for plain lines reads what the general path reads: mesh, report, warnings and errors,
+// in both modes, on every corpus OBJ and on lines at the edges of what the fast path takes.
+TEST(ReadObjFastPath, PlainLinesReadAsTheGeneralPathReadsThem) {
+  const auto check = [](std::string_view text) {
+    const std::string slow = tabbed(text);
+    expect_same(read(slow, kSequential), read(text, kSequential));
+    expect_same(read_mesh(slow, kSequential), read_mesh(text, kSequential));
+  };
+  int files = 0;
+  for (const fs::path& p : qsp::testing::corpus()) {
+    if (p.extension() != ".obj") continue;
+    SCOPED_TRACE(p.string());
+    check(slurp(p));
+    ++files;
+  }
+  EXPECT_GT(files, qsp::testing::shared_present() ? 100 : 20);
+  const std::vector<std::string> lines = {"v 0.5 -0.25 1e2\n",
+                                          "v -0 0.0000001 16777217\n",
+                                          "v 0.123456789 1.5 2\n",
+                                          "v 1.5 2 3 4\n",
+                                          "v 1 2\n",
+                                          "v 1 2 3 \n",
+                                          "v +1 2 3\n",
+                                          "v 1e39 1 1\n",
+                                          "v 1e-50 1 1\n",
+                                          "v nan 1 1\n",
+                                          "v 1 2 3 # c\n",
+                                          "v 12345678901234567890123 1 1\n",
+                                          "v .5 -.5 5.\n",
+                                          "v 0.1000000000000000055511151231257827 1 1\n",
+                                          "vt 0.25\n",
+                                          "vt 0.25 0.5\n",
+                                          "vt 0.25 0.5 0.75\n",
+                                          "vt 1 2 3 4\n",
+                                          "vt\n",
+                                          "vt 1e40 0\n",
+                                          "vt 0.5 x\n",
+                                          "vn 0 0 1\n",
+                                          "vn 0 1\n",
+                                          "vn 0 0 1 1\n",
+                                          "vn 0.577 0.577 0.577\n",
+                                          "f 1 2 3 4\n",
+                                          "f 1/1 2/2 3/3 4/4\n",
+                                          "f 1//1 2//1 3//1 4//1\n",
+                                          "f 1/1/1 2/2/1 3/3/1 4/4/1\n",
+                                          "f 1/1 2 3/3 4\n",
+                                          "f 1 2 3\n",
+                                          "f 1/1 2/2 3/3\n",
+                                          "f 1 2 3 4 1\n",
+                                          "f 1 2 3 4 5 6 7 8 1 2\n",
+                                          "f 0 1 2 3\n",
+                                          "f 1/0 2/1 3/1 4/1\n",
+                                          "f 1/ 2/ 3/ 4/\n",
+                                          "f 1// 2// 3// 4//\n",
+                                          "f 1/1/ 2/1/ 3/1/ 4/1/\n",
+                                          "f 1/1/1/1 2 3 4\n",
+                                          "f 1 2 3 4 \n",
+                                          "f -1 -2 -3 -4\n",
+                                          "f 1/-1 2/-1 3/-1 4/-1\n",
+                                          "f 1 1 2 3\n",
+                                          "f 9999999999 1 2 3\n",
+                                          "f 1/9999999999 2/1 3/1 4/1\n",
+                                          "f 1/1 2/2 3/3 4/4 # c\n",
+                                          "f 1 2 3 4",
+                                          "g a\n",
+                                          "usemtl m\n",
+                                          "s 1\n",
+                                          "# c\n",
+                                          "\n"};
+  std::mt19937 rng(19);
+  const std::string square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\n";
+  for (int i = 0; i < 3000; ++i) {
+    std::string text = square;
+    const int n = 1 + static_cast<int>(rng() % 6);
+    for (int k = 0; k < n; ++k) text += lines[rng() % lines.size()];
+    text += square;
+    text += "f 5 6 7 8\n";
+    SCOPED_TRACE(text);
+    check(text);
+    if (::testing::Test::HasFailure()) break;  // one report is enough
+  }
+}
