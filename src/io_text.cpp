@@ -1159,7 +1159,8 @@ class ObjReader {
   // otherwise.
   template <class Ends>
   [[gnu::always_inline]] static bool plain_number(const char* p, const char* end, Ends ends, TextNumber& x) {
-    return *p != '+' && detail::read_number(p, end, ends, x) == NumberStatus::kOk;
+    return *p != '+' && (detail::read_plain_number(p, end, ends, x) ||
+                         detail::read_number(p, end, ends, x) == NumberStatus::kOk);
   }
 
   bool plain_vertex(const char* p) {
