@@ -141,6 +141,25 @@ template <class Ends>
   return true;
 }
 
+// The end of the token at s when it is [-]digits[.digits] of 1 to 19 digits and `ends` accepts it, else
+// null: then read_number reads it kOk (0, or between 10^-19 and 10^19: float32's range), which a reader
+// that only validates numbers need not ask.
+template <class Ends>
+[[gnu::always_inline]] inline const char* plain_number_end(const char* s, const char* end, Ends ends) {
+  const auto digit = [](char c) { return static_cast<unsigned char>(c) - unsigned{'0'} <= 9; };
+  const char* p = s;
+  p += p < end && *p == '-';
+  const char* const whole = p;
+  while (p < end && digit(*p)) ++p;
+  std::ptrdiff_t digits = p - whole;
+  if (p < end && *p == '.') {
+    const char* const first = ++p;
+    while (p < end && digit(*p)) ++p;
+    digits += p - first;
+  }
+  return digits > 0 && digits <= 19 && ends(p) ? p : nullptr;
+}
+
 // The nearest float64 of `t`'s text (t must be kOk or kFloatRange). False beyond float64's range.
 bool text_double(const TextNumber& t, double& out);
 

@@ -1041,8 +1041,13 @@ class ObjReader {
       if (p == end || *p != ' ') return false;
       do ++p;
       while (p < end && *p == ' ');
-      if (p == end || !plain_number(p, end, ends, x)) return false;
-      p = x.end;
+      if (p == end) return false;
+      if (const char* e = detail::plain_number_end(p, end, ends)) {
+        p = e;
+      } else {
+        if (!plain_number(p, end, ends, x)) return false;
+        p = x.end;
+      }
       ++n;
     } while (*p != '\n' && n < max);  // p < end: ends() took it
     if (*p != '\n' || n < min) return false;
