@@ -2,11 +2,11 @@
 #include "qsp/partition.h"
 
 #include <algorithm>
+#include <bit>
 #include <string>
 
 #include "face_sets.h"
 #include "qsp/error.h"
-#include "u32map.h"
 
 namespace qsp {
 namespace {
@@ -83,23 +83,30 @@ Partition partition_motorcycle(const Adjacency& adj) {
 
 Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_t> cuts, bool tiling) {
   Partition out;
-  for (std::uint32_t v = 0; v < adj.vertex_count; ++v)
-    if (adj.valence[v] == 0) out.unreferenced.push_back(v);
   const std::uint32_t nh = adj.halfedge_count(), nf = adj.face_count;
-  const std::vector<std::uint32_t> xv = extraordinary_vertices(adj);
 
-  // cut: the half-edge lies on a track or on the boundary.
-  std::vector<std::uint8_t> cut(nh, 0);
-  for (std::uint32_t h = 4 * nf; h < nh; ++h) cut[h] = cut[adj.twin[h]] = 1;
+  // cut: the half-edge lies on a track or on the boundary. A bit per half-edge: the cut ones, a few
+  // in a hundred on a big mesh, are then found word by word instead of by a test per half-edge.
+  const std::size_t words = (std::size_t{nh} + 63) / 64;
+  auto bit = [](std::uint32_t h) { return std::uint64_t{1} << (h & 63); };
+  auto has = [&](const std::vector<std::uint64_t>& set, std::uint32_t h) {
+    return (set[h >> 6] & bit(h)) != 0;
+  };
+  std::vector<std::uint64_t> cut(words, 0);
+  auto set_cut = [&](std::uint32_t h) {
+    cut[h >> 6] |= bit(h);
+    cut[adj.twin[h] >> 6] |= bit(adj.twin[h]);
+  };
+  for (std::uint32_t h = 4 * nf; h < nh; ++h) set_cut(h);
   for (std::uint32_t h : cuts) {
     if (h >= nh) internal("cut half-edge out of range");
-    cut[h] = cut[adj.twin[h]] = 1;
+    set_cut(h);
   }
 
   // Regions: faces connected across uncut edges.
   std::vector<std::uint32_t> region_first_face;
   const std::vector<std::uint32_t> region = detail::label_face_sets(
-      nf, adj.twin, [&](std::uint32_t h) { return !cut[h]; }, region_first_face);
+      nf, adj.twin, [&](std::uint32_t h) { return !has(cut, h); }, region_first_face);
 
   // Per component: counts that decide its kind.
   const std::uint32_t nc = adj.component_count;
@@ -109,7 +116,16 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
     const std::uint32_t h = adj.vertex_halfedge[v];
     return adj.face_component[adj.is_exterior(h) ? adj.face(adj.twin[h]) : adj.face(h)];
   };
-  for (std::uint32_t v : xv) ++comp_x[comp_of_vertex(v)];
+  // Schematic vertices X: nonzero deficiency in the mesh, or a corner of some patch (added below).
+  std::vector<std::uint8_t> is_x(adj.vertex_count, 0);
+  for (std::uint32_t v = 0; v < adj.vertex_count; ++v) {
+    if (adj.valence[v] == 0) {
+      out.unreferenced.push_back(v);
+      continue;
+    }
+    if (adj.deficiency(v) != 0) is_x[v] = 1;
+    if (adj.extraordinary(v)) ++comp_x[comp_of_vertex(v)];
+  }
   for (std::uint32_t h = 4 * nf; h < nh; ++h) {
     const std::uint32_t c = adj.face_component[adj.face(adj.twin[h])];
     ++comp_boundary[c];
@@ -150,51 +166,52 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
     }
   }
 
-  // Schematic vertices X: nonzero deficiency in the mesh, or a corner of some patch.
-  // corner_here[h]: origin(h) is a corner of the region on h's left (h a cut interior half-edge).
+  // corner_here (a bit per half-edge): origin(h) is a corner of the region on h's left (h a cut
+  // interior half-edge).
   auto general = [&](std::uint32_t c) {
     const auto k = out.components[c].kind;
     return k == ComponentKind::kUnstructured || k == ComponentKind::kDisk;
   };
-  std::vector<std::uint8_t> corner_here(nh, 0);
-  std::vector<std::uint8_t> is_x(adj.vertex_count, 0);
-  for (std::uint32_t v = 0; v < adj.vertex_count; ++v)
-    if (adj.valence[v] != 0 && adj.deficiency(v) != 0) is_x[v] = 1;
-  // Cut half-edges in increasing order, with the cut half-edge after each around the face or region
-  // on its left. Indexed by a hash map, not by arrays over all half-edges: on a big mesh few edges are
-  // cut, and two 4-byte-per-half-edge arrays would cost more than the map (a binary search cost 2M
-  // of mh_female_generic's 160M instructions).
+  std::vector<std::uint64_t> corner_here(words, 0);
+  // Cut half-edges in increasing order (`listed`, a bit each), with the cut half-edge after each
+  // around the face or region on its left. A listed half-edge's index is the listed ones before it:
+  // counted per word, then by a popcount in its word (a hash map of them cost 1.2M of mh_base's
+  // instructions, a binary search 2M of mh_female_generic's 160M).
   std::vector<std::uint32_t> cut_list, cut_next;
-  detail::U32Map cut_at(2 * (cuts.size() + nh - 4 * nf));
-  auto cut_index = [&](std::uint32_t h) -> std::uint32_t {
-    const std::uint32_t* i = cut_at.find(h);
-    return i ? *i : kInvalid;
-  };
+  std::vector<std::uint64_t> listed(words, 0);
   auto list = [&](std::uint32_t h, std::uint32_t next) {
-    cut_at.insert(h, static_cast<std::uint32_t>(cut_list.size()));
+    listed[h >> 6] |= bit(h);
     cut_list.push_back(h);
     cut_next.push_back(next);
   };
-  for (std::uint32_t h = 0; h < nh; ++h) {
-    if (!cut[h]) continue;
-    if (adj.is_exterior(h)) {
-      list(h, adj.next(h));
-      continue;
+  for (std::size_t w = 0; w < words; ++w)
+    for (std::uint64_t rest = cut[w]; rest != 0; rest &= rest - 1) {
+      const auto h = static_cast<std::uint32_t>(64 * w + static_cast<unsigned>(std::countr_zero(rest)));
+      if (adj.is_exterior(h)) {
+        list(h, adj.next(h));
+        continue;
+      }
+      if (!general(adj.face_component[h >> 2])) continue;
+      std::uint32_t g = adj.next(h), faces = 1;
+      while (!has(cut, g)) {
+        g = adj.next(adj.twin[g]);
+        if (++faces > adj.valence[adj.origin[g]]) internal("region boundary walk does not close");
+      }
+      list(h, g);
+      if (faces == 1) {
+        corner_here[g >> 6] |= bit(g);
+        is_x[adj.origin[g]] = 1;
+      } else if (faces > 2) {
+        internal("vertex " + std::to_string(adj.origin[g]) + " has negative deficiency in its patch");
+      }
     }
-    if (!general(adj.face_component[h >> 2])) continue;
-    std::uint32_t g = adj.next(h), faces = 1;
-    while (!cut[g]) {
-      g = adj.next(adj.twin[g]);
-      if (++faces > adj.valence[adj.origin[g]]) internal("region boundary walk does not close");
-    }
-    list(h, g);
-    if (faces == 1) {
-      corner_here[g] = 1;
-      is_x[adj.origin[g]] = 1;
-    } else if (faces > 2) {
-      internal("vertex " + std::to_string(adj.origin[g]) + " has negative deficiency in its patch");
-    }
-  }
+  std::vector<std::uint32_t> listed_before(words + 1, 0);
+  for (std::size_t w = 0; w < words; ++w)
+    listed_before[w + 1] = listed_before[w] + static_cast<std::uint32_t>(std::popcount(listed[w]));
+  auto cut_index = [&](std::uint32_t h) -> std::uint32_t {
+    if (!has(listed, h)) return kInvalid;
+    return listed_before[h >> 6] + static_cast<std::uint32_t>(std::popcount(listed[h >> 6] & (bit(h) - 1)));
+  };
   auto next_cut = [&](std::uint32_t h) {
     const std::uint32_t i = cut_index(h);
     if (i == kInvalid) internal("cut path leaves the cut edges");
@@ -255,7 +272,7 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
     for (std::uint32_t r : comp_runs[c]) {
       const std::uint32_t d = run_dart[r];
       s.dart_halfedge[d] = runs[r].first;
-      s.dart_corner[d] = corner_here[runs[r].first];
+      s.dart_corner[d] = has(corner_here, runs[r].first) ? 1 : 0;
       const std::uint32_t nxt = dart_at(next_cut(runs[r].last));
       if (nxt == kInvalid) internal("schematic face boundary breaks");
       s.dart_next[d] = run_dart[nxt];
