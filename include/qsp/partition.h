@@ -92,9 +92,10 @@ Partition partition_motorcycle(const Adjacency& adj);
 // always cut), e.g. a smaller partition than the motorcycle graph's. Throws Error(kInternal) naming
 // the problem if a region is not an (a,b)-grid whose boundary is cut at schematic vertices: a cut set
 // must leave every extraordinary vertex with no two consecutive uncut edges, and no region an annulus.
-// `check_tiling` false leaves out the last check, that the patches' layouts map one-to-one onto the
-// mesh (every patch a grid, every schematic checked, still): for a caller that checks the layouts it
-// uses itself (the encoder checks its canonical layouts in full, encode_canonical).
+// `check_tiling` false leaves out the checks that the patches' layouts map one-to-one onto the mesh,
+// and the region checks that implies (every region a patch with one boundary loop; every patch a
+// grid, every schematic checked, still): for a caller that checks the layouts it uses itself (the
+// encoder checks its canonical layouts in full, encode_canonical).
 Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_t> cuts,
                               bool check_tiling = true);
 
