@@ -1056,20 +1056,27 @@ class ObjReader {
     return true;
   }
 
-  // Exact mode: a `vt` of 1 to 3 numbers float32 reads (texcoord()).
-  bool plain_texcoord(const char* p) {
+  // Exact mode: `min` to `max` (at most 3) plain numbers float32 reads into t, p moved to the line's end;
+  // their count, or 0 where the line is not that (the general path then reads it).
+  unsigned plain_numbers(const char*& p, TextNumber (&t)[3], unsigned min, unsigned max) {
     const char* const end = in_.end();
     const auto ends = [end](const char* e) { return e < end && (*e == ' ' || *e == '\n'); };
-    TextNumber t[3];
     unsigned n = 0;
     do {
-      if (p == end || *p != ' ') return false;
+      if (p == end || *p != ' ') return 0;
       do ++p;
       while (p < end && *p == ' ');
-      if (p == end || !plain_number(p, end, ends, t[n])) return false;
+      if (p == end || !plain_number(p, end, ends, t[n])) return 0;
       p = t[n++].end;
-    } while (*p != '\n' && n < 3);  // p < end: ends() took it
-    if (*p != '\n') return false;
+    } while (*p != '\n' && n < max);  // p < end: ends() took it
+    return *p == '\n' && n >= min ? n : 0;
+  }
+
+  // Exact mode: a `vt` of 1 to 3 numbers float32 reads (texcoord()).
+  bool plain_texcoord(const char* p) {
+    TextNumber t[3];
+    const unsigned n = plain_numbers(p, t, 1, 3);
+    if (n == 0) return false;
     add_texcoord(t, n);
     in_.next_line(in_.token_start(), p);
     return true;
@@ -1077,17 +1084,8 @@ class ObjReader {
 
   // Exact mode: a `vn` of 3 numbers float32 reads (normal()).
   bool plain_normal(const char* p) {
-    const char* const end = in_.end();
-    const auto ends = [end](const char* e) { return e < end && (*e == ' ' || *e == '\n'); };
     TextNumber t[3];
-    for (TextNumber& x : t) {
-      if (p == end || *p != ' ') return false;
-      do ++p;
-      while (p < end && *p == ' ');
-      if (p == end || !plain_number(p, end, ends, x)) return false;
-      p = x.end;
-    }
-    if (*p != '\n') return false;  // p < end: ends() took it
+    if (plain_numbers(p, t, 3, 3) == 0) return false;
     add_normal(t);
     in_.next_line(in_.token_start(), p);
     return true;
