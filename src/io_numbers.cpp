@@ -17,27 +17,6 @@
 namespace qsp::detail {
 namespace {
 
-constexpr std::uint64_t kPow10[20] = {1ull,
-                                      10ull,
-                                      100ull,
-                                      1000ull,
-                                      10000ull,
-                                      100000ull,
-                                      1000000ull,
-                                      10000000ull,
-                                      100000000ull,
-                                      1000000000ull,
-                                      10000000000ull,
-                                      100000000000ull,
-                                      1000000000000ull,
-                                      10000000000000ull,
-                                      100000000000000ull,
-                                      1000000000000000ull,
-                                      10000000000000000ull,
-                                      100000000000000000ull,
-                                      1000000000000000000ull,
-                                      10000000000000000000ull};
-
 // The exponent after a mantissa ("e-5"), moving p past it; 0 (p unmoved) when there is none. Saturates
 // far beyond any float64.
 std::int64_t scan_exponent(const char*& p, const char* end) {
@@ -116,13 +95,6 @@ namespace {
 
 inline bool is_digit(char c) { return static_cast<unsigned>(static_cast<unsigned char>(c) - '0') <= 9; }
 
-// Decimal digits of m > 0.
-inline std::uint32_t digit_count(std::uint64_t m) {
-  const int bits = 64 - std::countl_zero(m);
-  std::uint32_t d = static_cast<std::uint32_t>((bits * 1233) >> 12);
-  return d + (m >= kPow10[d]);
-}
-
 // scan_decimal for tokens with more than 19 digits: each digit's position tracked.
 [[gnu::noinline]] const char* scan_long(const char* s, const char* end, DecimalParts& out) {
   const char* p = s;
@@ -158,7 +130,7 @@ inline std::uint32_t digit_count(std::uint64_t m) {
   const std::int64_t e = scan_exponent(p, end);
   if (first < 0) return p;  // zero
   const std::int64_t significant = last - first + 1;
-  if (significant <= 19) m /= kPow10[taken - significant];  // drop the trailing zeros taken
+  if (significant <= 19) m /= kPow10u[taken - significant];  // drop the trailing zeros taken
   out.mantissa = m;
   out.digits = static_cast<std::uint32_t>(std::min<std::int64_t>(significant, 0xFFFFFFFF));
   const std::int64_t exponent = (index - 1 - last) - (index - integer_digits) + e;
@@ -314,7 +286,7 @@ bool printed_float64(double d, const DecimalParts& p, float& f) {
   // A float32's shortest text has at most 9 significant digits below 10^9 (above, maybe its exact
   // integer), and lies within one float64 ulp of p: at most 23 units of p's last digit. So p's digits
   // after the ninth are then within 23 of a multiple of 10^(digits - 9): most prints skip the test.
-  const std::uint64_t unit = kPow10[p.digits - 9], tail = p.mantissa % unit;
+  const std::uint64_t unit = kPow10u[p.digits - 9], tail = p.mantissa % unit;
   if (std::fabs(d) < 1e9 && tail > 23 && unit - tail > 23) return false;
   return shortest_double(f) == d;
 }

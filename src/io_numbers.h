@@ -42,11 +42,13 @@ inline bool fast_double(const DecimalParts& p, double& out) {
   return true;
 }
 
+// 10^k for k in 0..10, exact in float32.
+inline constexpr float kPow10f[11] = {1e0f, 1e1f, 1e2f, 1e3f, 1e4f, 1e5f, 1e6f, 1e7f, 1e8f, 1e9f, 1e10f};
+
 // The correctly rounded float32 of `p` when the fast paths give it; false otherwise. An integer below
 // 2^24 and a power of ten float32 holds take one float32 step; else the float64 of the value rounds to
 // the right float32 unless it lies exactly halfway between two (double rounding: then false).
 inline bool fast_float(const DecimalParts& p, float& out) {
-  static constexpr float kPow10f[11] = {1e0f, 1e1f, 1e2f, 1e3f, 1e4f, 1e5f, 1e6f, 1e7f, 1e8f, 1e9f, 1e10f};
   if (p.digits <= 19 && p.mantissa <= (1u << 24) && p.exponent >= -10 && p.exponent <= 10) {
     float f = static_cast<float>(p.mantissa);                                 // exact below 2^24
     f = p.exponent < 0 ? f / kPow10f[-p.exponent] : f * kPow10f[p.exponent];  // one correctly rounded step
@@ -101,6 +103,35 @@ inline NumberStatus read_number(const char* s, const char* end, Ends ends, TextN
   return read_number_slow(s, p, out);
 }
 
+// 10^k for k in 0..19, as integers.
+inline constexpr std::uint64_t kPow10u[20] = {1ull,
+                                              10ull,
+                                              100ull,
+                                              1000ull,
+                                              10000ull,
+                                              100000ull,
+                                              1000000ull,
+                                              10000000ull,
+                                              100000000ull,
+                                              1000000000ull,
+                                              10000000000ull,
+                                              100000000000ull,
+                                              1000000000000ull,
+                                              10000000000000ull,
+                                              100000000000000ull,
+                                              1000000000000000ull,
+                                              10000000000000000ull,
+                                              100000000000000000ull,
+                                              1000000000000000000ull,
+                                              10000000000000000000ull};
+
+// Decimal digits of m > 0.
+inline std::uint32_t digit_count(std::uint64_t m) {
+  const int bits = 64 - std::countl_zero(m);
+  std::uint32_t d = static_cast<std::uint32_t>((bits * 1233) >> 12);
+  return d + (m >= kPow10u[d]);
+}
+
 // Reads the commonest token, [-]digits[.digits] of at most 8 significant digits (up to 2^24) and 10
 // after the point, whose end `ends(ptr)` accepts, as read_number reads it (kOk, fast_float's first
 // step) in a third of its instructions: one loop per digit run, no exponent, no call. False for
@@ -108,7 +139,6 @@ inline NumberStatus read_number(const char* s, const char* end, Ends ends, TextN
 template <class Ends>
 [[gnu::always_inline]] inline bool read_plain_number(const char* s, const char* end, Ends ends,
                                                      TextNumber& out) {
-  static constexpr float kPow10f[11] = {1e0f, 1e1f, 1e2f, 1e3f, 1e4f, 1e5f, 1e6f, 1e7f, 1e8f, 1e9f, 1e10f};
   const char* p = s;
   const bool negative = p < end && *p == '-';
   p += negative;
@@ -126,16 +156,13 @@ template <class Ends>
   }
   // Up to 19 digits m has not wrapped; below 2^24 it has at most 8 significant ones.
   if (digits == 0 || digits > 19 || fraction > 10 || m > (1u << 24) || !ends(p)) return false;
-  float f = static_cast<float>(m);                            // exact below 2^24
-  f = fraction > 0 ? f / kPow10f[fraction] : f * kPow10f[0];  // fast_float's step, exponent -fraction
+  float f = static_cast<float>(m);           // exact below 2^24
+  if (fraction > 0) f /= kPow10f[fraction];  // fast_float's step, exponent -fraction
   out.begin = s;
   out.end = p;
   out.parts.mantissa = m;
   out.parts.exponent = static_cast<std::int32_t>(-fraction);
-  // digit_count (io_numbers.cpp) below 2^25: d is 7 at most.
-  static constexpr std::uint32_t kPow10u[8] = {1, 10, 100, 1000, 10000, 100000, 1000000, 10000000};
-  const auto d = static_cast<std::uint32_t>(((64 - std::countl_zero(m)) * 1233) >> 12);
-  out.parts.digits = m == 0 ? 0 : d + (m >= kPow10u[d]);
+  out.parts.digits = m == 0 ? 0 : digit_count(m);
   out.parts.negative = negative;
   out.f = negative ? -f : f;
   return true;
