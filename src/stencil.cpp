@@ -6,11 +6,13 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <future>
 #include <numeric>
 #include <queue>
 #include <span>
 #include <string>
 
+#include "beside.h"
 #include "layout_grid.h"
 #include "qsp/error.h"
 
@@ -112,6 +114,63 @@ void across_patches(const Schematic& s, const Numbering& n, std::vector<Stencil>
   }
 }
 
+// A patch's points row by row (PatchGrid::at, without its tests of which side a point is on at every
+// read: they were a seventh of patch order), turned so that its raster starts at corner `rot`
+// (0 = face_dart's): point (i, j) of the turned (a, b)-grid is grid[origin + i * di + j * dj].
+class Raster {
+ public:
+  void load(const PatchGrid& g) {
+    g_ = &g;
+    width_ = std::int64_t{g.a} + 1;
+    grid_.resize(static_cast<std::size_t>(width_ * (std::int64_t{g.b} + 1)));
+    if (g.a >= 1 && g.b >= 1) {
+      for (std::uint32_t i = 0; i <= g.a; ++i) grid_[i] = g.ring[i];
+      for (std::uint32_t j = 1; j < g.b; ++j) {
+        std::uint32_t* const row = &grid_[static_cast<std::size_t>(j * width_)];
+        row[0] = g.ring[2 * g.a + 2 * g.b - j];
+        for (std::uint32_t i = 1; i < g.a; ++i) row[i] = g.interior_base + (j - 1) * (g.a - 1) + (i - 1);
+        row[g.a] = g.ring[g.a + j];
+      }
+      std::uint32_t* const top = &grid_[static_cast<std::size_t>(g.b * width_)];
+      for (std::uint32_t i = 0; i <= g.a; ++i) top[i] = g.ring[2 * g.a + g.b - i];
+    } else {
+      for (std::uint32_t j = 0; j <= g.b; ++j)
+        for (std::uint32_t i = 0; i <= g.a; ++i) grid_[static_cast<std::size_t>(j * width_ + i)] = g.at(i, j);
+    }
+    turn(0);
+  }
+  void turn(int r) {
+    rot = r;
+    const std::int64_t top = std::int64_t{g_->b} * width_;
+    origin_ = r == 0 ? 0 : r == 1 ? g_->a : r == 2 ? top + g_->a : top;
+    di_ = r == 0 ? 1 : r == 1 ? width_ : r == 2 ? -1 : -width_;
+    dj_ = r == 0 ? width_ : r == 1 ? -1 : r == 2 ? -width_ : 1;
+    a = (r & 1) ? g_->b : g_->a, b = (r & 1) ? g_->a : g_->b;
+  }
+  std::uint32_t at(std::int64_t i, std::int64_t j) const {
+    return grid_[static_cast<std::size_t>(origin_ + i * di_ + j * dj_)];
+  }
+  int rot = 0;
+  std::int64_t a = 0, b = 0;  // the turned grid's size
+
+ private:
+  const PatchGrid* g_ = nullptr;
+  std::vector<std::uint32_t> grid_;
+  std::int64_t width_ = 0, origin_ = 0, di_ = 1, dj_ = 0;
+};
+
+// A patch as patch order visits it: turned by `rot`, coding positions [begin, end) for its points not
+// coded before.
+struct Visit {
+  std::uint32_t f;
+  int rot;
+  std::uint32_t begin, end;
+};
+
+// From this many points, patch order builds its stencils on two threads: the order is found first,
+// then every stencil depends only on it.
+constexpr std::uint32_t kStencilsBesideFrom = 4096;
+
 // Patch coding order (CodingOrder::kPatch). Patches are visited greedily, the one
 // with the largest share of its boundary already coded next; each is turned so that its raster starts
 // at the corner whose two sides are most coded, and its points are coded row by row where the raster
@@ -121,7 +180,9 @@ void across_patches(const Schematic& s, const Numbering& n, std::vector<Stencil>
 // from mesh neighbours one edge away, where layout order predicts schematic vertices from others a
 // patch side away: 5-22% smaller at 14 bits on coarse meshes with small patches (horse, gargoyle).
 // Appends to `stencil` and `coding`, which hold the `base` positions of the components before this one
-// (assemble() passes the mesh's arrays: no per-component copy to shift).
+// (assemble() passes the mesh's arrays: no per-component copy to shift). The order is found first (a
+// point is coded before p exactly when its position is smaller), then the stencils, in two halves on
+// two threads for large components.
 void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layout, std::uint32_t base,
                  std::vector<Stencil>& stencil, std::vector<std::uint32_t>& coding) {
   const std::uint32_t count = layout.vertex_count, vc = s.vertex_count;
@@ -129,51 +190,44 @@ void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layou
       vc +
       static_cast<std::uint32_t>(
           std::accumulate(s.edge_length.begin(), s.edge_length.end(), std::uint64_t{0}) - s.edge_count());
-  // Each edge point's seats: (patch, ring index) in the up to two patches beside its edge.
+  if (coding.size() != base || stencil.size() != base)
+    throw Error(ErrorCode::kInternal, "patch order appended at the wrong position");
+  // Each edge point's seats: (patch, ring index) in the up to two patches beside its edge; and the cells
+  // around each layout vertex (CSR over quad corners), for points without a frame. Only the stencils
+  // read them: built beside the order.
   struct Seat {
     std::uint32_t f = kInvalid, r = 0;
   };
-  std::vector<std::array<Seat, 2>> seats(edge_end - vc);
-  for (std::uint32_t f = 0; f < s.face_count(); ++f) {
-    if (s.face_hole[f]) continue;
-    const PatchGrid& g = n.patches[f];
-    for (std::uint32_t r = 0; r < g.ring.size(); ++r) {
-      const std::uint32_t x = g.ring[r];
-      if (x < vc || x >= edge_end) continue;
-      auto& seat = seats[x - vc];
-      (seat[0].f == kInvalid ? seat[0] : seat[1]) = Seat{f, r};
+  std::vector<std::array<Seat, 2>> seats;
+  std::vector<std::uint32_t> first, at_cell;
+  auto build_lookups = [&] {
+    seats.assign(edge_end - vc, {});
+    for (std::uint32_t f = 0; f < s.face_count(); ++f) {
+      if (s.face_hole[f]) continue;
+      const PatchGrid& g = n.patches[f];
+      for (std::uint32_t r = 0; r < g.ring.size(); ++r) {
+        const std::uint32_t x = g.ring[r];
+        if (x < vc || x >= edge_end) continue;
+        auto& seat = seats[x - vc];
+        (seat[0].f == kInvalid ? seat[0] : seat[1]) = Seat{f, r};
+      }
     }
-  }
-  // The neighbour of edge point x one step into the patch beside it other than f (kInvalid if none).
-  auto across = [&](std::uint32_t x, std::uint32_t f) {
-    if (x < vc || x >= edge_end) return kInvalid;
-    for (const Seat& seat : seats[x - vc]) {
-      if (seat.f == kInvalid || seat.f == f) continue;
-      const PatchGrid& q = n.patches[seat.f];
-      RingPoint p = ring_point(q, seat.r);
-      if (p.side == 0) p.j = 1;
-      if (p.side == 1) p.i = q.a - 1;
-      if (p.side == 2) p.j = q.b - 1;
-      if (p.side == 3) p.i = 1;
-      return q.at(static_cast<std::uint32_t>(p.i), static_cast<std::uint32_t>(p.j));
-    }
-    return kInvalid;
-  };
-  // Cells around each layout vertex (CSR over quad corners), for points without a frame.
-  std::vector<std::uint32_t> first(count + 1, 0), at_cell(layout.quads.size());
-  for (std::uint32_t v : layout.quads) ++first[v + 1];
-  for (std::uint32_t v = 0; v < count; ++v) first[v + 1] += first[v];
-  {
+    first.assign(count + 1, 0);
+    at_cell.resize(layout.quads.size());
+    for (std::uint32_t v : layout.quads) ++first[v + 1];
+    for (std::uint32_t v = 0; v < count; ++v) first[v + 1] += first[v];
     std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
     for (std::uint32_t k = 0; k < layout.quads.size(); ++k) at_cell[fill[layout.quads[k]]++] = k;
-  }
-  std::vector<std::uint32_t> id(count, kInvalid);  // layout vertex -> coding position
-  if (coding.size() != base || stencil.size() != base)
-    throw Error(ErrorCode::kInternal, "patch order appended at the wrong position");
-  stencil.reserve(std::size_t{base} + count);
+  };
+  const bool two = count >= kStencilsBesideFrom;
+  std::future<void> lookups = beside(two, build_lookups);
+
+  // The order. id: layout vertex -> coding position; cell: per position, the point's place (i, j) in its
+  // patch's turned raster, as (j + 2) * (a + 4) + i + 2.
+  std::vector<std::uint32_t> id(count, kInvalid), cell_of(count);
+  std::vector<Visit> visits;
   coding.reserve(std::size_t{base} + count);
   std::uint32_t position = 0;  // this component's next coding position
-  auto coded = [&](std::uint32_t q) { return q != kInvalid && id[q] != kInvalid ? q : kInvalid; };
   // Patches holding each boundary point (CSR over ring entries), for choosing the next patch.
   std::vector<std::uint32_t> ring_first(edge_end + 1, 0), ring_patch;
   for (std::uint32_t f = 0; f < s.face_count(); ++f)
@@ -203,7 +257,7 @@ void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layou
   };
   std::priority_queue<Candidate> next;
   std::uint32_t scan = 0;  // lowest patch not yet visited, when no patch touches the coded part
-  std::vector<std::uint32_t> turned, grid;
+  Raster raster;
   for (;;) {
     std::uint32_t f = kInvalid;
     while (!next.empty()) {
@@ -220,76 +274,93 @@ void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layou
       f = scan;
     }
     visited[f] = 1;
-    const PatchGrid& g = n.patches[f];
-    // The patch's points row by row (PatchGrid::at, without its tests of which side a point is on at
-    // every read below: they were a seventh of this function).
-    const std::int64_t width = std::int64_t{g.a} + 1;
-    grid.resize(static_cast<std::size_t>(width * (std::int64_t{g.b} + 1)));
-    if (g.a >= 1 && g.b >= 1) {
-      for (std::uint32_t i = 0; i <= g.a; ++i) grid[i] = g.ring[i];
-      for (std::uint32_t j = 1; j < g.b; ++j) {
-        std::uint32_t* const row = &grid[static_cast<std::size_t>(j * width)];
-        row[0] = g.ring[2 * g.a + 2 * g.b - j];
-        for (std::uint32_t i = 1; i < g.a; ++i) row[i] = g.interior_base + (j - 1) * (g.a - 1) + (i - 1);
-        row[g.a] = g.ring[g.a + j];
-      }
-      std::uint32_t* const top = &grid[static_cast<std::size_t>(g.b * width)];
-      for (std::uint32_t i = 0; i <= g.a; ++i) top[i] = g.ring[2 * g.a + g.b - i];
-    } else {
-      for (std::uint32_t j = 0; j <= g.b; ++j)
-        for (std::uint32_t i = 0; i <= g.a; ++i) grid[static_cast<std::size_t>(j * width + i)] = g.at(i, j);
-    }
-    // The patch turned so that its raster starts at corner `rot` (0 = face_dart's): point (i, j) of
-    // the turned (a, b)-grid, grid[origin + i * di + j * dj].
-    int rot = 0;
-    std::int64_t a = g.a, b = g.b, origin = 0, di = 1, dj = width;
-    auto turn = [&](int r) {
-      rot = r;
-      const std::int64_t top = std::int64_t{g.b} * width;
-      origin = r == 0 ? 0 : r == 1 ? g.a : r == 2 ? top + g.a : top;
-      di = r == 0 ? 1 : r == 1 ? width : r == 2 ? -1 : -width;
-      dj = r == 0 ? width : r == 1 ? -1 : r == 2 ? -width : 1;
-    };
-    auto at = [&](std::int64_t i, std::int64_t j) {
-      return grid[static_cast<std::size_t>(origin + i * di + j * dj)];
-    };
-    // Grid point (i, j) of the turned patch, or one step beyond its left or bottom side: looked up in
-    // `turned`, the turned grid's points row by row with that extra row and column (filled below), in
-    // a border of kInvalid wide enough for every (i, j) read, -2 <= i <= a + 1 and -2 <= j <= b (no
-    // bounds tests).
-    auto cell = [&](std::int64_t i, std::int64_t j) {
-      return static_cast<std::size_t>((j + 2) * (a + 4) + i + 2);
-    };
-    auto nb = [&](std::int64_t i, std::int64_t j) { return turned[cell(i, j)]; };
+    raster.load(n.patches[f]);
     // Start where most of the bottom and left sides are coded already (their rows then have a frame).
     std::int64_t best = -1;
     int rot_best = 0;
     for (int r = 0; r < 4; ++r) {
-      turn(r);
-      a = (r & 1) ? g.b : g.a, b = (r & 1) ? g.a : g.b;
+      raster.turn(r);
       std::int64_t score = 0;
-      for (std::int64_t i = 0; i <= a; ++i) score += id[at(i, 0)] != kInvalid;
-      for (std::int64_t j = 1; j <= b; ++j) score += id[at(0, j)] != kInvalid;
+      for (std::int64_t i = 0; i <= raster.a; ++i) score += id[raster.at(i, 0)] != kInvalid;
+      for (std::int64_t j = 1; j <= raster.b; ++j) score += id[raster.at(0, j)] != kInvalid;
       if (score > best) best = score, rot_best = r;
     }
-    turn(rot_best);
-    a = (rot & 1) ? g.b : g.a, b = (rot & 1) ? g.a : g.b;
-    turned.assign(static_cast<std::size_t>((a + 4) * (b + 3)), kInvalid);
-    for (std::int64_t j = 0; j <= b; ++j)
-      for (std::int64_t i = 0; i <= a; ++i) turned[cell(i, j)] = at(i, j);
-    for (std::int64_t j = 0; j <= b; ++j) turned[cell(-1, j)] = across(at(0, j), f);
-    for (std::int64_t i = 0; i <= a; ++i) turned[cell(i, -1)] = across(at(i, 0), f);
-    for (std::int64_t j = 0; j <= b; ++j)
-      for (std::int64_t i = 0; i <= a; ++i) {
-        const std::uint32_t p = nb(i, j);
+    raster.turn(rot_best);
+    const std::uint32_t begin = position;
+    for (std::int64_t j = 0; j <= raster.b; ++j)
+      for (std::int64_t i = 0; i <= raster.a; ++i) {
+        const std::uint32_t p = raster.at(i, j);
         if (id[p] != kInvalid) continue;
-        // Fields hold coding positions, set as they are found (a coded point's id is final): no
-        // second pass over the stencil's 19 vertex fields to map them (a quarter of this function).
-        Stencil t;
+        cell_of[position] = static_cast<std::uint32_t>((j + 2) * (raster.a + 4) + i + 2);
+        id[p] = position++;
+        coding.push_back(p + base);
+        if (p < edge_end)
+          for (std::uint32_t k = ring_first[p]; k < ring_first[p + 1]; ++k) {
+            const std::uint32_t q = ring_patch[k];
+            ++ring_coded[q];
+            if (!visited[q] && touched_by[q] != f) touched_by[q] = f, touched.push_back(q);
+          }
+      }
+    if (position != begin) visits.push_back({f, rot_best, begin, position});
+    // The patches this one's points reached, once each with their count now: the heap holds an entry
+    // with each unvisited patch's current count at every choice, as when one went in per point, with
+    // a fraction of the entries (the heap was a quarter of this function).
+    for (const std::uint32_t q : touched)
+      if (!visited[q]) next.push({ring_coded[q], n.patches[q].ring.size(), q});
+    touched.clear();
+  }
+  if (position != count) throw Error(ErrorCode::kInternal, "patch order misses a vertex");
+  lookups.get();
+
+  // The neighbour of edge point x one step into the patch beside it other than f (kInvalid if none).
+  auto across = [&](std::uint32_t x, std::uint32_t f) {
+    if (x < vc || x >= edge_end) return kInvalid;
+    for (const Seat& seat : seats[x - vc]) {
+      if (seat.f == kInvalid || seat.f == f) continue;
+      const PatchGrid& q = n.patches[seat.f];
+      RingPoint p = ring_point(q, seat.r);
+      if (p.side == 0) p.j = 1;
+      if (p.side == 1) p.i = q.a - 1;
+      if (p.side == 2) p.j = q.b - 1;
+      if (p.side == 3) p.i = 1;
+      return q.at(static_cast<std::uint32_t>(p.i), static_cast<std::uint32_t>(p.j));
+    }
+    return kInvalid;
+  };
+  // The stencils of the points of visits [from, to), into their positions.
+  stencil.resize(std::size_t{base} + count);
+  auto stencils = [&](std::size_t from, std::size_t to) {
+    Raster turn;
+    std::vector<std::uint32_t> turned;
+    for (std::size_t v = from; v < to; ++v) {
+      const Visit& visit = visits[v];
+      const std::uint32_t f = visit.f;
+      turn.load(n.patches[f]);
+      turn.turn(visit.rot);
+      const std::int64_t a = turn.a, b = turn.b;
+      // Grid point (i, j) of the turned patch, or one step beyond its left or bottom side: looked up in
+      // `turned`, the turned grid's points row by row with that extra row and column, in a border of
+      // kInvalid wide enough for every (i, j) read, -2 <= i <= a + 1 and -2 <= j <= b (no bounds tests).
+      auto cell = [&](std::int64_t i, std::int64_t j) {
+        return static_cast<std::size_t>((j + 2) * (a + 4) + i + 2);
+      };
+      auto nb = [&](std::int64_t i, std::int64_t j) { return turned[cell(i, j)]; };
+      turned.assign(static_cast<std::size_t>((a + 4) * (b + 3)), kInvalid);
+      for (std::int64_t j = 0; j <= b; ++j)
+        for (std::int64_t i = 0; i <= a; ++i) turned[cell(i, j)] = turn.at(i, j);
+      for (std::int64_t j = 0; j <= b; ++j) turned[cell(-1, j)] = across(turn.at(0, j), f);
+      for (std::int64_t i = 0; i <= a; ++i) turned[cell(i, -1)] = across(turn.at(i, 0), f);
+      for (std::uint32_t k = visit.begin; k < visit.end; ++k) {
+        const std::int64_t i = std::int64_t{cell_of[k] % (a + 4)} - 2,
+                           j = std::int64_t{cell_of[k] / (a + 4)} - 2;
+        const std::uint32_t p = coding[base + k] - base;
+        // Coded before p: a smaller position (kInvalid, beyond the patches, is never coded).
+        auto coded = [&](std::uint32_t q) { return q != kInvalid && id[q] < k ? q : kInvalid; };
         auto to_pos = [&](std::uint32_t q) { return id[q] + base; };  // q coded
         auto coded_pos = [&](std::uint32_t q) {
-          return q != kInvalid && id[q] != kInvalid ? id[q] + base : kInvalid;
+          return q != kInvalid && id[q] < k ? id[q] + base : kInvalid;
         };
+        Stencil t;
         const std::uint32_t w = coded(nb(i - 1, j)), s0 = coded(nb(i, j - 1));
         const std::uint32_t sw = w != kInvalid && s0 != kInvalid ? coded(nb(i - 1, j - 1)) : kInvalid;
         if (sw != kInvalid) {  // the frame: everything a patch-inner point of layout order has, and more
@@ -306,8 +377,8 @@ void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layou
         } else {
           // A finished cell around p (the first in layout face order), as w, s, sw.
           const std::span<const std::uint32_t> around(at_cell.data() + first[p], first[p + 1] - first[p]);
-          for (std::size_t k = 0; k < around.size() && t.w == kInvalid; ++k) {
-            const std::uint32_t q = around[k] & ~3u, r = around[k] & 3u;
+          for (std::size_t c = 0; c < around.size() && t.w == kInvalid; ++c) {
+            const std::uint32_t q = around[c] & ~3u, r = around[c] & 3u;
             const std::uint32_t u1 = layout.quads[q + ((r + 1) & 3)], u2 = layout.quads[q + ((r + 2) & 3)],
                                 u3 = layout.quads[q + ((r + 3) & 3)];
             if (coded(u1) != kInvalid && coded(u2) != kInvalid && coded(u3) != kInvalid)
@@ -326,31 +397,23 @@ void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layou
             if (j < b && coded(nb(i, b)) != kInvalid)
               t.far = to_pos(nb(i, b)), t.far_dist = static_cast<std::uint32_t>(b - j);
           } else {  // any coded neighbour (else the previous vertex stands in)
-            for (std::size_t k = 0; k < around.size() && t.w == kInvalid; ++k) {
-              const std::uint32_t q = around[k] & ~3u, r = around[k] & 3u;
+            for (std::size_t c = 0; c < around.size() && t.w == kInvalid; ++c) {
+              const std::uint32_t q = around[c] & ~3u, r = around[c] & 3u;
               t.w = coded_pos(layout.quads[q + ((r + 1) & 3)]);
               if (t.w == kInvalid) t.w = coded_pos(layout.quads[q + ((r + 3) & 3)]);
             }
           }
         }
-        id[p] = position++;
-        coding.push_back(p + base);
-        stencil.push_back(t);
-        if (p < edge_end)
-          for (std::uint32_t k = ring_first[p]; k < ring_first[p + 1]; ++k) {
-            const std::uint32_t q = ring_patch[k];
-            ++ring_coded[q];
-            if (!visited[q] && touched_by[q] != f) touched_by[q] = f, touched.push_back(q);
-          }
+        stencil[std::size_t{base} + k] = t;
       }
-    // The patches this one's points reached, once each with their count now: the heap holds an entry
-    // with each unvisited patch's current count at every choice, as when one went in per point, with
-    // a fraction of the entries (the heap was a quarter of this function).
-    for (const std::uint32_t q : touched)
-      if (!visited[q]) next.push({ring_coded[q], n.patches[q].ring.size(), q});
-    touched.clear();
-  }
-  if (position != count) throw Error(ErrorCode::kInternal, "patch order misses a vertex");
+    }
+  };
+  // The second half of the positions beside, the first here.
+  std::size_t half = 0;
+  while (half < visits.size() && visits[half].end <= count / 2) ++half;
+  std::future<void> second = beside(two, [&stencils, half, &visits] { stencils(half, visits.size()); });
+  stencils(0, half);
+  second.get();
 }
 
 }  // namespace
