@@ -2047,6 +2047,9 @@ void set_notes(ReadNotes* notes, ReadReport& report, std::vector<ReadWarning>&& 
   notes->face_line = std::move(report.face_line);
   notes->warnings = std::move(warnings);
   notes->warning_count = count;
+  notes->counts = std::move(report);
+  notes->counts.face_line = {};
+  notes->has_counts = true;
 }
 
 }  // namespace

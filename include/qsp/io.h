@@ -140,6 +140,10 @@ struct ReadNotes {
   // one ReadReport::first_kept names), the first kMaxWarnings.
   std::vector<ReadWarning> warnings;
   std::uint64_t warning_count = 0;  // all of them (Mesh::verbatim.size())
+  // The reader's counts of what it read, as read_obj and read_off report them (OBJ and OFF; empty for
+  // PLY): no face lines (face_line above) and no rounded coordinates (this reader keeps them exactly).
+  ReadReport counts;
+  bool has_counts = false;
   // "file.obj:3: kept as text ...", one line each, and "(and N more)"; empty without warnings.
   std::string describe_warnings(std::string_view source) const;
 };

@@ -295,11 +295,36 @@ MatchInput prepare_located(QuadMesh mesh, const std::string& path, const ReadRep
 
 namespace {
 
-// What the quad reader's report would say of a mesh the exact reader read: its extra data by category,
-// its face lines, and the coordinates float32 does not hold (refused where they do not round to a
-// finite nonzero float, as the quad reader refuses them).
+// The coordinates float32 does not hold, counted into `r` (refused where they do not round to a finite
+// nonzero float, as the quad reader refuses them).
+void count_rounded(const Mesh& m, ReadReport& r, const std::string& path) {
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    const float f = m.positions.f32[i];
+    const double exact = m.positions.approx(i);
+    if (!std::isfinite(f) || (f == 0.0f && exact != 0.0))
+      throw Error(ErrorCode::kBadNumber, path + ": vertex " + std::to_string(i / 3) +
+                                             " has a coordinate outside the float32 range (it does not round "
+                                             "to a finite nonzero float)");
+    if (static_cast<double>(f) == exact) continue;
+    if (r.rounded_coordinates++ == 0) {
+      char text[32];
+      const auto end = std::to_chars(text, text + sizeof text, exact).ptr;
+      r.first_rounded = {0, i / 3, std::string(text, end), f};  // line: the exact reader does not say
+    }
+  }
+}
+
+// What the quad reader's report would say of a mesh the exact reader read: its extra data by category
+// (the reader's own counts for OBJ and OFF), its face lines, and the coordinates float32 does not hold.
 ReadReport report_of(const Mesh& m, ReadNotes&& notes, const std::string& path) {
   ReadReport r;
+  if (notes.has_counts) {  // OBJ and OFF: the reader's own counts, the quad reader's words
+    r = std::move(notes.counts);
+    r.face_line = std::move(notes.face_line);
+    r.rounded_coordinates = 0, r.first_rounded = {};  // counted here, for every format alike
+    count_rounded(m, r, path);
+    return r;
+  }
   const Extras x = extras(m);
   r.texcoords = x.texcoords;
   r.normals = x.normals;
@@ -315,20 +340,7 @@ ReadReport report_of(const Mesh& m, ReadNotes&& notes, const std::string& path) 
   r.other_properties = m.vertex_properties.size() + m.face_properties.size();
   r.obj_info = m.ply.obj_info.size();
   r.face_line = std::move(notes.face_line);
-  for (std::size_t i = 0; i < m.positions.size(); ++i) {
-    const float f = m.positions.f32[i];
-    const double exact = m.positions.approx(i);
-    if (!std::isfinite(f) || (f == 0.0f && exact != 0.0))
-      throw Error(ErrorCode::kBadNumber, path + ": vertex " + std::to_string(i / 3) +
-                                             " has a coordinate outside the float32 range (it does not round "
-                                             "to a finite nonzero float)");
-    if (static_cast<double>(f) == exact) continue;
-    if (r.rounded_coordinates++ == 0) {
-      char text[32];
-      const auto end = std::to_chars(text, text + sizeof text, exact).ptr;
-      r.first_rounded = {0, i / 3, std::string(text, end), f};  // line: the exact reader does not say
-    }
-  }
+  count_rounded(m, r, path);
   return r;
 }
 
@@ -453,6 +465,31 @@ void read_qsp(PolygonInput& in, std::string&& bytes, const std::string& path, Qs
   if (qsp == QspInput::kBytes && !in.quads) in.bytes = std::move(bytes);  // a polygon file's sections
 }
 
+// Whether a file the quad reader read needs the exact reader too: for what it keeps of texture
+// coordinates, normals, labels, extra data, or coordinates float32 does not hold.
+bool needs_exact(const ReadReport& r, unsigned keep) {
+  return (r.categories() & keep & kPolygonMeshCategories) || r.rounded_coordinates ||
+         ((r.kept_lines || r.vertex_weights || r.other_properties || r.obj_info) && (keep & kCategoryExtra));
+}
+
+// Whether the last face statement of OBJ text has a slash: corners naming texture coordinates or
+// normals. One line from the end, not a scan of the file.
+bool last_face_has_corner_refs(std::string_view text) {
+  std::size_t end = text.size();
+  for (int lines = 0; end > 0 && lines < 64; ++lines) {  // past trailing blank lines, comments, groups
+    const std::size_t start = text.rfind('\n', end - 1);
+    const std::size_t from = start == std::string_view::npos ? 0 : start + 1;
+    std::string_view line = text.substr(from, end - from);
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    if (first != std::string_view::npos && line.size() > first + 1 && line[first] == 'f' &&
+        (line[first + 1] == ' ' || line[first + 1] == '\t'))
+      return line.find('/') != std::string_view::npos;
+    if (start == std::string_view::npos) break;
+    end = start;
+  }
+  return false;
+}
+
 }  // namespace
 
 PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspInput qsp, unsigned keep) {
@@ -469,6 +506,20 @@ PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspI
     read_qsp(in, std::move(bytes), path, qsp);
     return in;
   }
+  if (format == MeshFormat::kObj && (keep & (kCategoryUv | kCategoryNormal)) &&
+      last_face_has_corner_refs(bytes)) {
+    // Faces naming texture coordinates or normals: the exact reader alone (reading the text twice, quad
+    // reader first, was an eighth of compressing mh_female_generic with its UVs). Where the quad reader
+    // says more (the line of a coordinate float32 does not hold), or the exact reader refuses the file, or
+    // the quad mesh would do, the two readers as below: their words and their mesh, as always.
+    try {
+      read_polygons(in, bytes, path, format, keep);
+      if (in.report.rounded_coordinates == 0 && in.beyond_float64 == 0 && needs_exact(in.report, keep))
+        return in;
+    } catch (const Error&) {
+    }
+    in = PolygonInput{};
+  }
   try {
     in.mesh = parse_quads(bytes, path, format, &in.report);
     in.quads = true;
@@ -479,10 +530,7 @@ PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspI
   }
   // Texture coordinates, labels and coordinates float32 does not hold come from the exact reader, which
   // the quad reader's report says it needs.
-  if ((in.report.categories() & keep & kPolygonMeshCategories) || in.report.rounded_coordinates ||
-      ((in.report.kept_lines || in.report.vertex_weights || in.report.other_properties ||
-        in.report.obj_info) &&
-       (keep & kCategoryExtra))) {
+  if (needs_exact(in.report, keep)) {
     ReadReport report = std::move(in.report);  // the same kinds; its words for the quad path's messages
     in.mesh = {};
     in.quads = false;

@@ -174,7 +174,9 @@ enum class QspInput { kBytes, kDecoded, kRefused };
 // Reads `path` ("-" = standard input) once, as read_input does; where the quad reader refuses a face that
 // is not a quad (kNotQuad), the same bytes again with the exact reader (read_obj_mesh, read_off_mesh,
 // read_ply_mesh; their errors), a coordinate rounding to infinity, or a nonzero one to zero, in float32
-// refused (kBadNumber) as the quad reader refuses it. A .qsp holding a polygon mesh (3.1) is decoded into
+// refused (kBadNumber) as the quad reader refuses it. An OBJ whose faces name texture coordinates or
+// normals that `keep` keeps goes to the exact reader first (the quad reader only where that one refuses
+// the file or its coordinates need the quad reader's words): the same mesh and report either way. A .qsp holding a polygon mesh (3.1) is decoded into
 // `polygons`, its texture coordinates counted in the report; a quad .qsp as `qsp` says. `format`
 // (--format) as for read_input. `keep`: the categories of a mesh file's data read (by the exact reader)
 // into `polygons` (of kPolygonMeshCategories: texture coordinates, face labels). Throws qsp::Error as the
