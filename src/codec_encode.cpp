@@ -64,6 +64,7 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
     order.vertex[v] = vbase++;
   }
   if (vbase != nv || fbase != nf) internal("canonical form does not cover every vertex and face");
+  if (tuning.order_known) tuning.order_known(order);
   // The topology section needs only the codes: coded on the second core while this one lays out the
   // grid and builds the stencils, which leave it idle (not where the partitions' pipelines share them).
   std::future<std::string> topology =

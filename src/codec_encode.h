@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <future>
 #include <optional>
 #include <string>
@@ -19,6 +20,10 @@ namespace qsp {
 // layout-order bit aside), so that a golden pins each combination whatever the level would choose.
 struct EncodeTuning {
   std::optional<std::uint8_t> geometry_tools;
+  // Called with the order the encode hands back (OrderMap) once it is known, before the geometry is
+  // coded, by an encode of one partition: the polygon codec codes the per-corner sections beside the
+  // geometry from there.
+  std::function<void(const OrderMap&)> order_known = nullptr;
 };
 
 // encode() with `tuning`. Same contract.

@@ -3,10 +3,14 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <functional>
+#include <future>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "beside.h"
 #include "codec_encode.h"
 #include "codec_sections.h"
 #include "container.h"
@@ -97,8 +101,20 @@ std::string encode_cut(const PolygonMesh& mesh, const QuadSubmesh& s, PartitionM
   return encode_canonical(s.mesh, r.quads, quads, effort, {}, nullptr, {}, polygons, order, &interior);
 }
 
-// The file of the faces and positions, and where each face went.
-std::string encode_faces(const PolygonMesh& mesh, const EncodeOptions& options, FaceMap& map) {
+// The FaceMap of an OrderMap.
+FaceMap face_map(OrderMap&& order) {
+  FaceMap map;
+  map.face = std::move(order.face);
+  map.rotation.assign(order.rotation.begin(), order.rotation.end());
+  map.vertex = std::move(order.vertex);
+  return map;
+}
+
+// The file of the faces and positions, and where each face went. `map_known`, if set, is called with
+// that map as soon as the encode knows it, before the geometry is coded, where it does so (an all-quad
+// mesh coded in one partition).
+std::string encode_faces(const PolygonMesh& mesh, const EncodeOptions& options, FaceMap& map,
+                         const std::function<void(const FaceMap&)>& map_known = nullptr) {
   if (mesh.positions.size() % 3 != 0)
     throw Error(ErrorCode::kUsage, "encode: positions array has a partial element");
   if (mesh.face_offsets.empty() || mesh.face_offsets.front() != 0 ||
@@ -118,10 +134,11 @@ std::string encode_faces(const PolygonMesh& mesh, const EncodeOptions& options, 
   if (all_quads) {
     try {
       OrderMap order;
-      std::string bytes = encode(QuadMesh{mesh.positions, mesh.corners}, options, &order);
-      map.face = std::move(order.face);
-      map.rotation.assign(order.rotation.begin(), order.rotation.end());
-      map.vertex = std::move(order.vertex);
+      EncodeTuning tuning;
+      if (map_known)
+        tuning.order_known = [&map_known](const OrderMap& o) { map_known(face_map(OrderMap(o))); };
+      std::string bytes = encode_tuned(QuadMesh{mesh.positions, mesh.corners}, options, tuning, &order);
+      map = face_map(std::move(order));
       return bytes;
     } catch (const Error& e) {
       if (e.code() != ErrorCode::kNonManifold && e.code() != ErrorCode::kOrientation) throw;
@@ -179,23 +196,28 @@ OutputCorners output_corners(const PolygonMesh& mesh, const FaceMap& map,
   return out;
 }
 
+// The positions the decoder of a file without a polygons section predicts corner values from, per
+// input vertex: lossless ones are the input's; quantized ones on the grid over all of them.
+std::vector<float> quad_file_positions(const PolygonMesh& mesh, const EncodeOptions& options) {
+  if (!options.quantize_bits) return mesh.positions;
+  const Grid grid = make_grid(mesh.positions, options.quantize_bits);
+  std::vector<float> out(mesh.positions.size());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const int axis = static_cast<int>(i % 3);
+    out[i] = grid.value(axis, grid.quantize(axis, mesh.positions[i], options.quantize_bits));
+  }
+  return out;
+}
+
 // The positions the decoder of `file` predicts corner values from, per input vertex: lossless ones are
 // the input's; quantized ones as the decoder rebuilds them.
 std::vector<float> decoder_positions(const PolygonMesh& mesh, const OutputCorners& oc,
                                      const EncodeOptions& options, std::string_view file) {
-  if (!options.quantize_bits) return mesh.positions;
   // A file without a polygons section holds every position in its geometry section, on the grid over
   // all of them: the decoder's values, computed as it computes them without decoding the file (that
   // decode was a fifth of compressing keenan_spot with its UVs).
-  if (container::parse(file).find(container::kTagPolygons) == nullptr) {
-    const Grid grid = make_grid(mesh.positions, options.quantize_bits);
-    std::vector<float> out(mesh.positions.size());
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      const int axis = static_cast<int>(i % 3);
-      out[i] = grid.value(axis, grid.quantize(axis, mesh.positions[i], options.quantize_bits));
-    }
-    return out;
-  }
+  if (!options.quantize_bits || container::parse(file).find(container::kTagPolygons) == nullptr)
+    return quad_file_positions(mesh, options);
   DecodeLimits all;
   all.max_vertices = kMaxVertices;
   all.max_faces = kMaxFaces;
@@ -254,6 +276,11 @@ std::string corner_values_section(const PolygonMesh& mesh, const OutputCorners& 
                                   positions, components, values, named, options.keep_order, quantize_bits,
                                   words, level_effort(options.level, mesh.vertex_count()).header_sample);
 }
+
+// The per-corner sections coded beside the geometry (encode_polygons).
+struct EarlySections {
+  std::string texcoords, normals;
+};
 
 // Whether each binary32 is the one nearest its exact value (ties to even), as the exact sections require.
 bool nearest(std::span<const float> values, std::span<const double> exact) {
@@ -421,8 +448,39 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
       mesh.face_colors.size() != mesh.face_color_components * mesh.face_count())
     throw Error(ErrorCode::kUsage, "encode: colour arrays disagree with the vertex and face counts");
   const auto whole = [&](const EncodeOptions& o) {
+    // The per-corner sections need only the face map and the decoder's positions, which for a file
+    // without a polygons section come from the grid: where the encode knows the map before the
+    // geometry, they are coded beside it (the UVs were a third of compressing mh_female_generic's whole
+    // OBJ). Checked against the final map: a map that differs (none does) codes them again below.
+    FaceMap early_map;
+    std::future<EarlySections> early;
+    const auto start_early = [&](const FaceMap& m) {
+      early_map = m;
+      early = beside(o.threads != 1, [&] {
+        EarlySections e;
+        const std::vector<std::uint32_t> in_face = input_faces(early_map, mesh.face_count());
+        const OutputCorners corners = output_corners(mesh, early_map, in_face);
+        const std::vector<float> at = quad_file_positions(mesh, o);
+        if (texcoords)
+          e.texcoords =
+              corner_values_section(mesh, corners, at, mesh.texcoord_components, mesh.texcoords,
+                                    mesh.corner_texcoords, o, o.quantize_texcoord_bits, kTexcoordWords);
+        if (normals)
+          e.normals = corner_values_section(mesh, corners, at, 3, mesh.normals, mesh.corner_normals, o,
+                                            o.quantize_normal_bits, kNormalWords);
+        return e;
+      });
+    };
     FaceMap map;
-    std::string bytes = encode_faces(mesh, o, map);
+    std::string bytes = encode_faces(mesh, o, map,
+                                     texcoords || normals ? std::function<void(const FaceMap&)>(start_early)
+                                                          : std::function<void(const FaceMap&)>());
+    std::optional<EarlySections> ready;
+    if (early.valid()) {
+      EarlySections e = early.get();
+      if (early_map.face == map.face && early_map.rotation == map.rotation && early_map.vertex == map.vertex)
+        ready = std::move(e);
+    }
     const bool exact = !mesh.positions64.empty() && o.quantize_bits == 0;
     const bool statements = o.keep_order && statements_needed(mesh);
     const bool exact_values = !mesh.texcoords64.empty() || !mesh.normals64.empty() ||
@@ -434,12 +492,13 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     const OutputCorners oc =
         texcoords || normals || colors ? output_corners(mesh, map, input_face) : OutputCorners{};
     const std::vector<float> positions =
-        texcoords || normals ? decoder_positions(mesh, oc, o, bytes) : std::vector<float>{};
+        (texcoords || normals) && !ready ? decoder_positions(mesh, oc, o, bytes) : std::vector<float>{};
     if (texcoords)
       bytes = container::with_section(
           bytes, container::kTagTexcoords,
-          corner_values_section(mesh, oc, positions, mesh.texcoord_components, mesh.texcoords,
-                                mesh.corner_texcoords, o, o.quantize_texcoord_bits, kTexcoordWords),
+          ready ? ready->texcoords
+                : corner_values_section(mesh, oc, positions, mesh.texcoord_components, mesh.texcoords,
+                                        mesh.corner_texcoords, o, o.quantize_texcoord_bits, kTexcoordWords),
           kFormatMinorTexcoords);
     if (labels) {
       const std::string section = encode_labels_section(mesh, input_face);
@@ -450,8 +509,10 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
                                       encode_tags_section(mesh.tags, map.vertex, map.face, o.keep_order),
                                       kFormatMinorTags);
     if (normals) {
-      const std::string section = corner_values_section(
-          mesh, oc, positions, 3, mesh.normals, mesh.corner_normals, o, o.quantize_normal_bits, kNormalWords);
+      const std::string section =
+          ready ? ready->normals
+                : corner_values_section(mesh, oc, positions, 3, mesh.normals, mesh.corner_normals, o,
+                                        o.quantize_normal_bits, kNormalWords);
       bytes = container::with_section(bytes, container::kTagNormals, section, normals_section_minor(section));
     }
     if (exact)

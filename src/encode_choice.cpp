@@ -42,10 +42,12 @@ std::string encode_tuned(const QuadMesh& mesh, const EncodeOptions& options, con
     std::string bytes;
     OrderMap order;
   };
+  EncodeTuning each = tuning;
+  each.order_known = nullptr;  // which order is kept is known only at the end
   auto run = [&](PartitionMode mode, ChoiceRole role) {
     Result r;
     r.bytes = encode_partition(mesh, adj, qsp::partition(adj, mode, mesh.positions, false), options, effort,
-                               tuning, order_out ? &r.order : nullptr, std::move(role));
+                               each, order_out ? &r.order : nullptr, std::move(role));
     return r;
   };
   // The motorcycle pipeline chooses the geometry header; the heuristics' pipelines wait for it.
