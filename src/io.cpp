@@ -85,6 +85,21 @@ void sync_dir(const std::string& dir) {
   }
 }
 
+// Renames `from` over `to`, 0 or the errno of the failure. ext4 writes out a file renamed over another
+// at once (its auto_da_alloc), which only --sync asks for: 0.5 ms of a 17 ms compress wherever the
+// output is replaced. So the two names are exchanged (`to` is never missing: it is the old file or the
+// new one) and the old file, now under `from`, removed; a plain rename where exchanging is not
+// supported or `to` does not exist.
+int replace_name(const std::string& from, const std::string& to) {
+  if (::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_EXCHANGE) == 0) {
+    if (::unlink(from.c_str()) == 0) return 0;
+    const int err = errno;  // `to` was a directory: it goes back
+    ::renameat2(AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_EXCHANGE);
+    return err;
+  }
+  return ::rename(from.c_str(), to.c_str()) == 0 ? 0 : errno;
+}
+
 void (*before_rename_hook)() = nullptr;  // set_before_rename_hook
 
 void before_rename() {
@@ -94,8 +109,8 @@ void before_rename() {
 // Linux: writes `bytes` to an unnamed file in `dir` (O_TMPFILE), then gives it its name. A process
 // killed at any point before that leaves nothing behind, not even a temporary file. Without -f the
 // name is created by linkat, which fails if it exists (atomic no-replace); with -f the file is
-// linked under a hidden temporary name and renamed over the target (named only between those two
-// calls). Returns false, having left nothing, where O_TMPFILE or /proc is unavailable.
+// linked under a hidden temporary name and put in the target's place (replace_name; named only
+// between those two calls). Returns false, having left nothing, where O_TMPFILE or /proc is unavailable.
 bool write_anonymous_then_link(const std::string& path, const std::string& dir, const std::string& name,
                                std::string_view bytes, bool overwrite, bool sync) {
 #ifdef O_TMPFILE
@@ -131,8 +146,7 @@ bool write_anonymous_then_link(const std::string& path, const std::string& dir, 
       fail_closed("cannot create a temporary file in " + dir, err);
     }
     ::close(fd);
-    if (::rename(target.c_str(), path.c_str()) != 0) {
-      err = errno;
+    if ((err = replace_name(target, path)) != 0) {
       ::unlink(target.c_str());
       fail_errno(path, "cannot rename into place", err);
     }
@@ -458,7 +472,7 @@ void write_file_atomic(const std::string& path, std::string_view bytes, bool ove
   before_rename();
 
   if (overwrite) {
-    if (::rename(temp.c_str(), path.c_str()) != 0) fail_and_remove("cannot rename into place", errno);
+    if ((err = replace_name(temp, path)) != 0) fail_and_remove("cannot rename into place", err);
   } else {
     // Atomic no-replace; the lstat above is only the early, friendly check.
     if (::renameat2(AT_FDCWD, temp.c_str(), AT_FDCWD, path.c_str(), RENAME_NOREPLACE) != 0) {

@@ -1062,6 +1062,21 @@ TEST(Files, AtomicWriteCreatesRefusesAndOverwrites) {
   EXPECT_EQ(slurp(p), "third");
   qsp::write_file_atomic(p.string(), "", true);
   EXPECT_EQ(slurp(p), "");
+  // Overwriting replaces the name, not the file: another hard link keeps the old bytes, and a symbolic
+  // link is replaced by the file, its destination untouched.
+  const fs::path other = dir.path() / "other.obj", dest = dir.path() / "dest.obj",
+                 link = dir.path() / "link.obj";
+  qsp::write_file_atomic(p.string(), "old", true);
+  fs::create_hard_link(p, other);
+  qsp::write_file_atomic(p.string(), "new", true);
+  EXPECT_EQ(slurp(p), "new");
+  EXPECT_EQ(slurp(other), "old");
+  qsp::write_file_atomic(dest.string(), "destination", false);
+  fs::create_symlink(dest, link);
+  qsp::write_file_atomic(link.string(), "through", true);
+  EXPECT_FALSE(fs::is_symlink(link));
+  EXPECT_EQ(slurp(link), "through");
+  EXPECT_EQ(slurp(dest), "destination");
   // Relative path in the current directory.
   const fs::path cwd = fs::current_path();
   fs::current_path(dir.path());

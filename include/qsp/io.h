@@ -227,8 +227,9 @@ std::vector<std::string> leading_comments(std::string_view text);
 std::string read_file_bytes(const std::string& path);
 
 // Write bytes atomically: to an unnamed temporary file in the target's folder (O_TMPFILE; a named
-// hidden one where unsupported), then link or rename it into place, so a process killed at any moment
-// leaves no partial output. With `sync` the file is flushed to disk (fsync) before it gets its name
+// hidden one where unsupported), then link it into place, or in place of an existing file by
+// exchanging their names and removing the old one, so a process killed at any moment leaves no
+// partial output (at worst, killed between those two steps, the old file under a hidden name). With `sync` the file is flushed to disk (fsync) before it gets its name
 // and the folder after, so a power cut cannot leave it short either (gzip's --synchronous); without,
 // as gzip, zstd and Draco write by default, the system flushes it later: that wait was a tenth of
 // decompressing a 19k-vertex mesh. Refuses (kIo) to replace an existing file unless `overwrite`;
