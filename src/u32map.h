@@ -27,14 +27,16 @@ class U32Map {
     }
   }
   // Inserts key -> value unless key is present; returns true if inserted.
-  bool insert(std::uint32_t key, std::uint32_t value) {
+  bool insert(std::uint32_t key, std::uint32_t value) { return try_insert(key, value).second; }
+  // The same, also returning the value now stored for key (`value` if inserted).
+  std::pair<std::uint32_t, bool> try_insert(std::uint32_t key, std::uint32_t value) {
     if (2 * (size_ + 1) > slots_.size()) grow();
     for (std::size_t i = hash(key);; i = (i + 1) & (slots_.size() - 1)) {
-      if (slots_[i].first == key) return false;
+      if (slots_[i].first == key) return {slots_[i].second, false};
       if (slots_[i].first == kInvalid) {
         slots_[i] = {key, value};
         ++size_;
-        return true;
+        return {value, true};
       }
     }
   }
