@@ -11,7 +11,7 @@
 namespace qsp::detail {
 
 // build_adjacency uses two threads from this many faces (and when asked to). Below, starting a thread
-// and meeting at its five barriers costs about what halving the work saves.
+// and meeting at its four barriers costs about what halving the work saves.
 inline constexpr std::size_t kAdjacencyTwoThreadsFrom = 4096;
 
 // The adjacency of `quads` over `vertex_count` vertices built on two threads: the faces' checks and
