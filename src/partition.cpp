@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <span>
 #include <string>
 
 #include "face_sets.h"
@@ -183,6 +184,9 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
   // counted per byte, then within its byte (a hash map of them cost 1.2M of mh_base's instructions,
   // a binary search 2M of mh_female_generic's 160M).
   std::vector<std::uint32_t> cut_list, cut_next;
+  const std::size_t most_cut = 2 * (std::size_t{nh} - 4 * nf + cuts.size());
+  cut_list.reserve(most_cut);
+  cut_next.reserve(most_cut);
   std::vector<std::uint64_t> listed(words, 0);
   auto list = [&](std::uint32_t h, std::uint32_t next) {
     listed[h >> 6] |= bit(h);
@@ -242,6 +246,7 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
     std::uint32_t first, last, length, comp;
   };
   std::vector<Run> runs;
+  runs.reserve(cut_list.size());
   for (std::uint32_t i = 0; i < cut_list.size(); ++i) {
     const std::uint32_t h = cut_list[i];
     if (!is_x[adj.origin[h]]) continue;
@@ -256,8 +261,17 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
     runs.push_back({h, g, len, comp});
   }
   // Group runs by component and number them per component: twins become darts 2e, 2e+1.
-  std::vector<std::vector<std::uint32_t>> comp_runs(nc);
-  for (std::uint32_t r = 0; r < runs.size(); ++r) comp_runs[runs[r].comp].push_back(r);
+  std::vector<std::uint32_t> comp_run_start(nc + 1, 0), comp_runs(runs.size());
+  for (const Run& r : runs) ++comp_run_start[r.comp + 1];
+  for (std::uint32_t c = 0; c < nc; ++c) comp_run_start[c + 1] += comp_run_start[c];
+  {
+    std::vector<std::uint32_t> fill(comp_run_start.begin(), comp_run_start.end() - 1);
+    for (std::uint32_t r = 0; r < runs.size(); ++r) comp_runs[fill[runs[r].comp]++] = r;
+  }
+  auto runs_of = [&](std::uint32_t c) {
+    return std::span<const std::uint32_t>(comp_runs.data() + comp_run_start[c],
+                                          comp_runs.data() + comp_run_start[c + 1]);
+  };
   std::vector<std::uint32_t> run_dart(runs.size(), kInvalid);
   std::vector<std::uint32_t> local_region(region_first_face.size(), kInvalid);
   for (std::uint32_t c = 0; c < nc; ++c) {
@@ -265,7 +279,7 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
     if (!general(c)) continue;
     Schematic& s = part.schematic;
     std::uint32_t nd = 0;
-    for (std::uint32_t r : comp_runs[c]) {
+    for (std::uint32_t r : runs_of(c)) {
       if (run_dart[r] != kInvalid) continue;
       const std::uint32_t t = dart_at(adj.twin[runs[r].last]);
       if (t == kInvalid || runs[t].length != runs[r].length || adj.twin[runs[t].last] != runs[r].first)
@@ -283,7 +297,7 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
     s.dart_halfedge.assign(nd, kInvalid);
     // Vertices numbered by first appearance; faces: regions and holes by first dart.
     std::vector<std::uint32_t> hole_of_first;  // hole faces keyed by visiting order
-    for (std::uint32_t r : comp_runs[c]) {
+    for (std::uint32_t r : runs_of(c)) {
       const std::uint32_t d = run_dart[r];
       s.dart_halfedge[d] = runs[r].first;
       s.dart_corner[d] = has(corner_here, runs[r].first) ? 1 : 0;
