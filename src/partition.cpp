@@ -185,37 +185,62 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
   // around the face or region on its left. A listed half-edge's index is the listed ones before it:
   // counted per byte, then within its byte (a hash map of them cost 1.2M of mh_base's instructions,
   // a binary search 2M of mh_female_generic's 160M).
-  std::vector<std::uint32_t> cut_list, cut_next;
-  // At most the boundary's two sides and the cuts': growing them cost mh_base 0.3M instructions.
-  const std::size_t most_cut = 2 * (std::size_t{nh} - 4 * nf + cuts.size());
-  cut_list.reserve(most_cut);
-  cut_next.reserve(most_cut);
+  //
+  // From 4096 faces this and the runs below are found in two halves, the second on another thread
+  // (idle here), each half in its own lists, joined in order; errors come as on one thread, the
+  // first half's first (mh_base: 1M of the main thread's instructions).
+  const bool halves = nf >= 4096;
   std::vector<std::uint64_t> listed(words, 0);
-  auto list = [&](std::uint32_t h, std::uint32_t next) {
-    listed[h >> 6] |= bit(h);
-    cut_list.push_back(h);
-    cut_next.push_back(next);
+  struct Cuts {
+    std::vector<std::uint32_t> list, next, corner;  // corner: the g of corner_here, set after the join
   };
-  for (std::size_t w = 0; w < words; ++w)
-    for (std::uint64_t rest = cut[w]; rest != 0; rest &= rest - 1) {
-      const auto h = static_cast<std::uint32_t>(64 * w + static_cast<unsigned>(std::countr_zero(rest)));
-      if (adj.is_exterior(h)) {
-        list(h, adj.next(h));
-        continue;
+  // The cut half-edges in words [w0, w1) of `cut`; writes only those words of `listed`.
+  auto list_cuts = [&](std::size_t w0, std::size_t w1, Cuts& out_cuts) {
+    // At most the boundary's two sides and the cuts': growing them cost mh_base 0.3M instructions.
+    const std::size_t most = 2 * (std::size_t{nh} - 4 * nf + cuts.size());
+    out_cuts.list.reserve(most);
+    out_cuts.next.reserve(most);
+    auto list = [&](std::uint32_t h, std::uint32_t next) {
+      listed[h >> 6] |= bit(h);
+      out_cuts.list.push_back(h);
+      out_cuts.next.push_back(next);
+    };
+    for (std::size_t w = w0; w < w1; ++w)
+      for (std::uint64_t rest = cut[w]; rest != 0; rest &= rest - 1) {
+        const auto h = static_cast<std::uint32_t>(64 * w + static_cast<unsigned>(std::countr_zero(rest)));
+        if (adj.is_exterior(h)) {
+          list(h, adj.next(h));
+          continue;
+        }
+        if (!general(adj.face_component[h >> 2])) continue;
+        std::uint32_t g = adj.next(h), faces = 1;
+        while (!has(cut, g)) {
+          g = adj.next(adj.twin[g]);
+          if (++faces > adj.valence[adj.origin[g]]) internal("region boundary walk does not close");
+        }
+        list(h, g);
+        if (faces == 1) {
+          out_cuts.corner.push_back(g);
+        } else if (faces > 2) {
+          internal("vertex " + std::to_string(adj.origin[g]) + " has negative deficiency in its patch");
+        }
       }
-      if (!general(adj.face_component[h >> 2])) continue;
-      std::uint32_t g = adj.next(h), faces = 1;
-      while (!has(cut, g)) {
-        g = adj.next(adj.twin[g]);
-        if (++faces > adj.valence[adj.origin[g]]) internal("region boundary walk does not close");
-      }
-      list(h, g);
-      if (faces == 1) {
-        corner_here[g >> 6] |= bit(g);
-        is_x[adj.origin[g]] = 1;
-      } else if (faces > 2) {
-        internal("vertex " + std::to_string(adj.origin[g]) + " has negative deficiency in its patch");
-      }
+  };
+  Cuts first_cuts, second_cuts;
+  {
+    const std::size_t mid_word = halves ? words / 2 : words;
+    std::future<void> second = beside(halves, [&, mid_word] { list_cuts(mid_word, words, second_cuts); });
+    list_cuts(0, mid_word, first_cuts);
+    second.get();
+  }
+  std::vector<std::uint32_t>& cut_list = first_cuts.list;
+  std::vector<std::uint32_t>& cut_next = first_cuts.next;
+  cut_list.insert(cut_list.end(), second_cuts.list.begin(), second_cuts.list.end());
+  cut_next.insert(cut_next.end(), second_cuts.next.begin(), second_cuts.next.end());
+  for (const Cuts* c : {&first_cuts, &second_cuts})
+    for (std::uint32_t g : c->corner) {
+      corner_here[g >> 6] |= bit(g);
+      is_x[adj.origin[g]] = 1;
     }
   // Bytes, not words, and a table: without -mpopcnt std::popcount is a library call (0.65M of
   // mh_base's instructions).
@@ -248,20 +273,33 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
   struct Run {
     std::uint32_t first, last, length, comp;
   };
-  std::vector<Run> runs;
-  runs.reserve(cut_list.size());
-  for (std::uint32_t i = 0; i < cut_list.size(); ++i) {
-    const std::uint32_t h = cut_list[i];
-    if (!is_x[adj.origin[h]]) continue;
-    const std::uint32_t comp = adj.face_component[adj.is_exterior(h) ? adj.face(adj.twin[h]) : adj.face(h)];
-    if (!general(comp)) continue;
-    std::uint32_t g = h, len = 1;
-    while (!is_x[adj.dest(g)]) {
-      g = next_cut(g);
-      if (++len > nh) internal("schematic edge does not end");
+  // The runs from cut indices [i0, i1), numbered from 0 in `run_at`.
+  auto find_runs = [&](std::uint32_t i0, std::uint32_t i1, std::vector<Run>& found) {
+    found.reserve(i1 - i0);
+    for (std::uint32_t i = i0; i < i1; ++i) {
+      const std::uint32_t h = cut_list[i];
+      if (!is_x[adj.origin[h]]) continue;
+      const std::uint32_t comp = adj.face_component[adj.is_exterior(h) ? adj.face(adj.twin[h]) : adj.face(h)];
+      if (!general(comp)) continue;
+      std::uint32_t g = h, len = 1;
+      while (!is_x[adj.dest(g)]) {
+        g = next_cut(g);
+        if (++len > nh) internal("schematic edge does not end");
+      }
+      run_at[i] = static_cast<std::uint32_t>(found.size());
+      found.push_back({h, g, len, comp});
     }
-    run_at[i] = static_cast<std::uint32_t>(runs.size());
-    runs.push_back({h, g, len, comp});
+  };
+  std::vector<Run> runs, second_runs;
+  {
+    const auto n = static_cast<std::uint32_t>(cut_list.size()), mid_cut = halves ? n / 2 : n;
+    std::future<void> second = beside(halves, [&, n, mid_cut] { find_runs(mid_cut, n, second_runs); });
+    find_runs(0, mid_cut, runs);
+    second.get();
+    const auto before = static_cast<std::uint32_t>(runs.size());
+    for (std::uint32_t i = mid_cut; i < n; ++i)
+      if (run_at[i] != kInvalid) run_at[i] += before;
+    runs.insert(runs.end(), second_runs.begin(), second_runs.end());
   }
   // Group runs by component (counting sort: comp_runs[comp_run_start[c]...] are c's, increasing) and
   // number them per component: twins become darts 2e, 2e+1.
