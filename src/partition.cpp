@@ -118,8 +118,7 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
 
   // Per component: counts that decide its kind.
   const std::uint32_t nc = adj.component_count;
-  std::vector<std::uint32_t> comp_faces(nc, 0), comp_x(nc, 0), comp_boundary(nc, 0), comp_corners(nc, 0);
-  for (std::uint32_t f = 0; f < nf; ++f) ++comp_faces[adj.face_component[f]];
+  std::vector<std::uint32_t> comp_x(nc, 0), comp_boundary(nc, 0), comp_corners(nc, 0);
   auto comp_of_vertex = [&](std::uint32_t v) {
     const std::uint32_t h = adj.vertex_halfedge[v];
     return adj.face_component[adj.is_exterior(h) ? adj.face(adj.twin[h]) : adj.face(h)];
@@ -141,6 +140,7 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
   }
 
   out.components.resize(nc);
+  std::uint32_t unanchored = 0;  // tori and annuli
   for (std::uint32_t c = 0; c < nc; ++c) {
     out.components[c].component = c;
     out.components[c].extraordinary = comp_x[c];
@@ -148,29 +148,31 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
       // Structured without corners: torus (closed) or annulus (Lemma 2). Anchor: first face's first
       // half-edge for a torus; for an annulus a boundary half-edge, found below.
       out.components[c].kind = comp_boundary[c] == 0 ? ComponentKind::kTorus : ComponentKind::kAnnulus;
+      ++unanchored;
     } else if (comp_x[c] == 0) {
       if (comp_corners[c] != 4)
         internal("structured component with " + std::to_string(comp_corners[c]) + " corners");
       out.components[c].kind = ComponentKind::kDisk;
     }
   }
-  {
+  if (unanchored != 0) {  // (most meshes have neither)
+    std::vector<std::uint32_t> comp_faces(nc, 0);
+    for (std::uint32_t f = 0; f < nf; ++f) ++comp_faces[adj.face_component[f]];
     std::vector<std::uint8_t> anchored(nc, 0);
-    for (std::uint32_t f = 0; f < nf; ++f) {
+    auto anchor = [&](std::uint32_t c, std::uint32_t h) {
+      anchored[c] = 1;
+      --unanchored;
+      structured_closed(adj, out.components[c], h, comp_faces[c]);
+    };
+    // An annulus: its first interior half-edge on the boundary, the twin of its first exterior one
+    // (build_adjacency numbers them in the order of their twins), not found by a scan of the faces.
+    for (std::uint32_t x = 4 * nf; x < nh && unanchored != 0; ++x) {
+      const std::uint32_t h = adj.twin[x], c = adj.face_component[h >> 2];
+      if (!anchored[c] && out.components[c].kind == ComponentKind::kAnnulus) anchor(c, h);
+    }
+    for (std::uint32_t f = 0; f < nf && unanchored != 0; ++f) {
       const std::uint32_t c = adj.face_component[f];
-      auto& part = out.components[c];
-      if (anchored[c]) continue;
-      if (part.kind == ComponentKind::kTorus) {
-        anchored[c] = 1;
-        structured_closed(adj, part, 4 * f, comp_faces[c]);
-      } else if (part.kind == ComponentKind::kAnnulus) {
-        for (std::uint32_t i = 0; i < 4; ++i)
-          if (adj.is_exterior(adj.twin[4 * f + i])) {
-            anchored[c] = 1;
-            structured_closed(adj, part, 4 * f + i, comp_faces[c]);
-            break;
-          }
-      }
+      if (!anchored[c] && out.components[c].kind == ComponentKind::kTorus) anchor(c, 4 * f);
     }
   }
 
