@@ -103,8 +103,12 @@ bool match_buckets(std::span<const std::uint32_t> q, const std::uint32_t* start,
     if (start[v] == start[v + 1]) continue;  // no edge (and `bucket` may be empty: no b + 1 below)
     std::uint64_t *const b = bucket + start[v], *const e = bucket + start[v + 1];
     if (e - b <= 8) {
-      for (auto i = b + 1; i < e; ++i)  // insertion sort: buckets are tiny
-        for (auto j = i; j > b && *(j - 1) > *j; --j) std::swap(*(j - 1), *j);
+      for (auto i = b + 1; i < e; ++i) {  // insertion sort: buckets are tiny
+        const std::uint64_t x = *i;
+        auto j = i;
+        for (; j > b && *(j - 1) > x; --j) *j = *(j - 1);
+        *j = x;
+      }
     } else {
       std::sort(b, e);
     }
