@@ -18,44 +18,55 @@ namespace {
 std::uint32_t right_of(const Adjacency& adj, std::uint32_t h) { return adj.next(adj.twin[adj.next(h)]); }
 std::uint32_t up_of(const Adjacency& adj, std::uint32_t h) { return adj.twin[adj.next(adj.next(h))]; }
 
+// Visits the a x b cells of one grid, row by row, with their corner ids (from the point rows that
+// fill_row(j, out) writes, a + 1 ids each) and, when adj is given, the mesh half-edge at their bottom,
+// walked from `h`. Returns false when `visit` does (it stops the walk).
+template <class FillRow, class Visit>
+bool for_each_grid_cell(std::uint32_t a, std::uint32_t b, const Adjacency* adj, std::uint32_t h,
+                        std::vector<std::uint32_t>& rows, FillRow&& fill_row, Visit& visit) {
+  if (a == 0 || b == 0) return true;
+  rows.resize(2 * (std::size_t{a} + 1));
+  std::uint32_t *lo = rows.data(), *hi = lo + a + 1;
+  fill_row(0, lo);
+  std::uint32_t c[4];
+  for (std::uint32_t j = 0; j < b; ++j) {
+    fill_row(j + 1, hi);
+    std::uint32_t g = h;
+    for (std::uint32_t i = 0; i < a; ++i) {
+      c[0] = lo[i], c[1] = lo[i + 1], c[2] = hi[i + 1], c[3] = hi[i];
+      if (!visit(c, g)) return false;
+      if (adj && i + 1 < a) g = right_of(*adj, g);
+    }
+    if (adj && j + 1 < b) h = up_of(*adj, h);
+    std::swap(lo, hi);
+  }
+  return true;
+}
+
 // Visits every cell of the layout with its layout corner ids and (when adj given) the mesh half-edge
-// at its bottom; returns false from `visit` to stop.
+// at its bottom; returns false from `visit` to stop. The points go row by row, not through
+// PatchGrid::at and its tests of which side a point is on (they were most of grid_layout's time).
 template <class Visit>
 void for_each_cell(const ComponentPartition& part, const Numbering* n, const Adjacency* adj, Visit&& visit) {
-  std::uint32_t c[4];
+  std::vector<std::uint32_t> rows;
   if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus) {
     const std::uint32_t a = part.a, b = part.b;
-    auto P = [&](std::uint32_t x, std::uint32_t y) -> std::uint32_t {
-      x %= a;
-      if (part.kind == ComponentKind::kTorus && y == b) return (x + part.twist) % a;
-      return y * a + x;
+    const bool torus = part.kind == ComponentKind::kTorus;
+    auto fill_row = [&](std::uint32_t y, std::uint32_t* out) {
+      for (std::uint32_t x = 0; x < a; ++x) out[x] = torus && y == b ? (x + part.twist) % a : y * a + x;
+      out[a] = out[0];
     };
-    std::uint32_t row = adj ? part.anchor_halfedge : kInvalid;
-    for (std::uint32_t y = 0; y < b; ++y) {
-      std::uint32_t h = row;
-      for (std::uint32_t x = 0; x < a; ++x) {
-        c[0] = P(x, y), c[1] = P(x + 1, y), c[2] = P(x + 1, y + 1), c[3] = P(x, y + 1);
-        if (!visit(c, h)) return;
-        if (adj) h = right_of(*adj, h);
-      }
-      if (adj) row = up_of(*adj, row);
-    }
+    for_each_grid_cell(a, b, adj, adj ? part.anchor_halfedge : kInvalid, rows, fill_row, visit);
     return;
   }
   const Schematic& s = part.schematic;
   for (std::uint32_t f = 0; f < s.face_count(); ++f) {
     if (s.face_hole[f]) continue;
     const PatchGrid& g = n->patches[f];
-    std::uint32_t row = adj ? s.dart_halfedge[s.face_dart[f]] : kInvalid;
-    for (std::uint32_t j = 0; j < g.b; ++j) {
-      std::uint32_t h = row;
-      for (std::uint32_t i = 0; i < g.a; ++i) {
-        c[0] = g.at(i, j), c[1] = g.at(i + 1, j), c[2] = g.at(i + 1, j + 1), c[3] = g.at(i, j + 1);
-        if (!visit(c, h)) return;
-        if (adj && i + 1 < g.a) h = right_of(*adj, h);
-      }
-      if (adj && j + 1 < g.b) row = up_of(*adj, row);
-    }
+    auto fill_row = [&g](std::uint32_t j, std::uint32_t* out) { g.row(j, out); };
+    if (!for_each_grid_cell(g.a, g.b, adj, adj ? s.dart_halfedge[s.face_dart[f]] : kInvalid, rows, fill_row,
+                            visit))
+      return;
   }
 }
 
@@ -83,28 +94,43 @@ std::string link(const ComponentPartition& part, const Adjacency& adj, LayoutMap
   map.vertex.assign(layout_vertex_count(part, n), kInvalid);
   map.face.clear();
   map.rotation.clear();
-  std::string why;
+  // No more than the component holds: a wrong partition's walk stops where it leaves the component.
+  map.face.reserve(std::min<std::uint64_t>(layout_face_count(part, n), adj.component_faces[part.component]));
+  map.rotation.reserve(map.face.capacity());
+  // The messages are built after the walk, so that the visit stays small enough to inline.
+  std::uint32_t* const vertex = map.vertex.data();
+  std::uint32_t clash[2] = {kInvalid, kInvalid};
+  bool left = false;
   for_each_cell(part, &n, &adj, [&](const std::uint32_t* c, std::uint32_t h) {
     const std::uint32_t f = adj.face(h);
     if (f == kInvalid || adj.face_component[f] != part.component) {
-      why = "grid walk leaves the component";
+      left = true;
       return false;
     }
     map.face.push_back(f);
     map.rotation.push_back(static_cast<std::uint8_t>(h & 3));
-    for (std::uint32_t k = 0; k < 4; ++k) {
-      const std::uint32_t mv = adj.origin[(h & ~3u) | ((h + k) & 3u)];
-      std::uint32_t& slot = map.vertex[c[k]];
-      if (slot == kInvalid) {
-        slot = mv;
-      } else if (slot != mv) {
-        why = "grid point maps to two mesh vertices (mesh vertices " + std::to_string(slot) + " and " +
-              std::to_string(mv) + ")";
+    // Grid corner k is the face's corner h + k. A point already set is mostly set to the same vertex.
+    const std::uint32_t* const corner = &adj.origin[h & ~3u];
+    auto put = [&](std::uint32_t point, std::uint32_t mv) {
+      std::uint32_t& slot = vertex[point];
+      if (slot == mv) return true;
+      if (slot != kInvalid) {
+        clash[0] = slot, clash[1] = mv;
         return false;
       }
-    }
-    return true;
+      slot = mv;
+      return true;
+    };
+    return put(c[0], corner[h & 3u]) && put(c[1], corner[(h + 1) & 3u]) && put(c[2], corner[(h + 2) & 3u]) &&
+           put(c[3], corner[(h + 3) & 3u]);
   });
+  std::string why;
+  if (left) {
+    why = "grid walk leaves the component";
+  } else if (clash[0] != kInvalid) {
+    why = "grid point maps to two mesh vertices (mesh vertices " + std::to_string(clash[0]) + " and " +
+          std::to_string(clash[1]) + ")";
+  }
   // Every grid point a mesh vertex, whatever the caller checks next: canonicalize reads the positions
   // of these vertices, and a partition need not have had its tiling checked (partition_from_cuts).
   if (why.empty() && std::find(map.vertex.begin(), map.vertex.end(), kInvalid) != map.vertex.end())
@@ -121,29 +147,49 @@ std::string number_schematic(const Schematic& s, Numbering& n) {
     n.edge_base[e] = static_cast<std::uint32_t>(next);
     next += s.edge_length[e] - 1;
   }
+  // Sizes first (as patch_size gives them, in the same walk), so that the rings fill one array.
   n.patches.assign(s.face_count(), {});
+  std::uint64_t ring_total = 0;
   for (std::uint32_t f = 0; f < s.face_count(); ++f) {
     if (s.face_hole[f]) continue;
     PatchGrid& g = n.patches[f];
-    const PatchSize size = patch_size(s, f);
-    g.a = size.a;
-    g.b = size.b;
-    g.ring.reserve(2ull * (g.a + g.b));
-    std::uint32_t d = s.face_dart[f];
+    const std::uint32_t d0 = s.face_dart[f];
+    std::uint32_t d = d0, side = 0;
+    std::uint64_t ring = 0;
     do {
-      const std::uint32_t e = d >> 1, len = s.edge_length[e];
-      g.ring.push_back(s.dart_vertex[d]);
-      for (std::uint32_t k = 1; k < len; ++k)
-        g.ring.push_back(n.edge_base[e] + ((d & 1) ? len - 1 - k : k - 1));
+      const std::uint32_t len = s.edge_length[d >> 1];
+      ring += len;
+      if (side == 0) g.a += len;
+      if (side == 1) g.b += len;
       d = s.dart_next[d];
-    } while (d != s.face_dart[f]);
-    if (g.ring.size() != 2ull * (g.a + g.b))
-      return "patch " + std::to_string(f) + " has unequal opposite sides";
+      if (s.dart_corner[d]) ++side;
+    } while (d != d0);
+    if (ring != 2ull * (g.a + g.b)) return "patch " + std::to_string(f) + " has unequal opposite sides";
     g.interior_base = static_cast<std::uint32_t>(next);
     next += static_cast<std::uint64_t>(g.a - 1) * (g.b - 1);
     if (next > 0xFFFFFFF0u) return "too many vertices";
+    ring_total += ring;
   }
   n.vertex_count = static_cast<std::uint32_t>(next);
+  n.rings.resize(ring_total);
+  std::uint32_t* r = n.rings.data();
+  for (std::uint32_t f = 0; f < s.face_count(); ++f) {
+    if (s.face_hole[f]) continue;
+    PatchGrid& g = n.patches[f];
+    g.ring = {r, 2ull * (g.a + g.b)};
+    const std::uint32_t d0 = s.face_dart[f];
+    std::uint32_t d = d0;
+    do {
+      const std::uint32_t e = d >> 1, len = s.edge_length[e], base = n.edge_base[e];
+      *r++ = s.dart_vertex[d];
+      if (d & 1) {
+        for (std::uint32_t k = len; k > 1; --k) *r++ = base + k - 2;
+      } else {
+        for (std::uint32_t k = 1; k < len; ++k) *r++ = base + k - 1;
+      }
+      d = s.dart_next[d];
+    } while (d != d0);
+  }
   return {};
 }
 
@@ -155,9 +201,11 @@ GridLayout grid_layout(const ComponentPartition& part, Numbering& n) {
     if (!why.empty()) throw Error(ErrorCode::kFormat, "schematic: " + why);
   }
   out.vertex_count = layout_vertex_count(part, n);
-  out.quads.reserve(4 * std::size_t{layout_face_count(part, n)});
-  for_each_cell(part, &n, nullptr, [&](const std::uint32_t* c, std::uint32_t) {
-    out.quads.insert(out.quads.end(), c, c + 4);
+  out.quads.resize(4 * std::size_t{layout_face_count(part, n)});
+  std::uint32_t* q = out.quads.data();
+  for_each_cell(part, &n, nullptr, [&q](const std::uint32_t* c, std::uint32_t) {
+    std::copy(c, c + 4, q);
+    q += 4;
     return true;
   });
   return out;
