@@ -17,10 +17,10 @@
 #include <system_error>
 #include <thread>
 #include <tuple>
-#include <unordered_set>
 
 #include "order_set.h"
 #include "qsp/error.h"
+#include "u32map.h"
 
 namespace qsp {
 namespace {
@@ -60,6 +60,7 @@ struct Traversal {
   explicit Traversal(std::uint32_t nd) : label(nd, kInvalid), order(nd), open(nd) {}
   std::vector<std::uint32_t> label;  // per dart: its label; all kInvalid between traversals
   std::vector<std::uint32_t> order;  // darts in label order, of the last traversal
+  std::uint32_t root = kInvalid;     // the last traversal's root, if it went to the end
   OpenLabels open;                   // none open between traversals
   TopologyCode code;                 // of the last traversal (its kind is the caller's)
 };
@@ -70,9 +71,13 @@ struct Traversal {
 // partial); true when the whole code equals it, or without `expect`.
 bool traverse(const Schematic& s, std::uint32_t root, Traversal& t, const TopologyCode* expect = nullptr) {
   const std::size_t nd = t.order.size();
-  t.code.next_ref.resize(nd);  // no-ops but after the streams changed hands with a smaller code's
-  t.code.edge_length.resize(nd / 2);
-  t.code.corner.resize(nd);
+  // Sized only after the streams changed hands with a smaller code's (a resize call per try was a
+  // seventh of trying a remembered shape's roots).
+  if (t.code.next_ref.size() != nd || t.code.edge_length.size() != nd / 2 || t.code.corner.size() != nd) {
+    t.code.next_ref.resize(nd);
+    t.code.edge_length.resize(nd / 2);
+    t.code.corner.resize(nd);
+  }
   std::uint32_t* const label = t.label.data();
   std::uint32_t* const order = t.order.data();
   std::uint32_t* const next_ref = t.code.next_ref.data();
@@ -80,6 +85,7 @@ bool traverse(const Schematic& s, std::uint32_t root, Traversal& t, const Topolo
   std::uint8_t* const corner = t.code.corner.data();
   std::uint32_t labelled = 0;
   bool same = true;
+  t.root = kInvalid;
   auto assign = [&](std::uint32_t d) {  // labels the edge of d, d first
     label[d] = labelled;
     label[d ^ 1] = labelled + 1;
@@ -110,6 +116,7 @@ bool traverse(const Schematic& s, std::uint32_t root, Traversal& t, const Topolo
     return false;
   }
   if (labelled != nd) throw Error(ErrorCode::kInternal, "canonical: schematic is not connected");
+  t.root = root;
   // Every dart was opened once and closed once (next is a permutation), so none is open again.
   return true;
 }
@@ -131,6 +138,8 @@ Schematic schematic_from_next(std::vector<std::uint32_t> next, std::vector<std::
   }
   s.dart_vertex.assign(nd, kInvalid);
   s.dart_face.assign(nd, kInvalid);
+  s.face_dart.reserve(nd / 4 + 1);  // most faces are patches of four or more darts
+  s.face_hole.reserve(nd / 4 + 1);
   for (std::uint32_t d = 0; d < nd; ++d) {
     if (s.dart_vertex[d] == kInvalid) {
       const std::uint32_t id = s.vertex_count++;
@@ -157,8 +166,15 @@ Schematic schematic_from_next(std::vector<std::uint32_t> next, std::vector<std::
 }
 
 int compare_codes(const TopologyCode& x, const TopologyCode& y) {
+  // Lexicographic. Equal streams are the common case (tied roots, repeated components): one memcmp
+  // tells, where an element-wise comparison cost a third of sorting mh_base's components.
   auto cmp = [](const auto& a, const auto& b) {
-    return std::lexicographical_compare_three_way(a.begin(), a.end(), b.begin(), b.end());
+    const std::size_t n = std::min(a.size(), b.size());
+    if (n != 0 && std::memcmp(a.data(), b.data(), n * sizeof a[0]) != 0) {
+      const auto m = std::mismatch(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(n), b.begin());
+      return *m.first <=> *m.second;
+    }
+    return a.size() <=> b.size();
   };
   auto t = std::make_tuple(x.kind, x.a, x.b, x.twist) <=> std::make_tuple(y.kind, y.a, y.b, y.twist);
   if (t == 0) t = x.next_ref.size() <=> y.next_ref.size();
@@ -308,7 +324,7 @@ std::vector<std::uint32_t> tied_roots(const Schematic& s, TopologyCode& best) {
 ComponentPartition relabel(const ComponentPartition& part, std::uint32_t root, Traversal& t) {
   const Schematic& s = part.schematic;
   const std::uint32_t nd = s.dart_count();
-  traverse(s, root, t);
+  if (t.root != root) traverse(s, root, t);  // the last traversal tried is often the chosen one's
   const std::vector<std::uint32_t>& order = t.order;
   std::vector<std::uint32_t> label(nd);
   for (std::uint32_t i = 0; i < nd; ++i) label[order[i]] = i;
@@ -319,8 +335,17 @@ ComponentPartition relabel(const ComponentPartition& part, std::uint32_t root, T
     corner[i] = s.dart_corner[order[i]];
   }
   for (std::uint32_t e = 0; e < nd / 2; ++e) lengths[e] = s.edge_length[order[2 * e] >> 1];
-  ComponentPartition p = part;
-  p.schematic = schematic_from_next(std::move(next), std::move(corner), std::move(lengths));
+  // Every field but the schematic, which is rebuilt: copying it only to replace it cost a tenth of
+  // canonicalize.
+  ComponentPartition p{
+      .kind = part.kind,
+      .component = part.component,
+      .extraordinary = part.extraordinary,
+      .schematic = schematic_from_next(std::move(next), std::move(corner), std::move(lengths)),
+      .a = part.a,
+      .b = part.b,
+      .twist = part.twist,
+      .anchor_halfedge = part.anchor_halfedge};
   p.schematic.dart_halfedge.resize(nd);
   p.schematic.vertex_mesh.assign(p.schematic.vertex_count, kInvalid);
   for (std::uint32_t i = 0; i < nd; ++i) {
@@ -414,8 +439,13 @@ bool canonical_from_known(const QuadMesh& mesh, const Adjacency& adj, const Comp
   const std::uint32_t nd = s.dart_count(), nv = s.vertex_count;
   for (const KnownShape& k : memory.shapes) {
     if (k.code.kind != part.kind || k.code.next_ref.size() != nd || k.vertices != nv) continue;
+    // A root whose first edge or corner differs fails at once: tested before a traversal is set up.
+    auto matches = [&](std::uint32_t root) {
+      return s.edge_length[root >> 1] == k.code.edge_length[0] && s.dart_corner[root] == k.code.corner[0] &&
+             traverse(s, root, t, &k.code);
+    };
     std::uint32_t root = 0;
-    while (root < nd && !traverse(s, root, t, &k.code)) ++root;
+    while (root < nd && !matches(root)) ++root;
     if (root == nd) continue;
     // t.order: the traversal from the first tied root's image. Each tied root's images, by dart.
     const std::size_t stride = 1 + std::size_t{nv}, ties = k.labels.size() / stride;
@@ -501,7 +531,8 @@ std::vector<std::uint32_t> structured_anchors(const Adjacency& adj, const Compon
   // Work proportional to the component, not the mesh: a mesh may hold thousands of small rings.
   if (part.kind == ComponentKind::kAnnulus) {
     // Every boundary half-edge of the component: both loops, every start.
-    std::unordered_set<std::uint32_t> seen{part.anchor_halfedge >> 2};
+    detail::U32Map seen(faces);  // faces visited (value unused)
+    seen.insert(part.anchor_halfedge >> 2, 0);
     std::vector<std::uint32_t> stack{part.anchor_halfedge >> 2};
     while (!stack.empty()) {
       const std::uint32_t f = stack.back();
@@ -510,7 +541,7 @@ std::vector<std::uint32_t> structured_anchors(const Adjacency& adj, const Compon
         const std::uint32_t t = adj.twin[h];
         if (adj.is_exterior(t))
           anchors.push_back(h);
-        else if (seen.insert(t >> 2).second)
+        else if (seen.insert(t >> 2, 0))
           stack.push_back(t >> 2);
       }
     }
@@ -519,12 +550,13 @@ std::vector<std::uint32_t> structured_anchors(const Adjacency& adj, const Compon
   // Torus: orient every face like the anchor (its "bottom" half-edge), then try the four rotations.
   std::vector<std::uint32_t> bottom{part.anchor_halfedge};  // per face, in discovery order
   {
-    std::unordered_set<std::uint32_t> seen{part.anchor_halfedge >> 2};
+    detail::U32Map seen(faces);
+    seen.insert(part.anchor_halfedge >> 2, 0);
     auto prev = [&](std::uint32_t h) { return adj.next(adj.next(adj.next(h))); };
     for (std::size_t i = 0; i < bottom.size(); ++i) {
       const std::uint32_t b = bottom[i];
       for (std::uint32_t g : {right(b), up(b), prev(adj.twin[prev(b)]), adj.next(adj.next(adj.twin[b]))})
-        if (seen.insert(g >> 2).second) bottom.push_back(g);
+        if (seen.insert(g >> 2, 0)) bottom.push_back(g);
     }
   }
   std::tuple<std::uint32_t, std::uint32_t, std::uint32_t> best{~0u, ~0u, ~0u};
