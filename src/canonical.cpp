@@ -12,12 +12,15 @@
 #include <bit>
 #include <cstring>
 #include <exception>
+#include <future>
 #include <numeric>
 #include <string>
 #include <system_error>
 #include <thread>
 #include <tuple>
 
+#include "beside.h"
+#include "layout_grid.h"
 #include "order_set.h"
 #include "qsp/error.h"
 #include "u32map.h"
@@ -390,13 +393,20 @@ class RootChoice {
     }
   }
   // The component relabelled from the chosen root, with its layout map and automorphism count.
-  void finish(const Adjacency& adj, const ComponentPartition& part, Traversal& t, CanonicalComponent& out) {
+  // `walks`: of part's patches (walk_patches), or null.
+  void finish(const Adjacency& adj, const ComponentPartition& part, Traversal& t, CanonicalComponent& out,
+              const PatchWalks* walks = nullptr) {
+    auto map_of = [&](const ComponentPartition& p) {
+      LayoutMap m;
+      if (walks && link_from_walks(p, part.schematic, t.order, *walks, m)) return m;
+      return layout_to_mesh(p, adj);
+    };
     out.automorphisms = tied_;
     out.part = relabel(part, finalists_[0], t);
-    out.map = layout_to_mesh(out.part, adj);
+    out.map = map_of(out.part);
     for (std::size_t i = 1; i < finalists_.size(); ++i) {
       ComponentPartition p = relabel(part, finalists_[i], t);
-      LayoutMap m = layout_to_mesh(p, adj);
+      LayoutMap m = map_of(p);
       if (compare_positions(mesh_, m.vertex, out.map.vertex) < 0) {
         out.part = std::move(p);
         out.map = std::move(m);
@@ -464,14 +474,22 @@ bool canonical_from_known(const QuadMesh& mesh, const Adjacency& adj, const Comp
   return false;
 }
 
+// From this many faces, a component canonicalized while the second core is idle has its patches
+// walked there (link's walk, the larger part of its layout map) while this thread chooses the root.
+constexpr std::uint32_t kWalksBesideFrom = 4096;
+
+// `beside_ok`: the second core is free for this component's patch walks.
 CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
-                                     const ComponentPartition& part, ShapeMemory& memory) {
+                                     const ComponentPartition& part, ShapeMemory& memory, bool beside_ok) {
   const Schematic& s = part.schematic;
   const std::uint32_t nd = s.dart_count();
   CanonicalComponent out;
   out.code.kind = part.kind;
   Traversal t(nd);
   if (nd <= kKnownShapeDarts && canonical_from_known(mesh, adj, part, memory, t, out)) return out;
+  std::future<PatchWalks> walks;
+  if (beside_ok && adj.component_faces[part.component] >= kWalksBesideFrom)
+    walks = beside(true, [&part, &adj] { return walk_patches(part, adj); });
   std::size_t same_size = 0;
   for (const KnownShape& k : memory.shapes)
     same_size += k.code.next_ref.size() == nd && k.vertices == s.vertex_count;
@@ -497,7 +515,8 @@ CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
                      for (const std::uint32_t i : first) shape.labels.push_back(label_of[order[i]]);
                    }
                  });
-  choice.finish(adj, part, t, out);
+  const PatchWalks w = walks.valid() ? walks.get() : PatchWalks{};
+  choice.finish(adj, part, t, out, w.ok ? &w : nullptr);
   if (remember) {
     shape.code = out.code;
     memory.shapes.push_back(std::move(shape));
@@ -650,11 +669,12 @@ bool operator<(const TopologyCode& x, const TopologyCode& y) { return compare_co
 
 namespace {
 
+// `beside_ok`: as canonical_general's.
 CanonicalComponent canonical_component(const QuadMesh& mesh, const Adjacency& adj,
-                                       const ComponentPartition& part, ShapeMemory& memory) {
+                                       const ComponentPartition& part, ShapeMemory& memory, bool beside_ok) {
   if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus)
     return canonical_structured(mesh, adj, part);
-  return canonical_general(mesh, adj, part, memory);
+  return canonical_general(mesh, adj, part, memory, beside_ok);
 }
 
 // A component's share of the work, roughly: its layout's faces, and its darts times the traversals of
@@ -686,7 +706,7 @@ void canonical_components_on_two_threads(const QuadMesh& mesh, const Adjacency& 
     for (std::size_t k; (k = next.fetch_add(1, std::memory_order_relaxed)) < n;) {
       const std::uint32_t i = work[k];
       try {
-        out[i] = canonical_component(mesh, adj, partition.components[i], memory);
+        out[i] = canonical_component(mesh, adj, partition.components[i], memory, false);
       } catch (...) {
         failed[i] = std::current_exception();
       }
@@ -726,8 +746,10 @@ CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Par
   } else {
     out.components.reserve(n);
     ShapeMemory memory;
+    // The second core idle: a large component's patches are walked there.
+    const bool beside_ok = threads != 1 && std::thread::hardware_concurrency() > 1;
     for (const auto& part : partition.components)
-      out.components.push_back(canonical_component(mesh, adj, part, memory));
+      out.components.push_back(canonical_component(mesh, adj, part, memory, beside_ok));
   }
   std::vector<std::uint32_t> idx(out.components.size());
   std::iota(idx.begin(), idx.end(), 0);

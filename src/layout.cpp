@@ -193,6 +193,125 @@ std::string number_schematic(const Schematic& s, Numbering& n) {
   return {};
 }
 
+PatchWalks walk_patches(const ComponentPartition& part, const Adjacency& adj) noexcept {
+  PatchWalks w;
+  try {
+    const Schematic& s = part.schematic;
+    const std::uint32_t nf = s.face_count();
+    w.a.assign(nf, 0);
+    w.b.assign(nf, 0);
+    w.cell_begin.assign(nf + 1, 0);
+    w.point_begin.assign(nf + 1, 0);
+    for (std::uint32_t f = 0; f < nf; ++f) {
+      std::uint64_t cells = 0, points = 0;
+      if (!s.face_hole[f]) {
+        const PatchSize z = patch_size(s, f);
+        if (z.a == 0 || z.b == 0) return w;
+        w.a[f] = z.a, w.b[f] = z.b;
+        cells = std::uint64_t{z.a} * z.b;
+        points = (std::uint64_t{z.a} + 1) * (z.b + 1);
+      }
+      w.cell_begin[f + 1] = w.cell_begin[f] + cells;
+      w.point_begin[f + 1] = w.point_begin[f] + points;
+      if (w.cell_begin[f + 1] > adj.component_faces[part.component]) return w;
+    }
+    w.cell.resize(w.cell_begin[nf]);
+    w.point.assign(w.point_begin[nf], kInvalid);
+    for (std::uint32_t f = 0; f < nf; ++f) {
+      if (s.face_hole[f]) continue;
+      const std::uint32_t a = w.a[f], b = w.b[f];
+      std::uint32_t* const cell = &w.cell[w.cell_begin[f]];
+      std::uint32_t* const point = &w.point[w.point_begin[f]];
+      std::uint32_t h = s.dart_halfedge[s.face_dart[f]];
+      for (std::uint32_t j = 0; j < b; ++j) {
+        std::uint32_t g = h;
+        for (std::uint32_t i = 0; i < a; ++i) {
+          const std::uint32_t face = adj.face(g);
+          if (face == kInvalid || adj.face_component[face] != part.component) return w;
+          cell[j * a + i] = g;
+          const std::uint32_t* const corner = &adj.origin[g & ~3u];
+          const std::size_t p = std::size_t{j} * (a + 1) + i;
+          const std::size_t at[4] = {p, p + 1, p + a + 2, p + a + 1};
+          for (std::uint32_t k = 0; k < 4; ++k) {
+            const std::uint32_t mv = corner[(g + k) & 3u];
+            if (point[at[k]] != mv && point[at[k]] != kInvalid) return w;
+            point[at[k]] = mv;
+          }
+          if (i + 1 < a) g = right_of(adj, g);
+        }
+        if (j + 1 < b) h = up_of(adj, h);
+      }
+    }
+    w.ok = true;
+  } catch (...) {
+    w.ok = false;  // link decides
+  }
+  return w;
+}
+
+bool link_from_walks(const ComponentPartition& relabelled, const Schematic& original,
+                     std::span<const std::uint32_t> order, const PatchWalks& walks, LayoutMap& map) {
+  const Schematic& s = relabelled.schematic;
+  if (!walks.ok || order.size() != s.dart_count()) return false;
+  Numbering n;
+  if (!number_schematic(s, n).empty()) return false;
+  map.vertex.assign(n.vertex_count, kInvalid);
+  // As many cells as the walks hold, if the patches are theirs (checked patch by patch).
+  map.face.resize(walks.cell.size());
+  map.rotation.resize(walks.cell.size());
+  std::uint32_t* face = map.face.data();
+  std::uint8_t* rotation = map.rotation.data();
+  std::uint64_t cells = 0;
+  std::vector<std::uint32_t> row;
+  for (std::uint32_t f = 0; f < s.face_count(); ++f) {
+    if (s.face_hole[f]) continue;
+    // The patch is the one of original's face under its first corner dart, turned so that its grid
+    // starts at that face's corner k: k quarter turns, its cells' bottom half-edges k corners on.
+    const std::uint32_t od = order[s.face_dart[f]], of = original.dart_face[od];
+    if (!original.dart_corner[original.face_dart[of]]) return false;
+    std::uint32_t k = 0;
+    for (std::uint32_t d = original.face_dart[of]; d != od && k < 4;) {
+      d = original.dart_next[d];
+      k += original.dart_corner[d];
+    }
+    const PatchGrid& g = n.patches[f];
+    const std::uint32_t a = walks.a[of], b = walks.b[of];
+    if (k >= 4 || g.a != (k & 1 ? b : a) || g.b != (k & 1 ? a : b)) return false;
+    cells += std::uint64_t{a} * b;
+    if (cells > walks.cell.size()) return false;
+    const std::uint32_t* const cell = &walks.cell[walks.cell_begin[of]];
+    const std::uint32_t* const point = &walks.point[walks.point_begin[of]];
+    // Cell (i, j) of the turned grid is the original's c0 + i * ci + j * cj (a cells a row), point (i, j)
+    // the original's p0 + i * pi + j * pj (a + 1 points a row).
+    const std::int64_t A = a, B = b, W = A + 1;
+    std::int64_t st[6];
+    if (k == 0) st[0] = 0, st[1] = 1, st[2] = A, st[3] = 0, st[4] = 1, st[5] = W;
+    if (k == 1) st[0] = A - 1, st[1] = A, st[2] = -1, st[3] = A, st[4] = W, st[5] = -1;
+    if (k == 2) st[0] = A * B - 1, st[1] = -1, st[2] = -A, st[3] = B * W + A, st[4] = -1, st[5] = -W;
+    if (k == 3) st[0] = (B - 1) * A, st[1] = -A, st[2] = 1, st[3] = B * W, st[4] = -W, st[5] = 1;
+    for (std::uint32_t j = 0; j < g.b; ++j) {
+      std::int64_t c = st[0] + j * st[2];  // an index: a pointer would step outside the array
+      for (std::uint32_t i = 0; i < g.a; ++i, c += st[1]) {
+        const std::uint32_t turned = (cell[c] & ~3u) | ((cell[c] + k) & 3u);
+        *face++ = turned >> 2;
+        *rotation++ = static_cast<std::uint8_t>(turned & 3);
+      }
+    }
+    row.resize(std::size_t{g.a} + 1);
+    for (std::uint32_t j = 0; j <= g.b; ++j) {
+      g.row(j, row.data());
+      std::int64_t p = st[3] + j * st[5];
+      for (std::uint32_t i = 0; i <= g.a; ++i, p += st[4]) {
+        std::uint32_t& slot = map.vertex[row[i]];
+        if (slot != point[p] && slot != kInvalid) return false;
+        slot = point[p];
+      }
+    }
+  }
+  return cells == walks.cell.size() &&
+         std::find(map.vertex.begin(), map.vertex.end(), kInvalid) == map.vertex.end();
+}
+
 GridLayout grid_layout(const ComponentPartition& part, Numbering& n) {
   GridLayout out;
   const bool general = part.kind == ComponentKind::kUnstructured || part.kind == ComponentKind::kDisk;

@@ -59,6 +59,23 @@ struct Numbering {
 // out (unequal opposite sides, too many vertices).
 std::string number_schematic(const Schematic& s, Numbering& n);
 
+// The mesh under each patch of a general component, walked from its face_dart corner as link walks
+// it: it depends on the patches, not on the dart labels, so canonicalize computes it on the second core
+// while it chooses the root. Flat, per face (holes: empty).
+struct PatchWalks {
+  std::vector<std::uint32_t> a, b;                   // per face: the grid's sizes
+  std::vector<std::size_t> cell_begin, point_begin;  // per face: where its cells and points start
+  std::vector<std::uint32_t> cell;                   // per cell, row by row: the mesh half-edge at its bottom
+  std::vector<std::uint32_t> point;  // per grid point, (a + 1) a row, row by row: its mesh vertex
+  bool ok = false;  // false: some walk leaves the component, clashes or does not fit; link decides
+};
+PatchWalks walk_patches(const ComponentPartition& part, const Adjacency& adj) noexcept;
+
+// layout_to_mesh's map of `relabelled`, whose dart i is dart order[i] of `original`, from the walks
+// of `original`: true when it holds; false (map undefined) where layout_to_mesh is to decide.
+bool link_from_walks(const ComponentPartition& relabelled, const Schematic& original,
+                     std::span<const std::uint32_t> order, const PatchWalks& walks, LayoutMap& map);
+
 // grid_layout, also handing back the numbering of a schematic component (left empty for an annulus or
 // torus), for the stencils.
 GridLayout grid_layout(const ComponentPartition& part, Numbering& numbering);

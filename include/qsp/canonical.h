@@ -45,8 +45,9 @@ struct CanonicalMesh {
 // the float bits in layout order), so the result depends only on the mesh up to isomorphism plus
 // its positions. Never compares all flags pairwise: dart colours are refined first. `threads`: 1 =
 // this thread only; 0 = a second thread for the components when there are several and enough work
-// besides the largest; 2 or more = two threads whenever there are two components (tests). The result
-// never depends on it; errors are those the first failing component gives, as on one thread.
+// besides the largest, else for a large component's patch walks; 2 or more = two threads whenever there are
+// two components (tests). The result never depends on it; errors are those the first failing component gives,
+// as on one thread.
 CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Partition& partition,
                            unsigned threads = 0);
 
