@@ -18,6 +18,7 @@
 #include <system_error>
 #include <thread>
 #include <tuple>
+#include <utility>
 
 #include "beside.h"
 #include "layout_grid.h"
@@ -425,9 +426,18 @@ class RootChoice {
 // again in another place (the 125 helper cubes of a MakeHuman mesh) is canonicalized from it with
 // one traversal, no colour refinement and no traversal per tied root. Its tied roots are the images
 // of these, and their order is theirs by dart number, as candidate order is.
+// Sums of a schematic's edge lengths and of their squares: equal for isomorphic schematics, mostly
+// unequal for shapes of the same size but other proportions.
+std::pair<std::uint64_t, std::uint64_t> length_sums(const std::vector<std::uint32_t>& lengths) {
+  std::pair<std::uint64_t, std::uint64_t> sums{0, 0};
+  for (const std::uint32_t l : lengths) sums.first += l, sums.second += std::uint64_t{l} * l;
+  return sums;
+}
+
 struct KnownShape {
   TopologyCode code;  // the smallest
   std::uint32_t vertices = 0;
+  std::pair<std::uint64_t, std::uint64_t> lengths;  // length_sums
   // Per tied root, in candidate order, 1 + vertices labels in the traversal from the first tied
   // root: the root's own, then those of the darts where its traversal first reaches each vertex.
   std::vector<std::uint32_t> labels;
@@ -447,8 +457,12 @@ bool canonical_from_known(const QuadMesh& mesh, const Adjacency& adj, const Comp
                           const ShapeMemory& memory, Traversal& t, CanonicalComponent& out) {
   const Schematic& s = part.schematic;
   const std::uint32_t nd = s.dart_count(), nv = s.vertex_count;
+  // Tried before any root of a shape: a box met among the helper cubes once cost a dozen traversals
+  // for every cube after it.
+  const auto lengths = length_sums(s.edge_length);
   for (const KnownShape& k : memory.shapes) {
-    if (k.code.kind != part.kind || k.code.next_ref.size() != nd || k.vertices != nv) continue;
+    if (k.code.kind != part.kind || k.code.next_ref.size() != nd || k.vertices != nv || k.lengths != lengths)
+      continue;
     // A root whose first edge or corner differs fails at once: tested before a traversal is set up.
     auto matches = [&](std::uint32_t root) {
       return s.edge_length[root >> 1] == k.code.edge_length[0] && s.dart_corner[root] == k.code.corner[0] &&
@@ -496,6 +510,7 @@ CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
   const bool remember = nd <= kKnownShapeDarts && same_size < kKnownShapesPerSize;
   KnownShape shape;
   shape.vertices = s.vertex_count;
+  shape.lengths = length_sums(s.edge_length);
   std::vector<std::uint32_t> label_of, first;  // in the traversal from the first tied root
   std::vector<std::uint8_t> seen;
   RootChoice choice(mesh, s);
