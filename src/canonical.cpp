@@ -492,18 +492,19 @@ bool canonical_from_known(const QuadMesh& mesh, const Adjacency& adj, const Comp
 // walked there (link's walk, the larger part of its layout map) while this thread chooses the root.
 constexpr std::uint32_t kWalksBesideFrom = 4096;
 
-// `beside_ok`: the second core is free for this component's patch walks.
+// `beside_ok`: the second core is free for this component's patch walks. `walks`: those walks, if
+// another thread makes them.
 CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
-                                     const ComponentPartition& part, ShapeMemory& memory, bool beside_ok) {
+                                     const ComponentPartition& part, ShapeMemory& memory, bool beside_ok,
+                                     std::shared_future<PatchWalks> walks) {
   const Schematic& s = part.schematic;
   const std::uint32_t nd = s.dart_count();
   CanonicalComponent out;
   out.code.kind = part.kind;
   Traversal t(nd);
   if (nd <= kKnownShapeDarts && canonical_from_known(mesh, adj, part, memory, t, out)) return out;
-  std::future<PatchWalks> walks;
-  if (beside_ok && adj.component_faces[part.component] >= kWalksBesideFrom)
-    walks = beside(true, [&part, &adj] { return walk_patches(part, adj); });
+  if (!walks.valid() && beside_ok && adj.component_faces[part.component] >= kWalksBesideFrom)
+    walks = beside(true, [&part, &adj] { return walk_patches(part, adj); }).share();
   std::size_t same_size = 0;
   for (const KnownShape& k : memory.shapes)
     same_size += k.code.next_ref.size() == nd && k.vertices == s.vertex_count;
@@ -530,8 +531,7 @@ CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
                      for (const std::uint32_t i : first) shape.labels.push_back(label_of[order[i]]);
                    }
                  });
-  const PatchWalks w = walks.valid() ? walks.get() : PatchWalks{};
-  choice.finish(adj, part, t, out, w.ok ? &w : nullptr);
+  choice.finish(adj, part, t, out, walks.valid() && walks.get().ok ? &walks.get() : nullptr);
   if (remember) {
     shape.code = out.code;
     memory.shapes.push_back(std::move(shape));
@@ -684,12 +684,16 @@ bool operator<(const TopologyCode& x, const TopologyCode& y) { return compare_co
 
 namespace {
 
-// `beside_ok`: as canonical_general's.
+bool is_general(const ComponentPartition& part) {
+  return part.kind == ComponentKind::kUnstructured || part.kind == ComponentKind::kDisk;
+}
+
+// `beside_ok`, `walks`: as canonical_general's.
 CanonicalComponent canonical_component(const QuadMesh& mesh, const Adjacency& adj,
-                                       const ComponentPartition& part, ShapeMemory& memory, bool beside_ok) {
-  if (part.kind == ComponentKind::kAnnulus || part.kind == ComponentKind::kTorus)
-    return canonical_structured(mesh, adj, part);
-  return canonical_general(mesh, adj, part, memory, beside_ok);
+                                       const ComponentPartition& part, ShapeMemory& memory, bool beside_ok,
+                                       std::shared_future<PatchWalks> walks = {}) {
+  if (!is_general(part)) return canonical_structured(mesh, adj, part);
+  return canonical_general(mesh, adj, part, memory, beside_ok, std::move(walks));
 }
 
 // A component's share of the work, roughly: its layout's faces, and its darts times the traversals of
@@ -716,12 +720,21 @@ void canonical_components_on_two_threads(const QuadMesh& mesh, const Adjacency& 
                    [&](std::uint32_t x, std::uint32_t y) { return cost[x] > cost[y]; });
   std::vector<std::exception_ptr> failed(n);
   std::atomic<std::size_t> next{0};
-  auto run = [&] {
+  // A large first component has its patches walked by the helper before it takes components: that
+  // one's root is chosen meanwhile, and the others, done sooner, left the helper idle at the end.
+  const ComponentPartition& largest = partition.components[work[0]];
+  const bool walk_largest = is_general(largest) && adj.component_faces[largest.component] >= kWalksBesideFrom;
+  std::promise<PatchWalks> walked;
+  std::shared_future<PatchWalks> walks;
+  if (walk_largest) walks = walked.get_future().share();
+  auto run = [&](bool walk_first) {
+    if (walk_first) walked.set_value(walk_patches(largest, adj));
     ShapeMemory memory;  // each thread its own: a component's result never depends on it
     for (std::size_t k; (k = next.fetch_add(1, std::memory_order_relaxed)) < n;) {
       const std::uint32_t i = work[k];
       try {
-        out[i] = canonical_component(mesh, adj, partition.components[i], memory, false);
+        out[i] = canonical_component(mesh, adj, partition.components[i], memory, false,
+                                     k == 0 ? walks : std::shared_future<PatchWalks>{});
       } catch (...) {
         failed[i] = std::current_exception();
       }
@@ -729,11 +742,11 @@ void canonical_components_on_two_threads(const QuadMesh& mesh, const Adjacency& 
   };
   std::thread helper;
   try {
-    helper = std::thread(run);
+    helper = std::thread(run, walk_largest);
   } catch (const std::system_error&) {
-    // no thread to be had: this one does all
+    walks = {};  // no thread to be had: this one does all, and walks nothing beside
   }
-  run();
+  run(false);
   if (helper.joinable()) helper.join();
   for (const std::exception_ptr& e : failed)
     if (e) std::rethrow_exception(e);
