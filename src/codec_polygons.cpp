@@ -451,7 +451,8 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     // The per-corner sections need only the face map and the decoder's positions, which for a file
     // without a polygons section come from the grid: where the encode knows the map before the
     // geometry, they are coded beside it (the UVs were a third of compressing mh_female_generic's whole
-    // OBJ). Checked against the final map: a map that differs (none does) codes them again below.
+    // OBJ). Checked against the final file: a map that differs, or a polygons section (neither happens),
+    // codes them again below.
     FaceMap early_map;
     std::future<EarlySections> early;
     const auto start_early = [&](const FaceMap& m) {
@@ -478,7 +479,9 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     std::optional<EarlySections> ready;
     if (early.valid()) {
       EarlySections e = early.get();
-      if (early_map.face == map.face && early_map.rotation == map.rotation && early_map.vertex == map.vertex)
+      if (early_map.face == map.face && early_map.rotation == map.rotation &&
+          early_map.vertex == map.vertex &&
+          container::parse(bytes).find(container::kTagPolygons) == nullptr)  // its positions are the grid's
         ready = std::move(e);
     }
     const bool exact = !mesh.positions64.empty() && o.quantize_bits == 0;
