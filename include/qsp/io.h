@@ -229,13 +229,15 @@ std::string read_file_bytes(const std::string& path);
 // Write bytes atomically: to an unnamed temporary file in the target's folder (O_TMPFILE; a named
 // hidden one where unsupported), then link it into place, or in place of an existing file by
 // exchanging their names and removing the old one, so a process killed at any moment leaves no
-// partial output (at worst, killed between those two steps, the old file under a hidden name). With `sync` the file is flushed to disk (fsync) before it gets its name
-// and the folder after, so a power cut cannot leave it short either (gzip's --synchronous); without,
-// as gzip, zstd and Draco write by default, the system flushes it later: that wait was a tenth of
-// decompressing a 19k-vertex mesh. Refuses (kIo) to replace an existing file unless `overwrite`;
-// "-" writes stdout; an existing device or FIFO (e.g. /dev/full) is written in place, never
-// replaced. On any failure the temporary file is removed and Error(kIo) says why (e.g. "No space
-// left on device").
+// partial output (at worst, killed between those two steps, the old file under a hidden name). With
+// `sync` the file is flushed to disk (fsync) before it gets its name and the folder after, so a power
+// cut cannot leave it short either (gzip's --synchronous); without, as gzip, zstd and Draco write by
+// default, the system flushes it later (that wait was a tenth of decompressing a 19k-vertex mesh), and
+// a power cut before then can leave the new file short, the old one gone (ext4 wrote out a file
+// renamed over another at once, 0.2-3 ms a run; exchanging names does not ask that). Refuses (kIo) to
+// replace an existing file unless `overwrite`; "-" writes stdout; an existing device or FIFO (e.g.
+// /dev/full) is written in place, never replaced. On any failure the temporary file is removed and
+// Error(kIo) says why (e.g. "No space left on device").
 void write_file_atomic(const std::string& path, std::string_view bytes, bool overwrite, bool sync = false);
 
 // Test seam: `hook` (nullptr, the default, for none) is called by write_file_atomic once the output is
