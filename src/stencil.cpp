@@ -114,8 +114,8 @@ void across_patches(const Schematic& s, const Numbering& n, std::vector<Stencil>
   }
 }
 
-// A patch's points row by row (PatchGrid::at, without its tests of which side a point is on at every
-// read: they were a seventh of patch order), turned so that its raster starts at corner `rot`
+// A patch's points row by row (PatchGrid::row, not PatchGrid::at's tests of which side a point is on
+// at every read: they were a seventh of patch order), turned so that its raster starts at corner `rot`
 // (0 = face_dart's): point (i, j) of the turned (a, b)-grid is grid[origin + i * di + j * dj].
 class Raster {
  public:
@@ -123,20 +123,7 @@ class Raster {
     g_ = &g;
     width_ = std::int64_t{g.a} + 1;
     grid_.resize(static_cast<std::size_t>(width_ * (std::int64_t{g.b} + 1)));
-    if (g.a >= 1 && g.b >= 1) {
-      for (std::uint32_t i = 0; i <= g.a; ++i) grid_[i] = g.ring[i];
-      for (std::uint32_t j = 1; j < g.b; ++j) {
-        std::uint32_t* const row = &grid_[static_cast<std::size_t>(j * width_)];
-        row[0] = g.ring[2 * g.a + 2 * g.b - j];
-        for (std::uint32_t i = 1; i < g.a; ++i) row[i] = g.interior_base + (j - 1) * (g.a - 1) + (i - 1);
-        row[g.a] = g.ring[g.a + j];
-      }
-      std::uint32_t* const top = &grid_[static_cast<std::size_t>(g.b * width_)];
-      for (std::uint32_t i = 0; i <= g.a; ++i) top[i] = g.ring[2 * g.a + g.b - i];
-    } else {
-      for (std::uint32_t j = 0; j <= g.b; ++j)
-        for (std::uint32_t i = 0; i <= g.a; ++i) grid_[static_cast<std::size_t>(j * width_ + i)] = g.at(i, j);
-    }
+    for (std::uint32_t j = 0; j <= g.b; ++j) g.row(j, &grid_[static_cast<std::size_t>(j * width_)]);
     turn(0);
   }
   void turn(int r) {
