@@ -503,8 +503,9 @@ CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
   out.code.kind = part.kind;
   Traversal t(nd);
   if (nd <= kKnownShapeDarts && canonical_from_known(mesh, adj, part, memory, t, out)) return out;
+  Beside<PatchWalks> own;  // made beside here, where no other thread makes them
   if (!walks.valid() && beside_ok && adj.component_faces[part.component] >= kWalksBesideFrom)
-    walks = beside(true, [&part, &adj] { return walk_patches(part, adj); }).share();
+    own = beside(true, [&part, &adj] { return walk_patches(part, adj); });
   std::size_t same_size = 0;
   for (const KnownShape& k : memory.shapes)
     same_size += k.code.next_ref.size() == nd && k.vertices == s.vertex_count;
@@ -531,7 +532,15 @@ CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
                      for (const std::uint32_t i : first) shape.labels.push_back(label_of[order[i]]);
                    }
                  });
-  choice.finish(adj, part, t, out, walks.valid() && walks.get().ok ? &walks.get() : nullptr);
+  PatchWalks own_walks;
+  const PatchWalks* w = nullptr;
+  if (walks.valid()) {
+    w = &walks.get();
+  } else if (own.valid()) {
+    own_walks = own.get();
+    w = &own_walks;
+  }
+  choice.finish(adj, part, t, out, w && w->ok ? w : nullptr);
   if (remember) {
     shape.code = out.code;
     memory.shapes.push_back(std::move(shape));
@@ -742,7 +751,7 @@ void canonical_components_on_two_threads(const QuadMesh& mesh, const Adjacency& 
   };
   std::thread helper;
   try {
-    helper = std::thread(run, walk_largest);
+    helper = start_beside([&run, walk_largest] { run(walk_largest); });
   } catch (const std::system_error&) {
     walks = {};  // no thread to be had: this one does all, and walks nothing beside
   }

@@ -213,7 +213,7 @@ QuadMesh decode_layout(Parsed& p, Adjacency* adjacency = nullptr) {
     Adjacency adj = rebuilt_adjacency(quads, nv, offset);
     if (adjacency) *adjacency = std::move(adj);
   };
-  std::future<void> checked = beside(nf >= kCheckBesideFrom, check);  // else after the geometry
+  auto checked = beside(nf >= kCheckBesideFrom, check);  // else after the geometry
   canonical.positions = to_layout_order(
       decode_geometry(p.geometry->payload, p.geometry->payload_offset, layout.stencil, nv), layout.coding);
   checked.get();

@@ -67,9 +67,8 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
   if (tuning.order_known) tuning.order_known(order);
   // The topology section needs only the codes: coded on the second core while this one lays out the
   // grid and builds the stencils, which leave it idle (not where the partitions' pipelines share them).
-  std::future<std::string> topology =
-      beside(options.threads != 1 && !effort.all_partitions && nf >= kTopologyBesideFrom,
-             [&codes] { return encode_topology(codes); });
+  auto topology = beside(options.threads != 1 && !effort.all_partitions && nf >= kTopologyBesideFrom,
+                         [&codes] { return encode_topology(codes); });
 
   const CodingOrder first = options.geometry_order.value_or(CodingOrder::kPatch);
   const auto unreferenced = static_cast<std::uint32_t>(cm.unreferenced.size());

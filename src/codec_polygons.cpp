@@ -454,7 +454,7 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     // OBJ). Checked against the final file: a map that differs, or a polygons section (neither happens),
     // codes them again below.
     FaceMap early_map;
-    std::future<EarlySections> early;
+    Beside<EarlySections> early;
     const auto start_early = [&](const FaceMap& m) {
       early_map = m;
       early = beside(o.threads != 1, [&] {

@@ -6,6 +6,7 @@
 #include <string>
 #include <system_error>
 
+#include "beside.h"
 #include "codec_encode.h"
 #include "qsp/error.h"
 #include "qsp/partition.h"
@@ -66,14 +67,9 @@ std::string encode_tuned(const QuadMesh& mesh, const EncodeOptions& options, con
   // Below ~1000 vertices the three take well under a millisecond each and starting a thread costs more
   // than it saves (much more under sanitizers: the fuzzers encode thousands of tiny meshes a second).
   constexpr std::uint64_t kThreadFrom = 1024;
-  std::future<Result> greedy;
-  if (nv >= kThreadFrom && options.threads != 1) {
-    try {
-      greedy = std::async(std::launch::async, candidate, PartitionMode::kGreedy, waits);
-    } catch (const std::system_error&) {
-      // no thread to be had: greedy runs below, on this one
-    }
-  }
+  // (Deferred where no thread is to be had: greedy then runs below, on this one.)
+  auto greedy = beside(nv >= kThreadFrom && options.threads != 1,
+                       [&candidate, &waits] { return candidate(PartitionMode::kGreedy, waits); });
   std::array<Result, 3> results;  // motorcycle, greedy, merge: the first smallest wins
   try {
     results[0] = run(PartitionMode::kMotorcycle, ChoiceRole{&shared, std::nullopt});
@@ -83,7 +79,7 @@ std::string encode_tuned(const QuadMesh& mesh, const EncodeOptions& options, con
     throw;
   }
   results[2] = candidate(PartitionMode::kMerge, waits);
-  results[1] = greedy.valid() ? greedy.get() : candidate(PartitionMode::kGreedy, waits);
+  results[1] = greedy.get();
   Result* best = &results[0];
   for (Result& r : results)
     if (!r.bytes.empty() && r.bytes.size() < best->bytes.size()) best = &r;

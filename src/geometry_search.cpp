@@ -94,7 +94,7 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
     auto run = [&](std::size_t first) {
       for (std::size_t i = first; i < options.size(); i += 2) sizes[i] = estimate(options[i], &cues[i]);
     };
-    std::future<void> odd = beside(options.size() > 1 && coder_thread != false, [&run] { run(1); });
+    auto odd = beside(options.size() > 1 && coder_thread != false, [&run] { run(1); });
     run(0);
     odd.get();
     for (std::size_t i = 0; i < options.size(); ++i) {

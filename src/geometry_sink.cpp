@@ -3,6 +3,8 @@
 
 #include <system_error>
 
+#include "beside.h"
+
 namespace qsp {
 
 namespace {
@@ -41,7 +43,7 @@ SymbolSink::SymbolSink(bool logistic, std::string& payload, bool threaded)
   if (!threaded || std::thread::hardware_concurrency() == 1) return;  // one core: a thread only costs
   block_.reserve(kBlock);  // before the thread: once it runs, nothing here may throw
   try {
-    thread_ = std::thread([this] { run(); });
+    thread_ = start_beside([this] { run(); });
   } catch (const std::system_error&) {
     // no thread to be had: code on this one
   }

@@ -20,6 +20,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "beside.h"
 #include "io_numbers.h"
 #include "plural.h"
 #include "qsp/error.h"
@@ -1577,7 +1578,7 @@ std::optional<ObjPart> read_obj_parts(std::string_view text, std::string_view so
   };
   std::thread worker;
   try {
-    worker = std::thread(work);
+    worker = start_beside(work);
   } catch (const std::system_error&) {
     return std::nullopt;  // no thread to be had: read sequentially
   }

@@ -14,6 +14,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "beside.h"
 #include "match_levels.h"
 #include "qsp/canonical.h"
 #include "qsp/error.h"
@@ -674,7 +675,7 @@ MatchResult match(const QuadMesh& a, const QuadMesh& b, const MatchOptions& opti
   // The two meshes are independent: prepare them side by side. A's error wins if both fail.
   MatchInput pa, pb;
   std::exception_ptr failed;
-  std::thread worker([&] {
+  std::thread worker = start_beside([&] {
     try {
       pb = prepare_match(b);
     } catch (...) {

@@ -11,6 +11,7 @@
 #include <system_error>
 #include <thread>
 
+#include "beside.h"
 #include "face_sets.h"
 #include "mesh_split.h"
 #include "qsp/error.h"
@@ -360,7 +361,7 @@ std::optional<Adjacency> build_adjacency_two_threads(std::span<const std::uint32
   };
   std::thread helper;
   try {
-    helper = std::thread(phases, 1);
+    helper = start_beside([&phases] { phases(1); });
   } catch (const std::system_error&) {
     return std::nullopt;  // no thread to be had: the one-thread path
   }

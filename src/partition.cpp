@@ -231,7 +231,7 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
   Cuts first_cuts, second_cuts;
   {
     const std::size_t mid_word = halves ? words / 2 : words;
-    std::future<void> second = beside(halves, [&, mid_word] { list_cuts(mid_word, words, second_cuts); });
+    auto second = beside(halves, [&, mid_word] { list_cuts(mid_word, words, second_cuts); });
     list_cuts(0, mid_word, first_cuts);
     second.get();
   }
@@ -295,7 +295,7 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
   std::vector<Run> runs, second_runs;
   {
     const auto n = static_cast<std::uint32_t>(cut_list.size()), mid_cut = halves ? n / 2 : n;
-    std::future<void> second = beside(halves, [&, n, mid_cut] { find_runs(mid_cut, n, second_runs); });
+    auto second = beside(halves, [&, n, mid_cut] { find_runs(mid_cut, n, second_runs); });
     find_runs(0, mid_cut, runs);
     second.get();
     const auto before = static_cast<std::uint32_t>(runs.size());
@@ -409,7 +409,7 @@ Partition partition_from_cuts(const Adjacency& adj, std::span<const std::uint32_
     mid = static_cast<std::uint32_t>(
         std::lower_bound(comp_run_start.begin(), comp_run_start.end() - 1, comp_run_start[nc] / 2) -
         comp_run_start.begin());
-  std::future<std::vector<std::string>> rest = beside(mid < nc, [&, mid] {
+  auto rest = beside(mid < nc, [&, mid] {
     build_schematics(mid, nc);
     std::vector<std::string> why;
     for (std::uint32_t c = mid; c < nc; ++c) why.push_back(validate(out.components[c]));

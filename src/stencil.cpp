@@ -207,7 +207,7 @@ void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layou
     for (std::uint32_t k = 0; k < layout.quads.size(); ++k) at_cell[fill[layout.quads[k]]++] = k;
   };
   const bool two = count >= kStencilsBesideFrom;
-  std::future<void> lookups = beside(two, build_lookups);
+  auto lookups = beside(two, build_lookups);
 
   // The order. id: layout vertex -> coding position; cell: per position, the point's place (i, j) in its
   // patch's turned raster, as (j + 2) * (a + 4) + i + 2.
@@ -398,7 +398,7 @@ void patch_order(const Schematic& s, const Numbering& n, const GridLayout& layou
   // The second half of the positions beside, the first here.
   std::size_t half = 0;
   while (half < visits.size() && visits[half].end <= count / 2) ++half;
-  std::future<void> second = beside(two, [&stencils, half, &visits] { stencils(half, visits.size()); });
+  auto second = beside(two, [&stencils, half, &visits] { stencils(half, visits.size()); });
   stencils(0, half);
   second.get();
 }
