@@ -23,6 +23,8 @@ namespace detail {
 // start_beside's hand-over between the creating thread and the new one.
 struct Placement {
   cpu_set_t wide;            // the creator's mask, which the new thread gets back once placed
+  cpu_set_t others;          // wide without the creator's core
+  int here = -1;             // the creator's core, or -1: leave the new thread where Linux puts it
   std::atomic<int> step{0};  // 1: the creator has narrowed the new thread's mask; 2: it has started
 };
 }  // namespace detail
@@ -32,25 +34,32 @@ struct Placement {
 // often places a new thread on its creator's core while the other one idles, and moves it only at the
 // next balancing tick: traced compressing mh_base on 2 cores, half the threads waited there, up to
 // 2.7 ms each, the creator preempted or the new thread queued behind it. So the creator narrows the
-// new thread's mask to the other cores, which moves it at once, and whichever of the two comes second
-// widens it again: after that the thread goes where Linux sends it.
-// Best effort: where the calls fail or are missing, the thread runs where Linux puts it. Throws
-// std::system_error as std::thread does when no thread is to be had.
+// new thread's mask to the other cores, which moves it at once; a thread that runs first, on the
+// creator's core (it preempted the creator), moves itself. Whichever of the two comes second widens
+// the mask again: after that the thread goes where Linux sends it. Best effort: where the calls fail
+// or are missing, the thread runs where Linux puts it. Throws std::system_error as std::thread does
+// when no thread is to be had.
 template <class F>
 std::thread start_beside(F&& f) {
 #if defined(__linux__)
   auto p = std::make_shared<detail::Placement>();
   const int here = sched_getcpu();
-  const bool narrow = here >= 0 && sched_getaffinity(0, sizeof p->wide, &p->wide) == 0 &&
-                      CPU_ISSET(here, &p->wide) && CPU_COUNT(&p->wide) > 1;
+  if (here >= 0 && sched_getaffinity(0, sizeof p->wide, &p->wide) == 0 && CPU_ISSET(here, &p->wide) &&
+      CPU_COUNT(&p->wide) > 1) {
+    p->others = p->wide;
+    CPU_CLR(here, &p->others);
+    p->here = here;
+  }
   std::thread t([p, g = std::forward<F>(f)]() mutable {
-    if (p->step.exchange(2) == 1) (void)sched_setaffinity(0, sizeof p->wide, &p->wide);
+    if (p->here >= 0) {
+      const int before = p->step.exchange(2);
+      if (before == 0 && sched_getcpu() == p->here) (void)sched_setaffinity(0, sizeof p->others, &p->others);
+      if (before == 1 || sched_getcpu() != p->here) (void)sched_setaffinity(0, sizeof p->wide, &p->wide);
+    }
     g();
   });
-  if (narrow) {
-    cpu_set_t others = p->wide;
-    CPU_CLR(here, &others);
-    (void)pthread_setaffinity_np(t.native_handle(), sizeof others, &others);
+  if (p->here >= 0 && p->step.load() == 0) {
+    (void)pthread_setaffinity_np(t.native_handle(), sizeof p->others, &p->others);
     if (p->step.exchange(1) == 2) (void)pthread_setaffinity_np(t.native_handle(), sizeof p->wide, &p->wide);
   }
   return t;
