@@ -749,7 +749,7 @@ void canonical_components_on_two_threads(const QuadMesh& mesh, const Adjacency& 
       }
     }
   };
-  std::thread helper;
+  Helper helper;
   try {
     helper = start_beside([&run, walk_largest] { run(walk_largest); });
   } catch (const std::system_error&) {

@@ -3,8 +3,6 @@
 
 #include <system_error>
 
-#include "beside.h"
-
 namespace qsp {
 
 namespace {
@@ -54,6 +52,7 @@ SymbolSink::~SymbolSink() {
   {
     std::lock_guard lock(mutex_);
     done_ = true;
+    closing_ = true;
     full_.clear();
   }
   ready_.notify_all();
@@ -66,6 +65,7 @@ void SymbolSink::finish() {
     {
       std::lock_guard lock(mutex_);
       done_ = true;
+      closing_ = true;
     }
     ready_.notify_all();
     thread_.join();
@@ -82,6 +82,7 @@ void SymbolSink::hand_over() {
     taken_.wait(lock, [this] { return full_.size() < kMaxQueued || error_; });
     if (error_) return block_.clear();  // finish() rethrows it
     full_.push_back(std::move(block_));
+    queued_ = full_.size();
     if (!empty_.empty()) next = std::move(empty_.back()), empty_.pop_back();
   }
   ready_.notify_one();
@@ -93,10 +94,16 @@ void SymbolSink::hand_over() {
 void SymbolSink::run() {
   std::unique_lock lock(mutex_);
   for (;;) {
+    if (full_.empty() && !done_) {  // spin for the next block before blocking (spin_until)
+      lock.unlock();
+      spin_until([this] { return queued_.load() > 0 || closing_.load(); });
+      lock.lock();
+    }
     ready_.wait(lock, [this] { return !full_.empty() || done_; });
     if (full_.empty()) return;
     std::vector<Symbol> block = std::move(full_.front());
     full_.pop_front();
+    queued_ = full_.size();
     lock.unlock();
     taken_.notify_one();
     try {

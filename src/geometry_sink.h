@@ -2,6 +2,7 @@
 // second thread that runs the range coder while the loop predicts the next vertices.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -13,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "beside.h"
 #include "entropy.h"
 #include "geometry_model.h"
 
@@ -79,12 +81,15 @@ class SymbolSink {
   std::string& payload_;
   std::unique_ptr<Coder> coder_;
   std::vector<Symbol> block_;  // being filled by the coding loop
-  std::thread thread_;
+  Helper thread_;
   std::mutex mutex_;  // guards the members below
   std::condition_variable ready_, taken_;
   std::deque<std::vector<Symbol>> full_;  // blocks waiting to be coded, in order
   std::vector<std::vector<Symbol>> empty_;
   bool done_ = false;
+  // Mirrors of full_.size() and done_ that the coder thread spins on (spin_until) before it blocks.
+  std::atomic<std::size_t> queued_{0};
+  std::atomic<bool> closing_{false};
   std::exception_ptr error_;
 };
 

@@ -1576,7 +1576,7 @@ std::optional<ObjPart> read_obj_parts(std::string_view text, std::string_view so
       }
     }
   };
-  std::thread worker;
+  Helper worker;
   try {
     worker = start_beside(work);
   } catch (const std::system_error&) {

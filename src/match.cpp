@@ -675,7 +675,7 @@ MatchResult match(const QuadMesh& a, const QuadMesh& b, const MatchOptions& opti
   // The two meshes are independent: prepare them side by side. A's error wins if both fail.
   MatchInput pa, pb;
   std::exception_ptr failed;
-  std::thread worker = start_beside([&] {
+  Helper worker = start_beside([&] {
     try {
       pb = prepare_match(b);
     } catch (...) {

@@ -359,7 +359,7 @@ std::optional<Adjacency> build_adjacency_two_threads(std::span<const std::uint32
       bad = true;
     }
   };
-  std::thread helper;
+  Helper helper;
   try {
     helper = start_beside([&phases] { phases(1); });
   } catch (const std::system_error&) {
