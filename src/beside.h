@@ -40,6 +40,30 @@ bool spin_until(Ready&& ready, std::chrono::microseconds limit = kSpinWait) {
 }
 
 namespace detail {
+inline std::atomic<unsigned> thread_limit{0};  // set_thread_limit's n
+inline thread_local bool one_thread = false;   // OneThread's scope, on this thread
+}  // namespace detail
+
+// Whether a step may start a second thread: not on one core, not after set_thread_limit(1), not in a
+// OneThread scope.
+inline bool threads_allowed() {
+  return !detail::one_thread && detail::thread_limit.load(std::memory_order_relaxed) != 1 &&
+         std::thread::hardware_concurrency() != 1;
+}
+
+// While it lives, the steps this thread runs start no thread (an encode or decode asked for one thread).
+class OneThread {
+ public:
+  explicit OneThread(bool on) : saved_(detail::one_thread) { detail::one_thread = saved_ || on; }
+  OneThread(const OneThread&) = delete;
+  OneThread& operator=(const OneThread&) = delete;
+  ~OneThread() { detail::one_thread = saved_; }
+
+ private:
+  bool saved_;
+};
+
+namespace detail {
 // start_beside's hand-over between the creating thread and the new one.
 struct Placement {
 #if defined(__linux__)
@@ -78,9 +102,11 @@ class Helper {
 // creator's core (it preempted the creator), moves itself. Whichever of the two comes second widens
 // the mask again: after that the thread goes where Linux sends it. Best effort: where the calls fail
 // or are missing, the thread runs where Linux puts it. Throws std::system_error as std::thread does
-// when no thread is to be had.
+// when no thread is to be had, and where threads_allowed() says no.
 template <class F>
 Helper start_beside(F&& f) {
+  if (!threads_allowed())  // as when no thread is to be had: every caller then runs on one thread
+    throw std::system_error(std::make_error_code(std::errc::resource_unavailable_try_again));
   auto p = std::make_shared<detail::Placement>();
 #if defined(__linux__)
   const int here = sched_getcpu();
@@ -161,12 +187,11 @@ class [[nodiscard]] Beside {
   std::future<R> result_;
 };
 
-// `task` on a second thread when `wanted`, the machine has more than one core and a thread is to be
-// had; otherwise deferred, run by get() on the thread that calls it. Either way get() returns its
-// result or rethrows what it threw.
+// `task` on a second thread when `wanted`, threads_allowed() and a thread is to be had; otherwise deferred,
+// run by get() on the thread that calls it. Either way get() returns its result or rethrows what it threw.
 template <class Task>
 auto beside(bool wanted, Task task) -> Beside<decltype(task())> {
-  return Beside<decltype(task())>(wanted && std::thread::hardware_concurrency() != 1, std::move(task));
+  return Beside<decltype(task())>(wanted && threads_allowed(), std::move(task));
 }
 
 }  // namespace qsp

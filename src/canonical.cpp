@@ -768,7 +768,7 @@ CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Par
   CanonicalMesh out;
   const std::size_t n = partition.components.size();
   bool two = false;
-  if (n >= 2 && threads != 1 && std::thread::hardware_concurrency() > 1) {
+  if (n >= 2 && threads != 1 && threads_allowed()) {
     std::uint64_t total = 0, largest = 0;
     for (const auto& part : partition.components) {
       const std::uint64_t c = canonical_cost(adj, part);
@@ -784,7 +784,7 @@ CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Par
     out.components.reserve(n);
     ShapeMemory memory;
     // The second core idle: a large component's patches are walked there.
-    const bool beside_ok = threads != 1 && std::thread::hardware_concurrency() > 1;
+    const bool beside_ok = threads != 1 && threads_allowed();
     for (const auto& part : partition.components)
       out.components.push_back(canonical_component(mesh, adj, part, memory, beside_ok));
   }

@@ -395,6 +395,7 @@ std::string exact_values_section(const PolygonMesh& mesh, const EncodeOptions& o
 }  // namespace
 
 std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& options) {
+  const OneThread one_thread(options.threads == 1);
   const bool texcoords = mesh.texcoord_components != 0;
   if (texcoords ? mesh.texcoord_components > 3 || mesh.texcoords.size() % mesh.texcoord_components != 0 ||
                       mesh.corner_texcoords.size() != mesh.corners.size()

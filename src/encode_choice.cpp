@@ -25,6 +25,7 @@ std::string encode_tuned(const QuadMesh& mesh, const EncodeOptions& options, con
   }
   if (nv > kMaxVertices) throw Error(ErrorCode::kLimit, "mesh has more than 2^31 - 1 vertices");
   if (nf > kMaxFaces) throw Error(ErrorCode::kLimit, "mesh has more than 2^29 - 1 faces");
+  const OneThread one_thread(options.threads == 1);
   const Effort effort = level_effort(options.level, nv);
   const Adjacency adj = build_adjacency(mesh);
   // Smaller partitions usually give smaller files (fewer schematic edges, longer patch rows), but not

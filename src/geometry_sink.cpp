@@ -38,8 +38,8 @@ void code_symbols(std::span<const Symbol> block, ResidualModel& m, RangeEncoder&
 
 SymbolSink::SymbolSink(bool logistic, std::string& payload, bool threaded)
     : payload_(payload), coder_(std::make_unique<Coder>(logistic)) {
-  if (!threaded || std::thread::hardware_concurrency() == 1) return;  // one core: a thread only costs
-  block_.reserve(kBlock);  // before the thread: once it runs, nothing here may throw
+  if (!threaded || !threads_allowed()) return;  // one core: a thread only costs
+  block_.reserve(kBlock);                       // before the thread: once it runs, nothing here may throw
   try {
     thread_ = start_beside([this] { run(); });
   } catch (const std::system_error&) {

@@ -2106,7 +2106,7 @@ namespace {
 // read_obj's splits: none on one core, where a second thread only costs.
 std::vector<std::size_t> splits_for(std::string_view text) {
   std::vector<std::size_t> splits = detail::obj_read_splits(text);
-  if (!splits.empty() && std::thread::hardware_concurrency() == 1) splits.clear();
+  if (!splits.empty() && !threads_allowed()) splits.clear();
   return splits;
 }
 }  // namespace

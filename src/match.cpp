@@ -673,23 +673,9 @@ MatchInput prepare_match(const QuadMesh& mesh, const Adjacency& adjacency) {
 
 MatchResult match(const QuadMesh& a, const QuadMesh& b, const MatchOptions& options) {
   // The two meshes are independent: prepare them side by side. A's error wins if both fail.
-  MatchInput pa, pb;
-  std::exception_ptr failed;
-  Helper worker = start_beside([&] {
-    try {
-      pb = prepare_match(b);
-    } catch (...) {
-      failed = std::current_exception();
-    }
-  });
-  try {
-    pa = prepare_match(a);
-  } catch (...) {
-    worker.join();
-    throw;
-  }
-  worker.join();
-  if (failed) std::rethrow_exception(failed);
+  auto second = beside(true, [&b] { return prepare_match(b); });
+  const MatchInput pa = prepare_match(a);  // if it throws, second's destructor waits for it
+  const MatchInput pb = second.get();
   return match(pa, pb, options);
 }
 

@@ -380,13 +380,14 @@ Adjacency build_adjacency(const QuadMesh& mesh, unsigned threads) {
   return build_adjacency(mesh.quads, static_cast<std::uint32_t>(mesh.vertex_count()), threads);
 }
 
+void set_thread_limit(unsigned n) { detail::thread_limit.store(n, std::memory_order_relaxed); }
+
 Adjacency build_adjacency(std::span<const std::uint32_t> q, std::uint32_t vertex_count, unsigned threads) {
   if (q.size() % 4 != 0) fail(ErrorCode::kUsage, "mesh arrays are not whole vertices/faces");
   if (q.size() / 4 > kMaxFaces || vertex_count > kMaxVertices)
     fail(ErrorCode::kLimit, "mesh too large: at most 2^29 - 1 faces and 2^31 - 1 vertices");
   const std::size_t nf = q.size() / 4;
-  if (threads != 1 && (threads >= 2 || nf >= detail::kAdjacencyTwoThreadsFrom) &&
-      std::thread::hardware_concurrency() > 1) {
+  if (threads != 1 && (threads >= 2 || nf >= detail::kAdjacencyTwoThreadsFrom) && threads_allowed()) {
     if (std::optional<Adjacency> adj = detail::build_adjacency_two_threads(q, vertex_count))
       return std::move(*adj);
   }

@@ -62,12 +62,12 @@ fi
 # Each threaded path's seam test (CONTRIBUTING.md, "Threads"): the OBJ read (into a QuadMesh and into a
 # Mesh) and text write split over two threads, the geometry coder's thread, the partitions tried side by
 # side, the decoder's mesh check, the components canonicalized side by side, the adjacency built on two
-# threads.
+# threads; and how those threads start and are waited for (src/beside.h).
 # Only these run: the rest of the suite is single-threaded and already ran twice. The corpus-wide split
 # sweep is left out (a minute under TSAN; the crafted texts and mutants take the same two-thread path).
 tsan_tests='ReadObjParallel.*:WriteTextParallel.*:Geometry.CoderThreadGivesTheSameBytes'
 tsan_tests+=':Codec.BestKeepsTheSmallestPartition:Codec.ThreadedPathsGiveTheMeshBack'
-tsan_tests+=':Canonical.TwoThreadsGiveTheSameForm:Adjacency.*:ReadObjMeshParallel.*'
+tsan_tests+=':Canonical.TwoThreadsGiveTheSameForm:Adjacency.*:ReadObjMeshParallel.*:Beside.*'
 tsan_tests+='-ReadObjParallel.EveryCorpusObjReadsTheSameAtManySplits'
 tsan_tests+=':ReadObjMeshParallel.EveryCorpusObjReadsTheSameAtManySplits'
 if ((run_tsan)); then

@@ -67,6 +67,12 @@ struct Adjacency {
 inline constexpr std::uint64_t kMaxFaces = (std::uint64_t{1} << 29) - 1;
 inline constexpr std::uint64_t kMaxVertices = (std::uint64_t{1} << 31) - 1;
 
+// At most n threads for each qsp call from now on, process-wide: 1 = every function runs on its
+// caller's thread only (no helper thread, no waiting for one); 0 (the default) or more = a second
+// thread where it pays (qsp never uses more than two at once for one call). EncodeOptions::threads = 1
+// asks the same for one encode. Results never depend on it. Thread-safe.
+void set_thread_limit(unsigned n);
+
 // Builds the adjacency and checks that the mesh is an orientable 2-manifold with quad faces.
 // Throws Error: kBadIndex (index >= vertex count), kDegenerateFace (repeated vertex in a face),
 // kNonManifold (edge with 3+ faces, vertex with several fans), kOrientation (two faces traverse an

@@ -216,6 +216,7 @@ void run(const CompressOptions& o, int& rc) {
   naming.rule = "must end in .qsp";
   naming.verb = "compress";
   naming.stdin_name = "stdin.qsp";
+  set_thread_limit(o.threads);  // the reader too, not only the encode
   rc = run_jobs(o.files, naming, [&](const Job& job) { compress_one(job, format, o); });
 }
 
@@ -283,7 +284,8 @@ void register_compress(CLI::App& app, int& rc) {
         opt->levels_given.push_back("--best");
       },
       "Same as -9");
-  sub->add_option("--threads", opt->threads, "Threads to use (default 0: up to two; 1: one)");
+  sub->add_option("--threads", opt->threads,
+                  "Threads to use (default 0: up to two; 1: one, reading included)");
   sub->callback([opt, &rc]() { run(*opt, rc); });
 }
 
