@@ -37,6 +37,9 @@ struct GeometryChoice {
 // starting a thread costs more than it saves.
 inline constexpr std::uint32_t kCoderThreadAbove = 32768;
 
+// GeometryOptions::repeats_must_pay's bar: value repeats must save 1/kRepeatsMustSave of the section.
+inline constexpr int kRepeatsMustSave = 32;
+
 struct GeometryOptions {
   // 0 = lossless (float32 bit-exact). 1..30 = uniform grid over the bounding box's largest extent.
   std::uint32_t quantize_bits = 0;
@@ -51,9 +54,9 @@ struct GeometryOptions {
   std::uint32_t header_sample = 0;
   // Whether normal chaining is tried where the chosen header's statistics say it may pay.
   bool try_chaining = true;
-  // With a header sample: value repeats only where the estimate saves at least 1/32 of the section.
-  // Decoding repeats costs a quarter of the geometry decode (mh_base), for about 1% on meshes where
-  // values repeat by chance; on CAD-like meshes they save a third.
+  // With a header sample: value repeats only where the estimate saves at least 1/kRepeatsMustSave of
+  // the section. Decoding repeats costs a quarter of the geometry decode (mh_base), for about 1% on
+  // meshes where values repeat by chance; on CAD-like meshes they save a third.
   bool repeats_must_pay = false;
   // Whether a second thread runs the range coder while the coding loop predicts: nullopt = for sections
   // of more than kCoderThreadAbove vertices. The bytes are the same either way (tests force both).

@@ -100,7 +100,7 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
     for (std::size_t i = 0; i < options.size(); ++i) {
       double size = sizes[i];
       if (o.repeats_must_pay && options[i].has(geometry_tool::kValueRepeats))
-        size += size / 31;  // saves 1/32 of it, or lose
+        size += size / (kRepeatsMustSave - 1);  // saves 1/kRepeatsMustSave of it, or lose
       if (!best || size < best_size) best = &options[i], best_size = size, best_cue = cues[i], chosen = i;
     }
   }

@@ -2,6 +2,7 @@
 #include <array>
 #include <string>
 
+#include "geometry_coder.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 
@@ -12,33 +13,23 @@ namespace {
 // pick on nearly every mesh, a fraction of one pass on meshes of 10k vertices and more.
 constexpr std::uint32_t kSample = 4096, kSmallSample = 1024;
 
-struct Level {
-  Effort effort;
-  const char* description;
-};
-
 // Levels 1-3 code each mesh once in one partition (the motorcycle graph), without the costly geometry
 // tools: the decoder then runs the cheaper model. 4 adds the second coding order, 5-6 try every header
 // in full, 7 adds the cell shapes and logistic mixing tools (a few percent smaller, twice the decode
-// time), 8-9 every partition.
-constexpr std::array<Level, kMaxLevel> kLevels = {{
-    {{false, false, kSmallSample, false, false, true},
-     "motorcycle graph, patch order, header chosen on 1024 vertices (value repeats where they save 3%), "
-     "texture coordinate and normal predictions on 1024 values, no chaining trial"},
-    {{false, false, kSmallSample, true, false, true}, "as 1, with the normal-chaining trial"},
-    {{false, false, kSample, true, false},
-     "as 2, header and predictions chosen on 4096 (often no smaller than 2)"},
-    {{false, true, kSample, true, false}, "as 3, in both coding orders (the smaller kept)"},
-    {{false, false, 0, true, false},
-     "motorcycle graph, patch order, every header and prediction coded in full"},
-    {{false, true, 0, true, false}, "as 5, in both coding orders"},
-    {{false, true, 0, true, true}, "as 6, and the cell shapes and logistic mixing tools where smaller"},
-    {{true, false, 0, true, true},
-     "as 7 in patch order, the smallest of the motorcycle, greedy and merge partitions"},
-    {{true, true, 0, true, true}, "as 8, in both coding orders"},
+// time), 8-9 every partition. What --help and stats say of each is written from these fields.
+constexpr std::array<Effort, kMaxLevel> kLevels = {{
+    {false, false, kSmallSample, false, false, true},
+    {false, false, kSmallSample, true, false, true},
+    {false, false, kSample, true, false},
+    {false, true, kSample, true, false},
+    {false, false, 0, true, false},
+    {false, true, 0, true, false},
+    {false, true, 0, true, true},
+    {true, false, 0, true, true},
+    {true, true, 0, true, true},
 }};
 
-const Level& level_entry(int level) {
+const Effort& level_entry(int level) {
   if (level < kMinLevel || level > kMaxLevel) {
     throw Error(ErrorCode::kUsage, "compression level " + std::to_string(level) + " is not between " +
                                        std::to_string(kMinLevel) + " and " + std::to_string(kMaxLevel));
@@ -49,7 +40,7 @@ const Level& level_entry(int level) {
 }  // namespace
 
 Effort level_effort(int level, std::uint64_t vertex_count) {
-  Effort e = level_entry(level).effort;
+  Effort e = level_entry(level);
   if (vertex_count > kSearchVertexLimit) {
     e.all_partitions = e.both_orders = e.try_costly_tools = false;
     if (e.header_sample == 0) e.header_sample = kSample;
@@ -58,11 +49,34 @@ Effort level_effort(int level, std::uint64_t vertex_count) {
 }
 
 std::string level_description(int level) {
-  const Level& l = level_entry(level);
-  // What the search limit takes away (level_effort): only levels that search more than level 3 change.
-  const bool limited = l.effort.header_sample == 0 || l.effort.all_partitions || l.effort.both_orders;
-  return std::string(l.description) + (level == kDefaultLevel ? " (the default)" : "") +
-         (limited ? "; above " + std::to_string(kSearchVertexLimit) + " vertices as 3" : "");
+  const Effort& e = level_entry(level);
+  std::string d = e.all_partitions ? "the smallest of the motorcycle, greedy and merge partitions"
+                                   : "the motorcycle graph";
+  d += e.both_orders ? ", in both coding orders (the smaller kept)" : ", in patch order";
+  if (e.header_sample) {
+    const std::string n = std::to_string(e.header_sample);
+    d += ", header and texture coordinate and normal predictions chosen on the first " + n + " values";
+  } else {
+    d += ", every header and prediction coded in full";
+  }
+  if (e.repeats_must_pay) d += ", value repeats only where they save 1/" + std::to_string(kRepeatsMustSave);
+  d += e.try_chaining ? ", the normal-chaining trial" : ", no normal-chaining trial";
+  if (e.try_costly_tools) d += ", the cell shapes and logistic mixing tools where smaller (about twice the decode time)";
+  // What the search limit takes away (level_effort), said as the level that searches that much.
+  const Effort big = level_effort(level, kSearchVertexLimit + 1);
+  auto same = [&big](const Effort& o) {
+    return o.all_partitions == big.all_partitions && o.both_orders == big.both_orders &&
+           o.header_sample == big.header_sample && o.try_chaining == big.try_chaining &&
+           o.try_costly_tools == big.try_costly_tools && o.repeats_must_pay == big.repeats_must_pay;
+  };
+  std::string limited;
+  if (!same(e)) {
+    for (int l = kMinLevel; l <= kMaxLevel && limited.empty(); ++l)
+      if (same(level_entry(l))) limited = "as " + std::to_string(l);
+    if (limited.empty()) limited = "with less search";
+    limited = "; above " + std::to_string(kSearchVertexLimit) + " vertices " + limited;
+  }
+  return d + (level == kDefaultLevel ? " (the default)" : "") + limited;
 }
 
 }  // namespace qsp

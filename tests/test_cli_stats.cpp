@@ -1,5 +1,6 @@
 // `qsp stats` end to end: Table-1 rows, JSON, and every invalid mesh refused with file:line.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -38,6 +39,24 @@ TEST(CliStats, JsonHasTheDocumentedFields) {
                           "\"components\": 4", "\"extraordinary\": 8", "\"schematic\"", "\"patches\": 6",
                           "\"unreferenced\": 1", "\"kind\": \"torus\""})
     EXPECT_NE(r.out.find(key), std::string::npos) << key << "\n" << r.out;
+}
+
+// A .qsp row says what its level searched, in compress --help's words (issue 18: stats and --help say
+// what each level does).
+TEST(CliStats, QspRowSaysWhatItsLevelDoes) {
+  const std::string golden = std::string(QSP_TESTDATA_DIR) + "/golden/";
+  auto r = run_qsp("stats " + quote(golden + "tools/tilted_noise_q14_lcsm.qsp"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("  level 9: " + level_description(9) + "\n"), std::string::npos) << r.out;
+  const std::string mesh = std::string(QSP_TESTDATA_DIR) + "/cube_4.obj";
+  const fs::path out = fs::temp_directory_path() / ("qsp_stats_level_" + std::to_string(::getpid()) + ".qsp");
+  ASSERT_EQ(run_qsp("compress -f -1 --quantize 12 " + quote(mesh) + " -o " + quote(out.string())).exit_code,
+            0);
+  r = run_qsp("stats " + quote(out.string()));
+  fs::remove(out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("  level 1: " + level_description(1) + "\n"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("level 9:"), std::string::npos) << r.out;
 }
 
 // A .qsp row says which format version and level wrote it, and how its geometry is coded: the order

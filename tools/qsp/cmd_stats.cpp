@@ -324,6 +324,10 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
       std::printf("\n  format %d.%d, %s, geometry %s order, tools: %s; %s, %s\n", r.version_major,
                   r.version_minor, level.c_str(), r.geometry_order, r.geometry_tools.c_str(),
                   positions.c_str(), r.keep_order ? "original order kept" : "canonical order");
+      // What that level searched, in compress --help's words (a file from a newer qsp may name one
+      // this build does not know).
+      if (r.level >= kMinLevel && r.level <= kMaxLevel)
+        std::printf("  level %d: %s\n", r.level, level_description(r.level).c_str());
     }
     if (!verbose) continue;
     for (std::size_t c = 0; c < r.comps.size(); ++c) {
