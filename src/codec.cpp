@@ -277,21 +277,12 @@ QuadMesh decode_quads(Parsed& p) {
   const auto nv = static_cast<std::uint32_t>(p.counts.vertices);
   const auto nf = static_cast<std::uint32_t>(p.counts.faces);
   const OrderMap order_map = decode_order(p.order->payload, p.order->payload_offset, nv, nf);
-  QuadMesh out;
-  out.positions.resize(canonical.positions.size());
-  out.quads.resize(canonical.quads.size());
-  std::vector<std::uint32_t> canonical_to_input(nv);
-  for (std::uint32_t v = 0; v < nv; ++v) {
-    canonical_to_input[order_map.vertex[v]] = v;
-    std::copy_n(&canonical.positions[3 * std::size_t{order_map.vertex[v]}], 3,
-                &out.positions[3 * std::size_t{v}]);
-  }
-  for (std::uint32_t f = 0; f < nf; ++f) {
-    const std::uint32_t cf = order_map.face[f], r = order_map.rotation[f];
-    for (std::uint32_t c = 0; c < 4; ++c)
-      out.quads[4 * f + (c + r) % 4] = canonical_to_input[canonical.quads[4 * cf + c]];
-  }
-  return out;
+  // The file's rotation r puts canonical corner c at input corner (c + r) % 4; permute's turns the
+  // other way.
+  std::vector<std::uint8_t> turn(nf);
+  for (std::uint32_t f = 0; f < nf; ++f)
+    turn[f] = static_cast<std::uint8_t>((4 - (order_map.rotation[f] & 3u)) & 3u);
+  return permute(canonical, Renumbering{order_map.vertex, order_map.face, turn});
 }
 
 }  // namespace
