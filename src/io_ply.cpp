@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "io_numbers.h"
+#include "non_quads.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
 #include "qsp/mesh.h"
@@ -715,8 +716,8 @@ Mesh read_ply_impl(std::string_view bytes, const std::string& path, ReadReport& 
     }
   }
   PlyData in(header, bytes, path);
-  std::uint64_t non_quads = 0, first_non_quad_line = 0;
-  std::string examples;
+  detail::NonQuads non_quads;  // at face indices; the first one's line for the message
+  std::uint64_t first_non_quad_line = 0;
   std::vector<PlyValue> values;
   std::vector<std::uint32_t> corners, scratch;
   for (const auto& e : header.elements) {
@@ -754,13 +755,8 @@ Mesh read_ply_impl(std::string_view bytes, const std::string& path, ReadReport& 
             if (kExact || c < 4) corners.push_back(static_cast<std::uint32_t>(v));
           }
           if (!kExact && n != 4) {
-            if (non_quads < 3) {
-              if (non_quads == 0) first_non_quad_line = line;
-              if (!examples.empty()) examples += ", ";
-              examples += "face " + std::to_string(i) + ": " +
-                          (n == 3 ? std::string("triangle") : std::to_string(n) + " vertices");
-            }
-            ++non_quads;
+            if (non_quads.count == 0) first_non_quad_line = line;
+            non_quads.add(i, n);
             continue;
           }
           if (n < 3) {
@@ -829,15 +825,8 @@ Mesh read_ply_impl(std::string_view bytes, const std::string& path, ReadReport& 
     }
   }
   in.finish();
-  if (non_quads) {
-    const std::string where =
-        in.ascii() ? path + ":" + std::to_string(first_non_quad_line) + ": " : path + ": ";
-    throw Error(ErrorCode::kNotQuad,
-                where + std::to_string(non_quads) +
-                    (non_quads == 1 ? " face is not a quad (" : " faces are not quads (first: ") + examples +
-                    (non_quads > 3 ? ", ..." : "") +
-                    "); qsp stores quad meshes only and never triangulates or drops faces");
-  }
+  non_quads.throw_if_any(in.ascii() ? path + ":" + std::to_string(first_non_quad_line) + ": " : path + ": ",
+                         "face");
   const std::size_t faces = kExact ? mesh.face_count() : mesh.corner_vertices.size() / 4;
   if (!in.ascii()) r.face_line.assign(faces, 0);  // binary faces have no line
   if constexpr (kExact) {

@@ -22,6 +22,7 @@
 
 #include "beside.h"
 #include "io_numbers.h"
+#include "non_quads.h"
 #include "plural.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
@@ -31,6 +32,8 @@
 namespace qsp {
 namespace {
 
+using detail::corners_name;
+using detail::NonQuads;
 using detail::NumberStatus;
 using detail::plural;
 using detail::TextNumber;
@@ -54,49 +57,6 @@ std::string quote_token(std::string_view token) {
   out += "'";
   return out;
 }
-
-std::string corners_name(std::uint64_t n) {
-  if (n == 3) return "triangle";
-  if (n == 0) return "no vertices";
-  return plural(n, "vertex", "vertices");
-}
-
-// Faces that are not quads (quads mode): counted all the way through so the message can say how many.
-struct NonQuads {
-  std::uint64_t count = 0;
-  std::uint64_t line[3] = {}, corners[3] = {};  // the first ones
-
-  void add(std::uint64_t at, std::uint64_t n) {
-    if (count < 3) {
-      line[count] = at;
-      corners[count] = n;
-    }
-    ++count;
-  }
-  // Adds those of the text after this one's, which starts `line_offset` lines further on.
-  void merge(const NonQuads& later, std::uint64_t line_offset) {
-    std::uint64_t i = 0;
-    for (; i < later.count && i < 3 && count < 3; ++i) add(later.line[i] + line_offset, later.corners[i]);
-    count += later.count - i;
-  }
-  void throw_if_any(std::string_view source) const {
-    if (count == 0) return;
-    std::string examples;  // "line 10: triangle, line 12: 5 vertices, ..."
-    for (std::uint64_t i = 0; i < count && i < 3; ++i) {
-      if (i > 0) examples += ", ";
-      examples += "line " + std::to_string(line[i]) + ": " + corners_name(corners[i]);
-    }
-    std::string msg = std::string(source) + ":" + std::to_string(line[0]) + ": ";
-    if (count == 1) {
-      msg += "1 face is not a quad (" + examples + ")";
-    } else {
-      msg += std::to_string(count) + " faces are not quads (first: " + examples + (count > 3 ? ", ..." : "") +
-             ")";
-    }
-    msg += "; qsp stores quad meshes only and never triangulates or drops faces";
-    throw Error(ErrorCode::kNotQuad, msg);
-  }
-};
 
 inline bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
