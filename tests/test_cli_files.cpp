@@ -1,4 +1,4 @@
-// The CLI's file handling end to end (tools/qsp/files.h): gzip's rules for inputs and outputs, no
+// The CLI's file handling end to end (tools/qsp/shared.h): gzip's rules for inputs and outputs, no
 // output ever an input or another output, links, batches that go on after a bad file, standard input
 // in any format, and messages that name the way out. Each case checks the exit code, the files left
 // afterwards (inputs byte-identical) and the message.
