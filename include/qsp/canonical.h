@@ -56,11 +56,14 @@ CanonicalMesh canonicalize(const QuadMesh& mesh, const Adjacency& adj, const Par
 // components: darts of comp.part.schematic (0, the canonical root, among them); annulus/torus: anchor
 // half-edges of the mesh. (comp.automorphisms counts, for tori and annuli, only the anchors whose
 // positions tie.) `adj` is the adjacency comp was built from. Cost: a few schematic traversals, or
-// O(component faces) for a torus.
+// O(component faces) for a torus. Never throws but for memory when `comp` is what canonicalize made on
+// `adj`; checks neither, so another pair may read out of range: not for untrusted input.
 std::vector<std::uint32_t> canonical_starts(const Adjacency& adj, const CanonicalComponent& comp);
 
 // comp.part with its traversal started at `start` (one of canonical_starts): same code, same layout,
 // linked to the mesh through another automorphism. layout_to_mesh(result, adj) gives its LayoutMap.
+// Never throws but for memory when `start` is one of those; checks nothing (another start may give
+// another code, and an index out of range is read out of range): not for untrusted input.
 ComponentPartition canonical_from_start(const Adjacency& adj, const CanonicalComponent& comp,
                                         std::uint32_t start);
 
@@ -70,6 +73,8 @@ ComponentPartition partition_from_code(const TopologyCode& code);
 
 // 64-bit hash of the canonical codes of all components (in canonical order) and the number of
 // unreferenced vertices: equal for isomorphic meshes; different ones collide with probability ~2^-64.
+// The integers are hashed in the machine's byte order. Never throws; reads only the codes, so it is safe
+// on any CanonicalMesh, one decoded from an untrusted file too. O(size of the codes).
 std::uint64_t topology_fingerprint(const CanonicalMesh& mesh);
 
 }  // namespace qsp

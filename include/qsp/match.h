@@ -157,7 +157,11 @@ MatchInput prepare_match(QuadMesh mesh);
 // With an adjacency already built (build_adjacency(mesh)); never renumbers.
 MatchInput prepare_match(const QuadMesh& mesh, const Adjacency& adjacency);
 
-// match() on prepared meshes. The maps refer to the meshes as given to prepare_match.
+// match() on prepared meshes: what match() returns for the meshes given to prepare_match, its maps in
+// their numbering (not that of a renumbered a.mesh or b.mesh). Meshes that differ are a result (isomorphic
+// false; `level` and `reason` say where), not an error. Throws only Error(kInternal) for a broken invariant.
+// Checks nothing of `a` and `b`: safe on any meshes prepare_match accepted, which is where an untrusted mesh
+// is checked; a MatchInput put together by hand is trusted as it is.
 MatchResult match(const MatchInput& a, const MatchInput& b, const MatchOptions& options = {});
 
 // The number of isomorphisms of `r` as a person reads it: exact in decimal while it fits in 64 bits

@@ -92,6 +92,9 @@ struct ComponentInfo {
   std::int64_t euler() const { return static_cast<std::int64_t>(vertices) - edges + faces; }
   std::int64_t deficiency_sum = 0;  // sum of D(v) over the component's vertices (Lemma 1: = 4*euler)
 };
+// Per component of `adj` (indexed by Adjacency::face_component's ids), its counts; unreferenced
+// vertices are in none. O(V + F). Never throws but for memory; checks nothing of `adj`, so it is safe on any
+// mesh build_adjacency accepted, and an Adjacency put together otherwise may read out of range.
 std::vector<ComponentInfo> component_info(const Adjacency& adj);
 
 // Extraordinary vertices in increasing index order.

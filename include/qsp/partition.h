@@ -65,6 +65,10 @@ struct Schematic {
 struct PatchSize {
   std::uint32_t a = 0, b = 0;
 };
+// Each is the sum of edge_length from corner to corner; a hole, which has no corners, gives its loop's
+// length and b = 0. O(the darts of two sides); never throws. Checks nothing: `s` must be a schematic
+// validate() accepts (every partition qsp builds or decodes is one) and `face` below s.face_count();
+// on anything else it may read out of range or not end.
 PatchSize patch_size(const Schematic& s, std::uint32_t face);
 
 // One connected component, cut by its motorcycle graph.
