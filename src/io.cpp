@@ -42,7 +42,7 @@ std::string lower(std::string_view s) {
 // Checks what every writer relies on, so a written file always reads back.
 void check_writable(const QuadMesh& mesh, const char* what) {
   if (mesh.positions.size() % 3 != 0 || mesh.quads.size() % 4 != 0) {
-    throw Error(ErrorCode::kInternal, std::string(what) + ": positions or quads have a partial entry");
+    throw Error(ErrorCode::kUsage, std::string(what) + ": positions or quads have a partial entry");
   }
   if (mesh.vertex_count() > kMaxVertices || mesh.face_count() > kMaxFaces) {
     throw Error(ErrorCode::kLimit, std::string(what) + ": mesh exceeds qsp's vertex or face limit");

@@ -1086,6 +1086,13 @@ TEST(MeshModel, QuadMeshBridgeAndChecks) {
   bad = m;
   bad.statements = {{qsp::ObjStatement::kVertex, 3}, {qsp::ObjStatement::kFace, 1}};
   expect_error([&] { qsp::write_obj_mesh(bad); }, qsp::ErrorCode::kUsage);
+  // The quad writers say the same of a partial array: the caller's mistake, not a bug in qsp.
+  qsp::QuadMesh partial = q;
+  partial.positions.pop_back();
+  expect_error([&] { qsp::write_obj(partial); }, qsp::ErrorCode::kUsage);
+  partial = q;
+  partial.quads.pop_back();
+  expect_error([&] { qsp::write_off(partial); }, qsp::ErrorCode::kUsage);
 }
 
 // The codec's PolygonMesh and back: every mesh of testdata/ (golden/'s subfolders of textured, labelled,

@@ -128,8 +128,8 @@ QuadMesh read_mesh_file(const std::string& path, ReadReport* report = nullptr,
 // (std::to_chars), so read(write(m)) == m bit for bit for a mesh the readers accept (a face that repeats
 // a vertex is written as it is and refused on reading; a comment is not checked for line breaks). Throws
 // Error: kBadIndex (a face names a vertex out of range), kBadNumber (a coordinate is not finite), kLimit
-// (past kMaxVertices or kMaxFaces), kInternal (positions or quads end inside an entry). Everything is
-// checked before it is written, so safe on untrusted input. Never touches files.
+// (past kMaxVertices or kMaxFaces), kUsage (positions or quads end inside an entry, as the Mesh writers).
+// Everything is checked before it is written, so safe on untrusted input. Never touches files.
 std::string write_obj(const QuadMesh& mesh, const std::vector<std::string>& comments = {});
 std::string write_off(const QuadMesh& mesh, const std::vector<std::string>& comments = {});
 
