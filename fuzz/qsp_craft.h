@@ -51,18 +51,23 @@ struct Parts {
   std::string body;  // the sections, as in the file
 };
 
-// Splits a container-shaped file (does not check the checksum); false if it is not one.
+// Splits a container-shaped file (does not check the checksum); false if it is not one. The header
+// and the size field are read with the library's ByteReader, so a size field that is not one minimal
+// varint makes the file not container-shaped.
 inline bool split(std::string_view file, Parts& p) {
   if (file.size() < kFixedHeader + 1 + kChecksumBytes || std::memcmp(file.data(), kMagic, 8) != 0)
     return false;
-  p.major = static_cast<std::uint8_t>(file[8]);
-  p.minor = static_cast<std::uint8_t>(file[9]);
-  p.encoder = static_cast<std::uint8_t>(file[10]);
-  std::size_t pos = kFixedHeader;
-  while (pos < file.size() && (static_cast<std::uint8_t>(file[pos]) & 0x80)) ++pos;
-  ++pos;
-  if (pos + kChecksumBytes > file.size()) return false;
-  p.body = std::string(file.substr(pos, file.size() - kChecksumBytes - pos));
+  ByteReader r(file.substr(0, file.size() - kChecksumBytes), 0);
+  try {
+    r.take(sizeof kMagic, "magic number");
+    p.major = r.u8("version");
+    p.minor = r.u8("version");
+    p.encoder = r.u8("encoder byte");
+    r.varint("file size");
+  } catch (const Error&) {
+    return false;
+  }
+  p.body = std::string(r.rest());
   return true;
 }
 
@@ -81,25 +86,22 @@ struct SectionView {
   std::string payload;
 };
 
-// Sections of a body; stops at the first one that does not fit.
+// Sections of a body; stops at the first one that does not fit (its length runs past the end or is
+// not one minimal varint, as ByteReader reads it).
 inline std::vector<SectionView> sections(std::string_view body) {
   std::vector<SectionView> out;
-  std::size_t pos = 0;
-  while (pos < body.size()) {
-    SectionView s;
-    s.offset = pos;
-    s.tag = static_cast<std::uint8_t>(body[pos++]);
-    std::uint64_t len = 0;
-    for (unsigned shift = 0; pos < body.size() && shift < 64; shift += 7) {
-      const auto b = static_cast<std::uint8_t>(body[pos++]);
-      len |= std::uint64_t{b & 0x7Fu} << shift;
-      if (!(b & 0x80)) break;
+  ByteReader r(body, 0);
+  try {
+    while (r.left() > 0) {
+      SectionView s;
+      s.offset = r.pos();
+      s.tag = r.u8("section tag");
+      const std::uint64_t len = r.varint("section length");
+      s.payload_offset = r.pos();
+      s.payload = std::string(r.take(len, "section"));
+      out.push_back(std::move(s));
     }
-    if (len > body.size() - pos) break;
-    s.payload_offset = pos;
-    s.payload = std::string(body.substr(pos, len));
-    pos += len;
-    out.push_back(std::move(s));
+  } catch (const Error&) {
   }
   return out;
 }
