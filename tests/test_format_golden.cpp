@@ -32,6 +32,7 @@
 #include "qsp/polymesh.h"
 #include "qsp/submesh.h"
 #include "support/corpus.h"
+#include "support/files.h"
 #include "support/minor.h"
 #include "support/polygon.h"
 #include "support/quantized.h"
@@ -50,10 +51,8 @@ bool updating() {
   return v && std::string(v) == "1";
 }
 
-std::string slurp(const std::string& path) { return read_file_bytes(path); }
-void dump(const std::string& path, std::string_view bytes) {
-  std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
+using testing::slurp;
+using testing::spit;
 
 // The goldens' names: testdata/golden/NAME.obj, polygons/NAME.obj for polygon meshes,
 // texcoords/NAME.obj for meshes with texture coordinates and labels/NAME.obj for meshes with face
@@ -269,7 +268,7 @@ TEST(Golden, BytesArePinned) {
     const std::string obj = kGolden + "/" + name + ".obj";
     std::string bytes = encode_golden(name);
     std::string path = kGolden + "/" + name + ".qsp";
-    if (updating()) dump(path, bytes);
+    if (updating()) spit(path, bytes);
     ASSERT_TRUE(fs::exists(path));
     EXPECT_EQ(bytes, slurp(path)) << "the encoder's output changed: a format change needs a version bump";
     const std::vector<std::string> lines = file_comments(slurp(path));
@@ -549,7 +548,7 @@ TEST(Golden, EveryToolCombinationIsPinned) {
     SCOPED_TRACE(g.name);
     const std::string bytes = encode_tool_golden(g);
     const std::string path = kTools + "/" + g.name + ".qsp";
-    if (updating()) dump(path, bytes);
+    if (updating()) spit(path, bytes);
     ASSERT_TRUE(fs::exists(path));
     EXPECT_EQ(bytes, slurp(path)) << "the encoder's output changed: a format change needs a version bump";
     const FileInfo info = inspect(slurp(path));
@@ -832,8 +831,8 @@ TEST(Invalid, CraftedFilesArePinnedAndRefused) {
     SCOPED_TRACE(name);
     std::string path = kInvalid + "/" + name + ".qsp";
     if (updating()) {
-      dump(path, c.bytes);
-      dump(kInvalid + "/" + name + ".expect", "code=" + c.code + "\nmessage=" + c.message + "\n");
+      spit(path, c.bytes);
+      spit(kInvalid + "/" + name + ".expect", "code=" + c.code + "\nmessage=" + c.message + "\n");
     }
     EXPECT_EQ(slurp(path), c.bytes);
   }

@@ -25,6 +25,7 @@
 #include "qsp/io.h"
 #include "qsp/mesh.h"
 #include "support/corpus.h"
+#include "support/files.h"
 #include "support/float32_text.h"
 #include "support/openmesh.h"
 
@@ -54,34 +55,9 @@ std::string expect_error(Fn&& fn, qsp::ErrorCode code) {
   return {};
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void spit(const fs::path& p, const std::string& bytes) {
-  std::ofstream out(p, std::ios::binary);
-  out << bytes;
-}
-
-// A scratch directory removed at the end of the test.
-class TempDir {
- public:
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "qsp_test_io.XXXXXX").string();
-    path_ = ::mkdtemp(tmpl.data());
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using qsp::testing::slurp;
+using qsp::testing::spit;
+using qsp::testing::TempDir;
 
 std::vector<std::uint32_t> quads(const qsp::QuadMesh& m) { return m.quads; }
 
