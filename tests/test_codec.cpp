@@ -20,6 +20,7 @@
 #include "qsp/mesh.h"
 #include "qsp/partition.h"
 #include "support/corpus.h"
+#include "support/load.h"
 #include "support/mesh_gen.h"
 #include "support/quantized.h"
 
@@ -30,10 +31,7 @@ namespace {
 
 // ---- Meshes ----
 
-QuadMesh load(const std::string& path) {
-  ReadReport report;
-  return read_mesh_file(path, &report);
-}
+using testing::load;
 
 std::vector<std::string> mesh_files(const std::string& dir) {
   std::vector<std::string> out;

@@ -32,7 +32,9 @@
 #include "qsp/polymesh.h"
 #include "support/cli.h"
 #include "support/corpus.h"
+#include "support/files.h"
 #include "support/float32_text.h"
+#include "support/load.h"
 #include "support/mesh_gen.h"
 #include "support/mesh_text.h"
 #include "support/openmesh.h"
@@ -48,22 +50,13 @@ namespace craft = qsp::craft;
 using testing::quote;
 using testing::run_qsp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-void spit(const fs::path& p, std::string_view bytes) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
-
-QuadMesh load(const std::string& name) { return read_mesh_file(std::string(QSP_TESTDATA_DIR) + "/" + name); }
+using testing::slurp;
+using testing::spit;
 
 std::string cube_qsp(bool keep_order = false) {
   EncodeOptions o;
   o.keep_order = keep_order;
-  return encode(load("cube_4.obj"), o);
+  return encode(testing::load(fs::path(QSP_TESTDATA_DIR) / "cube_4.obj"), o);
 }
 
 struct Caught {

@@ -14,6 +14,7 @@
 #include "qsp/partition.h"
 #include "stencil.h"
 #include "support/corpus.h"
+#include "support/load.h"
 #include "support/mesh_gen.h"
 #include "support/schematic_counts.h"
 
@@ -35,7 +36,7 @@ Partition checked_partition(const QuadMesh& m, const Adjacency& adj) {
   return p;
 }
 
-QuadMesh load(const fs::path& path) { return read_mesh_file(path.string()); }
+using testing::load;
 
 // The hand-worked cases of ../shared/known-answers, copied into testdata/ so they run in every clone.
 TEST(KnownAnswers, HandWorkedCases) {
