@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "bytes.h"
 #include "codec_sections.h"
 #include "container.h"
 #include "qsp/codec.h"
@@ -127,10 +128,7 @@ TEST(Labels, FrontCodedNamesAreFormat39) {
   // 5,001 names sharing 10,000 bytes cost 6 bytes each: past 64 text bytes a payload byte, refused
   // before the text is built.
   std::string hostile(1, '\x21');  // objects, front-coded
-  const auto varint = [&hostile](std::uint64_t v) {
-    for (; v >= 0x80; v >>= 7) hostile += static_cast<char>(0x80 | (v & 0x7F));
-    hostile += static_cast<char>(v);
-  };
+  const auto varint = [&hostile](std::uint64_t v) { put_varint(hostile, v); };
   varint(5001);
   varint(0), varint(10000), hostile += std::string(10000, 'x');
   for (int i = 0; i < 5000; ++i) {

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bytes.h"
 #include "container.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
@@ -391,17 +392,10 @@ TEST(PolygonCodec, SectionBitsPerNonQuadFace) {
       const container::Section* s = f.find(container::kTagPolygons);
       ASSERT_NE(s, nullptr) << name;
       // The connectivity part: the four counts and the stream (the interior positions follow it).
-      std::size_t at = 0;
+      ByteReader counts(s->payload, s->payload_offset);
       std::uint64_t length = 0;
-      for (int k = 0; k < 4; ++k) {
-        length = 0;
-        for (int shift = 0;; shift += 7) {
-          const auto b = static_cast<std::uint8_t>(s->payload[at++]);
-          length |= std::uint64_t{b & 0x7Fu} << shift;
-          if (!(b & 0x80)) break;
-        }
-      }
-      const std::size_t connectivity = at + length;
+      for (int k = 0; k < 4; ++k) length = counts.varint("polygons count");
+      const std::size_t connectivity = counts.pos() + length;
       std::printf(
           "%-30s %-8s %5zu non-quad faces  section %5zu bytes (connectivity %5zu)  %6.2f bits per non-quad "
           "face "
