@@ -394,24 +394,18 @@ ChildRun run_child(const std::vector<std::string>& args, const std::string& out 
   return r;
 }
 
-class TempDir : public ::testing::Test {
+// Each test's own folder (support/files.h), which others (a dropped-privilege run) may enter; folders
+// a test made unwritable are made writable again before it goes.
+class OpenDirTest : public testing::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("qsp_hostile_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    fs::permissions(dir_, fs::perms::all);  // others (a dropped-privilege run) may enter
-  }
+  void SetUp() override { fs::permissions(dir_, fs::perms::all); }
   void TearDown() override {
     std::error_code ec;
     fs::permissions(dir_, fs::perms::owner_all, fs::perm_options::add, ec);
     for (const auto& e : fs::recursive_directory_iterator(dir_, ec)) {
       if (e.is_directory()) fs::permissions(e.path(), fs::perms::owner_all, fs::perm_options::add, ec);
     }
-    fs::remove_all(dir_, ec);
   }
-  std::string p(const std::string& name) const { return (dir_ / name).string(); }
   // Names in a folder, sorted (to show leftovers).
   static std::vector<std::string> listing(const fs::path& d) {
     std::vector<std::string> names;
@@ -419,10 +413,9 @@ class TempDir : public ::testing::Test {
     std::sort(names.begin(), names.end());
     return names;
   }
-  fs::path dir_;
 };
 
-using Limits = TempDir;
+using Limits = OpenDirTest;
 
 // Files of a few dozen bytes that declare a huge mesh: refused at once, with no large allocation.
 TEST_F(Limits, TinyFileDeclaringAHugeMeshIsRefusedBeforeAllocating) {
@@ -527,7 +520,7 @@ TEST_F(Limits, CliLimitFlagsOverrideTheDefaults) {
 // ---------------------------------------------------------------------------------------------
 // CLI failures: exit code and a message that says what and where; nothing written.
 
-using CliFailures = TempDir;
+using CliFailures = OpenDirTest;
 
 TEST_F(CliFailures, EveryInvalidMeshIsRefusedByCompress) {
   int n = 0, stored = 0;
@@ -615,7 +608,7 @@ TEST_F(CliFailures, ExitCodesFollowTheErrorType) {
 // ---------------------------------------------------------------------------------------------
 // Atomic output.
 
-using AtomicOutput = TempDir;
+using AtomicOutput = OpenDirTest;
 
 // A compressed mesh big enough that decoding and writing its OBJ (7 MB) take a while.
 std::string big_qsp() {
@@ -805,7 +798,7 @@ TEST_F(AtomicOutput, TheInputIsNeverOverwrittenEvenWithForce) {
 // ---------------------------------------------------------------------------------------------
 // Coordinates float32 cannot keep: kept as float64 by compress, never rounded without a word.
 
-using Float32Cli = TempDir;
+using Float32Cli = OpenDirTest;
 
 TEST_F(Float32Cli, CompressKeepsThemExactlyRoundsOnRequestAndRefusesBeyondFloat64) {
   const std::string in = p("digits.obj"), q = p("digits.qsp"), out = p("out.obj");
@@ -864,7 +857,7 @@ TEST_F(Float32Cli, CompressKeepsThemExactlyRoundsOnRequestAndRefusesBeyondFloat6
 // ---------------------------------------------------------------------------------------------
 // Real meshes through the CLI: exact round trip or a clear refusal, never a crash.
 
-using SharedMeshesCli = TempDir;
+using SharedMeshesCli = OpenDirTest;
 
 // The --drop list a mesh file needs, found from its text by the rules README states (not by qsp's reader):
 // OBJ by statement (vt, v/vt: uv; vn, v//vn: normal; v x y z r g b [a]: color; o, g: group; usemtl,
