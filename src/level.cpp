@@ -61,18 +61,14 @@ std::string level_description(int level) {
   }
   if (e.repeats_must_pay) d += ", value repeats only where they save 1/" + std::to_string(kRepeatsMustSave);
   d += e.try_chaining ? ", the normal-chaining trial" : ", no normal-chaining trial";
-  if (e.try_costly_tools) d += ", the cell shapes and logistic mixing tools where smaller (about twice the decode time)";
+  if (e.try_costly_tools)
+    d += ", the cell shapes and logistic mixing tools where smaller (about twice the decode time)";
   // What the search limit takes away (level_effort), said as the level that searches that much.
   const Effort big = level_effort(level, kSearchVertexLimit + 1);
-  auto same = [&big](const Effort& o) {
-    return o.all_partitions == big.all_partitions && o.both_orders == big.both_orders &&
-           o.header_sample == big.header_sample && o.try_chaining == big.try_chaining &&
-           o.try_costly_tools == big.try_costly_tools && o.repeats_must_pay == big.repeats_must_pay;
-  };
   std::string limited;
-  if (!same(e)) {
+  if (big != e) {
     for (int l = kMinLevel; l <= kMaxLevel && limited.empty(); ++l)
-      if (same(level_entry(l))) limited = "as " + std::to_string(l);
+      if (level_entry(l) == big) limited = "as " + std::to_string(l);
     if (limited.empty()) limited = "with less search";
     limited = "; above " + std::to_string(kSearchVertexLimit) + " vertices " + limited;
   }

@@ -72,6 +72,7 @@ struct Effort {
   bool try_chaining = false;        // GeometryOptions::try_chaining
   bool try_costly_tools = false;    // cell shapes + logistic mixing, kept where smaller (full header trials)
   bool repeats_must_pay = false;    // GeometryOptions::repeats_must_pay
+  bool operator==(const Effort&) const = default;
 };
 
 // The search of `level` for a mesh of `vertex_count` vertices (kSearchVertexLimit applied). Throws
