@@ -38,7 +38,7 @@ void code_symbols(std::span<const Symbol> block, ResidualModel& m, RangeEncoder&
 
 SymbolSink::SymbolSink(bool logistic, std::string& payload, bool threaded)
     : payload_(payload), coder_(std::make_unique<Coder>(logistic)) {
-  if (!threaded || !threads_allowed()) return;  // one core: a thread only costs
+  if (!threaded || !threads_allowed()) return;  // one core (or one asked for): a thread only costs
   block_.reserve(kBlock);                       // before the thread: once it runs, nothing here may throw
   try {
     thread_ = start_beside([this] { run(); });
@@ -52,7 +52,6 @@ SymbolSink::~SymbolSink() {
   {
     std::lock_guard lock(mutex_);
     done_ = true;
-    closing_ = true;
     full_.clear();
   }
   ready_.notify_all();
@@ -65,7 +64,6 @@ void SymbolSink::finish() {
     {
       std::lock_guard lock(mutex_);
       done_ = true;
-      closing_ = true;
     }
     ready_.notify_all();
     thread_.join();
@@ -96,7 +94,7 @@ void SymbolSink::run() {
   for (;;) {
     if (full_.empty() && !done_) {  // spin for the next block before blocking (spin_until)
       lock.unlock();
-      spin_until([this] { return queued_.load() > 0 || closing_.load(); });
+      spin_until([this] { return queued_.load() > 0 || done_.load(); });
       lock.lock();
     }
     ready_.wait(lock, [this] { return !full_.empty() || done_; });

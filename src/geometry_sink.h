@@ -86,10 +86,10 @@ class SymbolSink {
   std::condition_variable ready_, taken_;
   std::deque<std::vector<Symbol>> full_;  // blocks waiting to be coded, in order
   std::vector<std::vector<Symbol>> empty_;
-  bool done_ = false;
-  // Mirrors of full_.size() and done_ that the coder thread spins on (spin_until) before it blocks.
+  // Atomic (still written under the mutex) so the coder thread can spin on it and on queued_, a mirror
+  // of full_.size(), before it blocks (spin_until).
+  std::atomic<bool> done_{false};
   std::atomic<std::size_t> queued_{0};
-  std::atomic<bool> closing_{false};
   std::exception_ptr error_;
 };
 
