@@ -93,16 +93,16 @@ class Helper {
   std::shared_ptr<detail::Placement> state_;
 };
 
-// A thread running f (a Helper: a std::thread whose join spins first), started off the calling thread's
-// core where another one is allowed. Linux
-// often places a new thread on its creator's core while the other one idles, and moves it only at the
-// next balancing tick: traced compressing mh_base on 2 cores, half the threads waited there, up to
-// 2.7 ms each, the creator preempted or the new thread queued behind it. So the creator narrows the
-// new thread's mask to the other cores, which moves it at once; a thread that runs first, on the
-// creator's core (it preempted the creator), moves itself. Whichever of the two comes second widens
-// the mask again: after that the thread goes where Linux sends it. Best effort: where the calls fail
-// or are missing, the thread runs where Linux puts it. Throws std::system_error as std::thread does
-// when no thread is to be had, and where threads_allowed() says no.
+// A thread running f (a Helper: a std::thread whose join spins first), started off the calling
+// thread's core where another one is allowed. Linux often places a new thread on its creator's core
+// while the other one idles, and moves it only at the next balancing tick: traced compressing mh_base
+// on 2 cores, half the threads waited there, up to 2.7 ms each, the creator preempted or the new
+// thread queued behind it. So the creator narrows the new thread's mask to the other cores, which
+// moves it at once; a thread that runs first, on the creator's core (it preempted the creator), moves
+// itself. Whichever of the two comes second widens the mask again: after that the thread goes where
+// Linux sends it. Best effort: where the calls fail or are missing, the thread runs where Linux puts
+// it. Throws std::system_error as std::thread does when no thread is to be had, and where
+// threads_allowed() says no.
 template <class F>
 Helper start_beside(F&& f) {
   if (!threads_allowed())  // as when no thread is to be had: every caller then runs on one thread
@@ -116,24 +116,25 @@ Helper start_beside(F&& f) {
     CPU_CLR(here, &p->others);
     p->here = here;
   }
+#endif
   std::thread t([p, g = std::forward<F>(f)]() mutable {
+#if defined(__linux__)
     if (p->here >= 0) {
       const int before = p->step.exchange(2);
-      if (before == 0 && sched_getcpu() == p->here) (void)sched_setaffinity(0, sizeof p->others, &p->others);
-      if (before == 1 || sched_getcpu() != p->here) (void)sched_setaffinity(0, sizeof p->wide, &p->wide);
+      bool narrowed = before == 1;  // by the creator, which left the widening to this thread
+      if (before == 0 && sched_getcpu() == p->here)
+        narrowed = sched_setaffinity(0, sizeof p->others, &p->others) == 0;
+      if (narrowed) (void)sched_setaffinity(0, sizeof p->wide, &p->wide);
     }
+#endif
     g();
     p->done.store(true, std::memory_order_release);
   });
+#if defined(__linux__)
   if (p->here >= 0 && p->step.load() == 0) {
     (void)pthread_setaffinity_np(t.native_handle(), sizeof p->others, &p->others);
     if (p->step.exchange(1) == 2) (void)pthread_setaffinity_np(t.native_handle(), sizeof p->wide, &p->wide);
   }
-#else
-  std::thread t([p, g = std::forward<F>(f)]() mutable {
-    g();
-    p->done.store(true, std::memory_order_release);
-  });
 #endif
   return Helper(std::move(t), std::move(p));
 }
