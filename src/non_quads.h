@@ -36,7 +36,7 @@ struct NonQuads {
     for (; i < later.count && i < 3 && count < 3; ++i) add(later.at[i] + line_offset, later.corners[i]);
     count += later.count - i;
   }
-  // Throws Error(kNotQuad) if there were any: "WHERE2 faces are not quads (first: line 10: triangle,
+  // Throws Error(kNotQuad) if there were any: WHERE, then "2 faces are not quads (first: line 10: triangle,
   // line 12: 5 vertices); ...", each example's place after `unit` ("line" or "face").
   void throw_if_any(const std::string& where, const char* unit) const {
     if (count == 0) return;
