@@ -367,8 +367,9 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
     out.positions64 = decode_exact_section(exact->payload, exact->payload_offset, out.positions);
   }
   if (uv) {
-    DecodedTexcoords t = decode_texcoords_section(uv->payload, uv->payload_offset, out.face_offsets,
-                                                  out.corners, nv, out.positions, p.order != nullptr, limits);
+    DecodedTexcoords t =
+        decode_texcoords_section(uv->payload, uv->payload_offset, out.face_offsets, out.corners, nv,
+                                 out.positions, p.order != nullptr, limits, kTexcoordWords, p.file.minor);
     out.texcoord_components = t.components;
     out.texcoords = std::move(t.values);
     out.corner_texcoords = std::move(t.corners);

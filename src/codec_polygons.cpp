@@ -497,13 +497,14 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
         texcoords || normals || colors ? output_corners(mesh, map, input_face) : OutputCorners{};
     const std::vector<float> positions =
         (texcoords || normals) && !ready ? decoder_positions(mesh, oc, o, bytes) : std::vector<float>{};
-    if (texcoords)
-      bytes = container::with_section(
-          bytes, container::kTagTexcoords,
+    if (texcoords) {
+      const std::string section =
           ready ? ready->texcoords
                 : corner_values_section(mesh, oc, positions, mesh.texcoord_components, mesh.texcoords,
-                                        mesh.corner_texcoords, o, o.quantize_texcoord_bits, kTexcoordWords),
-          kFormatMinorTexcoords);
+                                        mesh.corner_texcoords, o, o.quantize_texcoord_bits, kTexcoordWords);
+      bytes =
+          container::with_section(bytes, container::kTagTexcoords, section, texcoords_section_minor(section));
+    }
     if (labels) {
       const std::string section = encode_labels_section(mesh, input_face);
       bytes = container::with_section(bytes, container::kTagLabels, section, labels_section_minor(section));

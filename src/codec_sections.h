@@ -111,6 +111,11 @@ inline constexpr CornerValueWords kTexcoordWords{"texture coordinates section", 
                                                  "texture coordinates", 0, &DecodeLimits::max_texcoords};
 inline constexpr CornerValueWords kNormalWords{"normals section",          "normal", "normals", 3,
                                                &DecodeLimits::max_normals, true};
+// The minor version a texture coordinates section's payload needs: 3.16 with flag bit 7, else 3.2.
+inline std::uint8_t texcoords_section_minor(std::string_view payload) {
+  return !payload.empty() && (static_cast<std::uint8_t>(payload[0]) & 0x80) ? kFormatMinorSeamHints
+                                                                            : kFormatMinorTexcoords;
+}
 // The minor version a normals section's payload needs: 3.10 with flag bit 5 or 6, else 3.5.
 inline std::uint8_t normals_section_minor(std::string_view payload) {
   return !payload.empty() && (static_cast<std::uint8_t>(payload[0]) & 0x60) ? kFormatMinorNormalsGeometry

@@ -2,7 +2,9 @@
 // section"): which value each corner names, as the corners first name them (new, one its vertex has
 // named, none, or an earlier one), then the values predicted from their creating corner's face (the
 // parallelogram, corrected by the quads across or fitted to the face's 3D corners; a grid line), exactly
-// (decimal grids or float bits) or on binary grids, then with --keep-order the input numbering. Normals
+// (decimal grids or float bits) or on binary grids, then with --keep-order the input numbering. From 3.16
+// (flag bit 7) a corner's symbol also reads the faces across its edges (is the edge a seam there?) and a
+// residual's model the size of the residuals its prediction read. Normals
 // (the normals section, same coder) may be predicted from the faces naming them, and octahedral.
 #include <algorithm>
 #include <array>
@@ -29,7 +31,9 @@ constexpr std::uint8_t kComponentsMask = 0x03, kOrderBit = 0x04, kCorrectionBit 
                        kReservedBits = 0xE0;
 // Normals only (format 3.10): predicted from the faces naming them; octahedral.
 constexpr std::uint8_t kGeometryBit = 0x20, kOctahedralBit = 0x40;
-constexpr unsigned kContexts = 6, kGeometryContext = 5;
+// Texture coordinates only (format 3.16): hints from the faces across, and residuals by activity.
+constexpr std::uint8_t kHintBit = 0x80;
+constexpr unsigned kContexts = 6, kGeometryContext = 5, kBuckets = 4;
 constexpr std::uint32_t kMinOctahedralBits = 2;
 // Every value costs at least one decision and none less than log2(65536 / 65465) bits: at most ~5116 a
 // byte (8192 leaves room; 2048, before 3.8, refused files of one repeated value that the encoder wrote).
@@ -56,10 +60,13 @@ struct Named {
 // The decisions and models of the corner symbols. Context: how many values the corner's vertex has
 // named (0, 1, 2 or more) and whether an earlier corner of its face crossed a seam (took a value other
 // than its vertex's first, new or not): faces beyond a seam name second values.
+// With bit 7 also by the hint's state h (below): is_hint[s], then is_new and is_seen[s + 6h], pick[e + 2
+// min(h, 1)].
 struct SymbolModels {
-  std::array<BitModel, 6> is_new{}, is_seen{};
+  std::array<BitModel, 6> is_hint{};
+  std::array<BitModel, 18> is_new{}, is_seen{};
   BitModel is_none{};
-  IntModel pick[2], far;
+  IntModel pick[4], far;
 };
 
 // A prediction: (sum of weight * value) / 2 over up to 8 terms, or a parallelogram plus half of that sum,
@@ -137,6 +144,57 @@ struct Edges {
     return kInvalid;
   }
 };
+
+// Bit 7: what the faces across corner c's edges say of its value, from the corners before it (`names`
+// kInvalid beyond them). An edge of c's face from the corner before c (or, at its last corner, to its first)
+// meets an earlier face at the first corner running the other way (`twins`); if that face names the same
+// value at the shared corner, the edge is no seam there and its value at c's vertex is the hint (state 1);
+// else state 2 (a seam); no earlier face across, state 0.
+struct Hint {
+  unsigned state = 0;
+  std::uint32_t value = kInvalid;
+};
+Hint hint_of(std::uint32_t c, std::uint32_t f, std::span<const std::uint32_t> face_offsets,
+             std::span<const std::uint32_t> face_of_corner, std::span<const std::uint32_t> corner_vertices,
+             std::span<const std::uint32_t> names, const Edges& twins) {
+  Hint h;
+  const std::uint32_t first = face_offsets[f], last = face_offsets[f + 1] - 1;
+  if (c == first) return h;
+  const auto next = [&](std::uint32_t k) {
+    const std::uint32_t g = face_of_corner[k];
+    return k + 1 < face_offsets[g + 1] ? k + 1 : face_offsets[g];
+  };
+  // The edge from x (named) to y: the twin runs y -> x; the hint is its name at `at` (x's side is `known`).
+  const auto across = [&](std::uint32_t from, std::uint32_t to, std::uint32_t known, bool known_second) {
+    const std::uint32_t k = twins.find(corner_vertices[from], corner_vertices[to]);
+    if (k == kInvalid || face_of_corner[k] >= f) return false;
+    const std::uint32_t there = known_second ? next(k) : k, here = known_second ? k : next(k);
+    if (names[there] == names[known] && names[here] != kInvalid) {
+      h = {1, names[here]};
+      return true;
+    }
+    h.state = 2;
+    return false;
+  };
+  // The edge before c runs from c - 1 to c: its twin from c's vertex to c - 1's.
+  if (across(c, c - 1, c - 1, true)) return h;
+  // At the last corner, the edge from c to the first: its twin from the first's vertex to c's.
+  if (c == last) across(first, c, first, false);
+  return h;
+}
+
+// Bit 7: the residual models' bucket, by the mean size of the residuals of the values the prediction reads
+// (`size`: per value decoded, the sum of its components' |residual|, each at most 2^20).
+std::uint32_t residual_size(std::int64_t r) {
+  return static_cast<std::uint32_t>(
+      std::min<std::uint64_t>(r < 0 ? 0 - static_cast<std::uint64_t>(r) : r, 1 << 20));
+}
+unsigned bucket_of(const Prediction& p, std::span<const std::uint32_t> size) {
+  std::uint64_t sum = 0, n = 0;
+  if (p.shaped) sum += std::uint64_t{size[p.a]} + size[p.b] + size[p.o], n += 3;
+  for (int k = 0; k < p.count; ++k) sum += size[p.value[k]], ++n;
+  return n == 0 ? 0 : std::min<unsigned>(static_cast<unsigned>(std::bit_width(sum / n)), kBuckets - 1);
+}
 
 // The prediction of value `i` from its creating corner (kInvalid: none, i >= T - U).
 Prediction predict(std::uint32_t i, std::uint32_t creating, std::span<const std::uint32_t> face_of_corner,
@@ -286,13 +344,17 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     std::uint8_t seam;     // e (pick's context)
     std::uint32_t arg;     // seen: j (coded when `coded`), far: n - 1 - m
     bool coded;            // seen: |S(v)| >= 2; none/far: whether is_seen was coded
+    std::uint8_t hint;     // bit 7: the hint's state h, where |S(v)| >= 1 (else 0)
+    bool hit;              // bit 7: the corner names the hint
   };
   std::vector<Symbol> symbols;
   symbols.reserve(corner_vertices.size());
   std::vector<std::uint32_t> output(T, kInvalid), input;  // input: per output index, its input index
   std::vector<std::uint32_t> names(corner_vertices.size(), kInvalid), creating;
+  const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
   {
     Named named(corner_vertices, vertex_count);
+    const Edges twins(face_offsets, corner_vertices, vertex_count);
     std::size_t face = 0;
     std::uint8_t seam = 0;
     for (std::size_t c = 0; c < corner_vertices.size(); ++c) {
@@ -301,8 +363,14 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
       if (t != kInvalid && t >= T) internal("a corner names " + std::string(w.one) + " " + std::to_string(t));
       const auto seen = named.of(v);
       const auto s = static_cast<std::uint8_t>(2 * std::min<std::size_t>(seen.size(), 2) + seam);
+      const Hint hint = seen.empty() || w.normals
+                            ? Hint{}
+                            : hint_of(static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(face - 1),
+                                      face_offsets, face_of_corner, corner_vertices, names, twins);
+      const auto h = static_cast<std::uint8_t>(hint.state);
+      const bool hit = hint.state == 1 && t != kInvalid && output[t] == hint.value;
       if (t != kInvalid && output[t] == kInvalid) {
-        symbols.push_back({0, s, seam, 0, false});
+        symbols.push_back({0, s, seam, 0, false, h, false});
         if (!seen.empty()) seam = 1;
         output[t] = static_cast<std::uint32_t>(input.size());
         input.push_back(t);
@@ -313,17 +381,18 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
       }
       const auto at = t == kInvalid ? seen.end() : std::find(seen.begin(), seen.end(), output[t]);
       if (at != seen.end()) {
-        symbols.push_back({1, s, seam, static_cast<std::uint32_t>(at - seen.begin()), seen.size() >= 2});
+        symbols.push_back(
+            {1, s, seam, static_cast<std::uint32_t>(at - seen.begin()), seen.size() >= 2, h, hit});
         if (at != seen.begin()) seam = 1;
         names[c] = *at;
         continue;
       }
       if (t == kInvalid) {
-        symbols.push_back({2, s, seam, 0, !seen.empty()});
+        symbols.push_back({2, s, seam, 0, !seen.empty(), h, false});
         continue;
       }
       symbols.push_back(
-          {3, s, seam, static_cast<std::uint32_t>(input.size() - 1 - output[t]), !seen.empty()});
+          {3, s, seam, static_cast<std::uint32_t>(input.size() - 1 - output[t]), !seen.empty(), h, false});
       seam = 1;
       named.add(v, output[t]);
       names[c] = output[t];
@@ -360,7 +429,6 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     for (std::size_t k = 0; k < ordered.size(); ++k)
       signed_integers[k] = signed_domain[k % K].integer(ordered[k]);
   }
-  const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
   const Edges edges(face_offsets, names, T);
   const Shape shape{positions, corner_vertices};
   const GeometryNormals geometry =
@@ -368,14 +436,19 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
                 : GeometryNormals{};
   const auto from_geometry = [&](std::uint32_t i) { return i < referenced && geometry.valid[i]; };
 
-  const auto put_symbols = [&](RangeEncoder& enc) {
+  const auto put_symbols = [&](RangeEncoder& enc, bool hints) {
     SymbolModels m;
     for (const Symbol& y : symbols) {
-      enc.encode_bit(m.is_new[y.context], y.kind == 0);
+      const unsigned h = hints ? y.hint : 0, x = y.context + 6 * h;
+      if (h == 1) {
+        enc.encode_bit(m.is_hint[y.context], y.hit);
+        if (y.hit) continue;
+      }
+      enc.encode_bit(m.is_new[x], y.kind == 0);
       if (y.kind == 0) continue;
-      if (y.kind == 1 || y.coded) enc.encode_bit(m.is_seen[y.context], y.kind == 1);
+      if (y.kind == 1 || y.coded) enc.encode_bit(m.is_seen[x], y.kind == 1);
       if (y.kind == 1) {
-        if (y.coded) m.pick[y.seam].encode(enc, y.arg);
+        if (y.coded) m.pick[y.seam + (h != 0 ? 2 : 0)].encode(enc, y.arg);
         continue;
       }
       enc.encode_bit(m.is_none, y.kind == 2);
@@ -405,8 +478,10 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
   const auto section = [&](std::uint8_t tools, std::uint32_t period) {
     std::string stream;
     RangeEncoder enc(stream);
-    if (period == 1) put_symbols(enc);
-    std::vector<IntModel> residual(kContexts * K);
+    const bool hints = (tools & kHintBit) != 0;
+    if (period == 1) put_symbols(enc, hints);
+    std::vector<IntModel> residual(kContexts * K * kBuckets);
+    std::vector<std::uint32_t> size(hints ? T : 0, 0);  // bit 7: per value, its residuals' size
     const bool faces = (tools & kGeometryBit) != 0;
     const std::array<Domain, 3>& doms = faces ? signed_domain : plain_domain;
     const std::vector<std::int64_t>& ints = faces ? signed_integers : plain_integers;
@@ -432,7 +507,7 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
       if (faces && from_geometry(i)) {
         for (unsigned c = 0; c < K; ++c) {
           encode_residual(
-              enc, residual[K * kGeometryContext + c],
+              enc, residual[kBuckets * (K * kGeometryContext + c)],
               ints[std::size_t{i} * K + c] - doms[c].nearest(geometry.unit[3 * std::size_t{i} + c]));
           sign(i, c);
         }
@@ -441,9 +516,11 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
       const Prediction p =
           predict(i, i < referenced ? creating[i] : kInvalid, face_of_corner, face_offsets, names, edges,
                   (tools & kCorrectionBit) != 0, (tools & kShapeBit) ? &shape : nullptr);
+      const unsigned bucket = hints ? bucket_of(p, size) : 0;
       for (unsigned c = 0; c < K; ++c) {
         const std::int64_t r = ints[std::size_t{i} * K + c] - prediction(doms[c], p, ordered, ints, K, c);
-        encode_residual(enc, residual[K * p.context + c], r);
+        encode_residual(enc, residual[kBuckets * (K * p.context + c) + bucket], r);
+        if (hints) size[i] += residual_size(r);
         sign(i, c);
       }
     }
@@ -460,7 +537,7 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
   const auto octahedral_section = [&](std::uint8_t tools) {
     std::string stream;
     RangeEncoder enc(stream);
-    put_symbols(enc);
+    put_symbols(enc, false);
     const Octahedral grid(quantize_bits);
     std::vector<IntModel> residual(4);
     std::array<double, 3> previous{0, 0, 1};
@@ -488,13 +565,18 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
   // rather than the patches); for normals each also with the faces' normals where they exist (3.10), tried
   // last so a file they do not make smaller keeps its 3.5 bytes. With a sample, they are compared on about
   // `sample` values spread over the mesh and only the smallest is coded whole.
+  // Texture coordinates also with the hints and buckets (bit 7, 3.16), tried after the rest so a file they
+  // do not make smaller keeps its 3.2 bytes; compared on a sample, which leaves the hints' symbols out, they
+  // alone are tried: on a mesh that large they save more than the buckets could cost.
+  const bool sampled = sample > 0 && T >= 2 * sample;
   std::vector<std::uint8_t> candidates;
-  for (const std::uint8_t faces : {std::uint8_t{0}, kGeometryBit}) {
-    if (faces && !w.normals) break;
+  for (const std::uint8_t more : {std::uint8_t{0}, kGeometryBit, kHintBit}) {
+    if ((more == kGeometryBit && !w.normals) || (more == kHintBit && w.normals)) continue;
+    if (sampled && !w.normals && more != kHintBit) continue;
     for (const std::uint8_t tools : {std::uint8_t{0}, kCorrectionBit, kShapeBit})
-      candidates.push_back(static_cast<std::uint8_t>(tools | faces));
+      candidates.push_back(static_cast<std::uint8_t>(tools | more));
   }
-  if (sample > 0 && T >= 2 * sample) {
+  if (sampled) {
     const std::uint32_t period = T / sample;
     std::uint8_t chosen = candidates.front();
     std::size_t smallest = std::numeric_limits<std::size_t>::max();
@@ -526,8 +608,13 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                    (w.components ? std::to_string(w.components) : std::string("1 to 3")) + ")",
                at);
   const std::uint8_t normal_bits = kGeometryBit | kOctahedralBit;
-  if (flags & (w.normals ? kReservedBits & ~normal_bits : kReservedBits))
+  if (flags & kReservedBits & ~(w.normals ? normal_bits : kHintBit))
     in.fail_at("reserved flag bits are set (must be zero)", at);
+  const bool hints = (flags & kHintBit) != 0;
+  if (hints && minor < kFormatMinorSeamHints)
+    in.fail_at("hints from the faces across are format 3." + std::to_string(kFormatMinorSeamHints) +
+                   "'s, and the file says it is 3." + std::to_string(minor),
+               at);
   if ((flags & normal_bits) && minor < kFormatMinorNormalsGeometry)
     in.fail_at("normals predicted from the faces or octahedral are format 3." +
                    std::to_string(kFormatMinorNormalsGeometry) + "'s, and the file says it is 3." +
@@ -586,6 +673,8 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   std::vector<std::uint32_t> creating;
   creating.reserve(T - U);
   Named named(corner_vertices, vertex_count);
+  const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
+  const Edges twins = hints ? Edges(face_offsets, corner_vertices, vertex_count) : Edges({}, {}, 0);
   SymbolModels m;
   std::uint32_t n = 0;
   std::size_t face = 0;
@@ -595,7 +684,18 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     const std::uint32_t v = corner_vertices[c];
     const auto seen = named.of(v);
     const unsigned s = 2 * static_cast<unsigned>(std::min<std::size_t>(seen.size(), 2)) + seam;
-    if (dec.decode_bit(m.is_new[s])) {
+    const Hint hint = hints && !seen.empty()
+                          ? hint_of(static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(face - 1),
+                                    face_offsets, face_of_corner, corner_vertices, out.corners, twins)
+                          : Hint{};
+    if (hint.state == 1 && dec.decode_bit(m.is_hint[s])) {
+      // The hint is a value of S(v): the first value of a vertex, or a seam crossed.
+      if (hint.value != seen[0]) seam = 1;
+      out.corners[c] = hint.value;
+      continue;
+    }
+    const unsigned x = s + 6 * hint.state;
+    if (dec.decode_bit(m.is_new[x])) {
       if (n >= T - U)
         format_error(w,
                      std::string("more ") + w.many + " named than the " + std::to_string(T - U) + " declared",
@@ -606,8 +706,8 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
       out.corners[c] = n++;
       continue;
     }
-    if (!seen.empty() && dec.decode_bit(m.is_seen[s])) {
-      const std::uint32_t j = seen.size() >= 2 ? m.pick[seam].decode(dec) : 0;
+    if (!seen.empty() && dec.decode_bit(m.is_seen[x])) {
+      const std::uint32_t j = seen.size() >= 2 ? m.pick[seam + (hint.state != 0 ? 2 : 0)].decode(dec) : 0;
       if (j >= seen.size())
         format_error(w,
                      "corner " + std::to_string(c) + " picks value " + std::to_string(j) +
@@ -634,8 +734,8 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
 
   out.values.resize(T * K);
   std::vector<std::int64_t> integers(T * K);  // integer() of each decoded value, to predict from
-  std::vector<IntModel> residual(kContexts * K);
-  const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
+  std::vector<IntModel> residual(kContexts * K * kBuckets);
+  std::vector<std::uint32_t> size(hints ? T : 0, 0);  // bit 7: per value, its residuals' size
   const Edges edges(face_offsets, out.corners, T);
   std::array<BitModel, 3> minus{};  // bit 5: the sign of a grid value whose integer is 0
   BitModel copy{};                  // bit 5: a value the same as the one its face's corner before names
@@ -696,7 +796,8 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     if (from_geometry(i)) {
       for (unsigned c = 0; c < K; ++c) {
         const std::int64_t predicted = domain[c].nearest(geometry.unit[3 * std::size_t{i} + c]);
-        const std::int64_t value = predicted + decode_residual(dec, residual[K * kGeometryContext + c]);
+        const std::int64_t value =
+            predicted + decode_residual(dec, residual[kBuckets * (K * kGeometryContext + c)]);
         store(i, c, value);
       }
       continue;
@@ -704,9 +805,12 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     const Prediction p =
         predict(i, i < n ? creating[i] : kInvalid, face_of_corner, face_offsets, out.corners, edges,
                 (flags & kCorrectionBit) != 0, (flags & kShapeBit) ? &shape : nullptr);
+    const unsigned bucket = hints ? bucket_of(p, size) : 0;
     for (unsigned c = 0; c < K; ++c) {
       const std::int64_t predicted = prediction(domain[c], p, out.values, integers, K, c);
-      store(i, c, predicted + decode_residual(dec, residual[K * p.context + c]));
+      const std::int64_t r = decode_residual(dec, residual[kBuckets * (K * p.context + c) + bucket]);
+      store(i, c, predicted + r);
+      if (hints) size[i] += residual_size(r);
     }
   }
   if (order_section) {

@@ -140,7 +140,8 @@ TEST(Texcoords, ValuesFloat32DoesNotHoldAreKeptUnlessRounded) {
   auto r = testing::run_qsp("compress " + in + " " + out);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "");
-  EXPECT_EQ(testing::slurp(dir.p("in.qsp"))[9], kFormatMinorExactValues);
+  EXPECT_EQ(testing::slurp(dir.p("in.qsp"))[9],
+            testing::minor_of_file_with(testing::slurp(dir.p("in.qsp")), kFormatMinorExactValues));
   r = testing::run_qsp("decompress -f " + out + " -o " + testing::quote(dir.p("back.obj")));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(testing::slurp(dir.p("back.obj")).find("\nvt 1 0.1234567891\n"), std::string::npos)
@@ -184,9 +185,30 @@ TEST(Texcoords, RenumberedCopiesGiveTheSameBytes) {
   }
 }
 
+// Flag bit 7 (hints from the faces across, residuals by activity) is format 3.16's: the golden that has it
+// says 3.16, and the same sections in a file saying 3.15 are refused, naming both versions and where.
+TEST(Texcoords, HintsInAnOlderFileAreRefused) {
+  const std::string good =
+      testing::slurp(std::string(QSP_TESTDATA_DIR) + "/golden/texcoords/cylinder_seam_uv12.qsp");
+  const container::File f = container::parse(good);
+  ASSERT_TRUE(static_cast<std::uint8_t>(f.find(container::kTagTexcoords)->payload[0]) & 0x80);
+  EXPECT_EQ(good[9], kFormatMinorSeamHints);
+  std::string sections;
+  for (const container::Section& s : f.sections) container::put_section(sections, s.tag, s.payload);
+  try {
+    decode_polygons(container::seal(f.major, kFormatMinorSeamHints - 1, f.level, sections));
+    ADD_FAILURE() << "decoded";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kFormat);
+    EXPECT_NE(std::string(e.what()).find("format 3.16's, and the file says it is 3.15"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("byte offset"), std::string::npos) << e.what();
+  }
+}
+
 // Every prefix is refused; every single bit flip is refused or decodes to a mesh of the right size.
 TEST(Texcoords, EveryPrefixAndBitFlipIsSafe) {
-  for (const char* name : {"grid_seam", "grid_seam_keep_order", "polygon_uv"}) {
+  for (const char* name : {"grid_seam", "grid_seam_keep_order", "polygon_uv", "cylinder_seam_uv12"}) {
     SCOPED_TRACE(name);
     const std::string good =
         testing::slurp(std::string(QSP_TESTDATA_DIR) + "/golden/texcoords/" + name + ".qsp");

@@ -17,7 +17,8 @@
 
 namespace qsp {
 
-// The format version this library writes: the lowest whose sections the file holds. 3.15 for PLY
+// The format version this library writes: the lowest whose sections the file holds. 3.16 for texture
+// coordinates coded with hints from the faces across (where that is smaller), 3.15 for PLY
 // obj_info lines (PolygonMesh::ply_info), 3.14 for PLY
 // properties or OBJ vertex weights (PolygonMesh::vertex_properties, face_properties), 3.13 for texture
 // coordinates, normals or colours binary32 does not hold, 3.12 for a polygon
@@ -32,7 +33,9 @@ namespace qsp {
 // refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
 // (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 15;
+inline constexpr std::uint8_t kFormatMinor = 16;
+// Texture coordinates with hints from the faces across and residuals by activity (flag bit 7).
+inline constexpr std::uint8_t kFormatMinorSeamHints = 16;
 // A PLY file's obj_info header lines (the PLY obj_info lines section, optional).
 inline constexpr std::uint8_t kFormatMinorPlyInfo = 15;
 // PLY vertex and face properties and the OBJ vertex weight (the properties section).

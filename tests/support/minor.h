@@ -1,6 +1,8 @@
 // The format minor version a file should say (qsp_format.md, "Sections": the lowest whose sections it
 // holds) when it holds a section of `minor`: 3.12 where it also has an interior positions section (a
-// polygon mesh with vertices in no quad), whose presence the polygon tests check on their own.
+// polygon mesh with vertices in no quad), whose presence the polygon tests check on their own; 3.16 where
+// its texture coordinates section has hints from the faces across (flag bit 7), as every one the encoder
+// writes now has.
 #pragma once
 
 #include <algorithm>
@@ -12,8 +14,12 @@
 namespace qsp::testing {
 
 inline int minor_of_file_with(std::string_view bytes, int minor) {
-  return container::parse(bytes).find(container::kTagInterior) ? std::max<int>(minor, kFormatMinorInterior)
-                                                               : minor;
+  const container::File file = container::parse(bytes);
+  if (file.find(container::kTagInterior)) minor = std::max<int>(minor, kFormatMinorInterior);
+  if (const container::Section* uv = file.find(container::kTagTexcoords);
+      uv && !uv->payload.empty() && (static_cast<std::uint8_t>(uv->payload[0]) & 0x80))
+    minor = std::max<int>(minor, kFormatMinorSeamHints);
+  return minor;
 }
 
 }  // namespace qsp::testing

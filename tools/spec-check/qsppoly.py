@@ -661,7 +661,11 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
         need(K == 3, 'normals with %d components (flags bits 0-1), not 3' % K)
     faces_bit = normals and bool(flags & 32)
     octahedral = normals and bool(flags & 64)
-    need(flags >> (7 if normals else 5) == 0, 'reserved texture coordinates flag bits set')
+    need((flags >> 7 if normals else (flags >> 5) & 3) == 0, 'reserved texture coordinates flag bits set')
+    hints = not normals and bool(flags & 128)
+    need(not hints or minor >= 16, 'hints from the faces across are format 3.16\'s, and the file says it is 3.%d' % minor)
+    if not normals:
+        seen('tex: %s' % ('hints' if hints else 'no hints'))
     need(not (faces_bit or octahedral) or minor >= 10,
          'normals predicted from the faces or octahedral are format 3.10\'s, and the file says it is 3.%d' % minor)
     kept = bool(flags & 4)
@@ -721,11 +725,60 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
     creator = []
     n = 0
     e = 0                          # an earlier corner of this face took a value other than its vertex's first
+    cstart = [0]                   # each face's first corner
+    for f in faces:
+        cstart.append(cstart[-1] + len(f))
+    W = {}                         # "Hints": W(x, y), the first corner at x whose face's next corner is at y
+    if hints:
+        for fi in range(len(faces)):
+            d = len(faces[fi])
+            for p in range(d):
+                key = (faces[fi][p], faces[fi][(p + 1) % d])
+                if key not in W:
+                    W[key] = cstart[fi] + p
+    nxt = lambda k: cstart[corners[k][0]] + (corners[k][1] + 1) % corners[k][2]
+
+    def hint_of(c, v):
+        """(h, H) at corner c ("Hints"), from the corners before it."""
+        fi, p, d = corners[c]
+        if p == 0:
+            return 0, None
+        h = 0
+        A = c - 1
+        k = W.get((v, verts[A]))
+        if k is not None and corners[k][0] < fi:
+            if name[nxt(k)] == name[A] and name[k] is not None:
+                seen('tex: hint across the edge before')
+                return 1, name[k]
+            h = 2
+        if p == d - 1:
+            B = cstart[fi]
+            k = W.get((verts[B], v))
+            if k is not None and corners[k][0] < fi:
+                if name[k] == name[B] and name[nxt(k)] is not None:
+                    seen('tex: hint across the edge after the last corner')
+                    return 1, name[nxt(k)]
+                h = 2
+        return h, None
+
     for c, v in enumerate(verts):
         if corners[c][1] == 0:
             e = 0
         Sv = S[v]
         s = 2 * min(len(Sv), 2) + e
+        h, H = hint_of(c, v) if hints and Sv else (0, None)
+        if h == 2:
+            seen('tex: hint state 2 (a seam)')
+        if h == 1 and bit('is_hint', s):
+            seen('tex: names the hint')
+            need(H in Sv, 'the hint is not a value of S(v)')   # cannot happen; the text says so
+            if Sv.index(H) >= 1:
+                e = 1
+            name.append(H)
+            continue
+        if h == 1:
+            seen('tex: does not name the hint')
+        s += 6 * h
         if bit('is_new', s):
             seen('tex: new')
             if Sv:
@@ -736,7 +789,7 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
             n += 1
             need(n <= T - U, 'more named texture coordinates than T - U')
         elif Sv and bit('is_seen', s):
-            j = rd.integer(t('pick%d' % e)) if len(Sv) >= 2 else 0
+            j = rd.integer(t('pick%d' % (e + 2 * min(h, 1)))) if len(Sv) >= 2 else 0
             if j >= 1:
                 e = 1
             seen('tex: seen, pick' if len(Sv) >= 2 else 'tex: seen')
@@ -773,6 +826,7 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
                 E[x, y] = c
     vals = []                      # per value: K components as binary32 bits
     ints = []                      # per value: K components' integers (grid modes; None in float bits)
+    size = []                      # "Buckets": per value, the sum of min(|r|, 2^20) of its residuals
 
     def residual(key):
         z = rd.integer(t('residual%d' % key))
@@ -971,9 +1025,18 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
             x, terms, para = 5, None, None
         seen('tex: x=%d' % x)
         val, vint = [], []
+        gb = 0
+        if hints:
+            reads = ([para[0], para[1], para[2]] if para else []) + [j for j, _ in (terms or [])]
+            if reads:
+                gb = min(int(sum(size[j] for j in reads) // len(reads)).bit_length(), 3)
+            seen('tex: bucket %d' % gb)
+            size.append(0)
         for k in range(K):
             mode = modes[k]
-            r = residual(K * x + k)
+            r = residual(4 * (K * x + k) + gb if hints else K * x + k)
+            if hints:
+                size[i] += min(abs(r), 1 << 20)
             if mode:
                 if x == 5:   # bit 5: the integer of the face normal's component in the mode
                     Gk = G[i][k]
@@ -1279,7 +1342,7 @@ def decode_file(data):
     tex = None
     if 0x06 in secs:
         need(data[9] >= 2, 'a texture coordinates section in a %d.%d file' % (data[8], data[9]))
-        values, names, original, modes = decode_texcoords(secs[0x06], pos, faces, 0x04 in secs)
+        values, names, original, modes = decode_texcoords(secs[0x06], pos, faces, 0x04 in secs, minor=data[9])
         if original is not None:
             out_values = [None] * len(values)
             for i, j in enumerate(original):
