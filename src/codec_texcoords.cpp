@@ -33,7 +33,7 @@ constexpr std::uint8_t kComponentsMask = 0x03, kOrderBit = 0x04, kCorrectionBit 
 constexpr std::uint8_t kGeometryBit = 0x20, kOctahedralBit = 0x40;
 // Texture coordinates only (format 3.16): hints from the faces across, and residuals by activity.
 constexpr std::uint8_t kHintBit = 0x80;
-constexpr unsigned kContexts = 6, kGeometryContext = 5, kBuckets = 4;
+constexpr unsigned kContexts = 7, kGeometryContext = 5, kSeamContext = 6, kBuckets = 4;
 constexpr std::uint32_t kMinOctahedralBits = 2;
 // Every value costs at least one decision and none less than log2(65536 / 65465) bits: at most ~5116 a
 // byte (8192 leaves room; 2048, before 3.8, refused files of one repeated value that the encoder wrote).
@@ -197,9 +197,15 @@ unsigned bucket_of(const Prediction& p, std::span<const std::uint32_t> size) {
 }
 
 // The prediction of value `i` from its creating corner (kInvalid: none, i >= T - U).
+// Bit 7: the faces across, as the hints find them (W in the spec: each vertex's edges in corner order).
+struct Twins {
+  const Edges& edges;
+  std::span<const std::uint32_t> corner_vertices;
+};
+
 Prediction predict(std::uint32_t i, std::uint32_t creating, std::span<const std::uint32_t> face_of_corner,
                    std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> names,
-                   const Edges& edges, bool corrections, const Shape* shape) {
+                   const Edges& edges, bool corrections, const Shape* shape, const Twins* twins) {
   Prediction p;
   if (creating != kInvalid) {
     auto known = [&](std::uint32_t t) { return t != kInvalid && t < i ? t : kInvalid; };
@@ -253,6 +259,20 @@ Prediction predict(std::uint32_t i, std::uint32_t creating, std::span<const std:
           shape->fit(step(creating, 2), step(k, y), step(creating, first ? d - 1 : 1), creating, p, 0, -1);
       } else {
         p.add(n, 2), p.context = 1;
+        // Bit 7: the edge to n across a seam, its values there carried over: c = n + (c' - n'), where the
+        // face across names c' at c's vertex and n' at n's (a chart that starts at a seam).
+        if (twins) {
+          const std::uint32_t at = first ? step(creating, d - 1) : step(creating, 1);
+          const auto& v = twins->corner_vertices;
+          const std::uint32_t t =
+              first ? twins->edges.find(v[creating], v[at]) : twins->edges.find(v[at], v[creating]);
+          if (t != kInvalid) {
+            const std::uint32_t here = known(names[first ? t : step(t, 1)]),
+                                there = known(names[first ? step(t, 1) : t]);
+            if (here != kInvalid && there != kInvalid)
+              p.add(here, 2), p.add(there, -2), p.context = kSeamContext;
+          }
+        }
       }
       return p;
     }
@@ -352,9 +372,10 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
   std::vector<std::uint32_t> output(T, kInvalid), input;  // input: per output index, its input index
   std::vector<std::uint32_t> names(corner_vertices.size(), kInvalid), creating;
   const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
+  const Edges twins = w.normals ? Edges({}, {}, 0) : Edges(face_offsets, corner_vertices, vertex_count);
+  const Twins across{twins, corner_vertices};
   {
     Named named(corner_vertices, vertex_count);
-    const Edges twins(face_offsets, corner_vertices, vertex_count);
     std::size_t face = 0;
     std::uint8_t seam = 0;
     for (std::size_t c = 0; c < corner_vertices.size(); ++c) {
@@ -513,9 +534,9 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
         }
         continue;
       }
-      const Prediction p =
-          predict(i, i < referenced ? creating[i] : kInvalid, face_of_corner, face_offsets, names, edges,
-                  (tools & kCorrectionBit) != 0, (tools & kShapeBit) ? &shape : nullptr);
+      const Prediction p = predict(i, i < referenced ? creating[i] : kInvalid, face_of_corner, face_offsets,
+                                   names, edges, (tools & kCorrectionBit) != 0,
+                                   (tools & kShapeBit) ? &shape : nullptr, hints ? &across : nullptr);
       const unsigned bucket = hints ? bucket_of(p, size) : 0;
       for (unsigned c = 0; c < K; ++c) {
         const std::int64_t r = ints[std::size_t{i} * K + c] - prediction(doms[c], p, ordered, ints, K, c);
@@ -737,6 +758,7 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   std::vector<IntModel> residual(kContexts * K * kBuckets);
   std::vector<std::uint32_t> size(hints ? T : 0, 0);  // bit 7: per value, its residuals' size
   const Edges edges(face_offsets, out.corners, T);
+  const Twins across{twins, corner_vertices};
   std::array<BitModel, 3> minus{};  // bit 5: the sign of a grid value whose integer is 0
   BitModel copy{};                  // bit 5: a value the same as the one its face's corner before names
   // Component c of value i from its integer.
@@ -802,9 +824,9 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
       }
       continue;
     }
-    const Prediction p =
-        predict(i, i < n ? creating[i] : kInvalid, face_of_corner, face_offsets, out.corners, edges,
-                (flags & kCorrectionBit) != 0, (flags & kShapeBit) ? &shape : nullptr);
+    const Prediction p = predict(i, i < n ? creating[i] : kInvalid, face_of_corner, face_offsets, out.corners,
+                                 edges, (flags & kCorrectionBit) != 0, (flags & kShapeBit) ? &shape : nullptr,
+                                 hints ? &across : nullptr);
     const unsigned bucket = hints ? bucket_of(p, size) : 0;
     for (unsigned c = 0; c < K; ++c) {
       const std::int64_t predicted = prediction(domain[c], p, out.values, integers, K, c);

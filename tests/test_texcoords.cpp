@@ -208,7 +208,8 @@ TEST(Texcoords, HintsInAnOlderFileAreRefused) {
 
 // Every prefix is refused; every single bit flip is refused or decodes to a mesh of the right size.
 TEST(Texcoords, EveryPrefixAndBitFlipIsSafe) {
-  for (const char* name : {"grid_seam", "grid_seam_keep_order", "polygon_uv", "cylinder_seam_uv12"}) {
+  for (const char* name :
+       {"grid_seam", "grid_seam_keep_order", "polygon_uv", "cylinder_seam_uv12", "two_charts_uv12"}) {
     SCOPED_TRACE(name);
     const std::string good =
         testing::slurp(std::string(QSP_TESTDATA_DIR) + "/golden/texcoords/" + name + ".qsp");

@@ -978,6 +978,17 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
                 across_corners[:] = qs
                 return [name[cc] for cc in qs]
 
+            def across_seam(k, from_a):
+                """"Across a seam" (bit 7): the terms (c', 2), (n', -2) of the twin k, or none."""
+                if not hints or k is None:
+                    return []
+                here, there = (k, nxt(k)) if from_a else (nxt(k), k)
+                if not (known(here) and known(there)):
+                    seen('tex: across a seam, not known')
+                    return []
+                seen('tex: across a seam from %s' % ('A' if from_a else 'B'))
+                return [(name[here], 2), (name[there], -2)]
+
             # (O -> A is an edge of the face only if d = 4; the text finds the quad across by names)
             across_oa = (lambda: across(O, A)) if ACROSS_ANY_DEGREE or d == 4 else (lambda: None)
             across_bo = lambda: across(B, O)
@@ -1004,7 +1015,7 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
                     L3 = across_corners[3]
                     x, terms, para = 4, [], (o, l[3], a) + (shape(O, L3, A, c, (0.0, -1.0)) if shapes else (0.0, -1.0))
                 else:
-                    x, terms = 1, [(a, 2)]
+                    x, terms = 1, [(a, 2)] + across_seam(W.get((verts[c], verts[A])), True)
                 if l and d > 4:
                     seen('tex: grid line in a face of degree > 4')
             elif b is not None:
@@ -1013,7 +1024,7 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
                     M2 = across_corners[2]
                     x, terms, para = 4, [], (o, m[2], b) + (shape(O, M2, B, c, (0.0, -1.0)) if shapes else (0.0, -1.0))
                 else:
-                    x, terms = 1, [(b, 2)]
+                    x, terms = 1, [(b, 2)] + across_seam(W.get((verts[B], verts[c])), False)
                 if m and d > 4:
                     seen('tex: grid line in a face of degree > 4')
         if terms is None:
@@ -1021,6 +1032,8 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
             para = None
         elif x == 1:
             para = None
+            if len(terms) == 3:   # across a seam
+                x = 6
         if faces_bit and i < T - U and G[i] is not None:   # bit 5: the face normal predicts it
             x, terms, para = 5, None, None
         seen('tex: x=%d' % x)
