@@ -1,12 +1,19 @@
-// The comments and kept lines sections (format-spec/qsp_format.md, "Comments section", "Kept lines
-// section"): the leading comment block of the mesh file a .qsp was made from, kept so that licence and
-// copyright lines survive a round trip, and the OBJ lines qsp keeps only as text. Both are a list of lines.
+// The comments, coded comments and kept lines sections (format-spec/qsp_format.md, "Comments section",
+// "Coded comments section", "Kept lines section"): the leading comment block of the mesh file a .qsp was
+// made from, kept so that licence and copyright lines survive a round trip, as plain lines or through a
+// text model and the range coder, whichever is smaller; and the OBJ lines qsp keeps only as text.
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "bytes.h"
+#include "codec_sections.h"
 #include "container.h"
+#include "entropy.h"
+#include "geometry_model.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 
@@ -14,6 +21,138 @@ namespace qsp {
 namespace {
 
 bool breaks_line(char c) { return c == '\n' || c == '\r'; }
+
+// ---- The coded comments section's text model ("Coded comments section"): each byte of the lines joined
+// by LF as 8 logistic decisions (the geometry section's mixer, rate 10), most significant bit first down
+// a binary tree (node 1, then 2 * node + bit), mixing the models of the previous byte, the previous two
+// (hashed) and three (hashed), and either the byte the match model expects or, without one, order 0.
+class TextModel {
+ public:
+  TextModel() : order1_(kTable), order2_(kTable), order3_(kTable) {
+    for (MixWeights& w : weights_) w.w = {32768, 32768, 32768, 32768, 0};
+  }
+
+  // Codes (RangeEncoder) or decodes (RangeDecoder) text[i] (written there by a decoder, which has
+  // resized `text` to its length), text[0..i) known.
+  template <typename Coder>
+  void code_byte(Coder& rc, std::string& text, std::size_t i) {
+    const auto at = [&](std::size_t back) -> std::uint32_t {
+      return i >= back ? static_cast<std::uint8_t>(text[i - back]) : 0u;
+    };
+    const std::uint32_t x1 = at(1), x2 = x1 | (at(2) << 8), x3 = x2 | (at(3) << 16);
+    const std::uint32_t expected = length_ > 0 ? static_cast<std::uint8_t>(text[pointer_]) : 0u;
+    const unsigned byte = static_cast<std::uint8_t>(text[i]);
+    std::uint32_t node = 1;
+    for (int b = 7; b >= 0; --b) {
+      BitModel* m1 = &order1_[(x1 << 8) | node];
+      BitModel* m2 = &order2_[slot((x2 << 8) | node)];
+      BitModel* m3 = &order3_[slot((x3 << 8) | node)];
+      // The match model speaks while the expected byte agrees with the bits coded so far.
+      const bool hit = length_ > 0 && (expected | 256u) >> (b + 1) == node;
+      BitModel* m0 = hit ? &match_[16 * ((expected >> b) & 1u) + length_] : &order0_[node];
+      const std::size_t set =
+          2 * static_cast<std::size_t>((m1->seen > 0) + (m2->seen > 0) + (m3->seen > 0)) + hit;
+      unsigned bit = (byte >> b) & 1u;
+      code_logistic<kRate>(rc, bit, {m0, m1, m2, m3}, weights_[set]);
+      node = 2 * node + bit;
+    }
+    if constexpr (std::is_same_v<Coder, RangeDecoder>) text[i] = static_cast<char>(node & 255u);
+    follow(text, i + 1);
+  }
+
+ private:
+  static constexpr int kRate = 10;
+  static constexpr std::size_t kTable = std::size_t{1} << 16;
+  static constexpr std::uint32_t kMaxLength = 15;
+
+  // A context's table index: the top 16 bits of its product with 0x9E3779B1, modulo 2^32.
+  static std::size_t slot(std::uint32_t key) { return (key * 0x9E3779B1u) >> 16; }
+
+  // After text[0..n) is known: extends the match or drops it, and where there is none, finds the latest
+  // earlier place the last 4 bytes were seen, its length the bytes that agree backwards, at most 15.
+  void follow(const std::string& text, std::size_t n) {
+    const char c = text[n - 1];
+    if (length_ > 0 && text[pointer_] == c) {
+      length_ = std::min(length_ + 1, kMaxLength);
+      ++pointer_;
+    } else {
+      length_ = 0;
+    }
+    if (n < 4) return;
+    std::uint32_t key = 0;
+    for (std::size_t k = n - 4; k < n; ++k) key = key << 8 | static_cast<std::uint8_t>(text[k]);
+    const auto [seen, fresh] = last_.try_emplace(key, n);
+    if (fresh) return;
+    if (length_ == 0) {
+      pointer_ = seen->second;
+      while (length_ < kMaxLength && length_ < pointer_ &&
+             text[pointer_ - 1 - length_] == text[n - 1 - length_])
+        ++length_;
+    }
+    seen->second = n;
+  }
+
+  std::array<BitModel, 256> order0_{};
+  std::vector<BitModel> order1_, order2_, order3_;
+  std::array<BitModel, 32> match_{};                     // [expected bit][length]
+  std::array<MixWeights, 8> weights_;                    // [2 * contexts seen before + hit]
+  std::unordered_map<std::uint32_t, std::size_t> last_;  // 4 bytes -> the latest end of them
+  std::size_t pointer_ = 0;                              // the expected byte's position
+  std::uint32_t length_ = 0;                             // 0: no match
+};
+
+std::string joined(const std::vector<std::string>& lines) {
+  std::string text;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (i > 0) text += '\n';
+    text += lines[i];
+  }
+  return text;
+}
+
+}  // namespace
+
+std::string encode_coded_comments_section(const std::vector<std::string>& lines) {
+  std::string text = joined(lines);
+  std::string payload;
+  put_varint(payload, text.size());
+  RangeEncoder rc(payload);
+  TextModel model;
+  for (std::size_t i = 0; i < text.size(); ++i) model.code_byte(rc, text, i);
+  rc.finish();
+  return payload;
+}
+
+std::vector<std::string> decode_coded_comments_section(std::string_view payload, std::uint64_t offset) {
+  ByteReader in(payload, offset, "coded comments section");
+  const std::uint64_t size = in.varint("text length");
+  // No decision costs less than log2(65536 / 65465) bits, so a byte (8 of them) at least 1/80 bit, and a
+  // stream of s bytes holds at most 8 * (s + 5) bits: a length past 1024 * (s + 8) is refused unallocated.
+  const std::uint64_t most = 1024 * (std::uint64_t{in.left()} + 8);
+  if (size > most)
+    in.fail("text length " + std::to_string(size) + " is more than the " + std::to_string(most) +
+            " bytes a stream of " + std::to_string(in.left()) + " bytes can hold");
+  const std::uint64_t at = in.offset();
+  RangeDecoder rc(in.rest(), at, "coded comments section");
+  std::string text(size, '\0');
+  TextModel model;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    model.code_byte(rc, text, i);
+    // A CR would end the comment when written back, and put the rest into the mesh text.
+    if (text[i] == '\r') in.fail_at("the text's byte " + std::to_string(i) + " is a CR", rc.offset());
+  }
+  rc.finish();
+  std::vector<std::string> lines(1);
+  for (const char c : text) {
+    if (c == '\n')
+      lines.emplace_back();
+    else
+      lines.back().push_back(c);
+  }
+  return lines;
+}
+
+namespace {
 
 std::string lines_payload(const std::vector<std::string>& lines) {
   std::string payload;
@@ -83,19 +222,32 @@ std::string with_comments(std::string_view file, const std::vector<std::string>&
     if (!comment_problem(lines[i]).empty())
       throw Error(ErrorCode::kUsage, "comment line " + std::to_string(i) + " holds a line break");
   }
-  if (!lines.empty()) return container::with_section(file, container::kTagComments, lines_payload(lines), 1);
   const container::File f = container::parse(file);
   std::string body;
   for (const container::Section& s : f.sections)
-    if (s.tag != container::kTagComments) container::put_section(body, s.tag, s.payload);
-  return container::seal(f.major, f.minor, f.level, body);
+    if (s.tag != container::kTagComments && s.tag != container::kTagCodedComments)
+      container::put_section(body, s.tag, s.payload);
+  const std::string bare = container::seal(f.major, f.minor, f.level, body);
+  if (lines.empty()) return bare;
+  // The smaller section, the comments section on a tie (a section's tag and length count too).
+  const std::string plain = lines_payload(lines), coded = encode_coded_comments_section(lines);
+  if (varint_size(coded.size()) + coded.size() < varint_size(plain.size()) + plain.size())
+    return container::with_section(bare, container::kTagCodedComments, coded, kFormatMinorCodedComments);
+  return container::with_section(bare, container::kTagComments, plain, kFormatMinorPolygons);
 }
 
 std::vector<std::string> file_comments(std::string_view bytes) {
   const container::File f = container::parse(bytes);
-  const container::Section* s = f.find(container::kTagComments);
-  if (s == nullptr) return {};
-  return read_lines(s->payload, s->payload_offset, "comments section", "comment line", comment_problem);
+  const container::Section* plain = f.find(container::kTagComments);
+  const container::Section* coded = f.find(container::kTagCodedComments);
+  if (plain != nullptr && coded != nullptr)
+    throw Error(ErrorCode::kFormat,
+                "section 0x85 (coded comments) beside section 0x81 (comments) (at byte offset " +
+                    std::to_string(coded->offset) + ")");
+  if (coded != nullptr) return decode_coded_comments_section(coded->payload, coded->payload_offset);
+  if (plain == nullptr) return {};
+  return read_lines(plain->payload, plain->payload_offset, "comments section", "comment line",
+                    comment_problem);
 }
 
 std::string encode_kept_lines_section(const std::vector<std::string>& lines) {

@@ -230,6 +230,13 @@ std::string encode_ply_info_section(const std::vector<std::string>& lines);
 // Inverse of encode_ply_info_section. Throws Error(kFormat) naming the line and byte offset. Safe on
 // untrusted input: no line is allocated before its length is checked against the bytes left.
 std::vector<std::string> decode_ply_info_section(std::string_view payload, std::uint64_t offset);
+// The coded comments section (format 3.16, optional): the comment lines joined by LF, range-coded
+// through a text model. Lines are assumed free of CR and LF (with_comments checks them).
+std::string encode_coded_comments_section(const std::vector<std::string>& lines);
+// Inverse of encode_coded_comments_section. Throws Error(kFormat) naming the byte offset (a text length
+// the stream cannot hold, a CR, a stream that does not end as the encoder ends it). Safe on untrusted
+// input: the text is allocated only after its length is checked against the stream's bytes.
+std::vector<std::string> decode_coded_comments_section(std::string_view payload, std::uint64_t offset);
 // The exact positions section (format 3.6) of the output vertices whose binary32 positions are
 // `positions` and exact values `exact` (3 per vertex each, the decoder's output order before any order
 // section). Throws Error(kUsage) for an exact value that is not finite or does not round to its position.

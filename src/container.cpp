@@ -123,7 +123,7 @@ File parse(std::string_view file) {
     const auto kind = std::find_if(std::begin(kSections), std::end(kSections),
                                    [&](const SectionKind& k) { return k.tag == sec.tag; });
     const bool known = kind != std::end(kSections) || (sec.tag & kOptionalBit);
-    if (kind != std::end(kSections) && added_required(*kind) && f.minor < kind->minor)
+    if (kind != std::end(kSections) && held_to_minor(*kind) && f.minor < kind->minor)
       format_error("section " + tag_name(sec.tag) + " (" + std::string(kind->name) + ") is format " +
                        version(kFormatMajor, kind->minor) + "'s, and the file says it is " +
                        version(f.major, f.minor),

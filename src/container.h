@@ -38,10 +38,11 @@ inline constexpr std::uint8_t kTagExactValues = 0x0d;
 // Format 3.14: PLY vertex and face properties and the OBJ vertex weight.
 inline constexpr std::uint8_t kTagProperties = 0x0e;
 inline constexpr std::uint8_t kOptionalBit = 0x80;
-inline constexpr std::uint8_t kTagComments = 0x81;    // optional, from 3.1
-inline constexpr std::uint8_t kTagKeptLines = 0x82;   // optional, from 3.7
-inline constexpr std::uint8_t kTagStatements = 0x83;  // optional, from 3.11
-inline constexpr std::uint8_t kTagPlyInfo = 0x84;     // optional, from 3.15: PLY obj_info lines
+inline constexpr std::uint8_t kTagComments = 0x81;       // optional, from 3.1
+inline constexpr std::uint8_t kTagKeptLines = 0x82;      // optional, from 3.7
+inline constexpr std::uint8_t kTagStatements = 0x83;     // optional, from 3.11
+inline constexpr std::uint8_t kTagPlyInfo = 0x84;        // optional, from 3.15: PLY obj_info lines
+inline constexpr std::uint8_t kTagCodedComments = 0x85;  // optional, from 3.16: comments range-coded
 
 // A section tag, the format minor version that defines it, and its name in messages.
 struct SectionKind {
@@ -72,11 +73,19 @@ inline constexpr SectionKind kSections[] = {
     {kTagKeptLines, kFormatMinorKeptLines, "kept lines"},
     {kTagStatements, kFormatMinorStatements, "statement order"},
     {kTagPlyInfo, kFormatMinorPlyInfo, "PLY obj_info lines"},
+    {kTagCodedComments, kFormatMinorCodedComments, "coded comments"},
 };
 
 // Whether the section is a required one added after 3.0 (a file holding it is not a 3.0 quad file).
 constexpr bool added_required(const SectionKind& k) {
   return k.minor > kFormatMinorQuads && !(k.tag & kOptionalBit);
+}
+
+// Whether parse() refuses the section in a file of a lower minor version than its row's: every required
+// one added after 3.0, and the optional ones from 3.16 on (earlier ones were never held to it, and files
+// that hold them in a lower minor stay readable).
+constexpr bool held_to_minor(const SectionKind& k) {
+  return added_required(k) || k.minor >= kFormatMinorCodedComments;
 }
 
 // The tag as the messages write it: "0x05".

@@ -112,8 +112,9 @@ struct MixWeights {
 };
 
 // Codes (RangeEncoder) or decodes (RangeDecoder) one bit with four models mixed by weight set `mw`; all
-// four models learn it, and so do the weights.
-template <typename Coder>
+// four models learn it, and so do the weights, at kRate (the geometry section's 6; the coded comments
+// section's text model learns at 10).
+template <int kRate = 6, typename Coder>
 void code_logistic(Coder& rc, unsigned& bit, const std::array<BitModel*, 4>& models, MixWeights& mw) {
   std::array<int, kMixInputs> st{};
   std::int64_t dot = 0;
@@ -129,7 +130,7 @@ void code_logistic(Coder& rc, unsigned& bit, const std::array<BitModel*, 4>& mod
   } else {
     bit = rc.decode_p0(p0);
   }
-  const int err = ((static_cast<int>(bit) << 12) - p1) * 6;
+  const int err = ((static_cast<int>(bit) << 12) - p1) * kRate;
   for (std::size_t k = 0; k < kMixInputs; ++k)
     mw.w[k] = std::clamp(mw.w[k] + ((st[k] * err) >> 14), -kMaxWeight, kMaxWeight);
   for (BitModel* m : models) learn<Learn::kSelect>(*m, bit);

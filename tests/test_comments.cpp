@@ -1,14 +1,20 @@
-// The comments section (0x81, format 3.1): the leading comment block of the mesh file, kept in the
-// .qsp and given back; hostile sections refused with kFormat, never a line break written into text.
+// The comments section (0x81, format 3.1) and the coded comments section (0x85, format 3.16): the
+// leading comment block of the mesh file, kept in the .qsp (in whichever is smaller) and given back;
+// hostile sections refused with kFormat, never a line break written into text.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
+#include "bytes.h"
+#include "codec_sections.h"
 #include "container.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
+#include "support/corpus.h"
+#include "support/files.h"
 
 namespace qsp {
 namespace {
@@ -20,14 +26,19 @@ QuadMesh square() {
   return m;
 }
 
-// `payload` as the comments section of the square's file.
-std::string with_section(const std::string& payload) {
+// `payload` as the comments section (or `tag`'s) of the square's file, of minor version `minor`.
+std::string with_section(const std::string& payload, std::uint8_t tag = container::kTagComments,
+                         std::uint8_t minor = 1) {
   const std::string bare = encode(square());
   const container::File f = container::parse(bare);
   std::string body;
   for (const container::Section& s : f.sections) container::put_section(body, s.tag, s.payload);
-  container::put_section(body, container::kTagComments, payload);
-  return container::seal(f.major, 1, f.level, body);
+  container::put_section(body, tag, payload);
+  return container::seal(f.major, minor, f.level, body);
+}
+
+std::string with_coded(const std::string& payload) {
+  return with_section(payload, container::kTagCodedComments, kFormatMinorCodedComments);
 }
 
 ErrorCode refusal(const std::string& bytes) {
@@ -47,7 +58,9 @@ TEST(Comments, KeptBesideTheMeshWhichDecodesAsBefore) {
   EXPECT_EQ(file_comments(bare), std::vector<std::string>{});
   EXPECT_EQ(decode(file).quads, decode(bare).quads);
   EXPECT_EQ(decode(file).positions, decode(bare).positions);
-  EXPECT_EQ(inspect(file).version_minor, 1);
+  // Whichever section is smaller: 3.1's plain lines or 3.16's coded ones.
+  EXPECT_EQ(inspect(file).version_minor,
+            container::parse(file).find(container::kTagCodedComments) ? kFormatMinorCodedComments : 1);
   EXPECT_EQ(inspect(bare).version_minor, 0);
   EXPECT_EQ(file_comments(with_comments(file, {})), std::vector<std::string>{});  // replaced: none left
   EXPECT_EQ(decode(with_comments(file, {})).quads, decode(bare).quads);
@@ -89,11 +102,9 @@ TEST(Comments, CountsAndLengthsAreCheckedAgainstTheBytesLeft) {
 // does not hide it: refused with kFormat, or read as lines without a line break. Every prefix of the
 // whole file is refused.
 TEST(Comments, EveryFlipAndCutIsRefusedOrClean) {
-  const std::string file = with_comments(encode(square()), {" licence", "more", ""});
-  const container::File parsed = container::parse(file);  // its sections point into `file`
-  const container::Section* s = parsed.find(container::kTagComments);
-  ASSERT_NE(s, nullptr);
-  const std::string payload(s->payload);
+  const std::string payload("\x03\x08 licence\x04more\x00", 16);
+  const std::string file = with_section(payload);
+  ASSERT_EQ(file_comments(file), (std::vector<std::string>{" licence", "more", ""}));
   auto check = [](const std::string& bytes) {
     try {
       for (const std::string& line : file_comments(bytes))
@@ -118,6 +129,153 @@ TEST(Comments, TheLeadingBlockOfText) {
   EXPECT_EQ(leading_comments("v 0 0 0\n# later\n"), std::vector<std::string>{});
   EXPECT_EQ(leading_comments("OFF 3 1 0\n# x\n"), std::vector<std::string>{});  // not a keyword line
   EXPECT_EQ(leading_comments(""), std::vector<std::string>{});
+}
+
+}  // namespace
+}  // namespace qsp
+
+namespace qsp {
+namespace {
+
+// The leading comment block of an OBJ or OFF text, read here without qsp's reader: the text after '#'
+// of each comment line (a CR before the LF dropped) from the start, after an OFF keyword line, skipping
+// blank lines, up to the first other line.
+std::vector<std::string> leading_block(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t at = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
+  bool first = true;
+  while (at < text.size()) {
+    std::size_t end = text.find('\n', at);
+    if (end == std::string::npos) end = text.size();
+    std::string line = text.substr(at, end - at);
+    at = end + 1;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::size_t lead = line.find_first_not_of(" \t");
+    const bool keyword = first && lead != std::string::npos && line.find_last_not_of(" \t") - lead + 1 >= 3 &&
+                         line.substr(line.find_last_not_of(" \t") - 2, 3) == "OFF" &&
+                         line.find_first_of(" \t0123456789", lead) == std::string::npos;
+    first = false;
+    if (keyword || lead == std::string::npos) continue;
+    if (line[lead] != '#') break;
+    out.push_back(line.substr(lead + 1));
+  }
+  return out;
+}
+
+bool breaks(char c) { return c == '\n' || c == '\r'; }
+
+// Every leading comment block of testdata's and the shared meshes' OBJ and OFF files, read here: the
+// same lines back through the coded section alone, and through with_comments (one section of the two).
+TEST(CodedComments, EveryLeadingBlockOfTheCorpusRoundTrips) {
+  const std::string bare = encode(square());
+  int blocks = 0, coded = 0;
+  for (const std::filesystem::path& path : testing::corpus()) {
+    const std::string ext = path.extension().string();
+    if (ext != ".obj" && ext != ".off") continue;
+    const std::vector<std::string> lines = leading_block(testing::slurp(path.string()));
+    if (lines.empty()) continue;
+    SCOPED_TRACE(path.string());
+    ++blocks;
+    EXPECT_EQ(decode_coded_comments_section(encode_coded_comments_section(lines), 0), lines);
+    const std::string file = with_comments(bare, lines);
+    EXPECT_EQ(file_comments(file), lines);
+    const container::File f = container::parse(file);
+    EXPECT_NE((f.find(container::kTagComments) != nullptr),
+              (f.find(container::kTagCodedComments) != nullptr));
+    coded += f.find(container::kTagCodedComments) != nullptr;
+  }
+  EXPECT_GE(blocks, 1);
+  if (testing::shared_present()) {
+    EXPECT_GE(blocks, 40);
+    EXPECT_GE(coded, 40);
+  }
+}
+
+// MakeHuman's licence block: the coded section, and it is much smaller than the plain lines.
+TEST(CodedComments, TheSmallerSectionIsWrittenNeverBoth) {
+  QSP_NEEDS_SHARED();
+  const std::vector<std::string> licence =
+      leading_block(testing::slurp((testing::shared_dir() / "meshes" / "mh_fedora.obj").string()));
+  ASSERT_EQ(licence.size(), 16u);
+  const std::string bare = encode(square());
+  const std::string file = with_comments(bare, licence);
+  const container::File f = container::parse(file);
+  ASSERT_NE(f.find(container::kTagCodedComments), nullptr);
+  EXPECT_EQ(f.find(container::kTagComments), nullptr);
+  EXPECT_EQ(inspect(file).version_minor, kFormatMinorCodedComments);
+  EXPECT_LE(file.size() - bare.size(), 280u) << "527 text bytes; deflate -9 gives 301";
+  EXPECT_EQ(inspect(file).other_bytes, f.find(container::kTagCodedComments)->size()) << "counted as other";
+  EXPECT_EQ(decode(file).quads, decode(bare).quads);
+  // Replacing: bytes without a pattern go plain (coded, each costs more than its 8 bits while the
+  // models learn), and the coded section is gone.
+  std::string noise;
+  for (std::uint32_t x = 1; noise.size() < 200; x = x * 1103515245u + 12345u)
+    if (const char c = static_cast<char>(x >> 23); !breaks(c)) noise += c;
+  const std::string plain = with_comments(file, {noise});
+  EXPECT_EQ(container::parse(plain).find(container::kTagCodedComments), nullptr);
+  EXPECT_EQ(file_comments(plain), std::vector<std::string>{noise});
+  EXPECT_EQ(inspect(plain).version_minor, kFormatMinorCodedComments) << "a minor is never lowered";
+  EXPECT_EQ(file_comments(with_comments(file, {})), std::vector<std::string>{});
+  EXPECT_EQ(container::parse(with_comments(file, {})).sections.size(),
+            container::parse(bare).sections.size());
+}
+
+TEST(CodedComments, EmptyLinesAndOneEmptyLine) {
+  for (const std::vector<std::string>& lines :
+       {std::vector<std::string>{""}, std::vector<std::string>{"", ""},
+        std::vector<std::string>{"a", "", "b"}}) {
+    EXPECT_EQ(decode_coded_comments_section(encode_coded_comments_section(lines), 0), lines);
+    EXPECT_EQ(file_comments(with_coded(encode_coded_comments_section(lines))), lines);
+  }
+}
+
+TEST(CodedComments, HostileSectionsAreRefused) {
+  const std::vector<std::string> lines{" Copyright (C) 2020 somebody", " Copyright (C) 2021 somebody else"};
+  const std::string payload = encode_coded_comments_section(lines);
+  ASSERT_EQ(file_comments(with_coded(payload)), lines);
+  // A stream cut short (refused, or other symbols: a shorter stream may be another text's), or one
+  // byte longer.
+  for (std::size_t n = 0; n < payload.size(); ++n) {
+    try {
+      EXPECT_NE(file_comments(with_coded(payload.substr(0, n))), lines) << n;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kFormat) << e.what();
+    }
+  }
+  EXPECT_EQ(refusal(with_coded(payload.substr(0, payload.size() - 3))), ErrorCode::kFormat);
+  EXPECT_EQ(refusal(with_coded(payload + '\x01')), ErrorCode::kFormat);
+  // A text length past what the stream can hold: refused before the text is allocated.
+  std::string huge;
+  put_varint(huge, std::uint64_t{1} << 40);
+  EXPECT_EQ(refusal(with_coded(huge + payload.substr(1))), ErrorCode::kFormat);
+  // A CR (which the encoder codes as any byte) decoded inside a line.
+  EXPECT_EQ(refusal(with_coded(encode_coded_comments_section({"a\rb"}))), ErrorCode::kFormat);
+  // In a file of 3.15, and beside a comments section.
+  EXPECT_EQ(refusal(with_section(payload, container::kTagCodedComments, 15)), ErrorCode::kFormat);
+  const container::File f = container::parse(with_coded(payload));
+  std::string body;
+  for (const container::Section& s : f.sections) {
+    if (s.tag == container::kTagCodedComments)
+      container::put_section(body, container::kTagComments, "\x01\x01x");
+    container::put_section(body, s.tag, s.payload);
+  }
+  EXPECT_EQ(refusal(container::seal(f.major, f.minor, f.level, body)), ErrorCode::kFormat);
+}
+
+// Every bit flip of a coded section, resealed so the checksum does not hide it: refused with kFormat,
+// or read as lines without a line break.
+TEST(CodedComments, EveryFlipIsRefusedOrClean) {
+  const std::string payload = encode_coded_comments_section({" licence", "more", ""});
+  for (std::size_t i = 0; i < payload.size() * 8; ++i) {
+    std::string p = payload;
+    p[i / 8] = static_cast<char>(p[i / 8] ^ (1 << (i % 8)));
+    try {
+      for (const std::string& line : file_comments(with_coded(p)))
+        EXPECT_EQ(line.find_first_of("\r\n"), std::string::npos);
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kFormat) << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -24,6 +24,7 @@
 
 #include "bytes.h"
 #include "codec_encode.h"
+#include "codec_sections.h"
 #include "container.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
@@ -261,8 +262,8 @@ void expect_same_polygons(const PolygonMesh& mesh, const PolygonMesh& decoded) {
 TEST(Golden, BytesArePinned) {
   auto names = golden_names();
   ASSERT_GE(names.size(), 5u);
-  int polygons = 0, comments = 0, texcoords = 0, labels = 0, tags = 0, normals = 0, exact = 0, kept = 0,
-      colors = 0, statements = 0, exact_values = 0;
+  int polygons = 0, comments = 0, coded_comments = 0, texcoords = 0, labels = 0, tags = 0, normals = 0,
+      exact = 0, kept = 0, colors = 0, statements = 0, exact_values = 0;
   for (const auto& name : names) {
     SCOPED_TRACE(name);
     const std::string obj = kGolden + "/" + name + ".obj";
@@ -275,6 +276,7 @@ TEST(Golden, BytesArePinned) {
     EXPECT_EQ(lines, name.find("_comments") != std::string::npos ? leading_comments(slurp(obj))
                                                                  : std::vector<std::string>{});
     comments += !lines.empty();
+    coded_comments += container::parse(slurp(path)).find(container::kTagCodedComments) != nullptr;
     PolygonMesh poly = read_polygons(obj);
     if (!poly.texcoords64.empty() || !poly.normals64.empty() || !poly.vertex_colors64.empty()) {
       // Exact values: a 3.13 file, decoded to the .obj's faces with each texture coordinate, normal and
@@ -505,6 +507,7 @@ TEST(Golden, BytesArePinned) {
   // Format 3.1's two sections each have a golden.
   EXPECT_GE(polygons, 1);
   EXPECT_GE(comments, 1);
+  EXPECT_GE(coded_comments, 2);  // format 3.16's coded comments section
   EXPECT_GE(texcoords, 2);
   EXPECT_GE(labels, 3);
   EXPECT_GE(tags, 3);
@@ -539,6 +542,28 @@ TEST(Golden, PolygonFilesBefore312StillDecode) {
               write_obj_mesh(from_polygon_mesh(decode_polygons(now))));
   }
   EXPECT_EQ(files, 5);
+}
+
+// Files written before 3.16 (testdata/golden/v3.15/: the goldens whose comments the encoder now codes
+// in the coded comments section, as plain lines in the comments section) decode forever, to the mesh
+// and comment lines today's files of the same meshes decode to.
+TEST(Golden, CommentFilesBefore316StillDecode) {
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(kGolden + "/v3.15")) {
+    if (e.path().extension() != ".qsp") continue;
+    const std::string name = e.path().stem().string();
+    SCOPED_TRACE(name);
+    ++files;
+    const std::string old = slurp(e.path().string()), now = slurp(kGolden + "/" + name + ".qsp");
+    EXPECT_LT(old[9], kFormatMinorCodedComments);
+    EXPECT_NE(container::parse(old).find(container::kTagComments), nullptr);
+    EXPECT_NE(container::parse(now).find(container::kTagCodedComments), nullptr);
+    EXPECT_EQ(file_comments(old), leading_comments(slurp(kGolden + "/" + name + ".obj")));
+    EXPECT_EQ(file_comments(old), file_comments(now));
+    EXPECT_EQ(write_obj_mesh(from_polygon_mesh(decode_polygons(old))),
+              write_obj_mesh(from_polygon_mesh(decode_polygons(now))));
+  }
+  EXPECT_EQ(files, 1);
 }
 
 TEST(Golden, EveryToolCombinationIsPinned) {
@@ -790,6 +815,37 @@ std::map<std::string, Crafted> crafted() {
     out["qsp_polygons_empty_stream"] = {with(0, 1, 0, ""), "format",
                                         "polygons section: regions: region 0, face 0: a face of degree"};
   }
+  {
+    // The coded comments section (3.16, optional): its stream cut short, a text length past what its
+    // stream can hold, a CR decoded inside a line, the section in a 3.15 file, beside a comments section.
+    const std::string required = section(1, p.counts) + section(2, p.topology) + section(3, p.geometry);
+    const std::string coded =
+        encode_coded_comments_section({" Copyright (C) 2020 somebody", " Copyright (C) 2021 somebody else"});
+    Parts v316 = p, v315 = p;
+    v316.minor = kFormatMinorCodedComments;
+    v315.minor = kFormatMinorCodedComments - 1;
+    out["qsp_coded_comments_truncated"] = {
+        seal(v316, required + section(container::kTagCodedComments, coded.substr(0, coded.size() - 3))),
+        "format", "coded comments section ends too early"};
+    std::string huge;
+    put_varint(huge, 1024 * (coded.size() - 1 + 8) + 1);
+    out["qsp_coded_comments_length_past_stream"] = {
+        seal(v316, required + section(container::kTagCodedComments, huge + coded.substr(1))), "format",
+        "coded comments section: text length " + std::to_string(1024 * (coded.size() - 1 + 8) + 1) +
+            " is more than the " + std::to_string(1024 * (coded.size() - 1 + 8)) + " bytes a stream of " +
+            std::to_string(coded.size() - 1) + " bytes can hold"};
+    out["qsp_coded_comments_cr"] = {
+        seal(v316,
+             required + section(container::kTagCodedComments, encode_coded_comments_section({"a", "b\rc"}))),
+        "format", "coded comments section: the text's byte 3 is a CR"};
+    out["qsp_coded_comments_in_3_15"] = {
+        seal(v315, required + section(container::kTagCodedComments, coded)), "format",
+        "section 0x85 (coded comments) is format 3.16's, and the file says it is 3.15"};
+    out["qsp_coded_comments_beside_comments"] = {
+        seal(v316, required + section(container::kTagComments, std::string("\x01\x01x", 3)) +
+                       section(container::kTagCodedComments, coded)),
+        "format", "section 0x85 (coded comments) beside section 0x81 (comments)"};
+  }
   out["qsp_missing_geometry"] = {seal(p, section(1, p.counts) + section(2, p.topology)), "format",
                                  "required section 3 (geometry) is missing"};
   out["qsp_repeated_section"] = {
@@ -847,7 +903,9 @@ TEST(Invalid, EveryQspIsRefusedWithItsExpectedError) {
     auto expect = testing::read_expect(fs::path(e.path()).replace_extension(".expect"));
     ASSERT_TRUE(expect.count("code") && expect.count("message"));
     try {
-      (void)decode_polygons(slurp(e.path().string()));  // reads every 3.x file, polygon files included
+      // Reads every 3.x file, polygon files included, and then the comment lines.
+      (void)decode_polygons(slurp(e.path().string()));
+      (void)file_comments(slurp(e.path().string()));
       ADD_FAILURE() << "accepted";
     } catch (const Error& err) {
       EXPECT_EQ(error_name(err.code()), expect["code"]) << err.what();

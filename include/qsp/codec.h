@@ -18,22 +18,23 @@
 namespace qsp {
 
 // The format version this library writes: the lowest whose sections the file holds. 3.16 for texture
-// coordinates coded with hints from the faces across (where that is smaller), 3.15 for PLY
-// obj_info lines (PolygonMesh::ply_info), 3.14 for PLY
-// properties or OBJ vertex weights (PolygonMesh::vertex_properties, face_properties), 3.13 for texture
-// coordinates, normals or colours binary32 does not hold, 3.12 for a polygon
-// mesh with interior vertices, 3.11 for a kept statement order, 3.10 for normals
-// predicted from the faces or octahedral, 3.9 for front-coded label names, 3.7 for a mesh with
-// kept lines (PolygonMesh::kept_lines), 3.6 for a lossless
-// mesh with coordinates binary32 does not hold (PolygonMesh::positions64), 3.5 for a mesh with normals, 3.4
-// for a mesh with OpenSubdiv tags, 3.3 for a mesh with face labels or material libraries, 3.2 for a mesh with
-// texture coordinates, 3.1 for a polygon mesh (its polygons section) or a file with a comments section, 3.0,
-// the first release format, for a manifold, consistently oriented all-quad mesh otherwise (the same bytes as
-// before 3.1). It reads every 3.x file (the required sections a newer minor may add excepted, which it
-// refuses with "upgrade qsp"); 1.x and 2.x were development versions and are not read
-// (format-spec/qsp_format.md, "Version").
+// coordinates coded with hints from the faces across or comments coded through the range coder (the coded
+// comments section), where that is smaller, 3.15 for PLY obj_info lines
+// (PolygonMesh::ply_info), 3.14 for PLY properties or OBJ vertex weights (PolygonMesh::vertex_properties,
+// face_properties), 3.13 for texture coordinates, normals or colours binary32 does not hold, 3.12 for a
+// polygon mesh with interior vertices, 3.11 for a kept statement order, 3.10 for normals predicted from the
+// faces or octahedral, 3.9 for front-coded label names, 3.7 for a mesh with kept lines
+// (PolygonMesh::kept_lines), 3.6 for a lossless mesh with coordinates binary32 does not hold
+// (PolygonMesh::positions64), 3.5 for a mesh with normals, 3.4 for a mesh with OpenSubdiv tags, 3.3 for a
+// mesh with face labels or material libraries, 3.2 for a mesh with texture coordinates, 3.1 for a polygon
+// mesh (its polygons section) or a file with a comments section, 3.0, the first release format, for a
+// manifold, consistently oriented all-quad mesh otherwise (the same bytes as before 3.1). It reads every 3.x
+// file (the required sections a newer minor may add excepted, which it refuses with "upgrade qsp"); 1.x
+// and 2.x were development versions and are not read (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
 inline constexpr std::uint8_t kFormatMinor = 16;
+// The leading comment block coded through a text model (the coded comments section, optional).
+inline constexpr std::uint8_t kFormatMinorCodedComments = 16;
 // Texture coordinates with hints from the faces across and residuals by activity (flag bit 7).
 inline constexpr std::uint8_t kFormatMinorSeamHints = 16;
 // A PLY file's obj_info header lines (the PLY obj_info lines section, optional).
@@ -134,16 +135,18 @@ struct OrderMap {
 // stored.
 std::string encode(const QuadMesh& mesh, const EncodeOptions& options = {}, OrderMap* order = nullptr);
 
-// `file` (a whole .qsp) with the comments section holding `lines` (the leading comment block of the
-// mesh file it was made from: io.h's leading_comments), replacing any it had; none for no lines. The
-// file then says format 3.1 (a 3.0 decoder skips the section). Throws Error(kUsage) for a line with a
-// CR or LF (it would be two lines, or a statement, when written back) and what container parsing
+// `file` (a whole .qsp) with the comments section or the coded comments section holding `lines` (the
+// leading comment block of the mesh file it was made from: io.h's leading_comments), whichever is
+// smaller (the comments section on a tie), replacing any either had; neither for no lines. The file
+// then says format 3.1 or 3.16 (a decoder that predates the section skips it). Throws Error(kUsage) for a
+// line with a CR or LF (it would be two lines, or a statement, when written back) and what container parsing
 // throws for a malformed `file`.
 std::string with_comments(std::string_view file, const std::vector<std::string>& lines);
 
-// The comment lines a .qsp's comments section holds (empty if it has none). Checks the container as
-// decode() does; Error(kFormat) naming the byte offset for a malformed section (a count the bytes
-// cannot hold, a line with a CR or LF, bytes left over). Safe on untrusted input.
+// The comment lines a .qsp's comments or coded comments section holds (empty if it has neither). Checks
+// the container as decode() does; Error(kFormat) naming the byte offset for a malformed section (a
+// count the bytes cannot hold, a line with a CR or LF, bytes left over, a stream that does not end as
+// the encoder ends it, both sections in one file). Safe on untrusted input.
 std::vector<std::string> file_comments(std::string_view bytes);
 
 // Why an OBJ line kept as text (PolygonMesh::kept_lines) cannot be stored in the kept lines section

@@ -191,13 +191,14 @@ class Coder:
         B.update(b)
         return b
 
-    def logistic(self, models, W, want=None):
-        """geometry "Logistic decisions": four models and a weight set W (updated in place)."""
+    def logistic(self, models, W, want=None, rate=MIX_RATE):
+        """geometry "Logistic decisions": four models and a weight set W (updated in place); `rate`
+        the weights' learning rate (6; the coded comments section's text model: 10)."""
         st = [STRETCH[clamp(4096 - (m.p0() >> 4), 1, 4095)] for m in models] + [MIX_BIAS]
         dot = sum(W[k] * st[k] for k in range(5))
         p1 = SQUASH[clamp(dot >> 16, -2047, 2047)]
         b = self.decide(clamp(16 * (4096 - p1), 71, 65465), want)
-        err = MIX_RATE * (4096 * b - p1)
+        err = rate * (4096 * b - p1)
         for k in range(5):
             W[k] = clamp(W[k] + ((st[k] * err) >> 14), -(1 << 22), 1 << 22)
         for m in models:

@@ -2,10 +2,11 @@
 """The whole mesh of a .qsp file, polygons section (0x05), texture coordinates section (0x06), face
 labels section (0x07), subdivision tags section (0x08), normals section (0x09), colours section (0x0b,
 qspcolors.py), interior positions section (0x0c), exact values section (0x0d, qspvalues.py), properties section
-(0x0e, qspprops.py), order section (0x04) and comments section (0x81)
+(0x0e, qspprops.py), order section (0x04), comments section (0x81) and coded comments section (0x85)
 included, written from format-spec/qsp_format.md alone ("Grid layout", "Order section", "Polygons
 section", "Texture coordinates section", "Face labels section", "Subdivision tags section", "Normals
-section", "Interior positions section", "Comments section", "Decoding a mesh") without reading the
+section", "Interior positions section", "Comments section", "Coded comments section", "Decoding a
+mesh") without reading the
 codec's C++, on top of qsplayout.py (topology, layout) and qspgeo.py (container, range coder,
 geometry).
 
@@ -405,6 +406,66 @@ def comments(payload):
         pos += ln
     need(pos == len(payload), 'bytes after the last comment line')
     return out
+
+
+# ---------------- "Coded comments section" ----------------
+def coded_comments(payload):
+    """The lines of a coded comments section (0x85): a text length, then one range-coded stream of
+    the text's bytes (the lines joined by LF), each as 8 logistic decisions of a text model."""
+    size, pos = g.read_varint(payload, 0)
+    stream = payload[pos:]
+    need(size <= 1024 * (len(stream) + 8), 'coded comments text length %d past the stream' % size)
+    dec = g.RangeDecoder(stream)
+    order0 = g.Table()
+    order1 = g.Table()
+    order2 = g.Table()
+    order3 = g.Table()
+    match = g.Table()
+    weights = {}
+    text = bytearray()
+    latest = {}           # 4 bytes -> the position just after their latest occurrence
+    ptr, length = 0, 0    # the match: the expected byte's position, the agreeing length (0: none)
+
+    def index(key):        # the top 16 bits of key * 0x9E3779B1 mod 2^32
+        return ((key * 0x9E3779B1) % (1 << 32)) >> 16
+
+    for i in range(size):
+        def prev(k):
+            return text[i - k] if i >= k else 0
+        c1 = prev(1)
+        c12 = c1 + 256 * prev(2)
+        c123 = c12 + 65536 * prev(3)
+        node = 1
+        for b in range(7, -1, -1):
+            M1 = order1[256 * c1 + node]
+            M2 = order2[index(256 * c12 + node)]
+            M3 = order3[index(256 * c123 + node)]
+            speaks = False
+            if length > 0:
+                e = text[ptr]
+                speaks = (e + 256) >> (b + 1) == node
+            M0 = match[(e >> b) & 1, length] if speaks else order0[node]
+            k = 2 * ((M1.seen > 0) + (M2.seen > 0) + (M3.seen > 0)) + (1 if speaks else 0)
+            W = weights.setdefault(k, [32768, 32768, 32768, 32768, 0])
+            bit = dec.logistic([M0, M1, M2, M3], W, rate=10)
+            node = 2 * node + bit
+        c = node - 256
+        need(c != 0x0D, 'coded comments byte %d is a CR' % i)
+        text.append(c)
+        n = i + 1
+        if length > 0 and text[ptr] == c:
+            length, ptr = min(length + 1, 15), ptr + 1
+        else:
+            length = 0
+        if n >= 4:
+            key = bytes(text[n - 4:n])
+            if key in latest and length == 0:
+                ptr = latest[key]
+                while length < 15 and length < ptr and text[ptr - 1 - length] == text[n - 1 - length]:
+                    length += 1
+            latest[key] = n
+    dec.finish()
+    return bytes(text).split(b'\n')
 
 
 # ---------------- "Face labels section" ----------------
@@ -1352,6 +1413,11 @@ def decode_file(data):
     if 0x0e in secs:
         props = qspprops.decode_props(secs[0x0e], len(pos), len(faces), data[9])
     lines = comments(secs[0x81]) if 0x81 in secs else []
+    if 0x85 in secs:
+        need(data[9] >= 16, 'section 0x85 (coded comments) is format 3.16\'s, and the file says it is 3.%d'
+             % data[9])
+        need(0x81 not in secs, 'coded comments section beside a comments section')
+        lines = coded_comments(secs[0x85])
     tex = None
     if 0x06 in secs:
         need(data[9] >= 2, 'a texture coordinates section in a %d.%d file' % (data[8], data[9]))
