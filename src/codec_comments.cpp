@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <unordered_map>
 #include <vector>
 
@@ -41,7 +42,7 @@ class TextModel {
     };
     const std::uint32_t x1 = at(1), x2 = x1 | (at(2) << 8), x3 = x2 | (at(3) << 16);
     const std::uint32_t expected = length_ > 0 ? static_cast<std::uint8_t>(text[pointer_]) : 0u;
-    const unsigned byte = static_cast<std::uint8_t>(text[i]);
+    const unsigned byte = static_cast<std::uint8_t>(text[i]);  // the encoder's; a decoder's is 0 so far
     std::uint32_t node = 1;
     for (int b = 7; b >= 0; --b) {
       BitModel* m1 = &order1_[(x1 << 8) | node];
@@ -80,7 +81,7 @@ class TextModel {
     }
     if (n < 4) return;
     std::uint32_t key = 0;
-    for (std::size_t k = n - 4; k < n; ++k) key = key << 8 | static_cast<std::uint8_t>(text[k]);
+    for (std::size_t k = n - 4; k < n; ++k) key = (key << 8) | static_cast<std::uint8_t>(text[k]);
     const auto [seen, fresh] = last_.try_emplace(key, n);
     if (fresh) return;
     if (length_ == 0) {

@@ -68,6 +68,12 @@
 # types' ranges, bytes after the last property, ...).
 # Polygon goldens of earlier versions (testdata/golden/v3.*/polygons) are checked as
 # testdata/golden/polygons' are, against the mesh of today's golden of the same name.
+# Coded comments (format 3.16's section, from the text too): the goldens holding it (grid_3x2_comments,
+# grid_3x2_licence_comments) and the fresh encodes with a leading block (mh_fedora's licence among them)
+# are decoded whole by qsppoly.py and their lines compared with the .obj's leading block and with the
+# reference decoder's; both decoders must refuse the section broken each way the text names (in a 3.15
+# file, beside a comments section, its stream cut or lengthened, a text length past its stream); the
+# comment goldens of 3.15 (testdata/golden/v3.15, plain lines) are checked against today's mesh.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -82,6 +88,11 @@ for f in "$root"/testdata/golden/v3.*/polygons/*.qsp; do  # polygon goldens of e
   files+=("$f")
   name=$(basename "${f%.qsp}")
   obj_of[$f]=$root/testdata/golden/polygons/$name.obj  # the mesh today's golden of that name is made from
+done
+for f in "$root"/testdata/golden/v3.15/*.qsp; do  # comment goldens of 3.15 (plain lines), against today's mesh
+  [[ -f $f ]] || continue
+  files+=("$f")
+  obj_of[$f]=$root/testdata/golden/$(basename "${f%.qsp}").obj
 done
 declare -A tex_of=()  # the files with texture coordinates, and the mesh each was made from
 for f in "$root"/testdata/golden/texcoords/*.qsp; do tex_of[$f]=${f%.qsp}.obj; done
@@ -131,6 +142,31 @@ for x in failed:
 sys.exit(1 if failed else 0)
 PY
     { echo "normals sections from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
+fi
+if [[ -f $root/testdata/golden/grid_3x2_licence_comments.qsp ]]; then  # the coded comments section's refusals
+  "$python" - "$here" "$root/testdata/golden/grid_3x2_licence_comments.qsp" "$qsp" "$work" <<'PY' ||
+import sys
+sys.path.insert(0, sys.argv[1])
+import qspgeo as g
+import qsppoly as poly
+path, qsp, work = sys.argv[2:]
+data = open(path, 'rb').read()
+secs = g.sections(data)
+coded = secs[0x85]
+rest = {t: p for t, p in secs.items() if t != 0x85}
+cases = [('the file itself', data, True),
+         ('a coded comments section in a 3.15 file', g.container(data[:9] + bytes([15]) + data[10:11], secs), False),
+         ('beside a comments section', g.container(data, {**secs, 0x81: bytes([1, 1]) + b'x'}), False),
+         ('its stream cut by 3 bytes', g.container(data, {**rest, 0x85: coded[:-3]}), False),
+         ('a byte after its stream', g.container(data, {**rest, 0x85: coded + bytes([1])}), False),
+         ('a text length past its stream', g.container(data, {**rest, 0x85: bytes([0xFF, 0xFF, 0x7F]) + coded[2:]}),
+          False)]
+failed = poly.refusals(cases, qsp, '%s/coded_comments_case.qsp' % work)
+for x in failed:
+    print(x, file=sys.stderr)
+sys.exit(1 if failed else 0)
+PY
+    { echo "coded comments sections from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
 fi
 "$python" "$here/labelgen.py" --test "$qsp" >/dev/null ||
   { echo "face labels streams from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
