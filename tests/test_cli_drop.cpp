@@ -322,7 +322,8 @@ TEST_F(CliDrop, AStrayLineOfProseInAMakeHumanHeaderIsKept) {
   EXPECT_EQ(decode_polygons(slurp(p("hat.qsp"))).kept_lines,
             std::vector<std::string>{"This asset was converted by hand"});
   EXPECT_EQ(static_cast<int>(slurp(p("hat.qsp"))[9]), testing::minor_of_file_with(slurp(p("hat.qsp")), 7))
-      << "a file with kept lines says format 3.7 (3.16 with the hat's texture coordinates)";
+      << "a file with kept lines says format 3.7 (3.16 with the licence block coded or hints in its texture "
+         "coordinates)";
   r = run_qsp("decompress -c " + quote(p("hat.qsp")));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::size_t prose = r.out.find("\nThis asset was converted by hand\n");

@@ -1,8 +1,8 @@
 // The format minor version a file should say (qsp_format.md, "Sections": the lowest whose sections it
 // holds) when it holds a section of `minor`: 3.12 where it also has an interior positions section (a
-// polygon mesh with vertices in no quad), whose presence the polygon tests check on their own; 3.16 where
-// its texture coordinates section has hints from the faces across (flag bit 7), as every one the encoder
-// writes now has.
+// polygon mesh with vertices in no quad), whose presence the polygon tests check on their own, and 3.16
+// where it has a coded comments section (a leading comment block coded smaller than as plain lines) or
+// its texture coordinates section has hints from the faces across (flag bit 7, where they are smaller).
 #pragma once
 
 #include <algorithm>
@@ -19,6 +19,7 @@ inline int minor_of_file_with(std::string_view bytes, int minor) {
   if (const container::Section* uv = file.find(container::kTagTexcoords);
       uv && !uv->payload.empty() && (static_cast<std::uint8_t>(uv->payload[0]) & 0x80))
     minor = std::max<int>(minor, kFormatMinorSeamHints);
+  if (file.find(container::kTagCodedComments)) minor = std::max<int>(minor, kFormatMinorCodedComments);
   return minor;
 }
 
