@@ -263,7 +263,7 @@ TEST(CodedComments, HostileSectionsAreRefused) {
 }
 
 // Every bit flip of a coded section, resealed so the checksum does not hide it: refused with kFormat,
-// or read as lines without a line break.
+// or read as lines without a line break. Every prefix of the whole file is refused.
 TEST(CodedComments, EveryFlipIsRefusedOrClean) {
   const std::string payload = encode_coded_comments_section({" licence", "more", ""});
   for (std::size_t i = 0; i < payload.size() * 8; ++i) {
@@ -276,6 +276,8 @@ TEST(CodedComments, EveryFlipIsRefusedOrClean) {
       EXPECT_EQ(e.code(), ErrorCode::kFormat) << e.what();
     }
   }
+  const std::string file = with_coded(payload);
+  for (std::size_t n = 0; n < file.size(); ++n) EXPECT_THROW((void)file_comments(file.substr(0, n)), Error);
 }
 
 }  // namespace
