@@ -117,7 +117,9 @@ void RangeDecoder::finish() const {
                   std::to_string(base_offset_ + bytes_.size()) + ")");
 }
 
-IntModel::IntModel() : tree_(std::size_t{2} << kTreeBits), tail_(32 * 32) {}
+// The tail's models are made when a value first needs them: most models never code a value above 511,
+// and making 1024 models for each of them was most of the cost of starting a small section's coder.
+IntModel::IntModel() : tree_(std::size_t{2} << kTreeBits) {}
 
 void IntModel::encode(RangeEncoder& enc, std::uint32_t value) {
   std::uint32_t v = value + 1;  // >= 1; value <= 2^32 - 2 by contract
@@ -132,6 +134,7 @@ void IntModel::encode(RangeEncoder& enc, std::uint32_t value) {
       node = 2 * node + bit;
     }
   } else {
+    if (tail_.empty()) tail_.resize(32 * 32);
     for (unsigned i = n; i-- > 0;) enc.encode_bit(tail_[32 * n + i], (v >> i) & 1u);
   }
 }
@@ -148,6 +151,7 @@ std::uint32_t IntModel::decode(RangeDecoder& dec) {
       v = (v << 1) | bit;
     }
   } else {
+    if (tail_.empty()) tail_.resize(32 * 32);
     for (unsigned i = n; i-- > 0;) v = (v << 1) | dec.decode_bit(tail_[32 * n + i]);
   }
   return v - 1;  // every prefix the decoder accepts gives v in [1, 2^32 - 1]

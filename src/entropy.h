@@ -205,7 +205,7 @@ class IntModel {
  private:
   std::array<BitModel, kMaxBits> prefix_;
   std::vector<BitModel> tree_;  // index (1 << n) + node - 1, node = 1 then 2*node + bit
-  std::vector<BitModel> tail_;  // index 32 * n + position, for n > kTreeBits
+  std::vector<BitModel> tail_;  // index 32 * n + position, for n > kTreeBits (empty until one comes)
 };
 
 // Zigzag map of a signed value to unsigned (0, -1, 1, -2, ... -> 0, 1, 2, 3, ...).
