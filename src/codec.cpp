@@ -285,9 +285,28 @@ QuadMesh decode_quads(Parsed& p) {
   return permute(canonical, Renumbering{order_map.vertex, order_map.face, turn});
 }
 
-}  // namespace
+// A file of a newer minor version may use what this qsp still takes for reserved (as 3.9, 3.10 and 3.16
+// gave flag bits a meaning): what it refuses in one is worded as a version error, upgrade qsp, not as a
+// corrupt file ("Version").
+template <typename Decode>
+auto newer_minor_says_upgrade(std::string_view bytes, Decode&& decode) {
+  try {
+    return decode();
+  } catch (const Error& e) {
+    const bool ours = bytes.size() >= container::kFixedHeader &&
+                      std::equal(std::begin(container::kMagic), std::end(container::kMagic), bytes.begin(),
+                                 [](unsigned char a, char b) { return a == static_cast<unsigned char>(b); });
+    const auto minor = ours ? static_cast<std::uint8_t>(bytes[9]) : 0;
+    if (e.code() != ErrorCode::kFormat || !ours || static_cast<std::uint8_t>(bytes[8]) != kFormatMajor ||
+        minor <= kFormatMinor)
+      throw;
+    throw Error(ErrorCode::kVersion, "file is .qsp format 3." + std::to_string(minor) +
+                                         ", newer than this qsp's 3." + std::to_string(kFormatMinor) +
+                                         ", and reads as invalid here (" + e.what() + "; upgrade qsp)");
+  }
+}
 
-QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
+QuadMesh decode_any_quads(std::string_view bytes, const DecodeLimits& limits) {
   Parsed p = parse(bytes, limits);
   if (const Section* s = p.file.find(container::kTagPolygons))
     throw Error(ErrorCode::kNotQuad,
@@ -307,7 +326,7 @@ QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
   return decode_quads(p);
 }
 
-PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) {
+PolygonMesh decode_any_polygons(std::string_view bytes, const DecodeLimits& limits) {
   Parsed p = parse(bytes, limits);
   const Section* poly = p.file.find(container::kTagPolygons);
   const Section* uv = p.file.find(container::kTagTexcoords);
@@ -437,6 +456,16 @@ PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) 
   r.first = first;
   r.renumber_tags = false;
   return with_statements(permute(out, r));
+}
+
+}  // namespace
+
+QuadMesh decode(std::string_view bytes, const DecodeLimits& limits) {
+  return newer_minor_says_upgrade(bytes, [&] { return decode_any_quads(bytes, limits); });
+}
+
+PolygonMesh decode_polygons(std::string_view bytes, const DecodeLimits& limits) {
+  return newer_minor_says_upgrade(bytes, [&] { return decode_any_polygons(bytes, limits); });
 }
 
 bool holds_polygons(std::string_view bytes) {

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -115,8 +116,9 @@ struct Shape {
 };
 
 // Where each texture-coordinate edge lies: the first corner k (in output order) whose face runs from
-// names[k] to the next corner's name. Per value x, its edges x -> y in corner order (a value is named by
-// a handful of corners, so a scan of its few edges finds one).
+// names[k] to the next corner's name. Per value x, its edges x -> y in corner order: a value is named by
+// a handful of corners, so a scan of its few edges finds one; a value (or vertex) with more has its edges
+// sorted by (y, k), searched by halves, or a fan of 100,000 triangles would take 10^10 steps.
 struct Edges {
   std::vector<std::uint32_t> start;                         // per value and one more: its first edge
   std::vector<std::pair<std::uint32_t, std::uint32_t>> to;  // per edge: (y, corner k)
@@ -137,13 +139,21 @@ struct Edges {
     to.resize(start.back());
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
     each([&](std::uint32_t x, std::uint32_t y, std::uint32_t k) { to[fill[x]++] = {y, k}; });
+    for (std::size_t x = 0; x < count; ++x)
+      if (start[x + 1] - start[x] > kScan) std::sort(to.begin() + start[x], to.begin() + start[x + 1]);
   }
   // The corner that runs from x to y, or kInvalid.
   std::uint32_t find(std::uint32_t x, std::uint32_t y) const {
+    if (start[x + 1] - start[x] > kScan) {
+      const auto at = std::lower_bound(to.begin() + start[x], to.begin() + start[x + 1],
+                                       std::pair<std::uint32_t, std::uint32_t>{y, 0});
+      return at != to.begin() + start[x + 1] && at->first == y ? at->second : kInvalid;
+    }
     for (std::uint32_t e = start[x]; e < start[x + 1]; ++e)
       if (to[e].first == y) return to[e].second;
     return kInvalid;
   }
+  static constexpr std::uint32_t kScan = 16;  // edges scanned in corner order; more are sorted
 };
 
 // Bit 7: what the faces across corner c's edges say of its value, from the corners before it (`names`
@@ -200,7 +210,7 @@ unsigned bucket_of(const Prediction& p, std::span<const std::uint32_t> size) {
 // The prediction of value `i` from its creating corner (kInvalid: none, i >= T - U).
 // Bit 7: the faces across, as the hints find them (W in the spec: each vertex's edges in corner order).
 struct Twins {
-  const Edges& edges;
+  const Edges* edges;
   std::span<const std::uint32_t> corner_vertices;
 };
 
@@ -268,7 +278,7 @@ Prediction predict(std::uint32_t i, std::uint32_t creating, std::span<const std:
           const std::uint32_t at = first ? step(creating, d - 1) : step(creating, 1);
           const auto& v = twins->corner_vertices;
           const std::uint32_t t =
-              first ? twins->edges.find(v[creating], v[at]) : twins->edges.find(v[at], v[creating]);
+              first ? twins->edges->find(v[creating], v[at]) : twins->edges->find(v[at], v[creating]);
           if (t != kInvalid) {
             const std::uint32_t here = known(names[first ? t : step(t, 1)]),
                                 there = known(names[first ? step(t, 1) : t]);
@@ -375,8 +385,9 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
   std::vector<std::uint32_t> output(T, kInvalid), input;  // input: per output index, its input index
   std::vector<std::uint32_t> names(corner_vertices.size(), kInvalid), creating;
   const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
-  const Edges twins = w.normals ? Edges({}, {}, 0) : Edges(face_offsets, corner_vertices, vertex_count);
-  const Twins across{twins, corner_vertices};
+  std::optional<Edges> twins;  // bit 7's, for texture coordinates
+  if (!w.normals) twins.emplace(face_offsets, corner_vertices, vertex_count);
+  const Twins across{twins ? &*twins : nullptr, corner_vertices};
   {
     Named named(corner_vertices, vertex_count);
     std::size_t face = 0;
@@ -390,7 +401,7 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
       const Hint hint = seen.empty() || w.normals
                             ? Hint{}
                             : hint_of(static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(face - 1),
-                                      face_offsets, face_of_corner, corner_vertices, names, twins);
+                                      face_offsets, face_of_corner, corner_vertices, names, *twins);
       const auto h = static_cast<std::uint8_t>(hint.state);
       const bool hit = hint.state == 1 && t != kInvalid && output[t] == hint.value;
       if (t != kInvalid && output[t] == kInvalid) {
@@ -636,7 +647,7 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     in.fail_at("reserved flag bits are set (must be zero)", at);
   const bool hints = (flags & kHintBit) != 0;
   if (hints && minor < kFormatMinorSeamHints)
-    in.fail_at("hints from the faces across are format 3." + std::to_string(kFormatMinorSeamHints) +
+    in.fail_at("flag bit 7 (hints from the faces across) is format 3." + std::to_string(kFormatMinorSeamHints) +
                    "'s, and the file says it is 3." + std::to_string(minor),
                at);
   if ((flags & normal_bits) && minor < kFormatMinorNormalsGeometry)
@@ -698,7 +709,8 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   creating.reserve(T - U);
   Named named(corner_vertices, vertex_count);
   const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
-  const Edges twins = hints ? Edges(face_offsets, corner_vertices, vertex_count) : Edges({}, {}, 0);
+  std::optional<Edges> twins;
+  if (hints) twins.emplace(face_offsets, corner_vertices, vertex_count);
   SymbolModels m;
   std::uint32_t n = 0;
   std::size_t face = 0;
@@ -710,7 +722,7 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     const unsigned s = 2 * static_cast<unsigned>(std::min<std::size_t>(seen.size(), 2)) + seam;
     const Hint hint = hints && !seen.empty()
                           ? hint_of(static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(face - 1),
-                                    face_offsets, face_of_corner, corner_vertices, out.corners, twins)
+                                    face_offsets, face_of_corner, corner_vertices, out.corners, *twins)
                           : Hint{};
     if (hint.state == 1 && dec.decode_bit(m.is_hint[s])) {
       // The hint is a value of S(v): the first value of a vertex, or a seam crossed.
@@ -761,7 +773,7 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   std::vector<IntModel> residual(kContexts * K * kBuckets);
   std::vector<std::uint32_t> size(hints ? T : 0, 0);  // bit 7: per value, its residuals' size
   const Edges edges(face_offsets, out.corners, T);
-  const Twins across{twins, corner_vertices};
+  const Twins across{twins ? &*twins : nullptr, corner_vertices};
   std::array<BitModel, 3> minus{};  // bit 5: the sign of a grid value whose integer is 0
   BitModel copy{};                  // bit 5: a value the same as the one its face's corner before names
   // Component c of value i from its integer.

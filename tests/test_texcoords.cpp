@@ -206,6 +206,37 @@ TEST(Texcoords, HintsInAnOlderFileAreRefused) {
   }
 }
 
+// A reserved flag bit in a file of this qsp's minor version is a corrupt file; in a file of a newer minor
+// version, which may have given it a meaning (as 3.16 did bit 7), it is a version error: upgrade qsp.
+TEST(Texcoords, AReservedBitInANewerMinorSaysUpgrade) {
+  const std::string good =
+      testing::slurp(std::string(QSP_TESTDATA_DIR) + "/golden/texcoords/cylinder_seam_uv12.qsp");
+  const container::File f = container::parse(good);
+  std::string sections;
+  for (const container::Section& s : f.sections) {
+    std::string payload(s.payload);
+    if (s.tag == container::kTagTexcoords) payload[0] = static_cast<char>(payload[0] | 0x40);
+    container::put_section(sections, s.tag, payload);
+  }
+  for (const int minor : {int{kFormatMinor}, kFormatMinor + 1}) {
+    SCOPED_TRACE(minor);
+    try {
+      decode_polygons(container::seal(f.major, static_cast<std::uint8_t>(minor), f.level, sections));
+      ADD_FAILURE() << "decoded";
+    } catch (const Error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("reserved flag bits are set"), std::string::npos) << what;
+      if (minor == kFormatMinor) {
+        EXPECT_EQ(e.code(), ErrorCode::kFormat) << what;
+      } else {
+        EXPECT_EQ(e.code(), ErrorCode::kVersion) << what;
+        EXPECT_NE(what.find("format 3.17, newer than this qsp's 3.16"), std::string::npos) << what;
+        EXPECT_NE(what.find("upgrade qsp"), std::string::npos) << what;
+      }
+    }
+  }
+}
+
 // Every prefix is refused; every single bit flip is refused or decodes to a mesh of the right size.
 TEST(Texcoords, EveryPrefixAndBitFlipIsSafe) {
   for (const char* name :

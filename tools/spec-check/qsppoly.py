@@ -724,7 +724,7 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
     octahedral = normals and bool(flags & 64)
     need((flags >> 7 if normals else (flags >> 5) & 3) == 0, 'reserved texture coordinates flag bits set')
     hints = not normals and bool(flags & 128)
-    need(not hints or minor >= 16, 'hints from the faces across are format 3.16\'s, and the file says it is 3.%d' % minor)
+    need(not hints or minor >= 16, 'flag bit 7 (hints from the faces across) is format 3.16\'s, and the file says it is 3.%d' % minor)
     if not normals:
         seen('tex: %s' % ('hints' if hints else 'no hints'))
     need(not (faces_bit or octahedral) or minor >= 10,
