@@ -816,6 +816,16 @@ std::map<std::string, Crafted> crafted() {
                                         "polygons section: regions: region 0, face 0: a face of degree"};
   }
   {
+    // The texture coordinates section's flag bit 7 (3.16's hints) in a file that says 3.15.
+    const std::string cylinder = slurp(kGolden + "/texcoords/cylinder_seam_uv12.qsp");
+    const container::File uv = container::parse(cylinder);
+    std::string sections;
+    for (const container::Section& s : uv.sections) container::put_section(sections, s.tag, s.payload);
+    out["qsp_texcoords_hints_in_3_15"] = {
+        container::seal(uv.major, kFormatMinorSeamHints - 1, uv.level, sections), "format",
+        "flag bit 7 (hints from the faces across) is format 3.16's, and the file says it is 3.15"};
+  }
+  {
     // The coded comments section (3.16, optional): its stream cut short, a text length past what its
     // stream can hold, a CR decoded inside a line, the section in a 3.15 file, beside a comments section.
     const std::string required = section(1, p.counts) + section(2, p.topology) + section(3, p.geometry);
