@@ -128,6 +128,9 @@ File parse(std::string_view file) {
                        version(kFormatMajor, kind->minor) + "'s, and the file says it is " +
                        version(f.major, f.minor),
                    sec.offset);
+    // The comments and coded comments sections hold the same lines: a file holds one of them at most.
+    if (sec.tag == kTagCodedComments && f.find(kTagComments) != nullptr)
+      format_error("section 0x85 (coded comments) beside section 0x81 (comments)", sec.offset);
     if (!known) {
       const std::string what = "section " + tag_name(sec.tag) +
                                " is required but unknown to this qsp, which reads format " +

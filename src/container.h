@@ -111,7 +111,8 @@ struct File {
 
 // Checks a whole file's container, in the spec's order (magic, version, size, checksum, encoder
 // byte, then the sections' framing: tags in increasing order, counts, topology and geometry
-// present, no unknown required tag) and returns its sections, which point into `file`. Throws
+// present, no unknown required tag, no section in a file of a lower minor version than its row's where
+// held_to_minor, not both comments sections) and returns its sections, which point into `file`. Throws
 // Error(kFormat) naming what and the byte offset, kVersion for another major version (or an unknown
 // required section in a file of a newer minor), kChecksum. Safe on untrusted input.
 File parse(std::string_view file);
