@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <iterator>
 #include <string>
 #include <type_traits>
 #include <unordered_map>
@@ -113,6 +114,12 @@ std::string joined(const std::vector<std::string>& lines) {
 
 }  // namespace
 
+bool codable_comments(const std::vector<std::string>& lines) {
+  std::uint64_t size = lines.empty() ? 0 : lines.size() - 1;
+  for (const std::string& line : lines) size += line.size();
+  return lines.size() <= kCodedCommentsMaxLines && size <= kCodedCommentsMaxText;
+}
+
 std::string encode_coded_comments_section(const std::vector<std::string>& lines) {
   std::string text = joined(lines);
   std::string payload;
@@ -127,6 +134,9 @@ std::string encode_coded_comments_section(const std::vector<std::string>& lines)
 std::vector<std::string> decode_coded_comments_section(std::string_view payload, std::uint64_t offset) {
   ByteReader in(payload, offset, "coded comments section");
   const std::uint64_t size = in.varint("text length");
+  if (size > kCodedCommentsMaxText)
+    in.fail("text length " + std::to_string(size) + " is more than the format's " +
+            std::to_string(kCodedCommentsMaxText) + " bytes");
   // No decision costs less than log2(65536 / 65465) bits, so a byte (8 of them) at least 1/80 bit, and a
   // stream of s bytes holds at most 8 * (s + 5) bits: a length past 1024 * (s + 8) is refused unallocated.
   const std::uint64_t most = 1024 * (std::uint64_t{in.left()} + 8);
@@ -137,13 +147,20 @@ std::vector<std::string> decode_coded_comments_section(std::string_view payload,
   RangeDecoder rc(in.rest(), at, "coded comments section");
   std::string text(size, '\0');
   TextModel model;
+  std::uint64_t breaks = 0;
   for (std::size_t i = 0; i < text.size(); ++i) {
     model.code_byte(rc, text, i);
     // A CR would end the comment when written back, and put the rest into the mesh text.
     if (text[i] == '\r') in.fail_at("the text's byte " + std::to_string(i) + " is a CR", rc.offset());
+    // Each line is a string of its own: their count is bounded as the text's bytes are.
+    if (text[i] == '\n' && ++breaks == kCodedCommentsMaxLines)
+      in.fail_at("the text's byte " + std::to_string(i) + " begins line " + std::to_string(breaks + 1) +
+                     ", past the format's " + std::to_string(kCodedCommentsMaxLines) + " lines",
+                 rc.offset());
   }
   rc.finish();
   std::vector<std::string> lines(1);
+  lines.reserve(breaks + 1);
   for (const char c : text) {
     if (c == '\n')
       lines.emplace_back();
@@ -200,6 +217,25 @@ std::string checked_payload(const std::vector<std::string>& lines, const char* w
   return lines_payload(lines);
 }
 
+// The lowest minor version the sections of `f` need: each one's row in container::kSections, or what
+// its payload's flags need. f.minor where that is not known: a file newer than this qsp, or a section it
+// does not know.
+std::uint8_t needed_minor(const container::File& f) {
+  if (f.minor > kFormatMinor) return f.minor;
+  std::uint8_t minor = kFormatMinorQuads;
+  for (const container::Section& s : f.sections) {
+    const auto kind = std::find_if(std::begin(container::kSections), std::end(container::kSections),
+                                   [&](const container::SectionKind& k) { return k.tag == s.tag; });
+    if (kind == std::end(container::kSections)) return f.minor;
+    const std::uint8_t need = s.tag == container::kTagTexcoords ? texcoords_section_minor(s.payload)
+                              : s.tag == container::kTagNormals ? normals_section_minor(s.payload)
+                              : s.tag == container::kTagLabels  ? labels_section_minor(s.payload)
+                                                                : kind->minor;
+    minor = std::max(minor, need);
+  }
+  return minor;
+}
+
 }  // namespace
 
 std::string kept_line_problem(std::string_view line) {
@@ -223,28 +259,31 @@ std::string with_comments(std::string_view file, const std::vector<std::string>&
     if (!comment_problem(lines[i]).empty())
       throw Error(ErrorCode::kUsage, "comment line " + std::to_string(i) + " holds a line break");
   }
-  const container::File f = container::parse(file);
+  container::File f = container::parse(file);
+  std::erase_if(f.sections, [](const container::Section& s) {
+    return s.tag == container::kTagComments || s.tag == container::kTagCodedComments;
+  });
   std::string body;
-  for (const container::Section& s : f.sections)
-    if (s.tag != container::kTagComments && s.tag != container::kTagCodedComments)
-      container::put_section(body, s.tag, s.payload);
-  const std::string bare = container::seal(f.major, f.minor, f.level, body);
+  for (const container::Section& s : f.sections) container::put_section(body, s.tag, s.payload);
+  // The minor version the file's other sections need (never more than it said): one the comments
+  // needed, 3.16's for a coded comments section, is not kept once they are replaced or gone.
+  const std::string bare = container::seal(f.major, std::min(f.minor, needed_minor(f)), f.level, body);
   if (lines.empty()) return bare;
-  // The smaller section, the comments section on a tie (a section's tag and length count too).
-  const std::string plain = lines_payload(lines), coded = encode_coded_comments_section(lines);
-  if (varint_size(coded.size()) + coded.size() < varint_size(plain.size()) + plain.size())
-    return container::with_section(bare, container::kTagCodedComments, coded, kFormatMinorCodedComments);
+  // The smaller section, the comments section on a tie (a section's tag and length count too), and the
+  // comments section for a text past the coded section's limits.
+  const std::string plain = lines_payload(lines);
+  if (codable_comments(lines)) {
+    const std::string coded = encode_coded_comments_section(lines);
+    if (varint_size(coded.size()) + coded.size() < varint_size(plain.size()) + plain.size())
+      return container::with_section(bare, container::kTagCodedComments, coded, kFormatMinorCodedComments);
+  }
   return container::with_section(bare, container::kTagComments, plain, kFormatMinorPolygons);
 }
 
 std::vector<std::string> file_comments(std::string_view bytes) {
   const container::File f = container::parse(bytes);
   const container::Section* plain = f.find(container::kTagComments);
-  const container::Section* coded = f.find(container::kTagCodedComments);
-  if (plain != nullptr && coded != nullptr)
-    throw Error(ErrorCode::kFormat,
-                "section 0x85 (coded comments) beside section 0x81 (comments) (at byte offset " +
-                    std::to_string(coded->offset) + ")");
+  const container::Section* coded = f.find(container::kTagCodedComments);  // never both: parse() refuses
   if (coded != nullptr) return decode_coded_comments_section(coded->payload, coded->payload_offset);
   if (plain == nullptr) return {};
   return read_lines(plain->payload, plain->payload_offset, "comments section", "comment line",

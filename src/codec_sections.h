@@ -230,12 +230,20 @@ std::string encode_ply_info_section(const std::vector<std::string>& lines);
 // Inverse of encode_ply_info_section. Throws Error(kFormat) naming the line and byte offset. Safe on
 // untrusted input: no line is allocated before its length is checked against the bytes left.
 std::vector<std::string> decode_ply_info_section(std::string_view payload, std::uint64_t offset);
+// The coded comments section's limits: its text (the lines joined by LF) is at most 2^20 bytes and holds
+// at most 2^16 lines, so that a decoder's memory is bounded whatever the stream.
+inline constexpr std::uint64_t kCodedCommentsMaxText = std::uint64_t{1} << 20;
+inline constexpr std::uint64_t kCodedCommentsMaxLines = std::uint64_t{1} << 16;
+// Whether `lines` keep to those limits (with_comments writes the plain comments section otherwise).
+bool codable_comments(const std::vector<std::string>& lines);
 // The coded comments section (format 3.16, optional): the comment lines joined by LF, range-coded
-// through a text model. Lines are assumed free of CR and LF (with_comments checks them).
+// through a text model. Lines are assumed free of CR and LF and within the limits above (with_comments
+// checks both; tests craft invalid sections with it).
 std::string encode_coded_comments_section(const std::vector<std::string>& lines);
 // Inverse of encode_coded_comments_section. Throws Error(kFormat) naming the byte offset (a text length
-// the stream cannot hold, a CR, a stream that does not end as the encoder ends it). Safe on untrusted
-// input: the text is allocated only after its length is checked against the stream's bytes.
+// past 2^20 or past what the stream can hold, more than 2^16 lines, a CR, a stream that does not end as
+// the encoder ends it). Safe on untrusted input: the text is allocated only after its length is checked
+// against both bounds.
 std::vector<std::string> decode_coded_comments_section(std::string_view payload, std::uint64_t offset);
 // The exact positions section (format 3.6) of the output vertices whose binary32 positions are
 // `positions` and exact values `exact` (3 per vertex each, the decoder's output order before any order

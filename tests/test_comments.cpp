@@ -13,6 +13,7 @@
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
+#include "qsp/polymesh.h"
 #include "support/corpus.h"
 #include "support/files.h"
 
@@ -214,8 +215,9 @@ TEST(CodedComments, TheSmallerSectionIsWrittenNeverBoth) {
   const std::string plain = with_comments(file, {noise});
   EXPECT_EQ(container::parse(plain).find(container::kTagCodedComments), nullptr);
   EXPECT_EQ(file_comments(plain), std::vector<std::string>{noise});
-  EXPECT_EQ(inspect(plain).version_minor, kFormatMinorCodedComments) << "a minor is never lowered";
+  EXPECT_EQ(inspect(plain).version_minor, kFormatMinorPolygons) << "3.16 was the coded section's";
   EXPECT_EQ(file_comments(with_comments(file, {})), std::vector<std::string>{});
+  EXPECT_EQ(inspect(with_comments(file, {})).version_minor, kFormatMinorQuads);
   EXPECT_EQ(container::parse(with_comments(file, {})).sections.size(),
             container::parse(bare).sections.size());
 }
@@ -260,6 +262,129 @@ TEST(CodedComments, HostileSectionsAreRefused) {
     container::put_section(body, s.tag, s.payload);
   }
   EXPECT_EQ(refusal(container::seal(f.major, f.minor, f.level, body)), ErrorCode::kFormat);
+}
+
+// `run` throws Error(kFormat) whose message holds `message` and ends at byte offset `at`.
+template <typename Run>
+void expect_refused(Run run, const std::string& message, std::uint64_t at) {
+  try {
+    run();
+    ADD_FAILURE() << "not refused: " << message;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kFormat);
+    const std::string what = e.what();
+    EXPECT_NE(what.find(message), std::string::npos) << what;
+    EXPECT_NE(what.find("(at byte offset " + std::to_string(at) + ")"), std::string::npos) << what;
+  }
+}
+
+// The text's limits (2^20 bytes, 2^16 lines): lines within them are coded, lines past them go to the
+// comments section, and a coded section past them is refused, its length before anything is allocated.
+TEST(CodedComments, LimitsBoundTheTextAndItsLines) {
+  const std::string bare = encode(square());
+  const auto kept_in = [&](const std::vector<std::string>& lines, std::uint8_t tag) {
+    const std::string file = with_comments(bare, lines);
+    EXPECT_NE(container::parse(file).find(tag), nullptr);
+    EXPECT_EQ(file_comments(file), lines);
+  };
+  const std::size_t most_lines = kCodedCommentsMaxLines, most_bytes = kCodedCommentsMaxText;
+  kept_in(std::vector<std::string>(most_lines), container::kTagCodedComments);
+  kept_in(std::vector<std::string>(most_lines + 1), container::kTagComments);
+  kept_in({std::string(most_bytes - 1, 'a'), ""}, container::kTagCodedComments);
+  kept_in({std::string(most_bytes / 2, 'a'), std::string(most_bytes / 2, 'a')}, container::kTagComments);
+  kept_in({std::string(most_bytes + 1, 'a')}, container::kTagComments);
+
+  // Refused: 2^16 + 1 lines, at the LF that begins the last (the stream decoded so far), and a text
+  // length past 2^20, after it.
+  const std::string many = encode_coded_comments_section(std::vector<std::string>(most_lines + 1));
+  try {
+    (void)decode_coded_comments_section(many, 1000);
+    ADD_FAILURE() << "2^16 + 1 lines not refused";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::kFormat);
+    const std::string what = e.what();
+    EXPECT_NE(what.find("the text's byte 65535 begins line 65537, past the format's 65536 lines"),
+              std::string::npos)
+        << what;
+    const std::size_t at = what.find("(at byte offset ");
+    ASSERT_NE(at, std::string::npos) << what;
+    const std::uint64_t offset = std::stoull(what.substr(at + 16));
+    EXPECT_GE(offset, 1000u) << what;
+    // Where the range decoder has read to, which counts the (up to 4) bytes it reads past a compact end.
+    EXPECT_LE(offset, 1000u + many.size() + 4) << what;
+  }
+  EXPECT_EQ(refusal(with_coded(many)), ErrorCode::kFormat);
+  // A text length past 2^20 with a stream that could hold it (past 1016 bytes): refused after the length.
+  std::string past;
+  put_varint(past, kCodedCommentsMaxText + 1);
+  const std::string stream = encode_coded_comments_section({" licence"}).substr(1) + std::string(2000, 'x');
+  const std::string message = "text length 1048577 is more than the format's 1048576 bytes";
+  expect_refused([&] { (void)decode_coded_comments_section(past + stream, 100); }, message,
+                 100 + past.size());
+  const std::string file = with_coded(past + stream);
+  expect_refused([&] { (void)file_comments(file); }, message,
+                 file.size() - container::kChecksumBytes - stream.size());
+}
+
+// A file holding both comments sections is refused wherever the container is read, at the coded one.
+TEST(CodedComments, BothSectionsAreRefusedByEveryReader) {
+  const std::string payload = encode_coded_comments_section({" Copyright (C) 2020 somebody"});
+  const container::File f = container::parse(with_coded(payload));
+  std::string body;
+  for (const container::Section& s : f.sections) {
+    if (s.tag == container::kTagCodedComments)
+      container::put_section(body, container::kTagComments, "\x01\x01x");
+    container::put_section(body, s.tag, s.payload);
+  }
+  const std::string both = container::seal(f.major, f.minor, f.level, body);
+  // The coded section is the last: its tag, length and payload before the checksum.
+  const std::uint64_t at =
+      both.size() - container::kChecksumBytes - (1 + varint_size(payload.size()) + payload.size());
+  const std::string message = "section 0x85 (coded comments) beside section 0x81 (comments)";
+  expect_refused([&] { (void)container::parse(both); }, message, at);
+  expect_refused([&] { (void)decode(both); }, message, at);
+  expect_refused([&] { (void)inspect(both); }, message, at);
+  expect_refused([&] { (void)file_comments(both); }, message, at);
+  expect_refused([&] { (void)with_comments(both, {}); }, message, at);
+}
+
+// with_comments writes the lowest minor version the file's sections need: 3.16 only with the coded
+// section, and never more than the file said (nor less than a file of a later minor, or one holding a
+// section this qsp does not know, said).
+TEST(CodedComments, TheMinorVersionIsTheSectionsOwn) {
+  const std::vector<std::string> licence(20, " Copyright (C) 2020 somebody, all rights reserved");
+  const std::string bare = encode(square());
+  ASSERT_EQ(inspect(bare).version_minor, kFormatMinorQuads);
+  const std::string coded = with_comments(bare, licence);
+  ASSERT_NE(container::parse(coded).find(container::kTagCodedComments), nullptr);
+  EXPECT_EQ(inspect(coded).version_minor, kFormatMinorCodedComments);
+  EXPECT_EQ(inspect(with_comments(coded, {})).version_minor, kFormatMinorQuads);
+  EXPECT_EQ(with_comments(coded, {}), bare);
+  // Bytes without a pattern go plain (coded, each costs more than its 8 bits while the models learn).
+  std::string noise;
+  for (std::uint32_t x = 1; noise.size() < 200; x = x * 1103515245u + 12345u)
+    if (const char c = static_cast<char>(x >> 23); c != '\n' && c != '\r') noise += c;
+  ASSERT_NE(container::parse(with_comments(coded, {noise})).find(container::kTagComments), nullptr);
+  EXPECT_EQ(inspect(with_comments(coded, {noise})).version_minor, kFormatMinorPolygons);
+  EXPECT_EQ(inspect(with_comments(bare, {noise})).version_minor, kFormatMinorPolygons);
+  // A polygon file keeps the minor its sections need.
+  PolygonMesh m;
+  m.positions = {0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0, 1, 1, 0, 2, 1, 0};
+  m.face_offsets = {0, 4, 7, 10};
+  m.corners = {0, 1, 4, 3, 1, 2, 5, 1, 5, 4};
+  const std::string poly = encode_polygons(m);
+  const std::uint8_t poly_minor = inspect(poly).version_minor;
+  EXPECT_GE(poly_minor, kFormatMinorPolygons);
+  EXPECT_EQ(with_comments(with_comments(poly, licence), {}), poly);
+  // Kept as it was: a minor newer than this qsp's, and a section it does not know.
+  const container::File f = container::parse(coded);
+  std::string body;
+  for (const container::Section& s : f.sections) container::put_section(body, s.tag, s.payload);
+  const std::string newer = container::seal(f.major, kFormatMinor + 1, f.level, body);
+  EXPECT_EQ(inspect(with_comments(newer, {})).version_minor, kFormatMinor + 1);
+  container::put_section(body, 0x86, "x");
+  const std::string unknown = container::seal(f.major, f.minor, f.level, body);
+  EXPECT_EQ(inspect(with_comments(unknown, {})).version_minor, f.minor);
 }
 
 // Every bit flip of a coded section, resealed so the checksum does not hide it: refused with kFormat,

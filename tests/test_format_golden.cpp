@@ -827,7 +827,8 @@ std::map<std::string, Crafted> crafted() {
   }
   {
     // The coded comments section (3.16, optional): its stream cut short, a text length past what its
-    // stream can hold, a CR decoded inside a line, the section in a 3.15 file, beside a comments section.
+    // stream can hold or past 2^20, 2^16 + 1 lines, a CR decoded inside a line, the section in a 3.15
+    // file, beside a comments section.
     const std::string required = section(1, p.counts) + section(2, p.topology) + section(3, p.geometry);
     const std::string coded =
         encode_coded_comments_section({" Copyright (C) 2020 somebody", " Copyright (C) 2021 somebody else"});
@@ -844,6 +845,17 @@ std::map<std::string, Crafted> crafted() {
         "coded comments section: text length " + std::to_string(1024 * (coded.size() - 1 + 8) + 1) +
             " is more than the " + std::to_string(1024 * (coded.size() - 1 + 8)) + " bytes a stream of " +
             std::to_string(coded.size() - 1) + " bytes can hold"};
+    std::string past;
+    put_varint(past, kCodedCommentsMaxText + 1);
+    out["qsp_coded_comments_text_past_2_20"] = {
+        seal(v316, required + section(container::kTagCodedComments, past + coded.substr(1))), "format",
+        "coded comments section: text length 1048577 is more than the format's 1048576 bytes"};
+    out["qsp_coded_comments_too_many_lines"] = {
+        seal(v316, required + section(container::kTagCodedComments,
+                                      encode_coded_comments_section(
+                                          std::vector<std::string>(kCodedCommentsMaxLines + 1)))),
+        "format",
+        "coded comments section: the text's byte 65535 begins line 65537, past the format's 65536 lines"};
     out["qsp_coded_comments_cr"] = {
         seal(v316,
              required + section(container::kTagCodedComments, encode_coded_comments_section({"a", "b\rc"}))),

@@ -137,8 +137,11 @@ std::string encode(const QuadMesh& mesh, const EncodeOptions& options = {}, Orde
 
 // `file` (a whole .qsp) with the comments section or the coded comments section holding `lines` (the
 // leading comment block of the mesh file it was made from: io.h's leading_comments), whichever is
-// smaller (the comments section on a tie), replacing any either had; neither for no lines. The file
-// then says format 3.1 or 3.16 (a decoder that predates the section skips it). Throws Error(kUsage) for a
+// smaller (the comments section on a tie, and always for more than 2^16 lines or 2^20 bytes joined),
+// replacing any either had; neither for no lines. The file then says the lowest minor version its
+// sections need (3.16 with the coded comments section, at least 3.1 with the comments section; never
+// more than it said before, other than for the comments); a decoder that predates either section skips
+// it. Throws Error(kUsage) for a
 // line with a CR or LF (it would be two lines, or a statement, when written back) and what container parsing
 // throws for a malformed `file`.
 std::string with_comments(std::string_view file, const std::vector<std::string>& lines);

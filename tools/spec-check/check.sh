@@ -72,8 +72,9 @@
 # grid_3x2_licence_comments) and the fresh encodes with a leading block (mh_fedora's licence among them)
 # are decoded whole by qsppoly.py and their lines compared with the .obj's leading block and with the
 # reference decoder's; both decoders must refuse the section broken each way the text names (in a 3.15
-# file, beside a comments section, its stream cut or lengthened, a text length past its stream); the
-# comment goldens of 3.15 (testdata/golden/v3.15, plain lines) are checked against today's mesh.
+# file, beside a comments section, its stream cut or lengthened, a text length past its stream or past
+# 2^20, a text of 2^16 + 1 lines), and accept a fresh encode of a block of 2^16 lines (the most the
+# section holds; one more line goes to the plain comments section); the comment goldens of 3.15 (testdata/golden/v3.15, plain lines) are checked against today's mesh.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -149,7 +150,10 @@ import sys
 sys.path.insert(0, sys.argv[1])
 import qspgeo as g
 import qsppoly as poly
+import os
+import subprocess
 path, qsp, work = sys.argv[2:]
+many = os.path.join(os.path.dirname(os.path.dirname(path)), 'invalid', 'qsp_coded_comments_too_many_lines.qsp')
 data = open(path, 'rb').read()
 secs = g.sections(data)
 coded = secs[0x85]
@@ -159,8 +163,22 @@ cases = [('the file itself', data, True),
          ('beside a comments section', g.container(data, {**secs, 0x81: bytes([1, 1]) + b'x'}), False),
          ('its stream cut by 3 bytes', g.container(data, {**rest, 0x85: coded[:-3]}), False),
          ('a byte after its stream', g.container(data, {**rest, 0x85: coded + bytes([1])}), False),
-         ('a text length past its stream', g.container(data, {**rest, 0x85: bytes([0xFF, 0xFF, 0x7F]) + coded[2:]}),
-          False)]
+         ('a text length past its stream', g.container(data, {**rest, 0x85: g.varint(1024 * (len(coded) - 2 + 8) + 1) +
+                                                               coded[2:]}), False),
+         ('a text length past 2^20', g.container(data, {**rest, 0x85: g.varint((1 << 20) + 1) + coded[2:] +
+                                                         bytes(1100)}), False),
+         ('a text of 2^16 + 1 lines', open(many, 'rb').read(), False)]
+# A block of 2^16 lines (empty comments) and one of 2^16 + 1, compressed: the coded section holds the
+# first, the plain comments section the second.
+for n, tag in ((1 << 16, 0x85), ((1 << 16) + 1, 0x81)):
+    obj = '%s/coded_comments_%d.obj' % (work, n)
+    open(obj, 'w').write('#\n' * n + 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n')
+    subprocess.run([qsp, 'compress', '-f', '-q', obj, obj + '.qsp'], check=True, capture_output=True)
+    b = open(obj + '.qsp', 'rb').read()
+    if tag not in g.sections(b) or poly.decode_file(b)[2] != [b''] * n:
+        print('%d comment lines are not kept in section 0x%02x' % (n, tag), file=sys.stderr)
+        sys.exit(1)
+    cases.append(('%d comment lines' % n, b, True))
 failed = poly.refusals(cases, qsp, '%s/coded_comments_case.qsp' % work)
 for x in failed:
     print(x, file=sys.stderr)

@@ -414,7 +414,9 @@ def coded_comments(payload):
     the text's bytes (the lines joined by LF), each as 8 logistic decisions of a text model."""
     size, pos = g.read_varint(payload, 0)
     stream = payload[pos:]
+    need(size <= 1 << 20, 'coded comments text length %d past 2^20' % size)
     need(size <= 1024 * (len(stream) + 8), 'coded comments text length %d past the stream' % size)
+    lfs = 0
     dec = g.RangeDecoder(stream)
     order0 = g.Table()
     order1 = g.Table()
@@ -451,6 +453,8 @@ def coded_comments(payload):
             node = 2 * node + bit
         c = node - 256
         need(c != 0x0D, 'coded comments byte %d is a CR' % i)
+        lfs += c == 0x0A
+        need(lfs < 1 << 16, 'coded comments byte %d begins line %d, past 2^16' % (i, lfs + 1))
         text.append(c)
         n = i + 1
         if length > 0 and text[ptr] == c:
