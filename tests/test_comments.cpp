@@ -254,7 +254,8 @@ TEST(CodedComments, HostileSectionsAreRefused) {
   EXPECT_EQ(refusal(with_coded(encode_coded_comments_section({"a\rb"}))), ErrorCode::kFormat);
   // In a file of 3.15, and beside a comments section.
   EXPECT_EQ(refusal(with_section(payload, container::kTagCodedComments, 15)), ErrorCode::kFormat);
-  const container::File f = container::parse(with_coded(payload));
+  const std::string coded = with_coded(payload);  // the sections' payloads are views into it
+  const container::File f = container::parse(coded);
   std::string body;
   for (const container::Section& s : f.sections) {
     if (s.tag == container::kTagCodedComments)
@@ -329,7 +330,8 @@ TEST(CodedComments, LimitsBoundTheTextAndItsLines) {
 // A file holding both comments sections is refused wherever the container is read, at the coded one.
 TEST(CodedComments, BothSectionsAreRefusedByEveryReader) {
   const std::string payload = encode_coded_comments_section({" Copyright (C) 2020 somebody"});
-  const container::File f = container::parse(with_coded(payload));
+  const std::string coded = with_coded(payload);  // the sections' payloads are views into it
+  const container::File f = container::parse(coded);
   std::string body;
   for (const container::Section& s : f.sections) {
     if (s.tag == container::kTagCodedComments)
