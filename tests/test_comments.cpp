@@ -42,6 +42,19 @@ std::string with_coded(const std::string& payload) {
   return with_section(payload, container::kTagCodedComments, kFormatMinorCodedComments);
 }
 
+// A file with the coded comments section `payload` and, before it, a comments section of one line.
+std::string beside_comments(const std::string& payload) {
+  const std::string coded = with_coded(payload);  // the sections' payloads are views into it
+  const container::File f = container::parse(coded);
+  std::string body;
+  for (const container::Section& s : f.sections) {
+    if (s.tag == container::kTagCodedComments)
+      container::put_section(body, container::kTagComments, "\x01\x01x");
+    container::put_section(body, s.tag, s.payload);
+  }
+  return container::seal(f.major, f.minor, f.level, body);
+}
+
 ErrorCode refusal(const std::string& bytes) {
   try {
     (void)file_comments(bytes);
@@ -254,15 +267,7 @@ TEST(CodedComments, HostileSectionsAreRefused) {
   EXPECT_EQ(refusal(with_coded(encode_coded_comments_section({"a\rb"}))), ErrorCode::kFormat);
   // In a file of 3.15, and beside a comments section.
   EXPECT_EQ(refusal(with_section(payload, container::kTagCodedComments, 15)), ErrorCode::kFormat);
-  const std::string coded = with_coded(payload);  // the sections' payloads are views into it
-  const container::File f = container::parse(coded);
-  std::string body;
-  for (const container::Section& s : f.sections) {
-    if (s.tag == container::kTagCodedComments)
-      container::put_section(body, container::kTagComments, "\x01\x01x");
-    container::put_section(body, s.tag, s.payload);
-  }
-  EXPECT_EQ(refusal(container::seal(f.major, f.minor, f.level, body)), ErrorCode::kFormat);
+  EXPECT_EQ(refusal(beside_comments(payload)), ErrorCode::kFormat);
 }
 
 // `run` throws Error(kFormat) whose message holds `message` and ends at byte offset `at`.
@@ -330,15 +335,7 @@ TEST(CodedComments, LimitsBoundTheTextAndItsLines) {
 // A file holding both comments sections is refused wherever the container is read, at the coded one.
 TEST(CodedComments, BothSectionsAreRefusedByEveryReader) {
   const std::string payload = encode_coded_comments_section({" Copyright (C) 2020 somebody"});
-  const std::string coded = with_coded(payload);  // the sections' payloads are views into it
-  const container::File f = container::parse(coded);
-  std::string body;
-  for (const container::Section& s : f.sections) {
-    if (s.tag == container::kTagCodedComments)
-      container::put_section(body, container::kTagComments, "\x01\x01x");
-    container::put_section(body, s.tag, s.payload);
-  }
-  const std::string both = container::seal(f.major, f.minor, f.level, body);
+  const std::string both = beside_comments(payload);
   // The coded section is the last: its tag, length and payload before the checksum.
   const std::uint64_t at =
       both.size() - container::kChecksumBytes - (1 + varint_size(payload.size()) + payload.size());

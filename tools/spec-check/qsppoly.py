@@ -790,9 +790,9 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
     creator = []
     n = 0
     e = 0                          # an earlier corner of this face took a value other than its vertex's first
-    cstart = [0]                   # each face's first corner
+    start = [0]                    # each face's first corner (and one past the last)
     for f in faces:
-        cstart.append(cstart[-1] + len(f))
+        start.append(start[-1] + len(f))
     W = {}                         # "Hints": W(x, y), the first corner at x whose face's next corner is at y
     if hints:
         for fi in range(len(faces)):
@@ -800,8 +800,8 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
             for p in range(d):
                 key = (faces[fi][p], faces[fi][(p + 1) % d])
                 if key not in W:
-                    W[key] = cstart[fi] + p
-    nxt = lambda k: cstart[corners[k][0]] + (corners[k][1] + 1) % corners[k][2]
+                    W[key] = start[fi] + p
+    nxt = lambda k: start[corners[k][0]] + (corners[k][1] + 1) % corners[k][2]
 
     def hint_of(c, v):
         """(h, H) at corner c ("Hints"), from the corners before it."""
@@ -817,7 +817,7 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
                 return 1, name[k]
             h = 2
         if p == d - 1:
-            B = cstart[fi]
+            B = start[fi]
             k = W.get((verts[B], v))
             if k is not None and corners[k][0] < fi:
                 if name[k] == name[B] and name[nxt(k)] is not None:
@@ -877,9 +877,6 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
 
     # Values
     LIM = (1 << 40) - 1
-    start = [0]
-    for f in faces:
-        start.append(start[-1] + len(f))
     corner_at = lambda fi, p: start[fi] + p % (start[fi + 1] - start[fi])
     # "Edges": E(x, y), the first corner naming x whose face's next corner names y
     E = {}
