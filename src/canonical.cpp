@@ -20,6 +20,7 @@
 #include <tuple>
 #include <utility>
 
+#include "automorphisms.h"
 #include "beside.h"
 #include "layout_grid.h"
 #include "order_set.h"
@@ -188,19 +189,24 @@ int compare_codes(const TopologyCode& x, const TopologyCode& y) {
   return t < 0 ? -1 : (t > 0 ? 1 : 0);
 }
 
+// Two vertices' positions compared as float bits, x before y before z.
+int compare_position(const QuadMesh& mesh, std::uint32_t a, std::uint32_t b) {
+  if (a == b) return 0;
+  for (int k = 0; k < 3; ++k) {
+    std::uint32_t x, y;
+    std::memcpy(&x, &mesh.positions[3 * std::size_t(a) + k], 4);
+    std::memcpy(&y, &mesh.positions[3 * std::size_t(b) + k], 4);
+    if (x != y) return x < y ? -1 : 1;
+  }
+  return 0;
+}
+
 // Lexicographic comparison of positions (as float bits) along two vertex sequences.
 int compare_positions(const QuadMesh& mesh, const std::vector<std::uint32_t>& x,
                       const std::vector<std::uint32_t>& y) {
   const std::size_t n = std::min(x.size(), y.size());
-  for (std::size_t i = 0; i < n; ++i) {
-    if (x[i] == y[i]) continue;
-    for (int k = 0; k < 3; ++k) {
-      std::uint32_t a, b;
-      std::memcpy(&a, &mesh.positions[3 * std::size_t(x[i]) + k], 4);
-      std::memcpy(&b, &mesh.positions[3 * std::size_t(y[i]) + k], 4);
-      if (a != b) return a < b ? -1 : 1;
-    }
-  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (const int c = compare_position(mesh, x[i], y[i]); c != 0) return c;
   return x.size() < y.size() ? -1 : (x.size() > y.size() ? 1 : 0);
 }
 
@@ -292,23 +298,33 @@ std::vector<std::uint32_t> candidate_roots(const Schematic& s) {
   return candidates;
 }
 
-// Traverses from every candidate root and calls on_tie(root, t.order, fresh) for each whose code is
-// the smallest so far (then in `best`); fresh: smaller than every earlier one, which no longer tie.
-// The roots still tied at the end are the canonical root and its images under every
+// Traverses from candidate roots and calls on_tie(root, fresh) for each whose code is the smallest so
+// far (then in `best`, and t.order is root's traversal when fresh); fresh: smaller than every earlier one,
+// which no longer tie. The roots still tied at the end are the canonical root and its images under every
 // orientation-preserving automorphism (one automorphism per root: a map is fixed by one dart's image).
+// A root in the orbit of the smallest code's first root under the automorphisms found so far is tied
+// without a traversal.
 template <class OnTie>
 void smallest_codes(const Schematic& s, TopologyCode& best, Traversal& t, OnTie&& on_tie) {
   t.code.kind = best.kind;
-  bool first = true;
+  std::uint32_t first_tied = kInvalid;  // the smallest code's first root
+  detail::Orbits orbits;
+  detail::Walk walk;
   for (const std::uint32_t root : candidate_roots(s)) {
+    if (orbits.same(root, first_tied)) {
+      on_tie(root, false);
+      continue;
+    }
     traverse(s, root, t);
-    const int c = first ? -1 : compare_codes(t.code, best);
-    first = false;
+    const int c = first_tied == kInvalid ? -1 : compare_codes(t.code, best);
     if (c < 0) {
       std::swap(best, t.code);  // same kind and sizes: only the streams change hands
-      on_tie(root, t.order, true);
+      first_tied = root;
+      on_tie(root, true);
     } else if (c == 0) {
-      on_tie(root, t.order, false);
+      walk.start(s, first_tied);
+      orbits.add(walk, t.order);
+      on_tie(root, false);
     }
   }
 }
@@ -317,7 +333,7 @@ void smallest_codes(const Schematic& s, TopologyCode& best, Traversal& t, OnTie&
 std::vector<std::uint32_t> tied_roots(const Schematic& s, TopologyCode& best) {
   Traversal t(s.dart_count());
   std::vector<std::uint32_t> tied;
-  smallest_codes(s, best, t, [&](std::uint32_t root, const std::vector<std::uint32_t>&, bool fresh) {
+  smallest_codes(s, best, t, [&](std::uint32_t root, bool fresh) {
     if (fresh) tied.clear();
     tied.push_back(root);
   });
@@ -378,15 +394,29 @@ void first_reached(const Schematic& s, const std::vector<std::uint32_t>& order,
 class RootChoice {
  public:
   RootChoice(const QuadMesh& mesh, const Schematic& s) : mesh_(mesh), s_(s) {}
-  // The next tied root, whose traversal reaches the schematic vertices at darts first[0], first[1], ...
-  // (`fresh`: the first of a new smallest code, the roots before no longer tied).
-  template <class FirstDart>
-  void add(std::uint32_t root, bool fresh, FirstDart first) {
-    tied_ = fresh ? 1 : tied_ + 1;
-    prefix_.resize(s_.vertex_count);
-    for (std::uint32_t j = 0; j < s_.vertex_count; ++j) prefix_[j] = s_.vertex_mesh[s_.dart_vertex[first(j)]];
-    const int c = fresh ? -1 : compare_positions(mesh_, prefix_, best_prefix_);
+  // The next tied root. `first`: the label positions where a traversal of their code first reaches each
+  // schematic vertex (first_reached), the same for every root of it; `fresh`: the first root of a new
+  // smallest code, the roots before no longer tied. Each root is walked only as far as it takes to
+  // tell it from the best so far, and the best only as far as asked.
+  void add(std::uint32_t root, bool fresh, const std::vector<std::uint32_t>& first) {
+    if (fresh) {
+      tied_ = 1;
+      finalists_.assign(1, root);
+      best_.start(s_, root);
+      best_prefix_.clear();
+      return;
+    }
+    ++tied_;
+    walk_.start(s_, root);
+    prefix_.clear();
+    int c = 0;
+    for (std::size_t j = 0; j < first.size() && c == 0; ++j) {
+      prefix_.push_back(vertex(walk_, first[j]));
+      if (best_prefix_.size() == j) best_prefix_.push_back(vertex(best_, first[j]));
+      c = compare_position(mesh_, prefix_[j], best_prefix_[j]);
+    }
     if (c < 0) {
+      std::swap(best_, walk_);
       best_prefix_.swap(prefix_);
       finalists_.assign(1, root);
     } else if (c == 0) {
@@ -416,9 +446,14 @@ class RootChoice {
   }
 
  private:
+  std::uint32_t vertex(detail::Walk& w, std::uint32_t label) {
+    return s_.vertex_mesh[s_.dart_vertex[w.at(label)]];
+  }
   const QuadMesh& mesh_;
   const Schematic& s_;
-  std::vector<std::uint32_t> finalists_, best_prefix_, prefix_;
+  std::vector<std::uint32_t> finalists_;
+  detail::Walk best_, walk_;  // the best root's traversal and the one being compared with it
+  std::vector<std::uint32_t> best_prefix_, prefix_;  // their mesh vertices at `first`, as far as read
   std::uint32_t tied_ = 0;
 };
 
@@ -438,12 +473,11 @@ struct KnownShape {
   TopologyCode code;  // the smallest
   std::uint32_t vertices = 0;
   std::pair<std::uint64_t, std::uint64_t> lengths;  // length_sums
-  // Per tied root, in candidate order, 1 + vertices labels in the traversal from the first tied
-  // root: the root's own, then those of the darts where its traversal first reaches each vertex.
-  std::vector<std::uint32_t> labels;
+  std::vector<std::uint32_t> first;   // where its traversals first reach each vertex (first_reached)
+  std::vector<std::uint32_t> labels;  // per tied root, in candidate order, its label from the first
 };
 
-// Components this small are remembered (a shape costs tied roots x vertices labels), this many per
+// Components this small are remembered (a shape costs its tied roots' and vertices' labels), this many per
 // dart and vertex count (a new component tries each until one matches).
 constexpr std::uint32_t kKnownShapeDarts = 256;
 constexpr std::size_t kKnownShapesPerSize = 4;
@@ -471,17 +505,13 @@ bool canonical_from_known(const QuadMesh& mesh, const Adjacency& adj, const Comp
     std::uint32_t root = 0;
     while (root < nd && !matches(root)) ++root;
     if (root == nd) continue;
-    // t.order: the traversal from the first tied root's image. Each tied root's images, by dart.
-    const std::size_t stride = 1 + std::size_t{nv}, ties = k.labels.size() / stride;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> roots(ties);  // (dart, entry)
-    for (std::uint32_t e = 0; e < ties; ++e) roots[e] = {t.order[k.labels[e * stride]], e};
+    // t.order: the traversal from the first tied root's image. The tied roots' images, by dart.
+    std::vector<std::uint32_t> roots(k.labels.size());
+    for (std::size_t e = 0; e < roots.size(); ++e) roots[e] = t.order[k.labels[e]];
     std::sort(roots.begin(), roots.end());
     out.code = k.code;
     RootChoice choice(mesh, s);
-    for (std::size_t r = 0; r < ties; ++r) {
-      const std::uint32_t* first = &k.labels[roots[r].second * stride + 1];
-      choice.add(roots[r].first, r == 0, [&](std::uint32_t j) { return t.order[first[j]]; });
-    }
+    for (std::size_t r = 0; r < roots.size(); ++r) choice.add(roots[r], r == 0, k.first);
     choice.finish(adj, part, t, out);
     return true;
   }
@@ -516,22 +546,18 @@ CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
   std::vector<std::uint32_t> label_of, first;  // in the traversal from the first tied root
   std::vector<std::uint8_t> seen;
   RootChoice choice(mesh, s);
-  smallest_codes(s, out.code, t,
-                 [&](std::uint32_t root, const std::vector<std::uint32_t>& order, bool fresh) {
-                   if (fresh) {
-                     first_reached(s, order, seen, first);
-                     if (remember) {
-                       label_of.resize(nd);
-                       for (std::uint32_t i = 0; i < nd; ++i) label_of[order[i]] = i;
-                       shape.labels.clear();
-                     }
-                   }
-                   choice.add(root, fresh, [&](std::uint32_t j) { return order[first[j]]; });
-                   if (remember) {
-                     shape.labels.push_back(label_of[root]);
-                     for (const std::uint32_t i : first) shape.labels.push_back(label_of[order[i]]);
-                   }
-                 });
+  smallest_codes(s, out.code, t, [&](std::uint32_t root, bool fresh) {
+    if (fresh) {
+      first_reached(s, t.order, seen, first);
+      if (remember) {
+        label_of.resize(nd);
+        for (std::uint32_t i = 0; i < nd; ++i) label_of[t.order[i]] = i;
+        shape.labels.clear();
+      }
+    }
+    choice.add(root, fresh, first);
+    if (remember) shape.labels.push_back(label_of[root]);
+  });
   PatchWalks own_walks;
   const PatchWalks* w = nullptr;
   if (walks.valid()) {
@@ -543,6 +569,7 @@ CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
   choice.finish(adj, part, t, out, w && w->ok ? w : nullptr);
   if (remember) {
     shape.code = out.code;
+    shape.first = std::move(first);
     memory.shapes.push_back(std::move(shape));
   }
   return out;
@@ -649,18 +676,9 @@ CanonicalComponent canonical_structured(const QuadMesh& mesh, const Adjacency& a
   out.code.kind = part.kind;
   std::uint32_t best_anchor = kInvalid;
   std::uint32_t ties = 0;
-  auto less_pos = [&](std::uint32_t v, std::uint32_t w) {
-    for (int k = 0; k < 3; ++k) {
-      std::uint32_t x, y;
-      std::memcpy(&x, &mesh.positions[3 * std::size_t(v) + k], 4);
-      std::memcpy(&y, &mesh.positions[3 * std::size_t(w) + k], 4);
-      if (x != y) return x < y ? -1 : 1;
-    }
-    return 0;
-  };
   std::vector<std::uint32_t> first;
   for (std::uint32_t h : anchors) {
-    const int c = first.empty() ? -1 : less_pos(adj.origin[h], adj.origin[first[0]]);
+    const int c = first.empty() ? -1 : compare_position(mesh, adj.origin[h], adj.origin[first[0]]);
     if (c < 0)
       first.assign(1, h);
     else if (c == 0)

@@ -102,6 +102,22 @@ inline QuadMesh periodic(int a, int b, bool torus, int twist) {
   return m;
 }
 
+// n quads around a centre (valence n), each (centre, a_i, b_i, a_i+1): n rotations, n roots tied on
+// topology. Positions on two circles, or all at the origin (`flat`), where positions tie them too.
+inline QuadMesh fan(int n, bool flat = false) {
+  QuadMesh m;
+  m.positions = {0, 0, 0};
+  for (const float r : {1.0f, 1.25f})
+    for (int i = 0; i < n; ++i) {
+      const float t = 6.2831853f * (static_cast<float>(i) + (r > 1 ? 0.5f : 0.0f)) / static_cast<float>(n);
+      m.positions.insert(m.positions.end(), {flat ? 0 : r * std::cos(t), flat ? 0 : r * std::sin(t), 0});
+    }
+  const auto a = [n](int i) { return static_cast<std::uint32_t>(1 + (i % n)); };
+  for (int i = 0; i < n; ++i)
+    m.quads.insert(m.quads.end(), {0, a(i), static_cast<std::uint32_t>(1 + n + i), a(i + 1)});
+  return m;
+}
+
 // Appends `b` to `a` as another component.
 inline void append(QuadMesh& a, const QuadMesh& b, float dx = 0) {
   const auto base = static_cast<std::uint32_t>(a.vertex_count());
