@@ -7,13 +7,16 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <functional>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <thread>
 #include <tuple>
 #include <unordered_map>
 
+#include "automorphisms.h"
 #include "beside.h"
 #include "match_levels.h"
 #include "qsp/canonical.h"
@@ -491,18 +494,31 @@ PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepar
     return m;
   };
   // Each candidate's lower bounds, from the probe vertices: of the vertices it moves (prefer_order;
-  // else 0) and of its cost. Scored in full in that order.
+  // else 0) and of its cost. Scored in full in that order. A general component's candidates get bounds
+  // from their first kFewProbes probes first and from all only when they come up: those are no larger,
+  // so the candidates still come up in the order of their whole bounds, and a fan of n quads (n starts,
+  // n probes each) no longer costs n^2.
   struct Candidate {
     std::size_t moved_bound;
     double cost_bound;
     std::uint32_t start;
-    bool operator<(const Candidate& o) const {
-      return std::tie(moved_bound, cost_bound, start) < std::tie(o.moved_bound, o.cost_bound, o.start);
+    bool whole;  // bounds from every probe
+    bool operator>(const Candidate& o) const {
+      return std::tie(moved_bound, cost_bound, start) > std::tie(o.moved_bound, o.cost_bound, o.start);
     }
   };
-  std::vector<Candidate> cand;
-  cand.reserve(starts.size());
-  for (std::uint32_t s : starts) {
+  constexpr std::size_t kFewProbes = 32;
+  detail::Walk walk;
+  // General components: the darts where the canonical traversal first reaches each vertex.
+  std::vector<std::uint32_t> first;
+  if (!structured) {
+    const Schematic& sb = cb.part.schematic;
+    std::vector<std::uint8_t> seen(sb.vertex_count, 0);
+    for (std::uint32_t d = 0; d < sb.dart_count(); ++d)  // cb.part is labelled by that traversal
+      if (!seen[sb.dart_vertex[d]]) seen[sb.dart_vertex[d]] = 1, first.push_back(d);
+  }
+  const auto bounds = [&](std::uint32_t s, bool whole) {
+    const std::size_t count = whole || structured ? probe_a.size() : std::min(kFewProbes, probe_a.size());
     probe_b.clear();
     if (structured) {
       std::uint32_t h = s;
@@ -514,18 +530,38 @@ PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepar
         probe_b.push_back(adj.origin[h]);
       }
     } else {
-      probe_b = canonical_from_start(adj, cb, s).schematic.vertex_mesh;
+      // What canonical_from_start(adj, cb, s).schematic.vertex_mesh begins with, walked only so far.
+      const Schematic& sb = cb.part.schematic;
+      walk.start(sb, s);
+      for (std::size_t j = 0; j < count; ++j)
+        probe_b.push_back(sb.vertex_mesh[sb.dart_vertex[walk.at(first[j])]]);
     }
-    cand.push_back({opt.prefer_order ? moved(probe_a.data(), probe_b.data(), probe_a.size()) : 0,
-                    cost_of(a, probe_a.data(), b, probe_b.data(), probe_a.size(), t), s});
-  }
-  std::sort(cand.begin(), cand.end());
+    return Candidate{opt.prefer_order ? moved(probe_a.data(), probe_b.data(), count) : 0,
+                     cost_of(a, probe_a.data(), b, probe_b.data(), count, t), s, count == probe_a.size()};
+  };
+  std::vector<Candidate> heap;
+  heap.reserve(starts.size());
+  for (std::uint32_t s : starts) heap.push_back(bounds(s, false));
+  std::make_heap(heap.begin(), heap.end(), std::greater<>());
+  // The candidate with the next smallest whole bounds, or none.
+  const auto next = [&]() -> std::optional<Candidate> {
+    while (!heap.empty()) {
+      std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+      const Candidate c = heap.back();
+      heap.pop_back();
+      if (c.whole) return c;
+      heap.push_back(bounds(c.start, true));
+      std::push_heap(heap.begin(), heap.end(), std::greater<>());
+    }
+    return std::nullopt;
+  };
 
   // Full scores (vertices moved, cost) in order of lower bounds, until no remaining candidate can tie
   // or beat the best. `rival`: the nearest other candidate moving as few vertices.
   std::size_t best_moved = SIZE_MAX;
   double best = HUGE_VAL, rival = HUGE_VAL;
-  for (const Candidate& c : cand) {
+  while (const std::optional<Candidate> next_candidate = next()) {
+    const Candidate& c = *next_candidate;
     if (c.moved_bound > best_moved || (c.moved_bound == best_moved && c.cost_bound > best + tol(best))) break;
     if (out.info.scored == opt.max_full_evaluations) {
       out.info.exhaustive = false;

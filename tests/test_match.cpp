@@ -429,6 +429,35 @@ TEST(Match, RefinedCubeHas24IsomorphismsAndUndoesARotation) {
   EXPECT_EQ(brute_force_isomorphisms(testing::cube(2), testing::cube(2)), 24u);
 }
 
+// A fan of n quads has n isomorphisms to its copy; they are bounded from a few probe vertices first
+// (n starts of n probes each took minutes at n = 40,000). Its copy turned by three spokes, the nearest
+// one sends every vertex to the copy's vertex now at its place, not to its own turned image.
+TEST(Match, AFanTurnedBySpokesIsUndone) {
+  constexpr int n = 600;
+  const QuadMesh a = testing::fan(n);
+  const float t = 6.2831853f * 3 / n, c = std::cos(t), s = std::sin(t);
+  QuadMesh b = testing::shuffled(a, 5);
+  for (std::size_t v = 0; v < b.vertex_count(); ++v) {
+    const float x = b.positions[3 * v], y = b.positions[3 * v + 1];
+    b.positions[3 * v] = c * x - s * y, b.positions[3 * v + 1] = s * x + c * y;
+  }
+  const MatchResult r = match(a, b);
+  expect_valid(a, b, r);
+  EXPECT_EQ(r.isomorphisms, static_cast<std::uint64_t>(n));
+  EXPECT_TRUE(r.exhaustive);
+  EXPECT_FALSE(r.ambiguous);
+  for (std::uint32_t v = 0; v < a.vertex_count(); ++v) {
+    const float px = a.positions[3 * v], py = a.positions[3 * v + 1];
+    std::uint32_t nearest = 0;
+    float d = HUGE_VALF;
+    for (std::uint32_t w = 0; w < b.vertex_count(); ++w) {
+      const float dx = b.positions[3 * w] - px, dy = b.positions[3 * w + 1] - py;
+      if (dx * dx + dy * dy < d) d = dx * dx + dy * dy, nearest = w;
+    }
+    ASSERT_EQ(r.vertex[v], nearest) << v;
+  }
+}
+
 TEST(Match, SymmetryCountsAgreeWithBruteForce) {
   for (const QuadMesh& m : {testing::grid(5, 5), testing::grid(5, 3), testing::periodic(8, 5, true, 0),
                             testing::periodic(6, 6, true, 0), testing::periodic(9, 6, true, 2),
