@@ -755,6 +755,48 @@ TEST_F(MatchCli, MatchWritesTheMapAndExitsByResult) {
   EXPECT_EQ(run_qsp("match " + quote(pa) + " " + quote(p("missing.obj"))).exit_code, 3);
 }
 
+// Coordinates float32 does not hold (CAD exports) are rounded for matching, not read as a polygon mesh,
+// whose matching does not search a symmetric mesh's isomorphisms for the nearest: a cube with ten digits
+// and its copy turned a quarter about z still has the rotation undone.
+TEST_F(MatchCli, CoordinatesOfManyDigitsStillChooseTheNearest) {
+  const QuadMesh a = testing::cube(3);
+  std::vector<std::uint32_t> old;
+  const QuadMesh b = testing::shuffled(a, 3, &old);
+  // Cube corners at k/3: "0.3333333333" holds more than float32 does.
+  auto text = [](const QuadMesh& m, bool turn) {
+    std::string out;
+    char line[96];
+    for (std::size_t v = 0; v < m.vertex_count(); ++v) {
+      const double x = m.positions[3 * v] / 3, y = m.positions[3 * v + 1] / 3, z = m.positions[3 * v + 2] / 3;
+      std::snprintf(line, sizeof line, "v %.10f %.10f %.10f\n", turn ? 1 - y : x, turn ? x : y, z);
+      out += line;
+    }
+    for (std::size_t f = 0; f < m.face_count(); ++f)
+      out += "f " + std::to_string(m.quads[4 * f] + 1) + " " + std::to_string(m.quads[4 * f + 1] + 1) + " " +
+             std::to_string(m.quads[4 * f + 2] + 1) + " " + std::to_string(m.quads[4 * f + 3] + 1) + "\n";
+    return out;
+  };
+  testing::spit(p("a.obj"), text(a, false));
+  testing::spit(p("b.obj"), text(b, true));
+  const auto r =
+      run_qsp("match " + quote(p("a.obj")) + " " + quote(p("b.obj")) + " -o " + quote(p("map.txt")));
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("24 isomorphisms; chose the nearest"), std::string::npos) << r.out;
+  // A's vertex (x, y, z) goes to B's vertex now there: B's turned vertex of A's (y, 3 - x, z).
+  const auto map = lines(p("map.txt"));
+  ASSERT_EQ(map.size(), a.vertex_count());
+  const auto truth = truth_of(old);
+  for (std::uint32_t v = 0; v < a.vertex_count(); ++v) {
+    const float x = a.positions[3 * v], y = a.positions[3 * v + 1], z = a.positions[3 * v + 2];
+    std::uint32_t w = 0;
+    while (w < a.vertex_count() &&
+           !(a.positions[3 * w] == y && a.positions[3 * w + 1] == 3 - x && a.positions[3 * w + 2] == z))
+      ++w;
+    ASSERT_LT(w, a.vertex_count());
+    ASSERT_EQ(map[v], std::to_string(truth[w])) << v;
+  }
+}
+
 TEST_F(MatchCli, FingerprintGroupsFilesByTopology) {
   const std::string p1 = write("one.obj", testing::cube(2)),
                     p2 = write("two.obj", testing::shuffled(testing::cube(2), 3)),

@@ -80,7 +80,7 @@ struct Side {
 // and prepares it for matching. Topology errors name the file and line, as everywhere (prepare_located).
 // A quad mesh that build_adjacency refuses as non-manifold or mis-oriented goes the polygon way.
 Side read_and_prepare(const std::string& path, MeshFormat format) {
-  PolygonInput in = read_polygon_input(path, format, QspInput::kDecoded);
+  PolygonInput in = read_polygon_input(path, format, QspInput::kDecoded, 0, Coordinates::kRounded);
   Side side;
   if (in.quads) {
     try {

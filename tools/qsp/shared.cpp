@@ -466,9 +466,10 @@ void read_qsp(PolygonInput& in, std::string&& bytes, const std::string& path, Qs
 }
 
 // Whether a file the quad reader read needs the exact reader too: for what it keeps of texture
-// coordinates, normals, labels, extra data, or coordinates float32 does not hold.
-bool needs_exact(const ReadReport& r, unsigned keep) {
-  return (r.categories() & keep & kPolygonMeshCategories) || r.rounded_coordinates ||
+// coordinates, normals, labels, extra data, or coordinates float32 does not hold (unless rounded).
+bool needs_exact(const ReadReport& r, unsigned keep, Coordinates coordinates) {
+  return (r.categories() & keep & kPolygonMeshCategories) ||
+         (r.rounded_coordinates && coordinates == Coordinates::kExact) ||
          ((r.kept_lines || r.vertex_weights || r.other_properties || r.obj_info) && (keep & kCategoryExtra));
 }
 
@@ -492,7 +493,8 @@ bool last_face_has_corner_refs(std::string_view text) {
 
 }  // namespace
 
-PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspInput qsp, unsigned keep) {
+PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspInput qsp, unsigned keep,
+                                Coordinates coordinates) {
   refuse_folder(path);
   format = format_for(path, format);
   if (format == MeshFormat::kUnknown && path != "-") format = format_from_path(path);
@@ -514,7 +516,8 @@ PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspI
     // the quad mesh would do, the two readers as below: their words and their mesh, as always.
     try {
       read_polygons(in, bytes, path, format, keep);
-      if (in.report.rounded_coordinates == 0 && in.beyond_float64 == 0 && needs_exact(in.report, keep))
+      if (in.report.rounded_coordinates == 0 && in.beyond_float64 == 0 &&
+          needs_exact(in.report, keep, coordinates))
         return in;
     } catch (const Error&) {
     }
@@ -530,7 +533,7 @@ PolygonInput read_polygon_input(const std::string& path, MeshFormat format, QspI
   }
   // Texture coordinates, labels and coordinates float32 does not hold come from the exact reader, which
   // the quad reader's report says it needs.
-  if (needs_exact(in.report, keep)) {
+  if (needs_exact(in.report, keep, coordinates)) {
     ReadReport report = std::move(in.report);  // the same kinds; its words for the quad path's messages
     in.mesh = {};
     in.quads = false;

@@ -171,18 +171,25 @@ struct PolygonInput {
 // (compress: kUnsupported, it is no mesh file).
 enum class QspInput { kBytes, kDecoded, kRefused };
 
+// What read_polygon_input does with coordinates float32 does not hold: reads them exactly (the exact
+// reader, a polygon mesh), or rounds them in a quad mesh (match, fingerprint: they read the topology
+// and, among a symmetric mesh's isomorphisms, the nearest, which only the quad way searches in full).
+enum class Coordinates { kExact, kRounded };
+
 // Reads `path` ("-" = standard input) once, as read_input does; where the quad reader refuses a face that
 // is not a quad (kNotQuad), the same bytes again with the exact reader (read_obj_mesh, read_off_mesh,
 // read_ply_mesh; their errors), a coordinate rounding to infinity, or a nonzero one to zero, in float32
 // refused (kBadNumber) as the quad reader refuses it. An OBJ whose faces name texture coordinates or
 // normals that `keep` keeps goes to the exact reader first (the quad reader only where that one refuses
-// the file or its coordinates need the quad reader's words): the same mesh and report either way. A .qsp holding a polygon mesh (3.1) is decoded into
-// `polygons`, its texture coordinates counted in the report; a quad .qsp as `qsp` says. `format`
+// the file or its coordinates need the quad reader's words): the same mesh and report either way. A .qsp
+// holding a polygon mesh (3.1) is decoded into `polygons`, its texture coordinates counted in the report; a
+// quad .qsp as `qsp` says. `format`
 // (--format) as for read_input. `keep`: the categories of a mesh file's data read (by the exact reader)
 // into `polygons` (of kPolygonMeshCategories: texture coordinates, face labels). Throws qsp::Error as the
 // readers and the decoder do, naming `path`. Safe on untrusted input.
 PolygonInput read_polygon_input(const std::string& path, MeshFormat format = MeshFormat::kUnknown,
-                                QspInput qsp = QspInput::kBytes, unsigned keep = 0);
+                                QspInput qsp = QspInput::kBytes, unsigned keep = 0,
+                                Coordinates coordinates = Coordinates::kExact);
 
 // The mesh of a read mesh file or decoded .qsp as a polygon mesh (its quads, or its polygons): moved
 // out of `in`, whose report and counts stay; or copied.
