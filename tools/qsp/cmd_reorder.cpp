@@ -4,10 +4,11 @@
 // Exit codes as the other subcommands: 1 when IN is not isomorphic to REF (or is invalid). The work is
 // the library's: match() and reorder_like() (qsp/match.h), or for polygon meshes (faces of any degree,
 // non-manifold pieces, or IN with attributes) match_polygons() and reorder_polygons_like(), written as
-// OBJ, OFF, PLY or a .qsp that keeps the order.
+// OBJ, OFF, PLY or a .qsp that keeps the order. All-quad meshes are matched as quads either way.
 #include <sys/stat.h>
 
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <tuple>
 
@@ -54,22 +55,58 @@ void say_mirrored(const ReorderOptions& o) {
                o.input.c_str(), o.ref.c_str(), o.ref.c_str());
 }
 
+// The warning where the quad way's choice among a symmetric mesh's isomorphisms had a rival.
+void say_ambiguous(const ReorderOptions& o, const MatchResult& r) {
+  if (r.ambiguous)
+    std::fprintf(stderr, "qsp: warning: %s: the correspondence is ambiguous (symmetric mesh, %s)\n",
+                 o.input.c_str(), r.exhaustive ? "equally near isomorphisms" : "search capped");
+}
+
+// REF and IN all quads, IN read with its data (or digits float32 does not hold): matched as quad meshes
+// of their float32 positions, which searches a symmetric mesh's isomorphisms for the nearest (the polygon
+// way takes one of them). Empty where the quad way does not take both (non-manifold, mis-oriented, ...).
+std::optional<MatchResult> match_as_quads(const ReorderOptions& o, const PolygonMesh& ref,
+                                          const PolygonMesh& in) {
+  const auto quads = [](const PolygonMesh& m) {
+    for (std::size_t f = 0; f + 1 < m.face_offsets.size(); ++f)
+      if (m.face_offsets[f + 1] - m.face_offsets[f] != 4) return false;
+    return true;
+  };
+  if (!quads(ref) || !quads(in)) return std::nullopt;
+  try {
+    return match(prepare_match(QuadMesh{ref.positions, ref.corners}),
+                 prepare_match(QuadMesh{in.positions, in.corners}), match_options(o));
+  } catch (const Error&) {
+    return std::nullopt;  // the polygon way says what it refuses, where
+  }
+}
+
 // REF or IN is a polygon mesh (or non-manifold quads), or IN carries more than positions and faces:
-// match_polygons and reorder_polygons_like.
+// match_polygons (or match_as_quads) and reorder_polygons_like.
 int run_polygons(const ReorderOptions& o, MeshFormat format, const PolygonInput& ref, const PolygonInput& in,
                  const PolygonMesh& in_mesh) {
   const PolygonMesh ref_mesh = polygons_of(ref);
-  const PolygonMatchResult r =
-      match_polygons(prepare_polygon_located(ref_mesh, o.ref, ref.report),
-                     prepare_polygon_located(in_mesh, o.input, in.report), match_options(o));
-  if (!r.isomorphic) return not_isomorphic(o, r.reason, r.mirror_would_match);
+  PolygonMatchResult r;
+  if (const std::optional<MatchResult> q = match_as_quads(o, ref_mesh, in_mesh)) {
+    if (!q->isomorphic) return not_isomorphic(o, q->reason, q->mirror_would_match);
+    say_ambiguous(o, *q);
+    r.isomorphic = true;
+    r.mirrored = q->mirrored;
+    r.vertex = q->vertex;
+    r.face = q->face;
+    r.rotation.assign(q->rotation.begin(), q->rotation.end());
+  } else {
+    r = match_polygons(prepare_polygon_located(ref_mesh, o.ref, ref.report),
+                       prepare_polygon_located(in_mesh, o.input, in.report), match_options(o));
+    if (!r.isomorphic) return not_isomorphic(o, r.reason, r.mirror_would_match);
+    if (!r.unique && !r.same_positions && !r.snapped)
+      std::fprintf(
+          stderr,
+          "qsp: warning: %s: the mesh may be symmetric: OUT follows one of its isomorphisms (the nearest "
+          "is searched on all-quad meshes only)\n",
+          o.input.c_str());
+  }
   if (r.mirrored) say_mirrored(o);
-  if (!r.unique && !r.same_positions && !r.snapped)
-    std::fprintf(
-        stderr,
-        "qsp: warning: %s: the mesh may be symmetric: OUT follows one of its isomorphisms (the nearest "
-        "is searched on all-quad meshes only)\n",
-        o.input.c_str());
   const PolygonMesh out = reorder_polygons_like(in_mesh, r);
   if (out.face_offsets != ref_mesh.face_offsets || out.corners != ref_mesh.corners)
     throw Error(ErrorCode::kInternal, "reorder: faces do not come out in REF's order");
@@ -163,9 +200,7 @@ int run(const ReorderOptions& o) {
   const MatchResult r = match(pref, pin, match_options(o));
   if (!r.isomorphic) return not_isomorphic(o, r.reason, r.mirror_would_match);
   if (r.mirrored) say_mirrored(o);
-  if (r.ambiguous)
-    std::fprintf(stderr, "qsp: warning: %s: the correspondence is ambiguous (symmetric mesh, %s)\n",
-                 o.input.c_str(), r.exhaustive ? "equally near isomorphisms" : "search capped");
+  say_ambiguous(o, r);
 
   const QuadMesh out = reorder_like(in.mesh, r);
   if (out.quads != ref.mesh.quads)
