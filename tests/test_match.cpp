@@ -839,7 +839,8 @@ TEST_F(MatchCli, ReorderGivesTheReferenceOrder) {
             1);
 }
 
-// An all-quad IN with texture coordinates is read by the exact reader, yet matched as quads, which
+// An all-quad IN with texture coordinates is read by the exact reader (or decoded from its .qsp as polygons),
+// yet matched as quads, which
 // searches a symmetric mesh's isomorphisms for the nearest (the polygon way took one of them): a fan of
 // 600 quads against its copy turned by three spokes and moved a little gets each vertex the copy's
 // vertex now at its place, and each corner's texture coordinate comes with its vertex.
@@ -906,6 +907,11 @@ TEST_F(MatchCli, ReorderOfQuadsWithTextureCoordinatesChoosesTheNearest) {
   }
   for (std::uint32_t v = 0; v < ref.vertex_count(); ++v)
     ASSERT_LT(std::hypot(pos[v][0] - ref.positions[3 * v], pos[v][1] - ref.positions[3 * v + 1]), 0.002) << v;
+  // match too, where IN is its .qsp, which decodes (with its texture coordinates) as polygons of quads.
+  ASSERT_EQ(run_qsp("compress " + quote(p("in.obj")) + " -o " + quote(p("in.qsp"))).exit_code, 0);
+  const auto m = run_qsp("match " + quote(pr) + " " + quote(p("in.qsp")));
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  EXPECT_NE(m.out.find("600 isomorphisms; chose the nearest"), std::string::npos) << m.out;
 }
 
 // Files of every released format version fingerprint as their mesh: the goldens of the current

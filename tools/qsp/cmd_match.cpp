@@ -192,10 +192,16 @@ int run(const MatchCliOptions& o) {
   check_outputs({o.a, o.b}, outputs);
   Side sa, sb;
   prepare_both(o.a, o.b, parse_format_option(o.format), sa, sb);
-  if (sa.polygon) return run_polygons(o, sa, sb, outputs);
   MatchOptions mo = match_options(o);
   mo.max_full_evaluations = o.max_evaluations;
-  MatchResult r = match(sa.prepared, sb.prepared, mo);
+  MatchResult r;
+  if (!sa.polygon) {
+    r = match(sa.prepared, sb.prepared, mo);
+  } else if (std::optional<MatchResult> q = match_as_quads(sa.mesh, sb.mesh, mo)) {
+    r = std::move(*q);  // a polygon .qsp of quads
+  } else {
+    return run_polygons(o, sa, sb, outputs);
+  }
   if (!write_maps(o, r, outputs)) return exit_code(Outcome::kDiffer, Answers::kCompare);
   if (!o.quiet) {
     std::FILE* report = report_stream(o);

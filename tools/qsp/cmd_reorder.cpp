@@ -62,32 +62,13 @@ void say_ambiguous(const ReorderOptions& o, const MatchResult& r) {
                  o.input.c_str(), r.exhaustive ? "equally near isomorphisms" : "search capped");
 }
 
-// REF and IN all quads, IN read with its data (or digits float32 does not hold): matched as quad meshes
-// of their float32 positions, which searches a symmetric mesh's isomorphisms for the nearest (the polygon
-// way takes one of them). Empty where the quad way does not take both (non-manifold, mis-oriented, ...).
-std::optional<MatchResult> match_as_quads(const ReorderOptions& o, const PolygonMesh& ref,
-                                          const PolygonMesh& in) {
-  const auto quads = [](const PolygonMesh& m) {
-    for (std::size_t f = 0; f + 1 < m.face_offsets.size(); ++f)
-      if (m.face_offsets[f + 1] - m.face_offsets[f] != 4) return false;
-    return true;
-  };
-  if (!quads(ref) || !quads(in)) return std::nullopt;
-  try {
-    return match(prepare_match(QuadMesh{ref.positions, ref.corners}),
-                 prepare_match(QuadMesh{in.positions, in.corners}), match_options(o));
-  } catch (const Error&) {
-    return std::nullopt;  // the polygon way says what it refuses, where
-  }
-}
-
 // REF or IN is a polygon mesh (or non-manifold quads), or IN carries more than positions and faces:
 // match_polygons (or match_as_quads) and reorder_polygons_like.
 int run_polygons(const ReorderOptions& o, MeshFormat format, const PolygonInput& ref, const PolygonInput& in,
                  const PolygonMesh& in_mesh) {
   const PolygonMesh ref_mesh = polygons_of(ref);
   PolygonMatchResult r;
-  if (const std::optional<MatchResult> q = match_as_quads(o, ref_mesh, in_mesh)) {
+  if (const std::optional<MatchResult> q = match_as_quads(ref_mesh, in_mesh, match_options(o))) {
     if (!q->isomorphic) return not_isomorphic(o, q->reason, q->mirror_would_match);
     say_ambiguous(o, *q);
     r.isomorphic = true;

@@ -552,6 +552,22 @@ bool polygon_path_takes(const Error& e) {
   return e.code() == ErrorCode::kNonManifold || e.code() == ErrorCode::kOrientation;
 }
 
+std::optional<MatchResult> match_as_quads(const PolygonMesh& a, const PolygonMesh& b,
+                                          const MatchOptions& options) {
+  const auto quads = [](const PolygonMesh& m) {
+    for (std::size_t f = 0; f + 1 < m.face_offsets.size(); ++f)
+      if (m.face_offsets[f + 1] - m.face_offsets[f] != 4) return false;
+    return true;
+  };
+  if (!quads(a) || !quads(b)) return std::nullopt;
+  try {
+    return match(prepare_match(QuadMesh{a.positions, a.corners}),
+                 prepare_match(QuadMesh{b.positions, b.corners}), options);
+  } catch (const Error&) {
+    return std::nullopt;
+  }
+}
+
 PolygonMatchInput prepare_polygon_located(PolygonMesh mesh, const std::string& path,
                                           const ReadReport& report) {
   try {

@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -200,6 +201,13 @@ PolygonMesh polygons_of(const PolygonInput& in);
 // business: an edge with three or more faces, a vertex with several fans, neighbours of opposite
 // orientation (kNonManifold, kOrientation), which the polygon path cuts apart.
 bool polygon_path_takes(const Error& e);
+
+// Two polygon meshes of quads alone (read with their data by the exact reader, or decoded from a polygon
+// .qsp): matched as quad meshes of their float32 positions, which searches a symmetric mesh's isomorphisms
+// for the nearest (match_polygons takes one of them). Empty where either has another face or the quad way
+// refuses it (non-manifold, mis-oriented, ...): the polygon way then says what it refuses, where.
+std::optional<MatchResult> match_as_quads(const PolygonMesh& a, const PolygonMesh& b,
+                                          const MatchOptions& options);
 
 // prepare_polygon_match (match.h) with an error at a face located as "path:LINE: ..." (rethrow_located).
 PolygonMatchInput prepare_polygon_located(PolygonMesh mesh, const std::string& path,
