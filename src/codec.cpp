@@ -16,6 +16,7 @@
 #include "codec_sections.h"
 #include "container.h"
 #include "geometry_coder.h"
+#include "mirror.h"
 #include "qsp/error.h"
 #include "qsp/permute.h"
 #include "stencil.h"
@@ -190,11 +191,27 @@ MeshLayout lay_out(Parsed& p) {
   decode_components(p);
   const auto nv = static_cast<std::uint32_t>(p.counts.vertices);
   const auto nf = static_cast<std::uint32_t>(p.counts.faces);
-  const CodingOrder order = coding_order(geometry_tools(p.geometry->payload, p.geometry->payload_offset));
+  const std::uint8_t tools = geometry_tools(p.geometry->payload, p.geometry->payload_offset);
+  const CodingOrder order = coding_order(tools);
   MeshLayout layout = assemble(p.parts, static_cast<std::uint32_t>(p.counts.unreferenced), order);
   if (layout.stencil.size() != nv || layout.quads.size() != 4 * std::size_t{nf} ||
       (order == CodingOrder::kPatch && layout.coding.size() != nv)) {
     throw Error(ErrorCode::kInternal, "decode: grid layout sizes disagree with the checked counts");
+  }
+  // Mirror prediction: each vertex's image under the symmetry section's mirror, as its stencil's source.
+  const Section* symmetry = p.file.find(container::kTagSymmetry);
+  if ((tools & geometry_tool::kMirror) && !symmetry)
+    format_error("geometry section: mirror prediction without a symmetry section",
+                 p.geometry->payload_offset);
+  if (symmetry && !(tools & geometry_tool::kMirror))
+    format_error("symmetry section: the geometry section does not predict by it", symmetry->offset);
+  if (symmetry) {
+    const std::vector<MirrorSeed> seeds = decode_symmetry(symmetry->payload, symmetry->payload_offset, nf);
+    const Adjacency adj = rebuilt_adjacency(layout.quads, nv, p.topology->payload_offset);
+    const Mirror mirror =
+        mirror_vertices(layout.quads, adj, seeds,
+                        "symmetry section (at byte offset " + std::to_string(symmetry->payload_offset) + ")");
+    set_mirror_sources(layout.stencil, layout.coding, mirror);
   }
   return layout;
 }
@@ -316,7 +333,7 @@ QuadMesh decode_any_quads(std::string_view bytes, const DecodeLimits& limits) {
   // The polygons section says the mesh itself is not a quad mesh; every other section a minor version
   // added holds data a quad mesh has no place for.
   for (const container::SectionKind& k : container::kSections) {
-    const Section* s = container::added_required(k) ? p.file.find(k.tag) : nullptr;
+    const Section* s = container::holds_more_than_quads(k) ? p.file.find(k.tag) : nullptr;
     if (s)
       throw Error(ErrorCode::kNotQuad,
                   "the file holds " + std::string(k.name) + " (section " + container::tag_name(k.tag) +
@@ -472,7 +489,7 @@ bool holds_polygons(std::string_view bytes) {
   const container::File f = container::parse(bytes);
   return std::any_of(std::begin(container::kSections), std::end(container::kSections),
                      [&](const container::SectionKind& k) {
-                       return container::added_required(k) && f.find(k.tag) != nullptr;
+                       return container::holds_more_than_quads(k) && f.find(k.tag) != nullptr;
                      }) ||
          f.find(container::kTagKeptLines) != nullptr || f.find(container::kTagStatements) != nullptr ||
          f.find(container::kTagPlyInfo) != nullptr;

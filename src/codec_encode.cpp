@@ -10,6 +10,7 @@
 #include "bytes.h"
 #include "codec_sections.h"
 #include "container.h"
+#include "mirror.h"
 #include "qsp/error.h"
 #include "stencil.h"
 
@@ -87,11 +88,23 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
       }
     }
   }
+  // Mirror prediction (3.17): the layout's mirror symmetry, where its positions have one (quad meshes).
+  const bool with_interior = interior && !interior->positions.empty();
+  std::vector<MirrorSeed> seeds;
+  Mirror mirror;
+  if (effort.try_mirror && polygons.empty() && !with_interior) {
+    std::vector<float> layout_positions(3 * std::size_t{nv});
+    for (std::uint32_t v = 0; v < nv; ++v)
+      std::copy_n(&mesh.positions[3 * std::size_t{canonical_to_input[v]}], 3,
+                  &layout_positions[3 * std::size_t{v}]);
+    const Adjacency layout_adj = build_adjacency(quads, static_cast<std::uint32_t>(nv));
+    seeds = find_mirror(quads, layout_adj, layout_positions);
+    if (!seeds.empty()) mirror = mirror_vertices(quads, layout_adj, seeds, "encode: mirror");
+  }
   quads = {};
 
   // Positions in coding order: canonical order, or for patch order canonical vertex coding[k] at k; then
   // a polygon mesh's interior ones.
-  const bool with_interior = interior && !interior->positions.empty();
   auto coded_positions = [&](CodingOrder o) {
     std::vector<float> positions(3 * std::size_t{nv});
     for (std::uint32_t k = 0; k < nv; ++k) {
@@ -104,6 +117,7 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
   };
   // The stencils of the layout's coding positions, then of the interior vertices (their fans).
   auto with_interior_stencils = [&](MeshLayout& l) {
+    if (!seeds.empty()) set_mirror_sources(l.stencil, l.coding, mirror);
     if (!with_interior) return;
     const std::vector<Stencil> more = interior_stencils(*interior->faces, nv, l.coding);
     if (3 * more.size() != interior->positions.size()) internal("interior stencils and positions differ");
@@ -114,6 +128,7 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
   gopt.quantize_bits = options.quantize_bits;
   gopt.order = first;
   gopt.try_costly_tools = effort.try_costly_tools;
+  gopt.try_mirror = !seeds.empty();
   gopt.tools = tuning.geometry_tools;
   gopt.header_sample = effort.header_sample;
   gopt.try_chaining = effort.try_chaining;
@@ -154,6 +169,8 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
   container::put_section(body, container::kTagCounts, counts);
   container::put_section(body, container::kTagTopology, topology.get());
   container::put_section(body, container::kTagGeometry, geometry);
+  const bool mirrored = (static_cast<std::uint8_t>(geometry[0]) & geometry_tool::kMirror) != 0;
+  if (mirrored) container::put_section(body, container::kTagSymmetry, encode_symmetry(seeds));
   if (options.keep_order) container::put_section(body, container::kTagOrder, encode_order(order));
   if (!polygon_order.empty()) container::put_section(body, container::kTagOrder, polygon_order);
   if (!polygons.empty()) container::put_section(body, container::kTagPolygons, polygons);
@@ -163,7 +180,8 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
     container::put_section(body, container::kTagInterior, count);
   }
   if (order_out) *order_out = std::move(order);
-  const std::uint8_t minor = with_interior      ? kFormatMinorInterior
+  const std::uint8_t minor = mirrored           ? kFormatMinorMirror
+                             : with_interior    ? kFormatMinorInterior
                              : polygons.empty() ? kFormatMinorQuads
                                                 : kFormatMinorPolygons;
   return container::seal(kFormatMajor, minor, static_cast<std::uint8_t>(options.level), body);

@@ -647,8 +647,9 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     in.fail_at("reserved flag bits are set (must be zero)", at);
   const bool hints = (flags & kHintBit) != 0;
   if (hints && minor < kFormatMinorSeamHints)
-    in.fail_at("flag bit 7 (hints from the faces across) is format 3." + std::to_string(kFormatMinorSeamHints) +
-                   "'s, and the file says it is 3." + std::to_string(minor),
+    in.fail_at("flag bit 7 (hints from the faces across) is format 3." +
+                   std::to_string(kFormatMinorSeamHints) + "'s, and the file says it is 3." +
+                   std::to_string(minor),
                at);
   if ((flags & normal_bits) && minor < kFormatMinorNormalsGeometry)
     in.fail_at("normals predicted from the faces or octahedral are format 3." +

@@ -37,6 +37,8 @@ inline constexpr std::uint8_t kTagInterior = 0x0c;
 inline constexpr std::uint8_t kTagExactValues = 0x0d;
 // Format 3.14: PLY vertex and face properties and the OBJ vertex weight.
 inline constexpr std::uint8_t kTagProperties = 0x0e;
+// Format 3.17: the mirror symmetry the geometry section predicts positions by (its tool bit 0x20).
+inline constexpr std::uint8_t kTagSymmetry = 0x0f;
 inline constexpr std::uint8_t kOptionalBit = 0x80;
 inline constexpr std::uint8_t kTagComments = 0x81;       // optional, from 3.1
 inline constexpr std::uint8_t kTagKeptLines = 0x82;      // optional, from 3.7
@@ -69,6 +71,7 @@ inline constexpr SectionKind kSections[] = {
     {kTagInterior, kFormatMinorInterior, "interior positions"},
     {kTagExactValues, kFormatMinorExactValues, "exact values"},
     {kTagProperties, kFormatMinorProperties, "properties"},
+    {kTagSymmetry, kFormatMinorMirror, "symmetry"},
     {kTagComments, kFormatMinorPolygons, "comments"},
     {kTagKeptLines, kFormatMinorKeptLines, "kept lines"},
     {kTagStatements, kFormatMinorStatements, "statement order"},
@@ -79,6 +82,12 @@ inline constexpr SectionKind kSections[] = {
 // Whether the section is a required one added after 3.0 (a file holding it is not a 3.0 quad file).
 constexpr bool added_required(const SectionKind& k) {
   return k.minor > kFormatMinorQuads && !(k.tag & kOptionalBit);
+}
+
+// Whether the section holds data a quad mesh (QuadMesh) has no place for: every required one added after
+// 3.0 but the symmetry section, which says only how the positions are coded.
+constexpr bool holds_more_than_quads(const SectionKind& k) {
+  return added_required(k) && k.tag != kTagSymmetry;
 }
 
 // Whether parse() refuses the section in a file of a lower minor version than its row's: every required

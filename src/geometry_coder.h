@@ -31,6 +31,7 @@ namespace qsp {
 struct GeometryChoice {
   bool repeats = false;  // coordinates may be coded as repeats of earlier values
   bool decimal = false;  // lossless: the decimal-grid plan, where there is one (else float bits)
+  bool mirror = false;   // vertices predicted from their stencils' mirror sources
 };
 
 // Sections above this many vertices run the range coder on a second thread by default: below it,
@@ -64,6 +65,9 @@ struct GeometryOptions {
   // Whether the cell shapes and logistic mixing tools are tried together, and kept where smaller, when
   // the headers are tried in full: a few percent smaller, twice the decoder's work.
   bool try_costly_tools = false;
+  // Whether the headers are also tried with mirror prediction, where the stencils name mirror sources
+  // and every axis is an integer axis.
+  bool try_mirror = false;
   // Tests and goldens: code with exactly these tools (geometry_tool bits; the layout-order bit is
   // ignored, `order` names the order) and no trials, choosing only among the value plans.
   std::optional<std::uint8_t> tools = std::nullopt;

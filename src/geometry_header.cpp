@@ -39,6 +39,11 @@ Header read_header(ByteReader& in, std::uint32_t count) {
   h.bits = in.u8("bits");
   if (h.bits > 30)
     in.fail_at("quantization bits " + std::to_string(h.bits) + " out of range (0 to 30)", bits_at);
+  // Mirror prediction reflects integers: every axis must be one (checked once the plans are read).
+  const auto mirror_needs_integers = [&] {
+    if (h.has(geometry_tool::kMirror) && !h.integer_axes())
+      in.fail_at("mirror prediction on an axis of float bits", tools_at);
+  };
   if (h.bits) {
     for (float& o : h.grid.origin) {
       const std::uint64_t at = in.offset();
@@ -51,6 +56,7 @@ Header read_header(ByteReader& in, std::uint32_t count) {
         (std::bit_cast<std::uint64_t>(h.grid.step) & kStepLowMask)) {
       in.fail_at("invalid grid step", at);
     }
+    mirror_needs_integers();
     return h;
   }
   for (AxisPlan& plan : h.plans) {
@@ -76,6 +82,7 @@ Header read_header(ByteReader& in, std::uint32_t count) {
       prev = v;
     }
   }
+  mirror_needs_integers();
   return h;
 }
 
@@ -106,6 +113,7 @@ std::string geometry_tool_names(std::uint8_t tools) {
   add(geometry_tool::kNormalChaining, "normal chaining");
   add(geometry_tool::kCellShapes, "cell shapes");
   add(geometry_tool::kLogisticMixing, "logistic mixing");
+  add(geometry_tool::kMirror, "mirror prediction");
   return out.empty() ? "none" : out;
 }
 

@@ -22,9 +22,10 @@ enum Kind : std::uint8_t {
   kCorners = 6
 };
 
-inline constexpr int kContextKinds = 9;           // kinds 0..4, kWest/kLinear with a far end (5, 6), 7, 8
-inline constexpr int kBlendedContext = 3;         // the context kind of kParallelogram, the blended vertices
-inline constexpr std::uint32_t kMaxFarDist = 64;  // farther ends are ignored (and keep the products small)
+inline constexpr int kContextKinds = 10;  // kinds 0..4, kWest/kLinear with a far end (5, 6), 7, 8, mirrored 9
+inline constexpr std::uint8_t kMirrorContext = 9;  // a vertex predicted from its mirror image
+inline constexpr int kBlendedContext = 3;          // the context kind of kParallelogram, the blended vertices
+inline constexpr std::uint32_t kMaxFarDist = 64;   // farther ends are ignored (and keep the products small)
 
 // A vertex's coded neighbours on its grid, (column, row) offsets from it: w (-1,0), ww (-2,0),
 // s (0,-1), sw (-1,-1), and for kParallelogram se (1,-1), ss (0,-2), sww (-2,-1), ssw (-1,-2).

@@ -107,6 +107,10 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
   // (Blending the two was worse: on CAD-like meshes the across prediction is often exact.)
   std::array<std::array<std::uint64_t, 2>, 4> across_err{};
   std::array<std::array<std::int64_t, 2>, 3> across_pred{};
+  // Mirror prediction: per mirror axis, per axis, the last mirrored vertex's value less its image's
+  // (reflected on the mirror axis): the plane's offset, learnt as the vertices come.
+  const bool mirroring = h.has(geometry_tool::kMirror);
+  std::array<std::array<std::int64_t, 3>, 3> mirror_offset{};
   NormalChain chain;
   const bool chaining = h.has(geometry_tool::kNormalChaining) && all_int;
   // The chaining model runs (its offsets only if chaining) for the decoder and for the encoder's cue.
@@ -115,13 +119,15 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
   for (std::uint32_t i = 0; i < count; ++i) {
     int previous = 0;  // how the vertex's previous axis was coded: 0 none / no repeats, 1 residual, 2 repeat
     const Hood x = hoods[i];
+    const std::uint32_t image = mirroring ? x.t->mirror : kInvalid;
+    const auto maxis = static_cast<std::size_t>(x.t->mirror_axis);
     unsigned mask = any_int ? candidate_mask(x, kShapes, all_int) : 0;
     if constexpr (kShapes) {
       if (mask >> 12) mask &= ~shape_transfers(x, ints, mask, shape);
     }
-    const bool blended = any_int && x.kind == kParallelogram;
+    const bool blended = any_int && x.kind == kParallelogram && image == kInvalid;
     const int blend_class = blended ? blend_weights<nc>(x, mask, errors.get(), weight) : 0;
-    const bool across = x.kind == kOpposite || x.kind == kCorners;
+    const bool across = (x.kind == kOpposite || x.kind == kCorners) && image == kInvalid;
     // Its across class: which running means it uses.
     const std::size_t cls = !across               ? 0
                             : x.kind == kOpposite ? (x.has(Hood::kOppositeFar) ? 0 : 1)
@@ -139,7 +145,8 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
     std::array<std::int64_t, 3> blended_pred{};
     for (int a = 0; a < 3; ++a) {
       const auto ua = static_cast<std::size_t>(a);
-      Coordinate c{i, a, 0, {x.ctx, 0, max_length[ua], a, 0, 0}, previous, nullptr};
+      const std::uint8_t ctx = image != kInvalid ? kMirrorContext : x.ctx;
+      Coordinate c{i, a, 0, {ctx, 0, max_length[ua], a, 0, 0}, previous, nullptr};
       // Magnitude class: neighbours' residual lengths, averaged with the blend's expected error.
       int cls_l = length_class(lengths[ua].data(), x), neighbour = cls_l;
       if (blended) {
@@ -154,7 +161,9 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
       if (int_axis[ua]) {
         const std::int64_t* v = ints[ua].data();
         std::int64_t pred;
-        if (blended) {
+        if (image != kInvalid) {
+          pred = (ua == maxis ? -v[image] : v[image]) + mirror_offset[maxis][ua];
+        } else if (blended) {
           pred = blended_pred[ua] =
               unclamped ? blend<nc, false>(cand[ua], mask, weight) : blend<nc>(cand[ua], mask, weight);
           if (chaining) pred += chain.offset(a);
@@ -207,6 +216,9 @@ void code_vertices(const Header& h, const Hoods& hoods, std::uint32_t count, Val
       }
     }
     if (chained) chain.finish();
+    if (image != kInvalid)
+      for (std::size_t a = 0; a < 3; ++a)
+        mirror_offset[maxis][a] = ints[a][i] - (a == maxis ? -ints[a][image] : ints[a][image]);
     if (!any_int) continue;
     // The vertex's values in locals, and the axes tested once: the stores to the row may alias both.
     std::array<std::int64_t, 3> value{};

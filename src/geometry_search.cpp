@@ -147,6 +147,15 @@ std::string encode_geometry(std::span<const float> positions, std::span<const St
     headers.back().tools |= geometry_tool::kValueRepeats;
     choices.push_back({true, choices[i].decimal});
   }
+  const bool mirrored =
+      options.try_mirror &&
+      std::any_of(stencil.begin(), stencil.end(), [](const Stencil& s) { return s.mirror != kInvalid; });
+  for (std::size_t i = 0, n = headers.size(); mirrored && i < n; ++i) {
+    if (!headers[i].integer_axes()) continue;
+    headers.push_back(headers[i]);
+    headers.back().tools |= geometry_tool::kMirror;
+    choices.push_back({choices[i].repeats, choices[i].decimal, true});
+  }
   // Only the headers chosen (all of them if none matches).
   auto keep = [&](auto&& wanted) {
     std::vector<Header> kept;
@@ -160,14 +169,16 @@ std::string encode_geometry(std::span<const float> positions, std::span<const St
   };
   if (options.choice) {
     keep([&](const GeometryChoice& c) {
-      return c.repeats == options.choice->repeats && c.decimal == options.choice->decimal;
+      return c.repeats == options.choice->repeats && c.decimal == options.choice->decimal &&
+             c.mirror == options.choice->mirror;
     });
   }
   std::size_t best = 0;
   std::string bytes;
   if (options.tools) {  // exactly these tools: the smallest of the value plans that have them
     const bool repeats = (*options.tools & geometry_tool::kValueRepeats) != 0;
-    keep([&](const GeometryChoice& c) { return c.repeats == repeats; });
+    const bool mirror = (*options.tools & geometry_tool::kMirror) != 0;
+    keep([&](const GeometryChoice& c) { return c.repeats == repeats && c.mirror == mirror; });
     for (std::size_t i = 0; i < headers.size(); ++i) {
       Header forced = headers[i];
       forced.tools =

@@ -35,13 +35,18 @@ struct Stencil {
   std::uint32_t x0 = kInvalid, x1 = kInvalid, x2 = kInvalid, xnum = 0, xden = 0;
   // Patch order only: se (1,-1), ss (0,-2), sww (-2,-1), ssw (-1,-2) in w/s's frame, when coded.
   std::uint32_t se = kInvalid, ss = kInvalid, sww = kInvalid, ssw = kInvalid;
+  // Mirror prediction (3.17): the vertex's mirror image, when coded before it, and the axis it is
+  // reflected along. Set by the codec from the symmetry section, not by the layout.
+  std::uint32_t mirror = kInvalid;
+  std::uint32_t mirror_axis = 0;
   // Every field that names a vertex (kInvalid when absent): the one list for code that offsets,
   // remaps or checks them all, so a new field cannot be missed in one of those places.
-  std::array<std::uint32_t*, 19> vertex_fields() {
-    return {&w, &ww, &s, &sw, &far, &e, &es, &n, &nw, &o, &ow, &ofar, &x0, &x1, &x2, &se, &ss, &sww, &ssw};
+  std::array<std::uint32_t*, 20> vertex_fields() {
+    return {&w,  &ww,   &s,  &sw, &far, &e,  &es, &n,   &nw,  &o,
+            &ow, &ofar, &x0, &x1, &x2,  &se, &ss, &sww, &ssw, &mirror};
   }
-  std::array<std::uint32_t, 19> vertex_fields() const {
-    return {w, ww, s, sw, far, e, es, n, nw, o, ow, ofar, x0, x1, x2, se, ss, sww, ssw};
+  std::array<std::uint32_t, 20> vertex_fields() const {
+    return {w, ww, s, sw, far, e, es, n, nw, o, ow, ofar, x0, x1, x2, se, ss, sww, ssw, mirror};
   }
 };
 

@@ -32,7 +32,9 @@ namespace qsp {
 // file (the required sections a newer minor may add excepted, which it refuses with "upgrade qsp"); 1.x
 // and 2.x were development versions and are not read (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 16;
+inline constexpr std::uint8_t kFormatMinor = 17;
+// Positions predicted from their mirror images (the symmetry section; geometry tool bit 0x20).
+inline constexpr std::uint8_t kFormatMinorMirror = 17;
 // The leading comment block coded through a text model (the coded comments section, optional).
 inline constexpr std::uint8_t kFormatMinorCodedComments = 16;
 // Texture coordinates with hints from the faces across and residuals by activity (flag bit 7).
@@ -76,6 +78,7 @@ struct Effort {
   bool try_chaining = false;        // GeometryOptions::try_chaining
   bool try_costly_tools = false;    // cell shapes + logistic mixing, kept where smaller (full header trials)
   bool repeats_must_pay = false;    // GeometryOptions::repeats_must_pay
+  bool try_mirror = true;           // positions predicted from their mirror images where that is smaller
   bool operator==(const Effort&) const = default;
 };
 

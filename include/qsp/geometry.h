@@ -21,7 +21,8 @@ inline constexpr std::uint8_t kLayoutOrder = 0x02;     // CodingOrder::kLayout (
 inline constexpr std::uint8_t kNormalChaining = 0x04;  // axes y, z predicted along the normal as well
 inline constexpr std::uint8_t kCellShapes = 0x08;      // shrunk parallelogram and shape transfers
 inline constexpr std::uint8_t kLogisticMixing = 0x10;  // magnitude classes, length prior, 4-model mixing
-inline constexpr std::uint8_t kAll = 0x1F;             // the other bits are reserved
+inline constexpr std::uint8_t kMirror = 0x20;  // vertices with a mirror source predicted from it (3.17)
+inline constexpr std::uint8_t kAll = 0x3F;     // the other bits are reserved
 }  // namespace geometry_tool
 
 // The tools in `tools` other than the coding order, as words for people ("value repeats, normal

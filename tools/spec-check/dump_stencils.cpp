@@ -56,7 +56,10 @@ int main(int argc, char** argv) {
     for (std::uint32_t k = 0; k < layout.stencil.size(); ++k) {
       const qsp::Stencil& s = layout.stencil[k];
       st << (layout.coding.empty() ? k : layout.coding[k]);
-      for (std::uint32_t v : s.vertex_fields()) st << ' ' << (v == qsp::kInvalid ? -1 : std::int64_t{v});
+      // The layout's 19 fields (the mirror source comes from the symmetry section, which qspgeo.py reads).
+      const auto fields = s.vertex_fields();
+      for (std::size_t f = 0; f < 19; ++f)
+        st << ' ' << (fields[f] == qsp::kInvalid ? -1 : std::int64_t{fields[f]});
       st << ' ' << s.far_dist << ' ' << s.e_dist << ' ' << s.n_dist << ' ' << s.xnum << ' ' << s.xden << '\n';
     }
 
