@@ -169,8 +169,6 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
   container::put_section(body, container::kTagCounts, counts);
   container::put_section(body, container::kTagTopology, topology.get());
   container::put_section(body, container::kTagGeometry, geometry);
-  const bool mirrored = (static_cast<std::uint8_t>(geometry[0]) & geometry_tool::kMirror) != 0;
-  if (mirrored) container::put_section(body, container::kTagSymmetry, encode_symmetry(seeds));
   if (options.keep_order) container::put_section(body, container::kTagOrder, encode_order(order));
   if (!polygon_order.empty()) container::put_section(body, container::kTagOrder, polygon_order);
   if (!polygons.empty()) container::put_section(body, container::kTagPolygons, polygons);
@@ -179,6 +177,9 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
     put_varint(count, interior->positions.size() / 3);
     container::put_section(body, container::kTagInterior, count);
   }
+  // After every required tag below it (the attribute sections 0x06-0x0e go in before it, in tag order).
+  const bool mirrored = (static_cast<std::uint8_t>(geometry[0]) & geometry_tool::kMirror) != 0;
+  if (mirrored) container::put_section(body, container::kTagSymmetry, encode_symmetry(seeds));
   if (order_out) *order_out = std::move(order);
   const std::uint8_t minor = mirrored           ? kFormatMinorMirror
                              : with_interior    ? kFormatMinorInterior

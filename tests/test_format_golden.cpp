@@ -62,7 +62,7 @@ using testing::spit;
 std::vector<std::string> golden_names() {
   std::vector<std::string> out;
   for (const char* dir : {"", "polygons/", "texcoords/", "labels/", "tags/", "normals/", "exact/", "kept/",
-                          "colors/", "statements/"}) {
+                          "colors/", "statements/", "mirror/"}) {
     for (const auto& e : fs::directory_iterator(kGolden + "/" + dir)) {
       if (e.path().extension() == ".obj") out.push_back(std::string(dir) + e.path().stem().string());
     }
@@ -146,15 +146,19 @@ std::vector<ToolGolden> tool_goldens() {
   std::vector<ToolGolden> out;
   auto letters = [](std::uint8_t tools) {
     std::string s;
-    const char* names = "rlcsm";
-    for (int b = 0; b < 5; ++b)
+    const char* names = "rlcsmy";
+    for (int b = 0; b < 6; ++b)
       if (tools & (1 << b)) s += names[b];
     return s.empty() ? std::string("plain") : s;
   };
-  for (std::uint8_t tools = 0; tools <= 0x1F; ++tools)  // the tools of 3.0 (3.17's mirror: golden/mirror)
+  for (std::uint8_t tools = 0; tools <= 0x1F; ++tools)  // the tools of 3.0 (3.17's mirror: below)
     out.push_back({"tilted_noise_q14_" + letters(tools), "tilted_noise_q14", tools});
   for (std::uint8_t tools : {0x00, 0x01, 0x06, 0x19, 0x1F})
     out.push_back({"tilted_noise_" + letters(tools), "tilted_noise", tools});
+  // Mirror prediction (3.17) with every combination of the others, on a mesh that has a mirror.
+  for (std::uint8_t tools = 0x20; tools <= 0x3F; ++tools)
+    out.push_back({"hull_q14_" + letters(tools), "mirror/hull_q14", tools});
+  out.push_back({"hull_" + letters(0x3D), "mirror/hull", 0x3D});
   return out;
 }
 
@@ -395,10 +399,12 @@ TEST(Golden, BytesArePinned) {
       // with the order kept.
       ++normals;
       const char minor = slurp(path)[9];
-      EXPECT_TRUE(minor == 5 || minor == 10) << "a file with normals says format 3.5 or 3.10";
+      EXPECT_TRUE(minor == testing::minor_of_file_with(slurp(path), 5) ||
+                  minor == testing::minor_of_file_with(slurp(path), 10))
+          << "a file with normals says format 3.5 or 3.10";
       const PolygonMesh back = decode_polygons(slurp(path));
       if (const std::uint32_t bits = options_for(name).quantize_normal_bits) {
-        EXPECT_EQ(minor, 10);
+        EXPECT_EQ(minor, testing::minor_of_file_with(slurp(path), 10));
         EncodeOptions in_order = options_for(name);
         in_order.keep_order = true;
         const PolygonMesh rounded = decode_polygons(encode_polygons(poly, in_order));
@@ -739,15 +745,15 @@ std::map<std::string, Crafted> crafted() {
     // A required section of a newer minor version: "upgrade qsp". The same tag in a file of this
     // version cannot come from a correct encoder.
     const std::string sections =
-        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(15, "x");
+        section(1, p.counts) + section(2, p.topology) + section(3, p.geometry) + section(16, "x");
     Parts newer_minor = p;
     newer_minor.minor = kFormatMinor + 1;
     out["qsp_unknown_required_section_newer_minor"] = {
         seal(newer_minor, sections), "version",
-        "section 0x0f is required but unknown to this qsp, which reads format 3." +
+        "section 0x10 is required but unknown to this qsp, which reads format 3." +
             std::to_string(kFormatMinor) + " (upgrade qsp)"};
     out["qsp_unknown_required_section"] = {seal(p, sections), "format",
-                                           "section 0x0f is required but unknown to this qsp"};
+                                           "section 0x10 is required but unknown to this qsp"};
     // A section of a later minor version in a file that says it is the one before: 3.3's face labels,
     // 3.4's subdivision tags, 3.5's normals, 3.6's exact positions, 3.8's colours, 3.12's interior
     // positions, 3.13's exact values, 3.14's properties.
@@ -817,7 +823,7 @@ std::map<std::string, Crafted> crafted() {
   }
   {
     // The texture coordinates section's flag bit 7 (3.16's hints) in a file that says 3.15.
-    const std::string cylinder = slurp(kGolden + "/texcoords/cylinder_seam_uv12.qsp");
+    const std::string cylinder = slurp(kGolden + "/v3.16/texcoords/cylinder_seam_uv12.qsp");
     const container::File uv = container::parse(cylinder);
     std::string sections;
     for (const container::Section& s : uv.sections) container::put_section(sections, s.tag, s.payload);
@@ -882,8 +888,59 @@ std::map<std::string, Crafted> crafted() {
     overlong.counts = std::string("\x84\x00", 2) + p.counts.substr(1);
     out["qsp_overlong_varint"] = {assemble(overlong), "format", "vertex count is not minimally encoded"};
   }
-  // The geometry tools byte: bits 5 to 7 are reserved.
-  for (int bit = 5; bit < 8; ++bit) {
+  {
+    // Mirror prediction (3.17): geometry tool bit 5 and the symmetry section. hull_q14 is one 8x5 grid
+    // of faces, symmetric, its one seed mapping face 0 to a face on the boundary too.
+    const std::string hull = slurp(kGolden + "/mirror/hull_q14.qsp");
+    const Parts h = split(hull);
+    EXPECT_TRUE(h.geometry[0] & 0x20) << "hull_q14's geometry uses mirror prediction";
+    const std::string required = section(1, h.counts) + section(2, h.topology);
+    auto with = [&](const Parts& at, std::string_view geometry, std::string_view symmetry) {
+      return seal(at, required + section(3, geometry) + section(container::kTagSymmetry, symmetry));
+    };
+    const std::string symmetry(container::parse(hull).find(container::kTagSymmetry)->payload);
+    out["qsp_mirror_without_symmetry_section"] = {seal(h, required + section(3, h.geometry)), "format",
+                                                  "mirror prediction without a symmetry section"};
+    std::string plain = h.geometry;
+    plain[0] = static_cast<char>(plain[0] & ~0x20);
+    out["qsp_symmetry_without_mirror"] = {with(h, plain, symmetry), "format",
+                                          "symmetry section: the geometry section does not predict by it"};
+    Parts v316 = h;
+    v316.minor = kFormatMinorMirror - 1;
+    out["qsp_symmetry_in_3_16"] = {with(v316, h.geometry, symmetry), "format",
+                                   "section 0x0f (symmetry) is format 3.17's, and the file says it is 3.16"};
+    // Seeds: face 40 of 40 faces; a second seed giving face 0 another turn; face 0 (on the boundary)
+    // onto face 9 (inside: row 1, column 1); axis 3.
+    const auto seeds = [](std::initializer_list<std::array<std::uint32_t, 4>> list) {
+      std::string s;
+      put_varint(s, list.size());
+      for (const auto& [f, g, turn, axis] : list) {
+        put_varint(s, f);
+        put_varint(s, g);
+        s += static_cast<char>(turn | axis << 2);
+      }
+      return s;
+    };
+    out["qsp_mirror_seed_out_of_range"] = {with(h, h.geometry, seeds({{40, 0, 0, 0}})), "format",
+                                           "symmetry section: seed face out of range"};
+    const std::uint32_t image = static_cast<std::uint8_t>(symmetry[2]), turn = symmetry[3] & 3;
+    out["qsp_mirror_face_with_two_images"] = {
+        with(h, h.geometry, seeds({{0, image, turn, 0}, {0, image, (turn + 1) & 3, 0}})), "format",
+        "symmetry section (at byte offset"};
+    out["qsp_mirror_boundary_onto_inside"] = {with(h, h.geometry, seeds({{0, 9, 0, 0}})), "format",
+                                              "and its image: one on the boundary"};
+    out["qsp_mirror_axis_out_of_range"] = {with(h, h.geometry, seeds({{0, image, turn, 3}})), "format",
+                                           "symmetry section: seed axis out of range"};
+  }
+  // The geometry tools byte: bit 5 is mirror prediction (3.17), which a file without a symmetry section
+  // cannot use; bits 6 and 7 are reserved.
+  {
+    Parts mirror = p;
+    mirror.geometry[0] = static_cast<char>(mirror.geometry[0] | 0x20);
+    out["qsp_reserved_geometry_tool_bit_5"] = {
+        assemble(mirror), "format", "geometry section: mirror prediction without a symmetry section"};
+  }
+  for (int bit = 6; bit < 8; ++bit) {
     Parts future = p;
     future.geometry[0] = static_cast<char>(future.geometry[0] | (1 << bit));
     out["qsp_reserved_geometry_tool_bit_" + std::to_string(bit)] = {

@@ -281,11 +281,11 @@ TEST(HostileQsp, UnknownAndMissingSections) {
   // An unknown required section is refused: "upgrade qsp" in a file of a newer minor version, a format
   // error in one of this version. So are missing, repeated and reordered ones.
   auto unknown = secs;
-  unknown.push_back({0x0f, 0, 0, "x"});
+  unknown.push_back({0x10, 0, 0, "x"});
   expect_refused(craft::seal(kFormatMajor, kFormatMinor, 0, craft::join(unknown)), ErrorCode::kFormat,
-                 {"section 0x0f is required but unknown", "byte offset"});
+                 {"section 0x10 is required but unknown", "byte offset"});
   expect_refused(craft::seal(kFormatMajor, kFormatMinor + 1, 0, craft::join(unknown)), ErrorCode::kVersion,
-                 {"section 0x0f is required but unknown", "upgrade qsp", "byte offset"});
+                 {"section 0x10 is required but unknown", "upgrade qsp", "byte offset"});
   for (std::size_t drop = 0; drop < secs.size(); ++drop) {
     auto fewer = secs;
     fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(drop));

@@ -916,7 +916,7 @@ TEST_F(MatchCli, ReorderOfQuadsWithTextureCoordinatesChoosesTheNearest) {
 
 // Files of every released format version fingerprint as their mesh: the goldens of the current
 // encoder, and those of older released versions where a later one changed the bytes (testdata/golden/
-// vX.Y/; golden/v3.5/normals, the only ones so far, are checked in test_normals.cpp).
+// vX.Y/; golden/v3.5/normals and v3.16/normals are checked in test_normals.cpp).
 TEST_F(MatchCli, OlderFormatFilesFingerprintAsTheirMesh) {
   const std::string golden = std::string(QSP_TESTDATA_DIR) + "/golden/";
   int seen = 0;

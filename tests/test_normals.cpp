@@ -240,6 +240,25 @@ TEST(Normals, FilesOfFormat35StillDecode) {
   }
 }
 
+// Files written before 3.17 (testdata/golden/v3.16/normals/: the goldens whose positions mirror
+// prediction now codes) decode forever, to what today's files of the same meshes decode to.
+TEST(Normals, FilesBeforeMirrorPredictionStillDecode) {
+  for (const char* name : {"cube_normals", "torus_normals", "torus_normals_qn10"}) {
+    SCOPED_TRACE(name);
+    const std::string old =
+        testing::slurp(std::string(QSP_TESTDATA_DIR) + "/golden/v3.16/normals/" + name + ".qsp");
+    const std::string now = testing::slurp(kNormals + name + ".qsp");
+    ASSERT_LT(old[9], kFormatMinorMirror);
+    ASSERT_EQ(now[9], kFormatMinorMirror);
+    const PolygonMesh was = decode_polygons(old), is = decode_polygons(now);
+    EXPECT_EQ(was.corners, is.corners);
+    EXPECT_EQ(was.positions, is.positions);
+    EXPECT_EQ(was.corner_normals, is.corner_normals);
+    ASSERT_EQ(was.normals.size(), is.normals.size());
+    EXPECT_EQ(std::memcmp(was.normals.data(), is.normals.data(), 4 * is.normals.size()), 0);
+  }
+}
+
 TEST(Normals, EveryPrefixBitFlipAndCutIsSafe) {
   for (const char* name :
        {"cube_normals", "grid_normals_keep_order", "torus_normals", "torus_normals_qn10"}) {

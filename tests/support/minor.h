@@ -20,6 +20,7 @@ inline int minor_of_file_with(std::string_view bytes, int minor) {
       uv && !uv->payload.empty() && (static_cast<std::uint8_t>(uv->payload[0]) & 0x80))
     minor = std::max<int>(minor, kFormatMinorSeamHints);
   if (file.find(container::kTagCodedComments)) minor = std::max<int>(minor, kFormatMinorCodedComments);
+  if (file.find(container::kTagSymmetry)) minor = std::max<int>(minor, kFormatMinorMirror);
   return minor;
 }
 
