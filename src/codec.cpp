@@ -186,6 +186,19 @@ std::vector<float> to_layout_order(std::vector<float> coded, const std::vector<s
 
 namespace {
 
+// The symmetry section, if the geometry section predicts by it: either both or neither (else a format
+// error at the one there).
+const Section* symmetry_section(const Parsed& p) {
+  const std::uint8_t tools = geometry_tools(p.geometry->payload, p.geometry->payload_offset);
+  const Section* symmetry = p.file.find(container::kTagSymmetry);
+  if ((tools & geometry_tool::kMirror) && !symmetry)
+    format_error("geometry section: mirror prediction without a symmetry section",
+                 p.geometry->payload_offset);
+  if (symmetry && !(tools & geometry_tool::kMirror))
+    format_error("symmetry section: the geometry section does not predict by it", symmetry->offset);
+  return symmetry;
+}
+
 // The layout of the decoded topology in the geometry section's coding order, its sizes checked.
 MeshLayout lay_out(Parsed& p) {
   decode_components(p);
@@ -199,13 +212,7 @@ MeshLayout lay_out(Parsed& p) {
     throw Error(ErrorCode::kInternal, "decode: grid layout sizes disagree with the checked counts");
   }
   // Mirror prediction: each vertex's image under the symmetry section's mirror, as its stencil's source.
-  const Section* symmetry = p.file.find(container::kTagSymmetry);
-  if ((tools & geometry_tool::kMirror) && !symmetry)
-    format_error("geometry section: mirror prediction without a symmetry section",
-                 p.geometry->payload_offset);
-  if (symmetry && !(tools & geometry_tool::kMirror))
-    format_error("symmetry section: the geometry section does not predict by it", symmetry->offset);
-  if (symmetry) {
+  if (const Section* symmetry = symmetry_section(p)) {
     const std::vector<MirrorSeed> seeds = decode_symmetry(symmetry->payload, symmetry->payload_offset, nf);
     const Adjacency adj = rebuilt_adjacency(layout.quads, nv, p.topology->payload_offset);
     const Mirror mirror =
@@ -562,6 +569,9 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
   info.geometry_tools = geometry_tools(p.geometry->payload, p.geometry->payload_offset);
   info.geometry_order = coding_order(info.geometry_tools);
   info.quantize_bits = geometry_quantize_bits(p.geometry->payload, p.geometry->payload_offset);
+  if (const Section* symmetry = symmetry_section(p))
+    (void)decode_symmetry(symmetry->payload, symmetry->payload_offset,
+                          static_cast<std::uint32_t>(p.counts.faces));
   std::uint64_t in_sections = 0;
   for (const Section& s : p.file.sections) {
     const std::uint64_t size = s.size();
@@ -569,8 +579,8 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
     info.sections.push_back({s.tag, s.offset, size});
     if (s.tag == container::kTagCounts || s.tag == container::kTagTopology)
       info.connectivity_bytes += size;
-    else if (s.tag == container::kTagGeometry)
-      info.geometry_bytes += size;
+    else if (s.tag == container::kTagGeometry || s.tag == container::kTagSymmetry)
+      info.geometry_bytes += size;  // the symmetry section says how the positions are predicted
     else if (s.tag == container::kTagInterior)
       info.geometry_bytes += size, info.interior_positions = interior_count(s);
     else if (s.tag == container::kTagOrder)

@@ -129,6 +129,14 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
   gopt.order = first;
   gopt.try_costly_tools = effort.try_costly_tools;
   gopt.try_mirror = !seeds.empty();
+  // (Without seeds too: tests may force the tool, which then predicts nothing.)
+  std::string symmetry;
+  container::put_section(symmetry, container::kTagSymmetry, encode_symmetry(seeds));
+  gopt.mirror_bytes = static_cast<std::uint32_t>(symmetry.size());
+  // A geometry section's size with the symmetry section its mirror prediction needs.
+  const auto with_symmetry = [&](const std::string& g) {
+    return g.size() + ((static_cast<std::uint8_t>(g[0]) & geometry_tool::kMirror) ? symmetry.size() : 0);
+  };
   gopt.tools = tuning.geometry_tools;
   gopt.header_sample = effort.header_sample;
   gopt.try_chaining = effort.try_chaining;
@@ -155,7 +163,7 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
     gopt.order = CodingOrder::kLayout;
     std::string in_layout_order =
         encode_geometry(coded_positions(CodingOrder::kLayout), layout.stencil, gopt);
-    if (in_layout_order.size() < geometry.size()) geometry = std::move(in_layout_order);
+    if (with_symmetry(in_layout_order) < with_symmetry(geometry)) geometry = std::move(in_layout_order);
   }
 
   std::string counts;
@@ -179,7 +187,7 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
   }
   // After every required tag below it (the attribute sections 0x06-0x0e go in before it, in tag order).
   const bool mirrored = (static_cast<std::uint8_t>(geometry[0]) & geometry_tool::kMirror) != 0;
-  if (mirrored) container::put_section(body, container::kTagSymmetry, encode_symmetry(seeds));
+  if (mirrored) body += symmetry;
   if (order_out) *order_out = std::move(order);
   const std::uint8_t minor = mirrored           ? kFormatMinorMirror
                              : with_interior    ? kFormatMinorInterior

@@ -68,6 +68,9 @@ struct GeometryOptions {
   // Whether the headers are also tried with mirror prediction, where the stencils name mirror sources
   // and every axis is an integer axis.
   bool try_mirror = false;
+  // What mirror prediction costs besides the section (the symmetry section's bytes), added to its
+  // headers' sizes when they are compared.
+  std::uint32_t mirror_bytes = 0;
   // Tests and goldens: code with exactly these tools (geometry_tool bits; the layout-order bit is
   // ignored, `order` names the order) and no trials, choosing only among the value plans.
   std::optional<std::uint8_t> tools = std::nullopt;

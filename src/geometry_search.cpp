@@ -44,13 +44,18 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
   const std::uint32_t count = hoods.size();
   const std::optional<bool> coder_thread = o.coder_thread;
   chosen = 0;
+  // A section's size with what its mirror prediction costs besides.
+  const auto cost = [&o](const std::string& bytes, const Header& h) {
+    return bytes.size() + (h.has(geometry_tool::kMirror) ? o.mirror_bytes : 0);
+  };
   if (o.header_sample == 0 || count <= o.header_sample) {
     std::string best;
     ChainCue best_cue;
     for (std::size_t i = 0; i < options.size(); ++i) {
       ChainCue cue;
       std::string bytes = encode_with(pos, hoods, count, options[i], coder_thread, &cue);
-      if (best.empty() || bytes.size() < best.size()) best = std::move(bytes), chosen = i, best_cue = cue;
+      if (best.empty() || cost(bytes, options[i]) < cost(best, options[chosen]))
+        best = std::move(bytes), chosen = i, best_cue = cue;
     }
     Header final = options[chosen];
     if (const std::optional<Header> c = o.try_chaining ? chained(final, best_cue) : std::nullopt) {
@@ -80,7 +85,7 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
   auto estimate = [&](const Header& h, ChainCue* cue) {
     std::string head;
     write_header(head, h);
-    return static_cast<double>(head.size()) +
+    return static_cast<double>(head.size() + (h.has(geometry_tool::kMirror) ? o.mirror_bytes : 0)) +
            scale * static_cast<double>(encode_with(pos, hoods, sample, h, false, cue).size() - head.size());
   };
   ChainCue best_cue;

@@ -168,7 +168,8 @@ std::vector<MirrorSeed> find_mirror(std::span<const std::uint32_t> quads, const 
         }
     }
     // A mirror whose images lie within 2% of the component's size of the reflected vertices (rms).
-    if (best <= 0.0004 * extent * extent) seeds.push_back(chosen);
+    // (best stays infinite where no seed was an automorphism, or a coordinate is not finite.)
+    if (std::isfinite(best) && best <= 0.0004 * extent * extent) seeds.push_back(chosen);
   }
   return seeds;
 }

@@ -26,6 +26,7 @@
 #include "codec_encode.h"
 #include "codec_sections.h"
 #include "container.h"
+#include "mirror.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/geometry.h"
@@ -572,6 +573,27 @@ TEST(Golden, CommentFilesBefore316StillDecode) {
   EXPECT_EQ(files, 1);
 }
 
+// Files written before 3.17 (testdata/golden/v3.16/: the goldens whose positions mirror prediction
+// now codes) decode forever, to the mesh, attributes and comments today's files of the same meshes
+// decode to.
+TEST(Golden, FilesBeforeMirrorPredictionStillDecode) {
+  int files = 0;
+  for (const auto& e : fs::recursive_directory_iterator(kGolden + "/v3.16")) {
+    if (e.path().extension() != ".qsp") continue;
+    const std::string name = fs::relative(e.path(), kGolden + "/v3.16").replace_extension().string();
+    SCOPED_TRACE(name);
+    ++files;
+    const std::string old = slurp(e.path().string()), now = slurp(kGolden + "/" + name + ".qsp");
+    EXPECT_LT(old[9], kFormatMinorMirror);
+    EXPECT_EQ(now[9], kFormatMinorMirror);
+    EXPECT_EQ(container::parse(old).find(container::kTagSymmetry), nullptr);
+    EXPECT_NE(container::parse(now).find(container::kTagSymmetry), nullptr);
+    EXPECT_EQ(write_obj_mesh(from_polygon_mesh(decode_polygons(old))),
+              write_obj_mesh(from_polygon_mesh(decode_polygons(now))));
+  }
+  EXPECT_EQ(files, 5);
+}
+
 TEST(Golden, EveryToolCombinationIsPinned) {
   fs::create_directories(kTools);
   std::map<std::uint8_t, int> seen;
@@ -889,7 +911,7 @@ std::map<std::string, Crafted> crafted() {
     out["qsp_overlong_varint"] = {assemble(overlong), "format", "vertex count is not minimally encoded"};
   }
   {
-    // Mirror prediction (3.17): geometry tool bit 5 and the symmetry section. hull_q14 is one 8x5 grid
+    // Mirror prediction (3.17): geometry tool bit 5 and the symmetry section. hull_q14 is one 16x8 grid
     // of faces, symmetric, its one seed mapping face 0 to a face on the boundary too.
     const std::string hull = slurp(kGolden + "/mirror/hull_q14.qsp");
     const Parts h = split(hull);
@@ -909,8 +931,8 @@ std::map<std::string, Crafted> crafted() {
     v316.minor = kFormatMinorMirror - 1;
     out["qsp_symmetry_in_3_16"] = {with(v316, h.geometry, symmetry), "format",
                                    "section 0x0f (symmetry) is format 3.17's, and the file says it is 3.16"};
-    // Seeds: face 40 of 40 faces; a second seed giving face 0 another turn; face 0 (on the boundary)
-    // onto face 9 (inside: row 1, column 1); axis 3.
+    // Seeds: face 128 of 128 faces; a second seed giving face 0 another turn; face 0 (on the boundary)
+    // onto face 17 (inside: row 1, column 1); axis 3.
     const auto seeds = [](std::initializer_list<std::array<std::uint32_t, 4>> list) {
       std::string s;
       put_varint(s, list.size());
@@ -921,13 +943,14 @@ std::map<std::string, Crafted> crafted() {
       }
       return s;
     };
-    out["qsp_mirror_seed_out_of_range"] = {with(h, h.geometry, seeds({{40, 0, 0, 0}})), "format",
+    out["qsp_mirror_seed_out_of_range"] = {with(h, h.geometry, seeds({{128, 0, 0, 0}})), "format",
                                            "symmetry section: seed face out of range"};
-    const std::uint32_t image = static_cast<std::uint8_t>(symmetry[2]), turn = symmetry[3] & 3;
+    const MirrorSeed seed = decode_symmetry(symmetry, 0, 128).at(0);
+    const std::uint32_t image = seed.image, turn = seed.turn;
     out["qsp_mirror_face_with_two_images"] = {
         with(h, h.geometry, seeds({{0, image, turn, 0}, {0, image, (turn + 1) & 3, 0}})), "format",
         "symmetry section (at byte offset"};
-    out["qsp_mirror_boundary_onto_inside"] = {with(h, h.geometry, seeds({{0, 9, 0, 0}})), "format",
+    out["qsp_mirror_boundary_onto_inside"] = {with(h, h.geometry, seeds({{0, 17, 0, 0}})), "format",
                                               "and its image: one on the boundary"};
     out["qsp_mirror_axis_out_of_range"] = {with(h, h.geometry, seeds({{0, image, turn, 3}})), "format",
                                            "symmetry section: seed axis out of range"};

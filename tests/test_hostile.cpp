@@ -182,9 +182,16 @@ TEST(HostileQsp, ReservedBitsSet) {
     EXPECT_EQ(
         inspect(craft::seal(kFormatMajor, kFormatMinor, static_cast<std::uint8_t>(level), p.body)).level,
         level);
-  // The geometry section's tools byte: bits 5-7 reserved.
+  // The geometry section's tools byte: bit 5 mirror prediction (3.17), which needs a symmetry section;
+  // bits 6-7 reserved.
   const std::string file = cube_qsp();
-  for (int bit = 5; bit < 8; ++bit) {
+  {
+    std::string geometry = section_payload(file, craft::kTagGeometry);
+    geometry[0] = static_cast<char>(geometry[0] | 0x20);
+    expect_refused(with_section(file, craft::kTagGeometry, geometry), ErrorCode::kFormat,
+                   {"geometry section: mirror prediction without a symmetry section", "byte offset"});
+  }
+  for (int bit = 6; bit < 8; ++bit) {
     std::string geometry = section_payload(file, craft::kTagGeometry);
     geometry[0] = static_cast<char>(geometry[0] | (1 << bit));
     expect_refused(with_section(file, craft::kTagGeometry, geometry), ErrorCode::kFormat,

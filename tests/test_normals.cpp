@@ -190,7 +190,9 @@ TEST(Normals, AZeroNormalKeepsThemExact) {
 TEST(Normals, TheNewFlagsInAnOlderFileAreRefused) {
   for (const char* name : {"torus_normals", "torus_normals_qn10"}) {
     SCOPED_TRACE(name);
-    const std::string good = testing::slurp(kNormals + name + ".qsp");
+    // As written before 3.17 (its positions now use mirror prediction).
+    const std::string good =
+        testing::slurp(std::string(QSP_TESTDATA_DIR) + "/golden/v3.16/normals/" + name + ".qsp");
     ASSERT_EQ(good[9], 10);
     const container::File f = container::parse(good);
     std::string sections;
@@ -237,25 +239,6 @@ TEST(Normals, FilesOfFormat35StillDecode) {
     EXPECT_EQ(was.corner_normals, is.corner_normals);
     EXPECT_EQ(std::memcmp(was.normals.data(), is.normals.data(), 4 * is.normals.size()), 0);
     ASSERT_EQ(was.normals.size(), is.normals.size());
-  }
-}
-
-// Files written before 3.17 (testdata/golden/v3.16/normals/: the goldens whose positions mirror
-// prediction now codes) decode forever, to what today's files of the same meshes decode to.
-TEST(Normals, FilesBeforeMirrorPredictionStillDecode) {
-  for (const char* name : {"cube_normals", "torus_normals", "torus_normals_qn10"}) {
-    SCOPED_TRACE(name);
-    const std::string old =
-        testing::slurp(std::string(QSP_TESTDATA_DIR) + "/golden/v3.16/normals/" + name + ".qsp");
-    const std::string now = testing::slurp(kNormals + name + ".qsp");
-    ASSERT_LT(old[9], kFormatMinorMirror);
-    ASSERT_EQ(now[9], kFormatMinorMirror);
-    const PolygonMesh was = decode_polygons(old), is = decode_polygons(now);
-    EXPECT_EQ(was.corners, is.corners);
-    EXPECT_EQ(was.positions, is.positions);
-    EXPECT_EQ(was.corner_normals, is.corner_normals);
-    ASSERT_EQ(was.normals.size(), is.normals.size());
-    EXPECT_EQ(std::memcmp(was.normals.data(), is.normals.data(), 4 * is.normals.size()), 0);
   }
 }
 
