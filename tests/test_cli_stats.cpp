@@ -267,7 +267,8 @@ TEST(CliStats, MissingFileAndUsage) {
   EXPECT_EQ(v.exit_code, 0);
   EXPECT_NE(v.out.find("qsp"), std::string::npos);
   const std::string now = "3." + std::to_string(kFormatMinor);
-  EXPECT_NE(v.out.find("writes .qsp format " + now + ", 3.0 for manifold quad meshes; reads 3.0 to " + now),
+  EXPECT_NE(v.out.find("writes .qsp format " + now +
+                       ", 3.0 for manifold quad meshes without a mirror; reads 3.0 to " + now),
             std::string::npos)
       << v.out;
 }

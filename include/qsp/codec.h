@@ -17,7 +17,8 @@
 
 namespace qsp {
 
-// The format version this library writes: the lowest whose sections the file holds. 3.16 for texture
+// The format version this library writes: the lowest whose sections the file holds. 3.17 for positions
+// predicted from their mirror images (the symmetry section), where that is smaller, 3.16 for texture
 // coordinates coded with hints from the faces across or comments coded through the range coder (the coded
 // comments section), where that is smaller, 3.15 for PLY obj_info lines
 // (PolygonMesh::ply_info), 3.14 for PLY properties or OBJ vertex weights (PolygonMesh::vertex_properties,
@@ -28,7 +29,8 @@ namespace qsp {
 // (PolygonMesh::positions64), 3.5 for a mesh with normals, 3.4 for a mesh with OpenSubdiv tags, 3.3 for a
 // mesh with face labels or material libraries, 3.2 for a mesh with texture coordinates, 3.1 for a polygon
 // mesh (its polygons section) or a file with a comments section, 3.0, the first release format, for a
-// manifold, consistently oriented all-quad mesh otherwise (the same bytes as before 3.1). It reads every 3.x
+// manifold, consistently oriented all-quad mesh otherwise (the same bytes as before 3.1, unless mirror
+// prediction makes it smaller). It reads every 3.x
 // file (the required sections a newer minor may add excepted, which it refuses with "upgrade qsp"); 1.x
 // and 2.x were development versions and are not read (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;

@@ -128,7 +128,8 @@ int main(int argc, char** argv) {
   const std::string writes = major + std::to_string(qsp::kFormatMinor);
   app.set_version_flag("--version", std::string("qsp ") + qsp::version() + " (writes .qsp format " + writes +
                                         ", " + major + std::to_string(qsp::kFormatMinorQuads) +
-                                        " for manifold quad meshes; reads " + major + "0 to " + writes + ")");
+                                        " for manifold quad meshes without a mirror; reads " + major +
+                                        "0 to " + writes + ")");
   app.require_subcommand(1);
   // Test seam (tests/test_hostile.cpp, AtomicOutput): stop just before an output file gets its name, so
   // a test knows its kill lands while only the temporary file exists.
