@@ -13,7 +13,7 @@
 namespace qsp {
 namespace {
 
-// The propagation, reporting failure as a message (the search tries seeds that fail).
+// The propagation, reporting failure as false and a message (the search tries seeds that fail).
 class Propagation {
  public:
   Propagation(std::span<const std::uint32_t> quads, const Adjacency& adj)
@@ -24,27 +24,28 @@ class Propagation {
         preimage_(adj.face_count, kInvalid),
         turn_(adj.face_count, 0) {}
 
-  // Adds seed s and what follows from it; "" or what fails.
-  std::string add(const MirrorSeed& s) {
+  // Adds seed s and what follows from it; false if that fails (why() says how).
+  bool add(const MirrorSeed& s) {
     const std::uint32_t nf = adj_.face_count;
-    if (s.face >= nf || s.image >= nf || s.turn > 3) return "seed out of range";
+    if (s.face >= nf || s.image >= nf || s.turn > 3) return fail("seed out of range");
     const std::size_t first = queue_.size();
-    if (std::string why = assign(s.face, s.image, s.turn); !why.empty()) return why;
+    if (!assign(s.face, s.image, s.turn)) return false;
     for (std::size_t q = first; q < queue_.size(); ++q) {
       const std::uint32_t f = queue_[q], g = image_[f], r = turn_[f];
       for (std::uint32_t k = 0; k < 4; ++k) {
         // Edge k of f runs from corner k to k + 1; its image runs back along g's edge (r - k - 1).
         const std::uint32_t t = adj_.twin[4 * f + k], tg = adj_.twin[4 * g + ((r - k - 1) & 3u)];
         if (adj_.is_exterior(t) != adj_.is_exterior(tg))
-          return "face " + std::to_string(f) + " edge " + std::to_string(k) +
-                 " and its image: one on the boundary";
+          return fail("face " + std::to_string(f) + " edge " + std::to_string(k) +
+                      " and its image: one on the boundary");
         if (adj_.is_exterior(t)) continue;
         const std::uint32_t k2 = t & 3u, j2 = tg & 3u;
-        if (std::string why = assign(t >> 2, tg >> 2, (j2 + 1 + k2) & 3u); !why.empty()) return why;
+        if (!assign(t >> 2, tg >> 2, (j2 + 1 + k2) & 3u)) return false;
       }
     }
-    return "";
+    return true;
   }
+  const std::string& why() const { return why_; }
   std::vector<std::uint32_t>& vertices() { return vertex_; }
   const std::vector<std::uint32_t>& faces() const { return queue_; }  // in the order reached
   // Forgets every seed, in the time the faces reached take (the search tries dozens per component).
@@ -57,12 +58,16 @@ class Propagation {
   }
 
  private:
-  std::string assign(std::uint32_t f, std::uint32_t g, std::uint32_t r) {
+  bool fail(std::string why) {
+    why_ = std::move(why);
+    return false;
+  }
+  bool assign(std::uint32_t f, std::uint32_t g, std::uint32_t r) {
     if (image_[f] != kInvalid) {
-      if (image_[f] != g || turn_[f] != r) return "face " + std::to_string(f) + " has two images";
-      return "";
+      if (image_[f] != g || turn_[f] != r) return fail("face " + std::to_string(f) + " has two images");
+      return true;
     }
-    if (preimage_[g] != kInvalid) return "face " + std::to_string(g) + " is the image of two faces";
+    if (preimage_[g] != kInvalid) return fail("face " + std::to_string(g) + " is the image of two faces");
     image_[f] = g, turn_[f] = static_cast<std::uint8_t>(r), preimage_[g] = f;
     queue_.push_back(f);
     for (std::uint32_t c = 0; c < 4; ++c) {
@@ -70,15 +75,16 @@ class Propagation {
       if (vertex_[v] == kInvalid) {
         vertex_[v] = w;
       } else if (vertex_[v] != w) {
-        return "vertex " + std::to_string(v) + " has two images";
+        return fail("vertex " + std::to_string(v) + " has two images");
       }
     }
-    return "";
+    return true;
   }
   std::span<const std::uint32_t> quads_;
   const Adjacency& adj_;
   std::vector<std::uint32_t> vertex_, image_, preimage_, queue_;
   std::vector<std::uint8_t> turn_;
+  std::string why_;
 };
 
 }  // namespace
@@ -94,8 +100,8 @@ Mirror mirror_vertices(std::span<const std::uint32_t> quads, const Adjacency& ad
     if (seeds[i].axis > 2)
       throw Error(ErrorCode::kFormat, what + ": seed " + std::to_string(i) + ": axis out of range");
     const std::size_t first = p.faces().size();
-    if (std::string why = p.add(seeds[i]); !why.empty())
-      throw Error(ErrorCode::kFormat, what + ": seed " + std::to_string(i) + ": " + why);
+    if (!p.add(seeds[i]))
+      throw Error(ErrorCode::kFormat, what + ": seed " + std::to_string(i) + ": " + p.why());
     for (std::size_t q = first; q < p.faces().size(); ++q)
       for (std::uint32_t k = 0; k < 4; ++k)
         m.axis[quads[4 * std::size_t{p.faces()[q]} + k]] = static_cast<std::uint8_t>(seeds[i].axis);
@@ -116,8 +122,10 @@ std::vector<MirrorSeed> find_mirror(std::span<const std::uint32_t> quads, const 
     return c;
   };
   std::vector<MirrorSeed> seeds;
-  Propagation prop(quads, adj);      // cleared between tries
-  constexpr std::size_t kTries = 4;  // faces nearest the reflected centre
+  Propagation prop(quads, adj);                        // cleared between tries
+  std::vector<std::pair<double, std::uint32_t>> near;  // (distance, face) of one component
+  std::vector<std::array<double, 3>> centres;          // of one component's faces
+  constexpr std::size_t kTries = 4;                    // faces nearest the reflected centre
   for (const std::vector<std::uint32_t>& comp : faces) {
     double lo = HUGE_VAL, hi = -HUGE_VAL, extent = 0;
     std::array<double, 3> blo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, bhi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
@@ -131,6 +139,9 @@ std::vector<MirrorSeed> find_mirror(std::span<const std::uint32_t> quads, const 
     if (!(extent > 0)) continue;
     double best = HUGE_VAL;
     MirrorSeed chosen;
+    const double tolerance = 0.0004 * extent * extent;  // of the mean squared distance
+    centres.clear();
+    for (const std::uint32_t f : comp) centres.push_back(centre(f));
     for (std::size_t a = 0; a < 3; ++a) {
       lo = blo[a], hi = bhi[a];
       auto reflect = [&](std::array<double, 3> p) {
@@ -142,34 +153,53 @@ std::vector<MirrorSeed> find_mirror(std::span<const std::uint32_t> quads, const 
       };
       const std::uint32_t f0 = comp.front();
       const std::array<double, 3> target = reflect(centre(f0));
-      std::vector<std::pair<double, std::uint32_t>> near;
-      near.reserve(comp.size());
-      for (const std::uint32_t g : comp) near.emplace_back(dist2(centre(g), target), g);
+      near.clear();
+      for (std::size_t i = 0; i < comp.size(); ++i) near.emplace_back(dist2(centres[i], target), comp[i]);
       const std::size_t n = std::min(kTries, near.size());
       std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(n), near.end());
+      // Each nearby face in each turn, by how far its corners lie from f0's reflected ones; the first
+      // that is an automorphism is the axis's (a propagation costs the component, a refusal little).
+      std::vector<std::pair<double, MirrorSeed>> tries;
       for (std::size_t i = 0; i < n; ++i)
         for (std::uint32_t r = 0; r < 4; ++r) {
-          const MirrorSeed s{f0, near[i].second, r, static_cast<std::uint32_t>(a)};
-          prop.clear();
-          if (!prop.add(s).empty()) continue;
-          double cost = 0;
-          std::uint64_t count = 0;
-          const std::vector<std::uint32_t>& image = prop.vertices();
-          for (const std::uint32_t f : prop.faces())
-            for (std::uint32_t k = 0; k < 4; ++k) {
-              const std::uint32_t v = quads[4 * f + k];
-              std::array<double, 3> pv{}, pw{};
-              for (std::size_t b = 0; b < 3; ++b)
-                pv[b] = positions[3 * std::size_t{v} + b], pw[b] = positions[3 * std::size_t{image[v]} + b];
-              cost += dist2(reflect(pv), pw), ++count;
+          double d = 0;
+          for (std::uint32_t k = 0; k < 4; ++k) {
+            std::array<double, 3> p{}, q{};
+            for (std::size_t b = 0; b < 3; ++b) {
+              p[b] = positions[3 * std::size_t{quads[4 * f0 + k]} + b];
+              q[b] = positions[3 * std::size_t{quads[4 * near[i].second + ((r - k) & 3u)]} + b];
             }
-          cost /= static_cast<double>(count);
-          if (cost < best) best = cost, chosen = s;
+            d += dist2(reflect(p), q);
+          }
+          tries.push_back({std::isnan(d) ? HUGE_VAL : d,
+                           MirrorSeed{f0, near[i].second, r, static_cast<std::uint32_t>(a)}});
         }
+      std::stable_sort(tries.begin(), tries.end(),
+                       [](const auto& x, const auto& y) { return x.first < y.first; });
+      // Not this axis where even the nearest face's corners lie far from the reflected ones (a
+      // propagation would cost the whole component).
+      if (tries.empty() || tries.front().first > 4 * 16 * tolerance) continue;
+      for (const auto& t : tries) {
+        prop.clear();
+        if (!prop.add(t.second)) continue;
+        double cost = 0;
+        std::uint64_t count = 0;
+        const std::vector<std::uint32_t>& image = prop.vertices();
+        for (const std::uint32_t f : prop.faces()) {  // each face's first corner: about each vertex once
+          const std::uint32_t v = quads[4 * f];
+          std::array<double, 3> pv{}, pw{};
+          for (std::size_t b = 0; b < 3; ++b)
+            pv[b] = positions[3 * std::size_t{v} + b], pw[b] = positions[3 * std::size_t{image[v]} + b];
+          cost += dist2(reflect(pv), pw), ++count;
+        }
+        cost /= static_cast<double>(count);
+        if (cost < best) best = cost, chosen = t.second;
+        break;
+      }
     }
     // A mirror whose images lie within 2% of the component's size of the reflected vertices (rms).
     // (best stays infinite where no seed was an automorphism, or a coordinate is not finite.)
-    if (std::isfinite(best) && best <= 0.0004 * extent * extent) seeds.push_back(chosen);
+    if (std::isfinite(best) && best <= tolerance) seeds.push_back(chosen);
   }
   return seeds;
 }

@@ -34,11 +34,11 @@ struct Mirror {
 Mirror mirror_vertices(std::span<const std::uint32_t> quads, const Adjacency& adj,
                        std::span<const MirrorSeed> seeds, const std::string& what);
 
-// The encoder's search: per component and axis, the mirror whose images lie nearest the vertices
-// reflected in the plane across the component's middle, if any is an automorphism: the component's
-// first face is tried against the faces whose reflected centres lie nearest its own, each in four
-// turns; the nearest of the three axes is kept where its rms distance is within 2% of the component's
-// size. Seeds in component order. Deterministic in the quads and positions, so a renumbered mesh,
+// The encoder's search: per component and axis, a mirror whose images lie near the vertices reflected
+// in the plane across the component's middle: the component's first face against the faces whose
+// centres lie nearest its reflected centre, in the four turns, nearest corners first, until one is an
+// automorphism; the nearest of the three axes is kept where its rms distance is within 2% of the
+// component's size. Seeds in component order. Deterministic in the quads and positions, so a renumbered mesh,
 // canonicalized, finds the same.
 std::vector<MirrorSeed> find_mirror(std::span<const std::uint32_t> quads, const Adjacency& adj,
                                     std::span<const float> positions);
