@@ -80,7 +80,7 @@ struct Effort {
   bool try_chaining = false;        // GeometryOptions::try_chaining
   bool try_costly_tools = false;    // cell shapes + logistic mixing, kept where smaller (full header trials)
   bool repeats_must_pay = false;    // GeometryOptions::repeats_must_pay
-  bool try_mirror = true;           // positions predicted from their mirror images where that is smaller
+  bool try_mirror = true;           // positions predicted from their mirror images where smaller
   bool operator==(const Effort&) const = default;
 };
 
