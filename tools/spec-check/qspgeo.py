@@ -14,7 +14,8 @@ usage: qspgeo.py [--dumped-stencils] FILE.qsp PREFIX
        reference decoder's float bits, canonical order). Both files come from dump_stencils. Exit 0
        if the stencils agree and every coordinate matches bit for bit, else 1.
        qspgeo.py --recode FILE.qsp OUTDIR [TOOLS...]
-       writes FILE with its geometry coded again under each tools byte (all 32 by default), same
+       writes FILE with its geometry coded again under each tools byte (all 32 by default, 64 with
+       a symmetry section: mirror prediction too), same
        header and values, by an encoder written from the same text (qsp_format.md "Entropy coding"):
        the reference decoder must read each to FILE's positions, which checks every tool
        combination whether or not the reference encoder ever writes it.
@@ -32,7 +33,7 @@ FIELDS = ['w', 'ww', 's', 'sw', 'far', 'e', 'es', 'n', 'nw', 'o', 'ow', 'ofar', 
           'se', 'ss', 'sww', 'ssw']
 
 # tools byte ("Header", tools table)
-REPEATS, LAYOUT_ORDER, CHAINING, CELL_SHAPES, MIXING = 1, 2, 4, 8, 16
+REPEATS, LAYOUT_ORDER, CHAINING, CELL_SHAPES, MIXING, MIRROR = 1, 2, 4, 8, 16, 32
 
 U32_MAX = (1 << 32) - 1
 
@@ -456,7 +457,7 @@ def parse_header(sec, V):
     need(len(sec) >= 2, 'section too short for its header')
     tools, bits = sec[0], sec[1]
     pos = 2
-    need(tools & 0xE0 == 0, 'reserved tool bit set (tools 0x%02x)' % tools)
+    need(tools & 0xC0 == 0, 'reserved tool bit set (tools 0x%02x)' % tools)
     need(bits <= 30, 'bits %d > 30' % bits)
     origin = step = None
     axes = []
@@ -495,6 +496,7 @@ def parse_header(sec, V):
                 exc[at] = struct.unpack_from('<I', sec, pos)[0]
                 pos += 4
             axes.append(Axis('dec', m - 1, tz, exc))
+    need(not tools & MIRROR or all(ax.kind != 'float' for ax in axes), 'mirror prediction on a float-bits axis')
     return tools, bits, origin, step, axes, sec[pos:]
 
 
@@ -608,8 +610,10 @@ def shape_candidate(val, nb, corner, row_end, col_end, fourth):
 
 
 # ---------------- the decoder ----------------
-def decode_geometry(sec, V, st, target=None):
+def decode_geometry(sec, V, st, target=None, mirror=None):
     """Decodes a geometry section: float bits per axis per coding position, and a summary.
+    mirror: per coding position (mirror source, mirror axis) or None, from the symmetry section
+    (qspmirror.py; positions past its length have none), or None for a file without one.
     With target (v[k] per axis, as "Values per axis"), encodes them instead after sec's header (sec
     holds only the header) and returns the section; decimal exceptions are coded as their
     prediction, and every value in S at rank <= 63 as a repeat ("Encoder choices")."""
@@ -621,6 +625,9 @@ def decode_geometry(sec, V, st, target=None):
     is_int = [ax.kind != 'float' for ax in axes]
     any_int = any(is_int)
     chaining = bool(tools & CHAINING) and all(is_int)
+    mirroring = bool(tools & MIRROR)
+    need(not mirroring or mirror is not None, 'mirror prediction without a symmetry section')
+    O = [[0] * 3 for _ in range(3)]       # "Mirror prediction": O[g][a]
     ncand = 14 if shapes else 11
     M_len = [bits if ax.kind == 'q' else 42 if ax.kind == 'dec' else 33 for ax in axes]
     QMOD = 1 << bits
@@ -672,6 +679,11 @@ def decode_geometry(sec, V, st, target=None):
         nb = h.nb
         kind = h.kind
         stat('kind%d' % kind)
+        src = mirror[i] if mirroring and i < len(mirror) else None   # (m, g): a mirrored vertex
+        if src is not None:
+            stat('mirrored')
+            h.ctx = 9
+            h.ac = None       # no across means
         w = nb.get('w', NONE)
         s = nb.get('s', NONE)
         sw = nb.get('sw', NONE)
@@ -722,7 +734,7 @@ def decode_geometry(sec, V, st, target=None):
         # "Blend" (kind 3 on integer axes): weights and blend class
         blend_w = {}
         bc = 0
-        if kind == 3 and any_int:
+        if kind == 3 and any_int and src is None:
             least = None
             for k in mask:
                 tot = cnt = 0
@@ -795,7 +807,7 @@ def decode_geometry(sec, V, st, target=None):
             return image(fbits[a][w])
 
         # "Normal chaining": m, M, A, B before the axes
-        chain = chaining and kind == 3
+        chain = chaining and kind == 3 and src is None
         if chain:
             d1 = [val[a][w] - val[a][sw] for a in range(3)]
             far_row = nb['se'] if 'se' in nb else s
@@ -829,7 +841,7 @@ def decode_geometry(sec, V, st, target=None):
                 c = 0
             c = min(c, 23)
             nc = c
-            if kind == 3 and any_int:
+            if kind == 3 and any_int and src is None:
                 if mixing:
                     tot = 2 * (U[a][w] + U[a][s]) + U[a][sw]
                     n = 5
@@ -849,7 +861,10 @@ def decode_geometry(sec, V, st, target=None):
             hw = 1 if h.ctx == 3 else 0  # which weight set
 
             # "Predictors"
-            if kind == 3:
+            if src is not None:
+                m_src, g_ax = src
+                P = (-val[a][m_src] if a == g_ax else val[a][m_src]) + O[g_ax][a]
+            elif kind == 3:
                 P = blend(a) if is_int[a] else fixed_float(a, 3)
             elif kind in (5, 6):
                 P_along[a] = fixed_int(a, h.fallback) if is_int[a] else fixed_float(a, h.fallback)
@@ -989,7 +1004,11 @@ def decode_geometry(sec, V, st, target=None):
                         rr -= QMOD
                 r_ch[a] = clamp(rr, -(1 << 14), 1 << 14)
 
-        # step 5: across means, chaining energies, error records
+        # step 5: across means, chaining energies, mirror offsets, error records
+        if src is not None:
+            m_src, g_ax = src
+            for a in range(3):
+                O[g_ax][a] = val[a][i] - (-val[a][m_src] if a == g_ax else val[a][m_src])
         if h.ac is not None:
             for which, PP in ((0, P_across), (1, P_along)):
                 e = sum(min(abs(val[a][i] - PP[a]), U32_MAX) for a in range(3) if is_int[a] or not any_int)
@@ -1007,7 +1026,7 @@ def decode_geometry(sec, V, st, target=None):
         return sec + rd.finish()
     rd.finish()
     names = [n for bit, n in ((REPEATS, 'repeats'), (LAYOUT_ORDER, 'layout'), (CHAINING, 'chaining'),
-                              (CELL_SHAPES, 'shapes'), (MIXING, 'mixing')) if tools & bit]
+                              (CELL_SHAPES, 'shapes'), (MIXING, 'mixing'), (MIRROR, 'mirror')) if tools & bit]
     return fbits, dict(tools='+'.join(names) or 'none', bits=bits, axes=axes, stats=stats, values=val)
 
 
@@ -1077,7 +1096,9 @@ def container(b, secs):
 
 def recode(path, outdir, tool_bytes):
     """Writes FILE's mesh again with each tools byte: the same header and values, coded by this
-    file's encoder, the coding order from qsplayout.py. Returns the files written."""
+    file's encoder, the coding order from qsplayout.py. Returns the files written. A file with a
+    symmetry section keeps it under the tools bytes with bit 5 (mirror prediction) and drops it under
+    the others."""
     import os
     import qsplayout
     b = open(path, 'rb').read()
@@ -1086,7 +1107,8 @@ def recode(path, outdir, tool_bytes):
     geo = secs[3]
     order = {lo: qsplayout.stencils(secs[2], C, U, lo) for lo in (False, True)}
     coding, st = order[bool(geo[0] & LAYOUT_ORDER)]
-    fb, info = decode_geometry(geo, V, st)
+    mirrors = {lo: file_mirror(b, secs, order[lo][0]) for lo in (False, True)}
+    fb, info = decode_geometry(geo, V, st, mirror=mirrors[bool(geo[0] & LAYOUT_ORDER)])
     tools, bits, origin, step, axes, payload = parse_header(geo, V)
     by_vertex = [[0] * V for _ in range(3)]     # v per layout vertex
     for k in range(V):
@@ -1096,6 +1118,9 @@ def recode(path, outdir, tool_bytes):
     out = []
     for t in tool_bytes:
         c2, s2 = order[bool(t & LAYOUT_ORDER)]
+        mir = mirrors[bool(t & LAYOUT_ORDER)] if t & MIRROR else None
+        if t & MIRROR and (mir is None or any(ax.kind == 'float' for ax in axes)):
+            continue    # no symmetry section to predict by, or an axis of float bits
         position = {v: k for k, v in enumerate(c2)}
         hdr = bytes([t, bits])
         if bits:
@@ -1107,13 +1132,29 @@ def recode(path, outdir, tool_bytes):
                 hdr += varint(len(e))
                 for j, (k, x) in enumerate(e):
                     hdr += varint(k - (e[j - 1][0] if j else -1) - 1) + struct.pack('<I', x)
-        sec = decode_geometry(hdr, V, s2, target=[[by_vertex[a][v] for v in c2] for a in range(3)])
-        again, _ = decode_geometry(sec, V, s2)
+        sec = decode_geometry(hdr, V, s2, target=[[by_vertex[a][v] for v in c2] for a in range(3)], mirror=mir)
+        again, _ = decode_geometry(sec, V, s2, mirror=mir)
         assert all(again[a][position[coding[k]]] == fb[a][k] for k in range(V) for a in range(3))
         name = os.path.join(outdir, '%s_tools%02d.qsp' % (os.path.basename(path)[:-4], t))
-        open(name, 'wb').write(container(b, {**secs, 3: sec}))
+        out_secs = {**secs, 3: sec}
+        if not t & MIRROR:
+            out_secs.pop(0x0f, None)
+        open(name, 'wb').write(container(b, out_secs))
         out.append(name)
     return out
+
+
+def file_mirror(b, secs, coding):
+    """The mirror sources of file b's geometry section in the coding order `coding` (qspmirror.py,
+    over the layout's quads from qsppoly.py), or None without a symmetry section."""
+    if 0x0f not in secs and not (secs[3][:1] and secs[3][0] & MIRROR):
+        return None
+    import qsppoly
+    import qspmirror
+    V, F, C, U = counts(secs[1])
+    n, quads = qsppoly.layout(secs[2], C, U)
+    need(n == V and len(quads) == F, 'counts disagree with the topology')
+    return qspmirror.file_mirror(b, secs, V, quads, coding)
 
 
 def compare_stencils(mine, dumped):
@@ -1131,7 +1172,8 @@ def compare_stencils(mine, dumped):
 
 def main():
     if sys.argv[1:2] == ['--recode']:
-        tool_bytes = [int(x) for x in sys.argv[4:]] or range(32)
+        tool_bytes = [int(x) for x in sys.argv[4:]] or range(64 if 0x0f in sections(open(sys.argv[2], 'rb').read())
+                                                          else 32)
         for name in recode(sys.argv[2], sys.argv[3], tool_bytes):
             print(name)
         return 0
@@ -1155,9 +1197,11 @@ def main():
         print('%s: %d stencil fields differ from the reference (k, field, text, reference): %s'
               % (path, len(diff), diff[:8]))
     coding, st = dumped if '--dumped-stencils' in sys.argv else mine
+    import qspgeo   # (this file runs as __main__: the modules it imports raise qspgeo's FormatError)
     try:
-        fb, info = decode_geometry(secs[3], V, st)
-    except FormatError as e:
+        mirror = file_mirror(open(path, 'rb').read(), secs, coding)
+        fb, info = decode_geometry(secs[3], V, st, mirror=mirror)
+    except (FormatError, qspgeo.FormatError) as e:
         print('%s: geometry refused: %s' % (path, e))
         return 1
     ref = struct.unpack('<%dI' % (3 * V), open(prefix + '.pos', 'rb').read())

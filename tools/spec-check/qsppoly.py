@@ -65,6 +65,7 @@ import qspexact
 import qspcolors
 import qspvalues
 import qspprops
+import qspmirror
 
 need = g.need
 NONE = g.NONE
@@ -1299,9 +1300,12 @@ def canonical_mesh(data, secs):
     need(n == V and len(quads) == F, 'counts disagree with the topology')
     geo = secs[3]
     coding, st = lay.stencils(secs[2], C, U, bool(geo[0] & g.LAYOUT_ORDER))
+    mirror = qspmirror.file_mirror(data, secs, V, quads, coding)   # "Symmetry section" (3.17)
+    if mirror is not None:
+        seen('symmetry section')
     if 0x0c in secs:
-        return interior_mesh(data, secs, V, quads, coding, st)
-    fb, _ = g.decode_geometry(geo, V, st)
+        return interior_mesh(data, secs, V, quads, coding, st, mirror)
+    fb, _ = g.decode_geometry(geo, V, st, mirror=mirror)
     pos = [None] * V
     for k in range(V):
         pos[coding[k]] = (fb[0][k], fb[1][k], fb[2][k])
@@ -1325,7 +1329,7 @@ def canonical_mesh(data, secs):
     return out_pos, out_faces, geo[1] != 0
 
 
-def interior_mesh(data, secs, V, quads, coding, st):
+def interior_mesh(data, secs, V, quads, coding, st, mirror=None):
     """canonical_mesh of a file with an interior positions section (3.12): the polygons section's
     faces first, then the geometry section over V + N vertices, the owned interior refs' positions
     at coding positions V .. V+N-1."""
@@ -1353,7 +1357,7 @@ def interior_mesh(data, secs, V, quads, coding, st):
     geo = secs[3]
     need(V + N <= 2048 * (len(geo) + 8), 'more vertices than the geometry section can hold')
     ist = interior_stencils(V, L, N, at, owner, out_faces[len(quads):])
-    fb, _ = g.decode_geometry(geo, V + N, st + ist)
+    fb, _ = g.decode_geometry(geo, V + N, st + ist, mirror=mirror)
     pos = [None] * V
     for k in range(V):
         pos[coding[k]] = (fb[0][k], fb[1][k], fb[2][k])
@@ -1362,7 +1366,7 @@ def interior_mesh(data, secs, V, quads, coding, st):
     return out_pos, out_faces, geo[1] != 0
 
 
-KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0a, 0x0b, 0x0c, 0x0d, 0x0e)
+KNOWN_REQUIRED = (0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0a, 0x0b, 0x0c, 0x0d, 0x0e, 0x0f)
 
 
 def refusals(cases, qsp, scratch):
