@@ -359,6 +359,58 @@ encode fedora "$root/testdata/mh_fedora.obj"                     # decimal grid,
 encode fedora_q14 "$root/testdata/mh_fedora.obj" --quantize 14
 encode spot_q14 "$root/testdata/keenan_spot_quadrangulated.obj" --quantize 14
 encode spot_q6 "$root/testdata/keenan_spot_quadrangulated.obj" --quantize 6
+# Mirror prediction (format 3.17: the symmetry section and geometry tools bit 5, from the text too:
+# qspmirror.py): the fresh encodes above of the fedora and spot are mirrored and go through qspgeo.py and
+# qsppoly.py with the rest; both decoders must read the fedora's file with its seed given twice, and
+# refuse its symmetry section broken each way the text names (in a 3.16 file, a seed count above F or
+# above the bytes, a face or image out of range, axis 3, reserved bits, a byte after the seeds, the
+# section without tools bit 5, bit 5 without the section, a seed mapping the wrong face or turn).
+"$python" - "$here" "$work/fedora_q14.qsp" "$qsp" "$work" <<'PY' ||
+import sys
+sys.path.insert(0, sys.argv[1])
+import qspgeo as g
+import qsppoly as poly
+import qspmirror
+path, qsp, work = sys.argv[2:]
+data = open(path, 'rb').read()
+secs = g.sections(data)
+if 0x0f not in secs:
+    print('spec decoder: %s has no symmetry section (0x0f)' % path, file=sys.stderr)
+    sys.exit(1)
+V, F, C, U = g.counts(secs[1])
+seeds = qspmirror.parse_symmetry(secs[0x0f], F)
+minor = lambda b, m: b[:9] + bytes([m]) + b[10:11]
+def sym(ss, extra=b''):
+    out = g.varint(len(ss))
+    for f, im, r, axis in ss:
+        out += g.varint(f) + g.varint(im) + bytes([r | axis << 2])
+    return out + extra
+def with_sym(payload):
+    return g.container(data, {**secs, 0x0f: payload})
+f0, g0, r0, a0 = seeds[0]
+geo = secs[3]
+cases = [('the file itself', data, True),
+         ('its first seed given twice', with_sym(sym(seeds + seeds[:1])), True),
+         ('a symmetry section in a 3.16 file', g.container(minor(data, 16), secs), False),
+         ('a seed count above F', with_sym(g.varint(F + 1) + sym(seeds)[1:] * (F + 1)), False),
+         ('a seed count above the bytes left / 3', with_sym(g.varint(1) + b'\0\0'), False),
+         ('a seed face = F', with_sym(sym([(F, g0, r0, a0)] + seeds[1:])), False),
+         ('a seed image = F', with_sym(sym([(f0, F, r0, a0)] + seeds[1:])), False),
+         ('a seed of axis 3', with_sym(sym([(f0, g0, r0, 3)] + seeds[1:])), False),
+         ('a seed byte with bit 4 set', with_sym(sym([(f0, g0, r0 | 16, a0)] + seeds[1:])), False),
+         ('a byte after the seeds', with_sym(sym(seeds, b'\0')), False),
+         ('a symmetry section beside a geometry section without tools bit 5',
+          g.container(data, {**secs, 3: bytes([geo[0] & ~0x20]) + geo[1:]}), False),
+         ('tools bit 5 without a symmetry section', g.container(data, {t: p for t, p in secs.items() if t != 0x0f}), False),
+         ('tools bit 6', g.container(data, {**secs, 3: bytes([geo[0] | 0x40]) + geo[1:]}), False),
+         ('a seed of another turn', with_sym(sym([(f0, g0, (r0 + 1) % 4, a0)] + seeds[1:])), False),
+         ('a seed mapping its face to itself', with_sym(sym([(f0, f0, r0, a0)] + seeds[1:])), False)]
+failed = poly.refusals(cases, qsp, '%s/symmetry_case.qsp' % work)
+for x in failed:
+    print(x, file=sys.stderr)
+sys.exit(1 if failed else 0)
+PY
+  { echo "symmetry sections from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
 bumpy "$work/bumpy_float.obj" float
 encode bumpy_float "$work/bumpy_float.obj" --float32             # %.9g prints of float32: float bits only
 bumpy "$work/bumpy_mixed.obj" mixed
