@@ -456,7 +456,8 @@ encode xord_q14 "$shared/osd_catmark_xord_interior.obj" --quantize 14
 # The encoder writes only the tool combinations its levels try; qspgeo.py --recode writes a file again
 # under each of the 32 tools bytes (same header and values, its own encoder from the text), and the
 # reference must decode each to the original's positions: lossless decimal axes with exceptions and
-# trailing zeros (xord), and float bits beside a decimal axis (bumpy_mixed).
+# trailing zeros (xord), float bits beside a decimal axis (bumpy_mixed), and a mirrored file (the
+# fedora at 14 bits: 64 tools bytes, mirror prediction with every other tool and both coding orders).
 declare -A original=()
 recode() {  # recode NAME: NAME.qsp under every tools byte
   local f=$work/$1.qsp
@@ -470,6 +471,7 @@ recode() {  # recode NAME: NAME.qsp under every tools byte
 }
 recode xord
 recode bumpy_mixed
+recode fedora_q14
 # Exact positions (format 3.6's section, from the text too: qspexact.py). exactgen.py first checks
 # that decoder, and qsp decompress once qsp says it reads 3.6, on sections put into golden files (valid
 # ones, decoded to the values they were made from, and ones breaking each rule the text names). Then
