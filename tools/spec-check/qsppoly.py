@@ -2,11 +2,11 @@
 """The whole mesh of a .qsp file, polygons section (0x05), texture coordinates section (0x06), face
 labels section (0x07), subdivision tags section (0x08), normals section (0x09), colours section (0x0b,
 qspcolors.py), interior positions section (0x0c), exact values section (0x0d, qspvalues.py), properties section
-(0x0e, qspprops.py), order section (0x04), comments section (0x81) and coded comments section (0x85)
-included, written from format-spec/qsp_format.md alone ("Grid layout", "Order section", "Polygons
-section", "Texture coordinates section", "Face labels section", "Subdivision tags section", "Normals
-section", "Interior positions section", "Comments section", "Coded comments section", "Decoding a
-mesh") without reading the
+(0x0e, qspprops.py), symmetry section (0x0f, qspmirror.py), order section (0x04), comments section
+(0x81) and coded comments section (0x85) included, written from format-spec/qsp_format.md alone ("Grid
+layout", "Order section", "Polygons section", "Texture coordinates section", "Face labels section",
+"Subdivision tags section", "Normals section", "Interior positions section", "Symmetry section",
+"Comments section", "Coded comments section", "Decoding a mesh") without reading the
 codec's C++, on top of qsplayout.py (topology, layout) and qspgeo.py (container, range coder,
 geometry).
 
