@@ -75,6 +75,11 @@
 # file, beside a comments section, its stream cut or lengthened, a text length past its stream or past
 # 2^20, a text of 2^16 + 1 lines), and accept a fresh encode of a block of 2^16 lines (the most the
 # section holds; one more line goes to the plain comments section); the comment goldens of 3.15 (testdata/golden/v3.15, plain lines) are checked against today's mesh.
+# Mirror prediction (format 3.17: the symmetry section and geometry tools bit 5, from the text too:
+# qspmirror.py): every fresh encode above that the reference encoder mirrors (fedora, spot, pawn, xord)
+# goes through qspgeo.py and qsppoly.py with the mirror sources the text gives, the mirrored fedora and
+# xord are recoded under all 64 tools bytes, and both decoders must refuse the symmetry section broken
+# each way the text names.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
