@@ -369,7 +369,8 @@ encode spot_q6 "$root/testdata/keenan_spot_quadrangulated.obj" --quantize 6
 # qsppoly.py with the rest; both decoders must read the fedora's file with its seed given twice, and
 # refuse its symmetry section broken each way the text names (in a 3.16 file, a seed count above F or
 # above the bytes, a face or image out of range, axis 3, reserved bits, a byte after the seeds, the
-# section without tools bit 5, bit 5 without the section, a seed mapping the wrong face or turn).
+# section without tools bit 5, bit 5 without the section, a seed mapping the wrong face or turn), and
+# read two valid rewrites (the seed from the image's side; no seeds, the geometry coded again).
 "$python" - "$here" "$work/fedora_q14.qsp" "$qsp" "$work" <<'PY' ||
 import sys
 sys.path.insert(0, sys.argv[1])
@@ -410,6 +411,21 @@ cases = [('the file itself', data, True),
          ('tools bit 6', g.container(data, {**secs, 3: bytes([geo[0] | 0x40]) + geo[1:]}), False),
          ('a seed of another turn', with_sym(sym([(f0, g0, (r0 + 1) % 4, a0)] + seeds[1:])), False),
          ('a seed mapping its face to itself', with_sym(sym([(f0, f0, r0, a0)] + seeds[1:])), False)]
+# Valid rewrites that decode to the same positions: the fedora's mirror is an involution, so its seed
+# given from the image's side gives the same map; and no seeds at all, the geometry coded again (by the
+# text's encoder) without mirror sources under the same tools byte.
+import qsplayout as lay
+coding, st = lay.stencils(secs[2], C, U, bool(geo[0] & g.LAYOUT_ORDER))
+fb, info = g.decode_geometry(geo, V, st, mirror=g.file_mirror(data, secs, coding))
+header = geo[:len(geo) - len(g.parse_header(geo, V)[-1])]
+for what, b in (('its first seed given from the image\'s side', with_sym(sym([(g0, f0, r0, a0)] + seeds[1:]))),
+                ('no seeds, the geometry coded again without mirror sources',
+                 g.container(data, {**secs, 3: g.decode_geometry(header, V, st, target=info['values'], mirror=[]),
+                                    0x0f: g.varint(0)}))):
+    cases.append((what, b, True))
+    if poly.decode_file(b)[0] != poly.decode_file(data)[0]:
+        print('qsppoly.py decodes %s to other positions' % what, file=sys.stderr)
+        sys.exit(1)
 failed = poly.refusals(cases, qsp, '%s/symmetry_case.qsp' % work)
 for x in failed:
     print(x, file=sys.stderr)
