@@ -89,6 +89,11 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 files=("$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp "$root"/testdata/golden/tools/*.qsp)
 declare -A obj_of=()  # the files qsppoly.py decodes whole, and the mesh each was made from
+for f in "$root"/testdata/golden/mirror/*.qsp; do  # mirror prediction (3.17), decoded whole too
+  [[ -f $f ]] || continue
+  files+=("$f")
+  obj_of[$f]=${f%.qsp}.obj
+done
 for f in "$root"/testdata/golden/v3.*/polygons/*.qsp; do  # polygon goldens of earlier versions
   [[ -f $f ]] || continue
   files+=("$f")
@@ -119,14 +124,28 @@ for f in "$root"/testdata/golden/tags/*.qsp; do  # those with an order section (
   tag_of[$f]=${f%.qsp}.obj
   [[ $(basename "$f") == *keep_order* ]] && tag_exact[$f]=1
 done
+for f in "$root"/testdata/golden/v3.*/tags/*.qsp; do  # earlier versions, against today's mesh
+  [[ -f $f ]] || continue
+  tag_of[$f]=$root/testdata/golden/tags/$(basename "${f%.qsp}").obj
+  [[ $(basename "$f") == *keep_order* ]] && tag_exact[$f]=1
+done
 declare -A nrm_of=() nrm_exact=()  # the files with normals, the mesh each was made from, and those
 for f in "$root"/testdata/golden/normals/*.qsp; do  # with an order section (compared index for index)
   [[ -f $f ]] || continue
   nrm_of[$f]=${f%.qsp}.obj
   [[ $(basename "$f") == *keep_order* ]] && nrm_exact[$f]=1
 done
-if [[ -f $root/testdata/golden/normals/cube_normals.qsp ]]; then  # the normals section's own refusals
-  "$python" - "$here" "$root/testdata/golden/normals/cube_normals.qsp" "$qsp" "$work" <<'PY' ||
+for f in "$root"/testdata/golden/v3.*/normals/*.qsp; do  # earlier versions, against today's mesh
+  [[ -f $f ]] || continue
+  nrm_of[$f]=$root/testdata/golden/normals/$(basename "${f%.qsp}").obj
+  [[ $(basename "$f") == *keep_order* ]] && nrm_exact[$f]=1
+done
+# The normals section's own refusals, on a file without a symmetry section where there is one (3.16's
+# copy), so that each broken file is refused for its normals alone.
+cube_normals=$root/testdata/golden/normals/cube_normals.qsp
+[[ -f $root/testdata/golden/v3.16/normals/cube_normals.qsp ]] && cube_normals=$root/testdata/golden/v3.16/normals/cube_normals.qsp
+if [[ -f $cube_normals ]]; then
+  "$python" - "$here" "$cube_normals" "$qsp" "$work" <<'PY' ||
 import sys
 sys.path.insert(0, sys.argv[1])
 import qspgeo as g
@@ -432,6 +451,15 @@ for x in failed:
 sys.exit(1 if failed else 0)
 PY
   { echo "symmetry sections from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
+# The must-fail files of the symmetry section and mirror prediction (testdata/invalid, which the
+# reference refuses in its tests): the text refuses each too.
+for f in "$root"/testdata/invalid/qsp_mirror_*.qsp "$root"/testdata/invalid/qsp_symmetry_*.qsp; do
+  [[ -f $f ]] || continue
+  if "$python" "$here/qsppoly.py" "$f" >/dev/null; then
+    echo "spec decoder: qsppoly.py reads $f, which the reference refuses" >&2
+    exit 1
+  fi
+done
 bumpy "$work/bumpy_float.obj" float
 encode bumpy_float "$work/bumpy_float.obj" --float32             # %.9g prints of float32: float bits only
 bumpy "$work/bumpy_mixed.obj" mixed
