@@ -569,9 +569,11 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
   info.geometry_tools = geometry_tools(p.geometry->payload, p.geometry->payload_offset);
   info.geometry_order = coding_order(info.geometry_tools);
   info.quantize_bits = geometry_quantize_bits(p.geometry->payload, p.geometry->payload_offset);
-  if (const Section* symmetry = symmetry_section(p))
-    (void)decode_symmetry(symmetry->payload, symmetry->payload_offset,
-                          static_cast<std::uint32_t>(p.counts.faces));
+  const Section* symmetry = symmetry_section(p);
+  const std::vector<MirrorSeed> seeds = symmetry
+                                            ? decode_symmetry(symmetry->payload, symmetry->payload_offset,
+                                                              static_cast<std::uint32_t>(p.counts.faces))
+                                            : std::vector<MirrorSeed>{};
   std::uint64_t in_sections = 0;
   for (const Section& s : p.file.sections) {
     const std::uint64_t size = s.size();
@@ -631,6 +633,10 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
   const MeshLayout layout =
       assemble(p.parts, static_cast<std::uint32_t>(p.counts.unreferenced), std::nullopt);
   const Adjacency adj = rebuilt_adjacency(layout.quads, layout.vertex_count, p.topology->payload_offset);
+  if (symmetry)  // as the decoder refuses it
+    (void)mirror_vertices(
+        layout.quads, adj, seeds,
+        "symmetry section (at byte offset " + std::to_string(symmetry->payload_offset) + ")");
   info.edges = adj.halfedge_count() / 2;
   info.extraordinary = extraordinary_vertices(adj).size();
   return info;

@@ -189,6 +189,8 @@ std::string encode_geometry(std::span<const float> positions, std::span<const St
       forced.tools =
           static_cast<std::uint8_t>((*options.tools & geometry_tool::kAll & ~geometry_tool::kLayoutOrder) |
                                     (h.tools & geometry_tool::kLayoutOrder));
+      // Mirror prediction reflects integers: a plan of float bits cannot take it.
+      if (!forced.integer_axes()) forced.tools &= static_cast<std::uint8_t>(~geometry_tool::kMirror);
       std::string b = encode_with(positions, hoods, hoods.size(), forced, options.coder_thread);
       if (bytes.empty() || b.size() < bytes.size()) bytes = std::move(b), best = i;
     }

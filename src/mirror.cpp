@@ -154,7 +154,10 @@ std::vector<MirrorSeed> find_mirror(std::span<const std::uint32_t> quads, const 
       const std::uint32_t f0 = comp.front();
       const std::array<double, 3> target = reflect(centre(f0));
       near.clear();
-      for (std::size_t i = 0; i < comp.size(); ++i) near.emplace_back(dist2(centres[i], target), comp[i]);
+      for (std::size_t i = 0; i < comp.size(); ++i) {
+        const double d = dist2(centres[i], target);
+        near.emplace_back(std::isnan(d) ? HUGE_VAL : d, comp[i]);  // a strict order for the sort
+      }
       const std::size_t n = std::min(kTries, near.size());
       std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(n), near.end());
       // Each nearby face in each turn, by how far its corners lie from f0's reflected ones; the first

@@ -303,8 +303,12 @@ std::vector<float> polygon_positions(const PolygonStream& stream, std::uint32_t 
   } else {
     if (interior_owned > kMaxSymbolsPerByte * (stream.rest.size() + 8))
       fail("more interior positions than the geometry after the stream can hold", stream.rest_at);
-    if (coding_order(geometry_tools(stream.rest, stream.rest_at)) != CodingOrder::kLayout)
+    const std::uint8_t tools = geometry_tools(stream.rest, stream.rest_at);
+    if (coding_order(tools) != CodingOrder::kLayout)
       fail("the interior positions are not in layout order (tools bit 1 clear)", stream.rest_at);
+    // Before 3.12 no stream here has mirror sources: the bit stays what it was then, reserved.
+    if (tools & geometry_tool::kMirror)
+      fail("the interior positions use mirror prediction (tools bit 5)", stream.rest_at);
     decoded = decode_geometry(stream.rest, stream.rest_at, chain_stencils(interior_owned), interior_owned);
     interior = &decoded;
   }

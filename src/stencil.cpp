@@ -546,6 +546,8 @@ void check_stencils(std::span<const Stencil> stencil, std::size_t n) {
     for (std::size_t k = 0; k < kWords; ++k)
       forward |= static_cast<std::uint32_t>(((words[k] | ~mask[k]) + 1) > i);
     if (forward) throw Error(ErrorCode::kInternal, "geometry: stencil refers forward");
+    if (stencil[i].mirror != kInvalid && stencil[i].mirror_axis > 2)
+      throw Error(ErrorCode::kInternal, "geometry: mirror axis out of range");
   }
 }
 

@@ -955,6 +955,17 @@ std::map<std::string, Crafted> crafted() {
     out["qsp_mirror_axis_out_of_range"] = {with(h, h.geometry, seeds({{0, image, turn, 3}})), "format",
                                            "symmetry section: seed axis out of range"};
   }
+  {
+    // Before 3.12 a polygons section ends in its own geometry stream of the interior positions (its byte
+    // 18 here is that stream's tools byte), which mirror prediction never codes: bit 5 stays reserved there.
+    const std::string old = slurp(kGolden + "/v3.11/polygons/polygons_mixed.qsp");
+    const container::File f = container::parse(old);
+    std::string poly(f.find(container::kTagPolygons)->payload);
+    poly[18] = static_cast<char>(poly[18] | 0x20);
+    out["qsp_polygons_interior_mirror_bit"] = {
+        container::with_section(old, container::kTagPolygons, poly, f.minor), "format",
+        "the interior positions use mirror prediction"};
+  }
   // The geometry tools byte: bit 5 is mirror prediction (3.17), which a file without a symmetry section
   // cannot use; bits 6 and 7 are reserved.
   {

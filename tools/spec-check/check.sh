@@ -453,7 +453,8 @@ PY
   { echo "symmetry sections from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
 # The must-fail files of the symmetry section and mirror prediction (testdata/invalid, which the
 # reference refuses in its tests): the text refuses each too.
-for f in "$root"/testdata/invalid/qsp_mirror_*.qsp "$root"/testdata/invalid/qsp_symmetry_*.qsp; do
+for f in "$root"/testdata/invalid/qsp_mirror_*.qsp "$root"/testdata/invalid/qsp_symmetry_*.qsp \
+  "$root"/testdata/invalid/qsp_polygons_interior_mirror_bit.qsp; do
   [[ -f $f ]] || continue
   if "$python" "$here/qsppoly.py" "$f" >/dev/null; then
     echo "spec decoder: qsppoly.py reads $f, which the reference refuses" >&2

@@ -382,6 +382,7 @@ def interior_positions(rest, N):
         need(len(rest) == 0, 'bytes after the stream with no interior position to hold')
         return []
     need(len(rest) >= 1 and rest[0] & g.LAYOUT_ORDER, 'interior positions not in layout order')
+    need(not rest[0] & 0x20, 'the interior positions use mirror prediction (tools bit 5)')
     need(N <= 2048 * (len(rest) + 8), 'more interior positions than the bytes can hold')
     st = []
     for k in range(N):
