@@ -44,6 +44,7 @@ struct Parsed {
   std::vector<TopologyCode> codes;
   std::vector<ComponentPartition> parts;
   std::vector<std::uint32_t> comp_vertices, comp_faces;
+  std::vector<std::uint32_t> mirror;  // per layout vertex its mirror image (lay_out, with a symmetry section)
 };
 
 // The container, then the counts, checked against the format and the caller's limits before anything
@@ -219,6 +220,7 @@ MeshLayout lay_out(Parsed& p) {
         mirror_vertices(layout.quads, adj, seeds,
                         "symmetry section (at byte offset " + std::to_string(symmetry->payload_offset) + ")");
     set_mirror_sources(layout.stencil, layout.coding, mirror);
+    p.mirror = mirror.image;
   }
   return layout;
 }
@@ -410,9 +412,9 @@ PolygonMesh decode_any_polygons(std::string_view bytes, const DecodeLimits& limi
     out.positions64 = decode_exact_section(exact->payload, exact->payload_offset, out.positions);
   }
   if (uv) {
-    DecodedTexcoords t =
-        decode_texcoords_section(uv->payload, uv->payload_offset, out.face_offsets, out.corners, nv,
-                                 out.positions, p.order != nullptr, limits, kTexcoordWords, p.file.minor);
+    DecodedTexcoords t = decode_texcoords_section(
+        uv->payload, uv->payload_offset, out.face_offsets, out.corners, nv, out.positions, p.order != nullptr,
+        limits, kTexcoordWords, p.file.minor, poly ? std::span<const std::uint32_t>() : p.mirror);
     out.texcoord_components = t.components;
     out.texcoords = std::move(t.values);
     out.corner_texcoords = std::move(t.corners);

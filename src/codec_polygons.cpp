@@ -15,6 +15,7 @@
 #include "codec_sections.h"
 #include "container.h"
 #include "geometry_values.h"
+#include "mirror.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/permute.h"
@@ -264,17 +265,43 @@ std::string colors_section(const PolygonMesh& mesh, const FaceMap& map, const Ou
                                quantize_bits);
 }
 
-// A section of values per corner (texture coordinates, normals) over the output corners.
+// A section of values per corner (texture coordinates, normals) over the output corners; `mirror` as
+// encode_texcoords_section's, per input vertex.
 std::string corner_values_section(const PolygonMesh& mesh, const OutputCorners& oc,
                                   std::span<const float> positions, std::uint8_t components,
                                   std::span<const float> values, std::span<const std::uint32_t> corner_values,
                                   const EncodeOptions& options, std::uint32_t quantize_bits,
-                                  const CornerValueWords& words) {
+                                  const CornerValueWords& words, std::span<const std::uint32_t> mirror = {}) {
   std::vector<std::uint32_t> named(oc.input.size());
   for (std::size_t k = 0; k < oc.input.size(); ++k) named[k] = corner_values[oc.input[k]];
   return encode_texcoords_section(oc.offsets, oc.vertices, static_cast<std::uint32_t>(mesh.vertex_count()),
                                   positions, components, values, named, options.keep_order, quantize_bits,
-                                  words, level_effort(options.level, mesh.vertex_count()).header_sample);
+                                  words, level_effort(options.level, mesh.vertex_count()).header_sample,
+                                  mirror);
+}
+
+// Each input vertex's mirror image under `file`'s symmetry section (3.17), as the decoder finds it on the
+// output quads, for the texture coordinates' mirror prediction (3.18); empty without one or beside a
+// polygons section (whose output vertices are not the layout's).
+std::vector<std::uint32_t> input_mirror(const PolygonMesh& mesh, const FaceMap& map, const OutputCorners& oc,
+                                        std::string_view file) {
+  const container::File f = container::parse(file);
+  const container::Section* symmetry = f.find(container::kTagSymmetry);
+  if (!symmetry || f.find(container::kTagPolygons)) return {};
+  const auto nv = static_cast<std::uint32_t>(mesh.vertex_count());
+  const auto nf = static_cast<std::uint32_t>(mesh.face_count());
+  if (oc.vertices.size() != 4 * std::size_t{nf} || map.vertex.size() != nv)
+    internal("a file with a symmetry section has faces other than quads");
+  std::vector<std::uint32_t> quads(oc.vertices.size());
+  for (std::size_t k = 0; k < quads.size(); ++k) quads[k] = map.vertex[oc.vertices[k]];
+  const Mirror mirror =
+      mirror_vertices(quads, build_adjacency(quads, nv),
+                      decode_symmetry(symmetry->payload, symmetry->payload_offset, nf), "encode: mirror");
+  const std::vector<std::uint32_t> input = inverse_permutation(map.vertex);
+  std::vector<std::uint32_t> out(nv, kInvalid);
+  for (std::uint32_t v = 0; v < nv; ++v)
+    if (const std::uint32_t m = mirror.image[map.vertex[v]]; m != kInvalid) out[v] = input[m];
+  return out;
 }
 
 // The per-corner sections coded beside the geometry (encode_polygons).
@@ -498,10 +525,18 @@ std::string encode_polygons(const PolygonMesh& mesh, const EncodeOptions& option
     const std::vector<float> positions =
         (texcoords || normals) && !ready ? decoder_positions(mesh, oc, o, bytes) : std::vector<float>{};
     if (texcoords) {
+      // Predicted from their mirror images too (3.18) where the file has a mirror and the level codes every
+      // prediction in full: beside the geometry they are coded before the mirror is known.
+      const std::vector<std::uint32_t> mirror = level_effort(o.level, mesh.vertex_count()).header_sample == 0
+                                                    ? input_mirror(mesh, map, oc, bytes)
+                                                    : std::vector<std::uint32_t>{};
       const std::string section =
-          ready ? ready->texcoords
-                : corner_values_section(mesh, oc, positions, mesh.texcoord_components, mesh.texcoords,
-                                        mesh.corner_texcoords, o, o.quantize_texcoord_bits, kTexcoordWords);
+          ready && mirror.empty()
+              ? ready->texcoords
+              : corner_values_section(mesh, oc,
+                                      positions.empty() ? decoder_positions(mesh, oc, o, bytes) : positions,
+                                      mesh.texcoord_components, mesh.texcoords, mesh.corner_texcoords, o,
+                                      o.quantize_texcoord_bits, kTexcoordWords, mirror);
       bytes =
           container::with_section(bytes, container::kTagTexcoords, section, texcoords_section_minor(section));
     }

@@ -111,10 +111,13 @@ inline constexpr CornerValueWords kTexcoordWords{"texture coordinates section", 
                                                  "texture coordinates", 0, &DecodeLimits::max_texcoords};
 inline constexpr CornerValueWords kNormalWords{"normals section",          "normal", "normals", 3,
                                                &DecodeLimits::max_normals, true};
-// The minor version a texture coordinates section's payload needs: 3.16 with flag bit 7, else 3.2.
+// The minor version a texture coordinates section's payload needs: 3.18 with flag bit 5, 3.16 with flag
+// bit 7, else 3.2.
 inline std::uint8_t texcoords_section_minor(std::string_view payload) {
-  return !payload.empty() && (static_cast<std::uint8_t>(payload[0]) & 0x80) ? kFormatMinorSeamHints
-                                                                            : kFormatMinorTexcoords;
+  const std::uint8_t flags = payload.empty() ? 0 : static_cast<std::uint8_t>(payload[0]);
+  return (flags & 0x20)   ? kFormatMinorTexcoordMirror
+         : (flags & 0x80) ? kFormatMinorSeamHints
+                          : kFormatMinorTexcoords;
 }
 // The minor version a normals section's payload needs: 3.10 with flag bit 5 or 6, else 3.5.
 inline std::uint8_t normals_section_minor(std::string_view payload) {
@@ -134,12 +137,17 @@ inline std::uint8_t normals_section_minor(std::string_view payload) {
 // Error(kBadNumber) for a value that is not finite, Error(kUsage) for more than 24 bits (1 for
 // normals), Error(kInternal) for inconsistent sizes. `sample` > 0: from 2 * `sample` values the predictions
 // are compared on about `sample` values spread over the mesh and only the smallest coded whole (0, or
-// fewer values: each coded whole, the smallest kept).
-std::string encode_texcoords_section(
-    std::span<const std::uint32_t> face_offsets, std::span<const std::uint32_t> corner_vertices,
-    std::uint32_t vertex_count, std::span<const float> positions, std::uint8_t components,
-    std::span<const float> values, std::span<const std::uint32_t> corner_texcoords, bool keep_order,
-    std::uint32_t quantize_bits, const CornerValueWords& words = kTexcoordWords, std::uint32_t sample = 0);
+// fewer values: each coded whole, the smallest kept). `mirror` (texture coordinates only): per vertex its
+// image under the file's symmetry section's mirror (kInvalid where none; empty: no symmetry section), so
+// values may be predicted from their mirror images' (flag bit 5, 3.18) where that is smaller.
+std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets,
+                                     std::span<const std::uint32_t> corner_vertices,
+                                     std::uint32_t vertex_count, std::span<const float> positions,
+                                     std::uint8_t components, std::span<const float> values,
+                                     std::span<const std::uint32_t> corner_texcoords, bool keep_order,
+                                     std::uint32_t quantize_bits,
+                                     const CornerValueWords& words = kTexcoordWords, std::uint32_t sample = 0,
+                                     std::span<const std::uint32_t> mirror = {});
 
 struct DecodedTexcoords {
   std::uint8_t components = 0;
@@ -148,6 +156,8 @@ struct DecodedTexcoords {
 };
 // Inverse of encode_texcoords_section; `order_section` says whether the file has one (the section's
 // order bit must agree) and `minor` is the file's minor version (normals' bits 5 and 6 need 3.10).
+// `mirror`: per output vertex its mirror image (the symmetry section's, in a file without a polygons
+// section), or empty; flag bit 5 without it is refused.
 // Throws Error(kFormat) naming what and the byte offset, kLimit past
 // `limits.max_texcoords`. Safe on untrusted input: the declared counts are checked against the corners
 // and the limits before anything is allocated by them; time and memory linear in them.
@@ -157,7 +167,8 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                                           std::uint32_t vertex_count, std::span<const float> positions,
                                           bool order_section, const DecodeLimits& limits,
                                           const CornerValueWords& words = kTexcoordWords,
-                                          std::uint8_t minor = kFormatMinor);
+                                          std::uint8_t minor = kFormatMinor,
+                                          std::span<const std::uint32_t> mirror = {});
 
 // The colours section (format 3.8) of the output mesh whose faces are `face_offsets` (one more than
 // faces) and whose corners' vertices are `corner_vertices` (below `vertex_count`), in the order the

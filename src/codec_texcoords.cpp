@@ -34,7 +34,9 @@ constexpr std::uint8_t kComponentsMask = 0x03, kOrderBit = 0x04, kCorrectionBit 
 constexpr std::uint8_t kGeometryBit = 0x20, kOctahedralBit = 0x40;
 // Texture coordinates only (format 3.16): hints from the faces across, and residuals by activity.
 constexpr std::uint8_t kHintBit = 0x80;
-constexpr unsigned kContexts = 7, kGeometryContext = 5, kSeamContext = 6, kBuckets = 4;
+// Texture coordinates only (format 3.18): values predicted from their mirror images' (symmetry section).
+constexpr std::uint8_t kMirrorBit = 0x20;
+constexpr unsigned kContexts = 8, kGeometryContext = 5, kSeamContext = 6, kMirrorContext = 7, kBuckets = 4;
 constexpr std::uint32_t kMinOctahedralBits = 2;
 // Every value costs at least one decision and none less than log2(65536 / 65465) bits: at most ~5116 a
 // byte (8192 leaves room; 2048, before 3.8, refused files of one repeated value that the encoder wrote).
@@ -200,11 +202,14 @@ std::uint32_t residual_size(std::int64_t r) {
   return static_cast<std::uint32_t>(
       std::min<std::uint64_t>(r < 0 ? 0 - static_cast<std::uint64_t>(r) : r, 1 << 20));
 }
+unsigned bucket_of(std::uint64_t mean) {
+  return std::min<unsigned>(static_cast<unsigned>(std::bit_width(mean)), kBuckets - 1);
+}
 unsigned bucket_of(const Prediction& p, std::span<const std::uint32_t> size) {
   std::uint64_t sum = 0, n = 0;
   if (p.shaped) sum += std::uint64_t{size[p.a]} + size[p.b] + size[p.o], n += 3;
   for (int k = 0; k < p.count; ++k) sum += size[p.value[k]], ++n;
-  return n == 0 ? 0 : std::min<unsigned>(static_cast<unsigned>(std::bit_width(sum / n)), kBuckets - 1);
+  return n == 0 ? 0 : bucket_of(sum / n);
 }
 
 // The prediction of value `i` from its creating corner (kInvalid: none, i >= T - U).
@@ -342,6 +347,51 @@ std::vector<std::uint32_t> faces_of_corners(std::span<const std::uint32_t> face_
   return face;
 }
 
+// Bit 5: corner c's mirror image, the corner at the image of c's vertex in the face that holds the image of
+// c's edge to its next corner (running the other way: the mirror reverses orientation), or kInvalid.
+// `by_vertex`: the corners' edges by vertex (Edges over corner_vertices).
+std::uint32_t mirror_corner(std::uint32_t c, std::span<const std::uint32_t> face_of_corner,
+                            std::span<const std::uint32_t> face_offsets,
+                            std::span<const std::uint32_t> corner_vertices,
+                            std::span<const std::uint32_t> mirror, const Edges& by_vertex) {
+  const auto next = [&](std::uint32_t k) {
+    const std::uint32_t g = face_of_corner[k];
+    return k + 1 < face_offsets[g + 1] ? k + 1 : face_offsets[g];
+  };
+  const std::uint32_t a = mirror[corner_vertices[c]], b = mirror[corner_vertices[next(c)]];
+  if (a == kInvalid || b == kInvalid) return kInvalid;
+  const std::uint32_t k = by_vertex.find(b, a);  // the image's corner at b, whose next is at a
+  return k == kInvalid ? kInvalid : next(k);
+}
+
+// Bit 5: the value value i's creating corner's mirror image names, where it is decoded before i, or kInvalid.
+struct MirrorSources {
+  std::span<const std::uint32_t> mirror;  // per vertex its image, kInvalid where none
+  const Edges* by_vertex = nullptr;
+  std::uint32_t of(std::uint32_t i, std::uint32_t creating, std::span<const std::uint32_t> face_of_corner,
+                   std::span<const std::uint32_t> face_offsets,
+                   std::span<const std::uint32_t> corner_vertices,
+                   std::span<const std::uint32_t> names) const {
+    if (creating == kInvalid) return kInvalid;
+    const std::uint32_t k =
+        mirror_corner(creating, face_of_corner, face_offsets, corner_vertices, mirror, *by_vertex);
+    return k != kInvalid && names[k] != kInvalid && names[k] < i ? names[k] : kInvalid;
+  }
+};
+
+// Bit 5: the prediction of component c from its mirror source's integer m: m or -m (sign bit c), plus the
+// offset the last mirrored value left (0 before the first).
+struct MirrorState {
+  std::uint8_t signs = 0;
+  std::array<std::int64_t, 3> offset{};
+  std::int64_t predict(const Domain& d, unsigned c, std::int64_t m) const {
+    return d.clamp(((signs >> c) & 1 ? -m : m) + offset[c]);
+  }
+  void update(unsigned c, std::int64_t value, std::int64_t m) {
+    offset[c] = value - ((signs >> c) & 1 ? -m : m);
+  }
+};
+
 }  // namespace
 
 std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets,
@@ -350,12 +400,15 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
                                      std::uint8_t components, std::span<const float> values,
                                      std::span<const std::uint32_t> corner_texcoords, bool keep_order,
                                      std::uint32_t quantize_bits, const CornerValueWords& w,
-                                     std::uint32_t sample) {
+                                     std::uint32_t sample, std::span<const std::uint32_t> mirror) {
   const unsigned K = components;
   if (K < 1 || K > 3 || values.size() % K != 0 || corner_texcoords.size() != corner_vertices.size() ||
       positions.size() != 3 * std::size_t{vertex_count} || face_offsets.empty() ||
-      face_offsets.back() != corner_vertices.size())
+      face_offsets.back() != corner_vertices.size() || (!mirror.empty() && mirror.size() != vertex_count) ||
+      (!mirror.empty() && w.normals))
     internal(std::string(w.one) + " arrays disagree with the mesh");
+  for (const std::uint32_t m : mirror)
+    if (m != kInvalid && m >= vertex_count) internal("a mirror image out of range");
   const auto T = static_cast<std::uint32_t>(values.size() / K);
   for (std::size_t i = 0; i < values.size(); ++i)
     if (!std::isfinite(values[i]))
@@ -470,6 +523,33 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
       w.normals ? geometry_normals(face_offsets, corner_vertices, positions, names, referenced)
                 : GeometryNormals{};
   const auto from_geometry = [&](std::uint32_t i) { return i < referenced && geometry.valid[i]; };
+  // Bit 5: each value's mirror source, and per component the sign whose offsets change least from one
+  // mirrored value to the next (the residuals the last offset leaves).
+  const MirrorSources sources{mirror, twins ? &*twins : nullptr};
+  std::vector<std::uint32_t> source;
+  std::uint8_t signs = 0;
+  if (!mirror.empty() && twins) {
+    source.assign(T, kInvalid);
+    std::size_t found = 0;
+    for (std::uint32_t i = 0; i < referenced; ++i)
+      found += (source[i] = sources.of(i, creating[i], face_of_corner, face_offsets, corner_vertices,
+                                       names)) != kInvalid;
+    if (found == 0) source.clear();
+    for (unsigned c = 0; c < K && !source.empty(); ++c) {
+      std::array<std::uint64_t, 2> cost{};
+      for (const unsigned s : {0u, 1u}) {
+        std::int64_t last = 0;
+        for (std::uint32_t i = 0; i < referenced; ++i) {
+          if (source[i] == kInvalid) continue;
+          const std::int64_t m = integers[std::size_t{source[i]} * K + c],
+                             offset = integers[std::size_t{i} * K + c] - (s ? -m : m);
+          cost[s] += residual_size(offset - last);
+          last = offset;
+        }
+      }
+      if (cost[1] < cost[0]) signs = static_cast<std::uint8_t>(signs | 1u << c);
+    }
+  }
 
   const auto put_symbols = [&](RangeEncoder& enc, bool hints) {
     SymbolModels m;
@@ -517,7 +597,7 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     if (period == 1) put_symbols(enc, hints);
     std::vector<IntModel> residual(kContexts * K * kBuckets);
     std::vector<std::uint32_t> size(hints ? T : 0, 0);  // bit 7: per value, its residuals' size
-    const bool faces = (tools & kGeometryBit) != 0;
+    const bool faces = w.normals && (tools & kGeometryBit) != 0;
     const std::array<Domain, 3>& doms = faces ? signed_domain : plain_domain;
     const std::vector<std::int64_t>& ints = faces ? signed_integers : plain_integers;
     std::array<BitModel, 3> minus{};
@@ -527,8 +607,22 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
         enc.encode_bit(minus[c], std::signbit(ordered[std::size_t{i} * K + c]));
     };
     BitModel copy{};
+    const bool mirrored = (tools & kMirrorBit) != 0;
+    MirrorState state{signs, {}};
     for (std::uint32_t i = 0; i < T; ++i) {
       if (period > 1 && (i >> 8) % period != 0) continue;
+      if (mirrored && source[i] != kInvalid) {
+        const std::uint32_t m = source[i];
+        const unsigned bucket = hints ? bucket_of(size[m]) : 0;
+        for (unsigned c = 0; c < K; ++c) {
+          const std::int64_t value = ints[std::size_t{i} * K + c], from = ints[std::size_t{m} * K + c];
+          const std::int64_t r = value - state.predict(doms[c], c, from);
+          encode_residual(enc, residual[kBuckets * (K * kMirrorContext + c) + bucket], r);
+          if (hints) size[i] += residual_size(r);
+          state.update(c, value, from);
+        }
+        continue;
+      }
       const std::uint32_t j =
           faces && i < referenced ? copy_source(creating[i], face_of_corner, face_offsets, names) : kInvalid;
       if (j != kInvalid) {
@@ -563,9 +657,10 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
       enc.finish();
       return stream;
     }
-    std::array<std::uint8_t, 3> modes{};
-    for (unsigned c = 0; c < K; ++c) modes[c] = doms[c].mode;
-    return finish(enc, stream, tools, std::span(modes.data(), K));
+    std::array<std::uint8_t, 4> header{};  // the modes, then bit 5's signs
+    for (unsigned c = 0; c < K; ++c) header[c] = doms[c].mode;
+    header[K] = signs;
+    return finish(enc, stream, tools, std::span(header.data(), K + (mirrored ? 1 : 0)));
   };
   // Octahedral normals: each the grid point nearest in angle, coded against its prediction's (from the
   // faces with bit 5, else the normal before), in the hemisphere of the prediction (z mirrored if below).
@@ -579,13 +674,13 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     for (std::uint32_t i = 0; i < T; ++i) {
       const bool faces = (tools & kGeometryBit) && from_geometry(i);
       const std::array<double, 3> p = faces ? geometry.at(i) : previous;
-      const bool mirror = p[2] < 0;
-      const std::array<std::int64_t, 2> predicted = grid.nearest(p, mirror);
+      const bool below = p[2] < 0;
+      const std::array<std::int64_t, 2> predicted = grid.nearest(p, below);
       const float* v = &ordered[3 * std::size_t{i}];
-      const std::array<std::int64_t, 2> q = grid.best({v[0], v[1], v[2]}, mirror);
+      const std::array<std::int64_t, 2> q = grid.best({v[0], v[1], v[2]}, below);
       for (unsigned c = 0; c < 2; ++c)
         encode_residual(enc, residual[2 * (faces ? 0 : 1) + c], q[c] - predicted[c]);
-      const std::array<float, 3> n = grid.normal(q[0], q[1], mirror);
+      const std::array<float, 3> n = grid.normal(q[0], q[1], below);
       previous = {n[0], n[1], n[2]};
     }
     const std::uint8_t bits = static_cast<std::uint8_t>(quantize_bits);
@@ -618,13 +713,21 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
     for (const std::uint8_t tools : candidates)
       if (const std::size_t size = section(tools, period).size(); size < smallest)
         smallest = size, chosen = tools;
+    // Bit 5 (3.18) with the tools chosen, where the values have mirror images.
+    if (!source.empty() && section(chosen | kMirrorBit, period).size() < smallest)
+      chosen = static_cast<std::uint8_t>(chosen | kMirrorBit);
     return section(chosen, 1);
   }
   std::string best;
+  std::uint8_t chosen = 0;
   for (const std::uint8_t tools : candidates) {
     std::string bytes = section(tools, 1);
-    if (best.empty() || bytes.size() < best.size()) best = std::move(bytes);
+    if (best.empty() || bytes.size() < best.size()) best = std::move(bytes), chosen = tools;
   }
+  if (!source.empty())
+    if (std::string bytes = section(static_cast<std::uint8_t>(chosen | kMirrorBit), 1);
+        bytes.size() < best.size())
+      best = std::move(bytes);
   return best;
 }
 
@@ -633,7 +736,8 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                                           std::span<const std::uint32_t> corner_vertices,
                                           std::uint32_t vertex_count, std::span<const float> positions,
                                           bool order_section, const DecodeLimits& limits,
-                                          const CornerValueWords& w, std::uint8_t minor) {
+                                          const CornerValueWords& w, std::uint8_t minor,
+                                          std::span<const std::uint32_t> mirror) {
   ByteReader in(payload, base_offset, w.section);
   std::uint64_t at = in.offset();
   const std::uint8_t flags = in.u8("flags");
@@ -643,15 +747,25 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
                    (w.components ? std::to_string(w.components) : std::string("1 to 3")) + ")",
                at);
   const std::uint8_t normal_bits = kGeometryBit | kOctahedralBit;
-  if (flags & kReservedBits & ~(w.normals ? normal_bits : kHintBit))
+  if (flags & kReservedBits & ~(w.normals ? normal_bits : kHintBit | kMirrorBit))
     in.fail_at("reserved flag bits are set (must be zero)", at);
+  const bool mirrored = !w.normals && (flags & kMirrorBit) != 0;
+  const bool faces =
+      w.normals && (flags & kGeometryBit) != 0;  // (bit 5 is the mirror's in texture coordinates)
+  if (mirrored && minor < kFormatMinorTexcoordMirror)
+    in.fail_at("flag bit 5 (mirror prediction) is format 3." + std::to_string(kFormatMinorTexcoordMirror) +
+                   "'s, and the file says it is 3." + std::to_string(minor),
+               at);
+  if (mirrored && mirror.size() != vertex_count)
+    in.fail_at("flag bit 5 (mirror prediction) without a symmetry section (or beside a polygons section)",
+               at);
   const bool hints = (flags & kHintBit) != 0;
   if (hints && minor < kFormatMinorSeamHints)
     in.fail_at("flag bit 7 (hints from the faces across) is format 3." +
                    std::to_string(kFormatMinorSeamHints) + "'s, and the file says it is 3." +
                    std::to_string(minor),
                at);
-  if ((flags & normal_bits) && minor < kFormatMinorNormalsGeometry)
+  if (w.normals && (flags & normal_bits) && minor < kFormatMinorNormalsGeometry)
     in.fail_at("normals predicted from the faces or octahedral are format 3." +
                    std::to_string(kFormatMinorNormalsGeometry) + "'s, and the file says it is 3." +
                    std::to_string(minor),
@@ -700,6 +814,12 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
     if (!valid_mode(domain[c].mode))
       in.fail_at("component mode " + std::to_string(domain[c].mode) + " (0 to 10, or 17 to 40)", at);
   }
+  MirrorState state;
+  if (mirrored) {
+    at = in.offset();
+    state.signs = in.u8("mirror signs");
+    if (state.signs >> K) in.fail_at("mirror sign bits beyond the " + std::to_string(K) + " components", at);
+  }
   const std::uint64_t stream_offset = in.offset();
   RangeDecoder dec(payload.substr(in.pos()), stream_offset, w.section);
 
@@ -711,7 +831,7 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   Named named(corner_vertices, vertex_count);
   const std::vector<std::uint32_t> face_of_corner = faces_of_corners(face_offsets);
   std::optional<Edges> twins;
-  if (hints) twins.emplace(face_offsets, corner_vertices, vertex_count);
+  if (hints || mirrored) twins.emplace(face_offsets, corner_vertices, vertex_count);
   SymbolModels m;
   std::uint32_t n = 0;
   std::size_t face = 0;
@@ -774,7 +894,8 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   std::vector<IntModel> residual(kContexts * K * kBuckets);
   std::vector<std::uint32_t> size(hints ? T : 0, 0);  // bit 7: per value, its residuals' size
   const Edges edges(face_offsets, out.corners, T);
-  const Twins across{twins ? &*twins : nullptr, corner_vertices};
+  const Twins across{hints ? &*twins : nullptr, corner_vertices};
+  const MirrorSources sources{mirror, twins ? &*twins : nullptr};
   std::array<BitModel, 3> minus{};  // bit 5: the sign of a grid value whose integer is 0
   BitModel copy{};                  // bit 5: a value the same as the one its face's corner before names
   // Component c of value i from its integer.
@@ -785,8 +906,7 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
           domain[c].mode == kModeFloat ? "a float image outside 32 bits" : "an integer outside (-2^40, 2^40)",
           dec.offset());
     float x = domain[c].value(value);
-    if ((flags & kGeometryBit) && domain[c].mode != kModeFloat && value == 0 && dec.decode_bit(minus[c]))
-      x = -0.0f;
+    if (faces && domain[c].mode != kModeFloat && value == 0 && dec.decode_bit(minus[c])) x = -0.0f;
     if (!std::isfinite(x))
       format_error(w, std::string(w.one) + " " + std::to_string(i) + " is not finite", dec.offset());
     out.values[std::size_t{i} * K + c] = x;
@@ -794,36 +914,32 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
   };
   const Shape shape{positions, corner_vertices};
   const GeometryNormals geometry =
-      (flags & kGeometryBit) ? geometry_normals(face_offsets, corner_vertices, positions, out.corners, n)
-                             : GeometryNormals{};
-  const auto from_geometry = [&](std::uint32_t i) {
-    return (flags & kGeometryBit) && i < n && geometry.valid[i];
-  };
+      faces ? geometry_normals(face_offsets, corner_vertices, positions, out.corners, n) : GeometryNormals{};
+  const auto from_geometry = [&](std::uint32_t i) { return faces && i < n && geometry.valid[i]; };
   const Octahedral grid(octahedral ? bits : kMinOctahedralBits);
   std::array<double, 3> previous{0, 0, 1};  // octahedral: the last normal decoded
   for (std::uint32_t i = 0; i < T; ++i) {
     if (octahedral) {
-      const bool faces = from_geometry(i);
-      const std::array<double, 3> p = faces ? geometry.at(i) : previous;
-      const bool mirror = p[2] < 0;
-      const std::array<std::int64_t, 2> predicted = grid.nearest(p, mirror);
+      const bool from_faces = from_geometry(i);
+      const std::array<double, 3> p = from_faces ? geometry.at(i) : previous;
+      const bool below = p[2] < 0;
+      const std::array<std::int64_t, 2> predicted = grid.nearest(p, below);
       std::array<std::int64_t, 2> q{};
       for (unsigned c = 0; c < 2; ++c) {
-        q[c] = predicted[c] + decode_residual(dec, residual[2 * (faces ? 0 : 1) + c]);
+        q[c] = predicted[c] + decode_residual(dec, residual[2 * (from_faces ? 0 : 1) + c]);
         if (q[c] < -grid.h || q[c] > grid.h)
           format_error(w,
                        "normal " + std::to_string(i) + ": octahedral integer " + std::to_string(q[c]) +
                            " outside [-" + std::to_string(grid.h) + ", " + std::to_string(grid.h) + "]",
                        dec.offset());
       }
-      const std::array<float, 3> x = grid.normal(q[0], q[1], mirror);
+      const std::array<float, 3> x = grid.normal(q[0], q[1], below);
       std::copy(x.begin(), x.end(), &out.values[3 * std::size_t{i}]);
       previous = {x[0], x[1], x[2]};
       continue;
     }
-    const std::uint32_t j = (flags & kGeometryBit) && i < n
-                                ? copy_source(creating[i], face_of_corner, face_offsets, out.corners)
-                                : kInvalid;
+    const std::uint32_t j =
+        faces && i < n ? copy_source(creating[i], face_of_corner, face_offsets, out.corners) : kInvalid;
     if (j != kInvalid && dec.decode_bit(copy)) {
       for (unsigned c = 0; c < K; ++c) {
         out.values[std::size_t{i} * K + c] = out.values[std::size_t{j} * K + c];
@@ -837,6 +953,20 @@ DecodedTexcoords decode_texcoords_section(std::string_view payload, std::uint64_
         const std::int64_t value =
             predicted + decode_residual(dec, residual[kBuckets * (K * kGeometryContext + c)]);
         store(i, c, value);
+      }
+      continue;
+    }
+    const std::uint32_t from = mirrored ? sources.of(i, i < n ? creating[i] : kInvalid, face_of_corner,
+                                                     face_offsets, corner_vertices, out.corners)
+                                        : kInvalid;
+    if (from != kInvalid) {
+      const unsigned bucket = hints ? bucket_of(size[from]) : 0;
+      for (unsigned c = 0; c < K; ++c) {
+        const std::int64_t source = integers[std::size_t{from} * K + c];
+        const std::int64_t r = decode_residual(dec, residual[kBuckets * (K * kMirrorContext + c) + bucket]);
+        store(i, c, state.predict(domain[c], c, source) + r);
+        if (hints) size[i] += residual_size(r);
+        state.update(c, integers[std::size_t{i} * K + c], source);
       }
       continue;
     }

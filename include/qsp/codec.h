@@ -17,7 +17,8 @@
 
 namespace qsp {
 
-// The format version this library writes: the lowest whose sections the file holds. 3.17 for positions
+// The format version this library writes: the lowest whose sections the file holds. 3.18 for texture
+// coordinates predicted from their mirror images', where that is smaller, 3.17 for positions
 // predicted from their mirror images (the symmetry section), where that is smaller, 3.16 for texture
 // coordinates coded with hints from the faces across or comments coded through the range coder (the coded
 // comments section), where that is smaller, 3.15 for PLY obj_info lines
@@ -34,7 +35,9 @@ namespace qsp {
 // file (the required sections a newer minor may add excepted, which it refuses with "upgrade qsp"); 1.x
 // and 2.x were development versions and are not read (format-spec/qsp_format.md, "Version").
 inline constexpr std::uint8_t kFormatMajor = 3;
-inline constexpr std::uint8_t kFormatMinor = 17;
+inline constexpr std::uint8_t kFormatMinor = 18;
+// Texture coordinates predicted from their mirror images' (flag bit 5; the symmetry section's mirror).
+inline constexpr std::uint8_t kFormatMinorTexcoordMirror = 18;
 // Positions predicted from their mirror images (the symmetry section; geometry tool bit 0x20).
 inline constexpr std::uint8_t kFormatMinorMirror = 17;
 // The leading comment block coded through a text model (the coded comments section, optional).
