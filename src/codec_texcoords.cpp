@@ -607,7 +607,7 @@ std::string encode_texcoords_section(std::span<const std::uint32_t> face_offsets
         enc.encode_bit(minus[c], std::signbit(ordered[std::size_t{i} * K + c]));
     };
     BitModel copy{};
-    const bool mirrored = (tools & kMirrorBit) != 0;
+    const bool mirrored = !w.normals && (tools & kMirrorBit) != 0;
     MirrorState state{signs, {}};
     for (std::uint32_t i = 0; i < T; ++i) {
       if (period > 1 && (i >> 8) % period != 0) continue;

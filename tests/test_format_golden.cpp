@@ -854,6 +854,33 @@ std::map<std::string, Crafted> crafted() {
         "flag bit 7 (hints from the faces across) is format 3.16's, and the file says it is 3.15"};
   }
   {
+    // The texture coordinates' mirror prediction (flag bit 5, 3.18): in a file that says 3.17, in a file
+    // without a symmetry section, and with a sign bit beyond the section's two components.
+    const std::string hull = slurp(kGolden + "/mirror/hull_uv12.qsp");
+    const container::File f = container::parse(hull);
+    const std::string uv(f.find(container::kTagTexcoords)->payload);
+    EXPECT_TRUE(uv[0] & 0x20) << "hull_uv12's texture coordinates use mirror prediction";
+    std::string sections;
+    for (const container::Section& s : f.sections) container::put_section(sections, s.tag, s.payload);
+    out["qsp_texcoords_mirror_in_3_17"] = {
+        container::seal(f.major, kFormatMinorTexcoordMirror - 1, f.level, sections), "format",
+        "flag bit 5 (mirror prediction) is format 3.18's, and the file says it is 3.17"};
+    const std::string grid = slurp(kGolden + "/texcoords/bent_grid_uv12.qsp");
+    std::string flagged(container::parse(grid).find(container::kTagTexcoords)->payload);
+    flagged[0] = static_cast<char>(flagged[0] | 0x20);
+    out["qsp_texcoords_mirror_without_symmetry"] = {
+        container::with_section(grid, container::kTagTexcoords, flagged, kFormatMinorTexcoordMirror),
+        "format", "flag bit 5 (mirror prediction) without a symmetry section"};
+    // The signs byte follows the flags, the two counts (varints) and the two modes.
+    ByteReader r(uv, 0, "texture coordinates section");
+    (void)r.u8("flags"), (void)r.varint("count"), (void)r.varint("unreferenced");
+    std::string signs = uv;
+    signs[r.pos() + 2] = static_cast<char>(signs[r.pos() + 2] | 0x04);
+    out["qsp_texcoords_mirror_sign_bits"] = {
+        container::with_section(hull, container::kTagTexcoords, signs, f.minor), "format",
+        "mirror sign bits beyond the 2 components"};
+  }
+  {
     // The coded comments section (3.16, optional): its stream cut short, a text length past what its
     // stream can hold or past 2^20, 2^16 + 1 lines, a CR decoded inside a line, the section in a 3.15
     // file, beside a comments section.

@@ -1,11 +1,16 @@
 // Mirror prediction (format 3.17): the encoder's search finds a symmetric mesh's mirror, the propagation
 // from its seed is that mirror (an involution reflecting the positions) and refuses seeds that are no
 // automorphism, renumbered copies give the same bytes, and a hostile symmetry section is refused where
-// it breaks a rule, never crashing the decoder.
+// it breaks a rule, never crashing the decoder. Texture coordinates predicted from their mirror images'
+// (3.18) come back exactly, in order with --keep-order, and survive every flip of their section.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <string>
+#include <vector>
 
 #include "container.h"
 #include "mirror.h"
@@ -14,6 +19,7 @@
 #include "qsp/io.h"
 #include "support/files.h"
 #include "support/mesh_gen.h"
+#include "support/polygon.h"
 #include "support/section_sweep.h"
 
 namespace qsp {
@@ -76,6 +82,73 @@ TEST(Mirror, EveryBitFlipAndCutOfTheSymmetrySectionIsSafe) {
     EXPECT_EQ(got.vertex_count(), vertices);
     for (const float x : got.positions) EXPECT_TRUE(std::isfinite(x));
   });
+}
+
+// Each face as the cycle of its corners' position and texture coordinate bits, from its smallest corner,
+// the faces sorted: the mesh up to its numbering.
+std::vector<std::vector<std::array<std::uint32_t, 5>>> corner_cycles(const PolygonMesh& m) {
+  std::vector<std::vector<std::array<std::uint32_t, 5>>> out;
+  for (std::size_t f = 0; f < m.face_count(); ++f) {
+    std::vector<std::array<std::uint32_t, 5>> face;
+    for (std::uint32_t k = m.face_offsets[f]; k < m.face_offsets[f + 1]; ++k) {
+      std::array<std::uint32_t, 5> c{};
+      std::memcpy(c.data(), &m.positions[3 * std::size_t{m.corners[k]}], 12);
+      std::memcpy(c.data() + 3, &m.texcoords[2 * std::size_t{m.corner_texcoords[k]}], 8);
+      face.push_back(c);
+    }
+    std::rotate(face.begin(), std::min_element(face.begin(), face.end()), face.end());
+    out.push_back(face);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(Mirror, TexcoordsFromTheirMirrorImagesComeBackExactly) {
+  for (const std::string& path :
+       {kMirror + "hull_uv12.obj", std::string(QSP_TESTDATA_DIR) + "/mh_fedora.obj"}) {
+    SCOPED_TRACE(path);
+    const PolygonMesh mesh = testing::read_obj_polygons(path);
+    ASSERT_EQ(mesh.texcoord_components, 2);
+    PolygonMesh rounded = mesh;  // on the grid of step 2^-12, as the spec rounds them
+    for (float& x : rounded.texcoords)
+      x = static_cast<float>(std::ldexp(std::nearbyint(std::ldexp(static_cast<double>(x), 12)), -12)) + 0.0f;
+    for (const bool keep : {false, true}) {
+      EncodeOptions o;
+      o.level = kMaxLevel;
+      o.quantize_texcoord_bits = 12;
+      o.keep_order = keep;
+      const std::string bytes = encode_polygons(mesh, o);
+      const container::File file = container::parse(bytes);
+      ASSERT_NE(file.find(container::kTagTexcoords), nullptr);
+      EXPECT_TRUE(file.find(container::kTagTexcoords)->payload[0] & 0x20) << "predicted from the mirror";
+      EXPECT_EQ(file.minor, kFormatMinorTexcoordMirror);
+      const PolygonMesh back = decode_polygons(bytes);
+      if (keep) {
+        EXPECT_EQ(back.corners, mesh.corners);
+        EXPECT_EQ(back.corner_texcoords, mesh.corner_texcoords);
+        EXPECT_EQ(back.texcoords, rounded.texcoords);
+      } else {
+        EXPECT_EQ(corner_cycles(back), corner_cycles(rounded));
+      }
+      // Renumbered, the same bytes (canonical order: the mirror and its signs follow the layout).
+      if (!keep) {
+        EXPECT_EQ(encode_polygons(testing::renumbered(mesh, 7), o), bytes);
+      }
+    }
+  }
+}
+
+TEST(Mirror, EveryBitFlipAndCutOfMirroredTexcoordsIsSafe) {
+  const std::string good = testing::slurp(kMirror + "hull_uv12.qsp");
+  const PolygonMesh mesh = testing::read_obj_polygons(kMirror + "hull_uv12.obj");
+  const int decoded = testing::sweep_section(good, container::kTagTexcoords, kFormatMinorTexcoordMirror,
+                                             [&](const PolygonMesh& got) {
+                                               EXPECT_EQ(got.corners.size(), mesh.corners.size());
+                                               EXPECT_EQ(got.corner_texcoords.size(), mesh.corners.size());
+                                               for (const float x : got.texcoords)
+                                                 EXPECT_TRUE(std::isfinite(x));
+                                             });
+  EXPECT_GT(decoded, 0);
 }
 
 }  // namespace
