@@ -59,7 +59,7 @@ std::string level_description(int level) {
     const std::string n = std::to_string(e.header_sample);
     d += ", header and texture coordinate and normal predictions chosen on the first " + n + " values";
   } else {
-    d += ", every header and prediction coded in full";
+    d += ", every header and prediction coded in full (texture coordinates from their mirror images too)";
   }
   if (e.repeats_must_pay) d += ", value repeats only where they save 1/" + std::to_string(kRepeatsMustSave);
   d += e.try_chaining ? ", the normal-chaining trial" : ", no normal-chaining trial";
