@@ -200,6 +200,14 @@ const Section* symmetry_section(const Parsed& p) {
   return symmetry;
 }
 
+// The mirror symmetry section `s` determines on the layout's `quads` of `faces` faces, refused where the
+// seeds are no mirror (Error(kFormat) naming the section's offset).
+Mirror decoded_mirror(const Section& s, std::span<const std::uint32_t> quads, const Adjacency& adj,
+                      std::uint32_t faces) {
+  return mirror_vertices(quads, adj, decode_symmetry(s.payload, s.payload_offset, faces),
+                         "symmetry section (at byte offset " + std::to_string(s.payload_offset) + ")");
+}
+
 // The layout of the decoded topology in the geometry section's coding order, its sizes checked.
 MeshLayout lay_out(Parsed& p) {
   decode_components(p);
@@ -214,13 +222,10 @@ MeshLayout lay_out(Parsed& p) {
   }
   // Mirror prediction: each vertex's image under the symmetry section's mirror, as its stencil's source.
   if (const Section* symmetry = symmetry_section(p)) {
-    const std::vector<MirrorSeed> seeds = decode_symmetry(symmetry->payload, symmetry->payload_offset, nf);
-    const Adjacency adj = rebuilt_adjacency(layout.quads, nv, p.topology->payload_offset);
-    const Mirror mirror =
-        mirror_vertices(layout.quads, adj, seeds,
-                        "symmetry section (at byte offset " + std::to_string(symmetry->payload_offset) + ")");
+    Mirror mirror = decoded_mirror(*symmetry, layout.quads,
+                                   rebuilt_adjacency(layout.quads, nv, p.topology->payload_offset), nf);
     set_mirror_sources(layout.stencil, layout.coding, mirror);
-    p.mirror = mirror.image;
+    p.mirror = std::move(mirror.image);
   }
   return layout;
 }
@@ -572,10 +577,6 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
   info.geometry_order = coding_order(info.geometry_tools);
   info.quantize_bits = geometry_quantize_bits(p.geometry->payload, p.geometry->payload_offset);
   const Section* symmetry = symmetry_section(p);
-  const std::vector<MirrorSeed> seeds = symmetry
-                                            ? decode_symmetry(symmetry->payload, symmetry->payload_offset,
-                                                              static_cast<std::uint32_t>(p.counts.faces))
-                                            : std::vector<MirrorSeed>{};
   std::uint64_t in_sections = 0;
   for (const Section& s : p.file.sections) {
     const std::uint64_t size = s.size();
@@ -636,9 +637,7 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       assemble(p.parts, static_cast<std::uint32_t>(p.counts.unreferenced), std::nullopt);
   const Adjacency adj = rebuilt_adjacency(layout.quads, layout.vertex_count, p.topology->payload_offset);
   if (symmetry)  // as the decoder refuses it
-    (void)mirror_vertices(
-        layout.quads, adj, seeds,
-        "symmetry section (at byte offset " + std::to_string(symmetry->payload_offset) + ")");
+    (void)decoded_mirror(*symmetry, layout.quads, adj, static_cast<std::uint32_t>(p.counts.faces));
   info.edges = adj.halfedge_count() / 2;
   info.extraordinary = extraordinary_vertices(adj).size();
   return info;
