@@ -13,6 +13,20 @@
 
 namespace qsp::detail {
 
+// The positions i < n where a walk visiting darts dart(0), dart(1), ... first reaches each schematic
+// vertex of `s`, in `out`: a relabelling by that walk numbers the vertices in this order (as
+// schematic_from_next does) and lists them first in its layout. `seen`: scratch.
+template <class DartAt>
+void first_reached(const Schematic& s, std::uint32_t n, DartAt dart, std::vector<std::uint8_t>& seen,
+                   std::vector<std::uint32_t>& out) {
+  seen.assign(s.vertex_count, 0);
+  out.clear();
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t v = s.dart_vertex[dart(i)];
+    if (!seen[v]) seen[v] = 1, out.push_back(i);
+  }
+}
+
 // The darts of the canonical traversal from a root in label order (as canonical.cpp's traverse labels
 // them, without its code), made only as far as asked: choosing among tied roots by positions mostly
 // reads a few darts of each.

@@ -375,19 +375,6 @@ ComponentPartition relabel(const ComponentPartition& part, std::uint32_t root, T
   return p;
 }
 
-// The label positions where a traversal in `order` first reaches each schematic vertex: a relabelling by
-// `order` numbers the vertices in this order (as schematic_from_next does), and lists them first in
-// its layout. The same for every root of one code.
-void first_reached(const Schematic& s, const std::vector<std::uint32_t>& order,
-                   std::vector<std::uint8_t>& seen, std::vector<std::uint32_t>& out) {
-  seen.assign(s.vertex_count, 0);
-  out.clear();
-  for (std::uint32_t i = 0; i < order.size(); ++i) {
-    const std::uint32_t v = s.dart_vertex[order[i]];
-    if (!seen[v]) seen[v] = 1, out.push_back(i);
-  }
-}
-
 // Chooses among the roots tied on topology (given in candidate order) by the positions their layouts
 // list, the first of the smallest winning. The schematic vertices come first there and decide for most
 // roots: only the roots equal to the best on them (`finalists`) are relabelled and laid out.
@@ -548,7 +535,9 @@ CanonicalComponent canonical_general(const QuadMesh& mesh, const Adjacency& adj,
   RootChoice choice(mesh, s);
   smallest_codes(s, out.code, t, [&](std::uint32_t root, bool fresh) {
     if (fresh) {
-      first_reached(s, t.order, seen, first);
+      detail::first_reached(
+          s, static_cast<std::uint32_t>(t.order.size()), [&](std::uint32_t i) { return t.order[i]; }, seen,
+          first);
       if (remember) {
         label_of.resize(nd);
         for (std::uint32_t i = 0; i < nd; ++i) label_of[t.order[i]] = i;

@@ -512,10 +512,10 @@ PairChoice choose(const Prepared& pa, const CanonicalComponent& ca, const Prepar
   // General components: the darts where the canonical traversal first reaches each vertex.
   std::vector<std::uint32_t> first;
   if (!structured) {
-    const Schematic& sb = cb.part.schematic;
-    std::vector<std::uint8_t> seen(sb.vertex_count, 0);
-    for (std::uint32_t d = 0; d < sb.dart_count(); ++d)  // cb.part is labelled by that traversal
-      if (!seen[sb.dart_vertex[d]]) seen[sb.dart_vertex[d]] = 1, first.push_back(d);
+    const Schematic& sb = cb.part.schematic;  // labelled by that traversal: dart i is its i-th
+    std::vector<std::uint8_t> seen;
+    detail::first_reached(
+        sb, sb.dart_count(), [](std::uint32_t i) { return i; }, seen, first);
   }
   const auto bounds = [&](std::uint32_t s, bool whole) {
     const std::size_t count = whole || structured ? probe_a.size() : std::min(kFewProbes, probe_a.size());
