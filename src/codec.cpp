@@ -45,6 +45,7 @@ struct Parsed {
   std::vector<ComponentPartition> parts;
   std::vector<std::uint32_t> comp_vertices, comp_faces;
   std::vector<std::uint32_t> mirror;  // per layout vertex its mirror image (lay_out, with a symmetry section)
+  std::optional<Adjacency> adjacency;  // the layout's, checked, where lay_out built it for the mirror
 };
 
 // The container, then the counts, checked against the format and the caller's limits before anything
@@ -222,12 +223,20 @@ MeshLayout lay_out(Parsed& p) {
   }
   // Mirror prediction: each vertex's image under the symmetry section's mirror, as its stencil's source.
   if (const Section* symmetry = symmetry_section(p)) {
-    Mirror mirror = decoded_mirror(*symmetry, layout.quads,
-                                   rebuilt_adjacency(layout.quads, nv, p.topology->payload_offset), nf);
+    p.adjacency = rebuilt_adjacency(layout.quads, nv, p.topology->payload_offset);
+    Mirror mirror = decoded_mirror(*symmetry, layout.quads, *p.adjacency, nf);
     set_mirror_sources(layout.stencil, layout.coding, mirror);
     p.mirror = std::move(mirror.image);
   }
   return layout;
+}
+
+// The layout's adjacency, checked: lay_out's where it built it for the mirror (handed on once), else rebuilt.
+Adjacency layout_adjacency(Parsed& p, std::span<const std::uint32_t> quads, std::uint32_t nv) {
+  if (!p.adjacency) return rebuilt_adjacency(quads, nv, p.topology->payload_offset);
+  Adjacency adj = std::move(*p.adjacency);
+  p.adjacency.reset();
+  return adj;
 }
 
 // The layout's quads and positions (layout order), the quads checked as rebuilt_adjacency does (their
@@ -239,12 +248,12 @@ QuadMesh decode_layout(Parsed& p, Adjacency* adjacency = nullptr) {
   QuadMesh canonical;
   canonical.quads = std::move(layout.quads);
   // The check of the rebuilt quads (rebuilt_adjacency) needs no positions, so it runs beside the
-  // geometry decoder (from kCheckBesideFrom faces).
-  auto check = [&quads = canonical.quads, nv, offset = p.topology->payload_offset, adjacency] {
-    Adjacency adj = rebuilt_adjacency(quads, nv, offset);
+  // geometry decoder (from kCheckBesideFrom faces), where lay_out has not made it for the mirror.
+  auto check = [&quads = canonical.quads, nv, adjacency, &p] {
+    Adjacency adj = layout_adjacency(p, quads, nv);
     if (adjacency) *adjacency = std::move(adj);
   };
-  auto checked = beside(nf >= kCheckBesideFrom, check);  // else after the geometry
+  auto checked = beside(nf >= kCheckBesideFrom && !p.adjacency, check);  // else after the geometry
   canonical.positions = to_layout_order(
       decode_geometry(p.geometry->payload, p.geometry->payload_offset, layout.stencil, nv), layout.coding);
   checked.get();
@@ -280,7 +289,7 @@ DecodedPolygons decode_polygon_faces(Parsed& p, const Section& poly, const Decod
   }
   MeshLayout layout = lay_out(p);
   const auto nv = static_cast<std::uint32_t>(p.counts.vertices);
-  const Adjacency adj = rebuilt_adjacency(layout.quads, nv, p.topology->payload_offset);
+  const Adjacency adj = layout_adjacency(p, layout.quads, nv);
   PolygonStream stream = decode_polygon_stream(poly.payload, poly.payload_offset, layout.quads, adj, limits);
   const std::uint64_t n = interior_count(*interior);
   const std::uint64_t at = interior->payload_offset;
