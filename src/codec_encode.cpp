@@ -20,7 +20,49 @@ std::string encode_partition(const QuadMesh& mesh, const Adjacency& adj, const P
                              const EncodeOptions& options, const Effort& effort, const EncodeTuning& tuning,
                              OrderMap* order_out, ChoiceRole role) {
   return encode_canonical(mesh, canonicalize(mesh, adj, partition), options, effort, tuning, order_out,
-                          std::move(role));
+                          std::move(role), {}, {}, nullptr, &adj);
+}
+
+Adjacency layout_adjacency(const Adjacency& adj, const OrderMap& order) {
+  const std::uint32_t nf = adj.face_count, nv = adj.vertex_count, inside = 4 * nf;
+  if (order.face.size() != nf || order.rotation.size() != nf || order.vertex.size() != nv)
+    throw Error(ErrorCode::kInternal, "encode: the layout's numbering does not fit the adjacency");
+  const auto to = [&](std::uint32_t h) {
+    if (h >= inside) return h;  // exterior (or kInvalid)
+    const std::uint32_t f = h >> 2;
+    return 4 * order.face[f] + ((h - order.rotation[f]) & 3u);
+  };
+  Adjacency out;
+  out.vertex_count = nv;
+  out.face_count = nf;
+  out.twin.resize(adj.twin.size());
+  out.origin.resize(adj.origin.size());
+  for (std::uint32_t h = 0; h < adj.twin.size(); ++h) {
+    out.twin[to(h)] = to(adj.twin[h]);
+    out.origin[to(h)] = adj.origin[h] < nv ? order.vertex[adj.origin[h]] : adj.origin[h];
+  }
+  out.exterior_next = adj.exterior_next;
+  out.vertex_halfedge.resize(nv);
+  out.valence.resize(nv);
+  out.boundary.resize(nv);
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    const std::uint32_t w = order.vertex[v];
+    out.vertex_halfedge[w] = to(adj.vertex_halfedge[v]);
+    out.valence[w] = adj.valence[v];
+    out.boundary[w] = adj.boundary[v];
+  }
+  std::vector<std::uint32_t> input_face(nf), renamed(adj.component_count, kInvalid);
+  for (std::uint32_t f = 0; f < nf; ++f) input_face[order.face[f]] = f;
+  out.face_component.resize(nf);
+  out.component_faces.resize(adj.component_count);
+  out.component_count = adj.component_count;
+  std::uint32_t next = 0;
+  for (std::uint32_t g = 0; g < nf; ++g) {
+    const std::uint32_t c = adj.face_component[input_face[g]];
+    if (renamed[c] == kInvalid) renamed[c] = next++, out.component_faces[renamed[c]] = adj.component_faces[c];
+    out.face_component[g] = renamed[c];
+  }
+  return out;
 }
 
 // Below this many faces the topology is coded on this thread: starting one would cost more.
@@ -29,7 +71,7 @@ constexpr std::uint64_t kTopologyBesideFrom = 4096;
 std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, const EncodeOptions& options,
                              const Effort& effort, const EncodeTuning& tuning, OrderMap* order_out,
                              ChoiceRole role, std::string_view polygons, std::string_view polygon_order,
-                             const InteriorGeometry* interior) {
+                             const InteriorGeometry* interior, const Adjacency* adjacency) {
   const std::uint64_t nv = mesh.vertex_count(), nf = mesh.face_count();
 
   // Canonical numbering of the input, checked to be a bijection that maps every layout quad onto an
@@ -97,9 +139,9 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
     for (std::uint32_t v = 0; v < nv; ++v)
       std::copy_n(&mesh.positions[3 * std::size_t{canonical_to_input[v]}], 3,
                   &layout_positions[3 * std::size_t{v}]);
-    const Adjacency layout_adj = build_adjacency(quads, static_cast<std::uint32_t>(nv));
-    seeds = find_mirror(quads, layout_adj, layout_positions);
-    if (!seeds.empty()) mirror = mirror_vertices(quads, layout_adj, seeds, "encode: mirror");
+    const Adjacency layout_adj = adjacency ? layout_adjacency(*adjacency, order)
+                                           : build_adjacency(quads, static_cast<std::uint32_t>(nv));
+    seeds = find_mirror(quads, layout_adj, layout_positions, &mirror);
   }
   quads = {};
 

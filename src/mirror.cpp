@@ -111,8 +111,20 @@ Mirror mirror_vertices(std::span<const std::uint32_t> quads, const Adjacency& ad
 }
 
 std::vector<MirrorSeed> find_mirror(std::span<const std::uint32_t> quads, const Adjacency& adj,
-                                    std::span<const float> positions) {
+                                    std::span<const float> positions, Mirror* found) {
   const std::uint32_t nf = adj.face_count;
+  if (found) found->image.assign(adj.vertex_count, kInvalid), found->axis.assign(adj.vertex_count, 3);
+  // The images of a component's vertices under a propagation (its faces' corners), or none.
+  const auto keep = [&](std::span<const std::uint32_t> reached, const std::vector<std::uint32_t>* image,
+                        std::uint32_t axis) {
+    if (!found) return;
+    for (const std::uint32_t f : reached)
+      for (std::uint32_t k = 0; k < 4; ++k) {
+        const std::uint32_t v = quads[4 * std::size_t{f} + k];
+        found->image[v] = image ? (*image)[v] : kInvalid;
+        found->axis[v] = static_cast<std::uint8_t>(image ? axis : 3);
+      }
+  };
   std::vector<std::vector<std::uint32_t>> faces(adj.component_count);
   for (std::uint32_t f = 0; f < nf; ++f) faces[adj.face_component[f]].push_back(f);
   auto centre = [&](std::uint32_t f) {
@@ -196,13 +208,16 @@ std::vector<MirrorSeed> find_mirror(std::span<const std::uint32_t> quads, const 
           cost += dist2(reflect(pv), pw), ++count;
         }
         cost /= static_cast<double>(count);
-        if (cost < best) best = cost, chosen = t.second;
+        if (cost < best) best = cost, chosen = t.second, keep(prop.faces(), &image, t.second.axis);
         break;
       }
     }
     // A mirror whose images lie within 2% of the component's size of the reflected vertices (rms).
     // (best stays infinite where no seed was an automorphism, or a coordinate is not finite.)
-    if (std::isfinite(best) && best <= tolerance) seeds.push_back(chosen);
+    if (std::isfinite(best) && best <= tolerance)
+      seeds.push_back(chosen);
+    else if (std::isfinite(best))
+      keep(comp, nullptr, 3);  // an image kept above, for a mirror not kept
   }
   return seeds;
 }

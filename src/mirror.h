@@ -39,9 +39,10 @@ Mirror mirror_vertices(std::span<const std::uint32_t> quads, const Adjacency& ad
 // centres lie nearest its reflected centre, in the four turns, nearest corners first, until one is an
 // automorphism; the nearest of the three axes is kept where its rms distance is within 2% of the
 // component's size. Seeds in component order. Deterministic in the quads and positions, so a renumbered mesh,
-// canonicalized, finds the same.
+// canonicalized, finds the same. `found`, if given: mirror_vertices of the seeds, kept from the search's
+// own propagations rather than made again.
 std::vector<MirrorSeed> find_mirror(std::span<const std::uint32_t> quads, const Adjacency& adj,
-                                    std::span<const float> positions);
+                                    std::span<const float> positions, Mirror* found = nullptr);
 
 // Sets each stencil's mirror source: the coding position of its vertex's image, where that comes first,
 // and the axis. `coding`: the layout vertex at each coding position (empty: the identity).

@@ -12,11 +12,13 @@
 #include <string>
 #include <vector>
 
+#include "codec_encode.h"
 #include "container.h"
 #include "mirror.h"
 #include "qsp/codec.h"
 #include "qsp/error.h"
 #include "qsp/io.h"
+#include "support/corpus.h"
 #include "support/files.h"
 #include "support/mesh_gen.h"
 #include "support/polygon.h"
@@ -59,6 +61,73 @@ TEST(Mirror, SeedsThatAreNoMirrorAreRefused) {
   // No seed where no reflection across an axis is a mirror: an L of quads (its mirror is diagonal).
   const QuadMesh l = read_mesh_file(std::string(QSP_TESTDATA_DIR) + "/golden/l_shape.obj");
   EXPECT_TRUE(find_mirror(l.quads, build_adjacency(l), l.positions).empty());
+}
+
+// The mirror search's adjacency, the input's renumbered as the layout numbers it, is what building the
+// layout's quads gives on every field the search and propagation read, and on the rest but which
+// outgoing half-edge a vertex names and how exterior half-edges are numbered: over the corpus.
+TEST(Mirror, TheLayoutsAdjacencyIsTheInputsRenumbered) {
+  int checked = 0;
+  for (const auto& path : testing::corpus()) {
+    QuadMesh mesh;
+    Adjacency adj;
+    if (!testing::read_valid(path, mesh, &adj) || mesh.vertex_count() > 40000) continue;
+    SCOPED_TRACE(path.string());
+    EncodeOptions o;
+    o.level = 1;
+    OrderMap order;
+    (void)encode_tuned(mesh, o, {}, &order);
+    const std::uint32_t nf = adj.face_count, nv = adj.vertex_count;
+    std::vector<std::uint32_t> quads(4 * std::size_t{nf});
+    for (std::uint32_t f = 0; f < nf; ++f)
+      for (std::uint32_t c = 0; c < 4; ++c)
+        quads[4 * std::size_t{order.face[f]} + c] =
+            order.vertex[mesh.quads[4 * f + ((c + order.rotation[f]) & 3u)]];
+    const Adjacency built = build_adjacency(quads, nv);
+    const Adjacency renumbered = layout_adjacency(adj, order);
+    ASSERT_EQ(renumbered.twin.size(), built.twin.size());
+    for (std::uint32_t h = 0; h < 4 * nf; ++h) {
+      ASSERT_EQ(renumbered.is_exterior(renumbered.twin[h]), built.is_exterior(built.twin[h])) << h;
+      if (!built.is_exterior(built.twin[h])) {
+        ASSERT_EQ(renumbered.twin[h], built.twin[h]) << h;
+      }
+      ASSERT_EQ(renumbered.origin[h], built.origin[h]) << h;
+    }
+    for (std::uint32_t h = 0; h < renumbered.twin.size(); ++h) {
+      ASSERT_EQ(renumbered.twin[renumbered.twin[h]], h);
+      ASSERT_EQ(renumbered.origin[renumbered.twin[h]], renumbered.dest(h));
+    }
+    EXPECT_EQ(renumbered.valence, built.valence);
+    EXPECT_EQ(renumbered.boundary, built.boundary);
+    EXPECT_EQ(renumbered.face_component, built.face_component);
+    EXPECT_EQ(renumbered.component_faces, built.component_faces);
+    EXPECT_EQ(renumbered.component_count, built.component_count);
+    for (std::uint32_t v = 0; v < nv; ++v)
+      if (renumbered.vertex_halfedge[v] != kInvalid) {
+        EXPECT_EQ(renumbered.origin[renumbered.vertex_halfedge[v]], v);
+      }
+    ++checked;
+  }
+  EXPECT_GE(checked, 20);
+}
+
+// The mirror the search keeps from its own propagations is the one its seeds determine, over the corpus
+// (the symmetric meshes among it: MakeHuman's, Spot, Blub, the hull).
+TEST(Mirror, TheSearchsMirrorIsItsSeedsPropagated) {
+  int mirrored = 0;
+  for (const auto& path : testing::corpus()) {
+    QuadMesh mesh;
+    Adjacency adj;
+    if (!testing::read_valid(path, mesh, &adj) || mesh.vertex_count() > 40000) continue;
+    SCOPED_TRACE(path.string());
+    Mirror found;
+    const std::vector<MirrorSeed> seeds = find_mirror(mesh.quads, adj, mesh.positions, &found);
+    const Mirror m = mirror_vertices(mesh.quads, adj, seeds, "test");
+    EXPECT_EQ(found.image, m.image);
+    EXPECT_EQ(found.axis, m.axis);
+    mirrored += !seeds.empty();
+  }
+  EXPECT_GE(mirrored, 3);
 }
 
 TEST(Mirror, RenumberedCopiesGiveTheSameBytes) {
