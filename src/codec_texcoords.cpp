@@ -364,7 +364,7 @@ std::uint32_t mirror_corner(std::uint32_t c, std::span<const std::uint32_t> face
   return k == kInvalid ? kInvalid : next(k);
 }
 
-// Bit 5: the value value i's creating corner's mirror image names, where it is decoded before i, or kInvalid.
+// Bit 5: the value the mirror image of value i's creating corner names, where decoded before i, or kInvalid.
 struct MirrorSources {
   std::span<const std::uint32_t> mirror;  // per vertex its image, kInvalid where none
   const Edges* by_vertex = nullptr;
