@@ -451,10 +451,77 @@ for x in failed:
 sys.exit(1 if failed else 0)
 PY
   { echo "symmetry sections from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
+# Texture coordinates predicted from their mirror images' (format 3.18: the texture coordinates
+# section's flag bit 5, from the text too): the fedora at --best, quantized (with and without
+# --keep-order), lossless (decimal grids) and with its texture coordinates scaled to binary32 prints
+# (float bits beside a decimal grid), and blub (../shared) at --best below, are 3.18 files with flag bit
+# 5, decoded whole by qsppoly.py against their mesh and what `qsp decompress` writes with the rest; both
+# decoders must refuse flag bit 5 broken each way the text names (in a 3.17 file, a sign bit at K or at
+# 7, without a symmetry section, beside a polygons section (a polygon file given an empty symmetry
+# section and tools bit 5, which both read without flag bit 5), and reserved flag bit 6.
+encode_tex fedora_mirror_uv12 "$root/testdata/mh_fedora.obj" --best --quantize 14 --quantize-uv 12
+encode_tex fedora_mirror_uv12_keep_order "$root/testdata/mh_fedora.obj" --best --keep-order --quantize 14 \
+  --quantize-uv 12
+encode_tex fedora_mirror_uv "$root/testdata/mh_fedora.obj" --best
+"$python" - "$root/testdata/mh_fedora.obj" "$work/fedora_float.obj" <<'PY'
+import math, struct, sys
+f32 = lambda x: struct.unpack('<f', struct.pack('<f', x))[0]
+out = []
+for line in open(sys.argv[1]):
+    if line.startswith('vt '):   # u' = 1 - u and v' = v stay mirrored; 9 digits: float bits or 9 decimals
+        u, v = map(float, line.split()[1:3])
+        line = 'vt %.9g %.9g\n' % (f32(u * math.pi / 10), f32(v * math.pi / 10))
+    out.append(line)
+open(sys.argv[2], 'w').writelines(out)
+PY
+encode_tex fedora_mirror_float "$work/fedora_float.obj" --best
+"$qsp" compress -f --quantize 14 --quantize-uv 12 "$work/tex_1_uv.obj" "$work/tex_1_uv_q14.qsp" >/dev/null
+"$python" - "$here" "$work" "$qsp" <<'PY' ||
+import sys
+sys.path.insert(0, sys.argv[1])
+import qspgeo as g
+import qsppoly as poly
+work, qsp = sys.argv[2:]
+minor = lambda b, m: b[:9] + bytes([m]) + b[10:]
+def modes_end(p):   # the offset after the K mode bytes: the signs byte with flag bit 5
+    T, pos = g.read_varint(p, 1)
+    U, pos = g.read_varint(p, pos)
+    return pos + (p[0] & 3)
+data = open('%s/fedora_mirror_uv12.qsp' % work, 'rb').read()
+secs = g.sections(data)
+tex = secs[6]
+K, at = tex[0] & 3, modes_end(tex)
+if not tex[0] & 0x20 or 0x0f not in secs:
+    print('spec decoder: %s/fedora_mirror_uv12.qsp has no texture coordinates flag bit 5' % work, file=sys.stderr)
+    sys.exit(1)
+with_tex = lambda d, s, p: g.container(d, {**s, 6: p})
+signs = lambda b: tex[:at] + bytes([b]) + tex[at + 1:]
+poly_data = open('%s/tex_1_uv.qsp' % work, 'rb').read()   # a polygon mesh, no symmetry section
+ps = g.sections(poly_data)
+def bit5(p):   # flag bit 5 and a signs byte of 0
+    e = modes_end(p)
+    return bytes([p[0] | 0x20]) + p[1:e] + b'\0' + p[e:]
+q14 = open('%s/tex_1_uv_q14.qsp' % work, 'rb').read()   # the same on integer axes
+qs = g.sections(q14)
+qs = {**qs, 3: bytes([qs[3][0] | 0x20]) + qs[3][1:], 0x0f: g.varint(0)}
+cases = [('the file itself', data, True),
+         ('flag bit 5 in a 3.17 file', g.container(minor(data, 17), secs), False),
+         ('a sign bit at K', with_tex(data, secs, signs(tex[at] | 1 << K)), False),
+         ('sign bit 7', with_tex(data, secs, signs(tex[at] | 0x80)), False),
+         ('flag bit 6', with_tex(data, secs, bytes([tex[0] | 0x40]) + tex[1:]), False),
+         ('flag bit 5 without a symmetry section', with_tex(minor(poly_data, 18), ps, bit5(ps[6])), False),
+         ('a polygon file given an empty symmetry section and tools bit 5', g.container(minor(q14, 18), qs), True),
+         ('flag bit 5 beside a polygons section', with_tex(minor(q14, 18), qs, bit5(qs[6])), False)]
+failed = poly.refusals(cases, qsp, '%s/texcoords_bit5_case.qsp' % work)
+for x in failed:
+    print(x, file=sys.stderr)
+sys.exit(1 if failed else 0)
+PY
+  { echo "texture coordinates flag bit 5 from the text: the spec decoder or qsp decompress disagrees" >&2; exit 1; }
 # The must-fail files of the symmetry section and mirror prediction (testdata/invalid, which the
 # reference refuses in its tests): the text refuses each too.
 for f in "$root"/testdata/invalid/qsp_mirror_*.qsp "$root"/testdata/invalid/qsp_symmetry_*.qsp \
-  "$root"/testdata/invalid/qsp_polygons_interior_mirror_bit.qsp; do
+  "$root"/testdata/invalid/qsp_polygons_interior_mirror_bit.qsp "$root"/testdata/invalid/qsp_texcoords_mirror_*.qsp; do
   [[ -f $f ]] || continue
   if "$python" "$here/qsppoly.py" "$f" >/dev/null; then
     echo "spec decoder: qsppoly.py reads $f, which the reference refuses" >&2
@@ -497,6 +564,15 @@ encode_normals chaikin0_normals_keep_order "$shared/osd_shapes/catmark_chaikin0.
 encode_normals suzanne_normals_qn10 "$shared/pmp_suzanne.obj" 0 --quantize-normal 10  # octahedral (3.10)
 encode_normals lefthanded_normals "$shared/osd_catmark_lefthanded.obj" 0     # from the faces, -0 on grids
 encode_normals lefthanded_normals_qn12 "$shared/osd_catmark_lefthanded.obj" 0 --quantize-normal 12
+encode_tex blub_mirror_uv12 "$shared/keenan_blub_quadrangulated.obj" --best --quantize 14 --quantize-uv 12
+encode_tex blub_mirror_uv12_keep_order "$shared/keenan_blub_quadrangulated.obj" --best --keep-order --quantize 14 \
+  --quantize-uv 12
+for f in "$work"/*_mirror_*.qsp; do  # (3.18: flag bit 5, where the encoder found it smaller)
+  if ! "$qsp" stats "$f" | grep -q "format 3\.18,"; then
+    echo "spec decoder: $f is not a 3.18 file, as texture coordinates predicted from their mirror images make it" >&2
+    exit 1
+  fi
+done
 encode gargoyle_q14 "$shared/quadriflow_gargoyle.obj" --quantize 14  # normal chaining, distorted cells
 encode gargoyle_q14_best "$shared/quadriflow_gargoyle.obj" --quantize 14 --best  # and the costly tools
 encode horse "$shared/igl_horse_quad.obj" --best

@@ -2,7 +2,8 @@
 """The symmetry section of .qsp format 3.17 (qsp_format.md "Symmetry section"), written from the text:
 its seeds, the mirror map they propagate over the layout's quads, and the mirror source and axis of
 each coding position, which qspgeo.decode_geometry reads under tools bit 5 ("Mirror prediction" of
-geometry_section.md).
+geometry_section.md); the map's vertex images are what the texture coordinates section's flag bit 5
+reads (3.18, qsppoly.decode_texcoords).
 """
 import qspgeo as g
 
@@ -106,6 +107,14 @@ def mirror_sources(coding, vimage, vaxis):
 def file_mirror(data, secs, V, quads, coding):
     """The mirror sources of a file's geometry section, or None without a symmetry section; the
     section's presence checked against tools bit 5 and the file's minor version."""
+    m = file_map(data, secs, V, quads)
+    return None if m is None else mirror_sources(coding, *m)
+
+
+def file_map(data, secs, V, quads):
+    """The mirror map of a file's symmetry section, (image, axis) per layout vertex as mirror_map
+    gives them, or None without a symmetry section; the section's presence checked against tools
+    bit 5 and the file's minor version."""
     geo = secs[3]
     has_bit = bool(geo[:1] and geo[0] & MIRROR)
     if TAG not in secs:
@@ -114,5 +123,4 @@ def file_mirror(data, secs, V, quads, coding):
     need(data[9] >= MINOR, 'section 0x0f (symmetry) is format 3.17\'s, and the file says it is 3.%d' % data[9])
     seeds = parse_symmetry(secs[TAG], len(quads))
     need(has_bit, 'symmetry section: the geometry section does not predict by it')
-    vimage, vaxis = mirror_map(V, quads, seeds)
-    return mirror_sources(coding, vimage, vaxis)
+    return mirror_map(V, quads, seeds)

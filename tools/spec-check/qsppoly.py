@@ -704,14 +704,16 @@ FLOAT_FROM_ZERO = True    # a float prediction's binary64 sum starts from +0.0, 
                           # predicts +0.0 (the text does not say; qsp does so: texgen.py's `u`)
 
 
-def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=10):
+def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=10, mirror=None):
     """The texture coordinates section over the output mesh of the other sections (faces in
     canonical order, corners from each face's first): (values, names, original, modes) with
     values[i] the K components of value i as binary32 bits, names[f][k] the value corner k of face f
     names (None: none), original[i] value i's original index (None without bit 2), modes the K
     components' modes. normals: the normals section ("Normals section": the same payload with models
     of its own, which each call's are, K = 3 and T bounded by max_normals; from 3.`minor` = 10 its flag
-    bits 5, from the faces, and 6, octahedral)."""
+    bits 5, from the faces, and 6, octahedral). mirror: per output vertex its image M(v) under the
+    symmetry section's map (None where none), in a file with a symmetry section and no polygons
+    section, else None; texture coordinates' flag bit 5 (3.18, "Mirror") reads it."""
     noun, prefix = ('normal', 'normals: ') if normals else ('texture coordinate', 'tex: ')
 
     def need(ok, msg):
@@ -728,8 +730,15 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
         need(K == 3, 'normals with %d components (flags bits 0-1), not 3' % K)
     faces_bit = normals and bool(flags & 32)
     octahedral = normals and bool(flags & 64)
-    need((flags >> 7 if normals else (flags >> 5) & 3) == 0, 'reserved texture coordinates flag bits set')
+    need((flags >> 7 if normals else (flags >> 6) & 1) == 0, 'reserved texture coordinates flag bits set')
     hints = not normals and bool(flags & 128)
+    mirrored = not normals and bool(flags & 32)   # "Mirror" (3.18); the normals' bit 5 is "from the faces"
+    need(not mirrored or minor >= 18,
+         'flag bit 5 (mirror prediction) is format 3.18\'s, and the file says it is 3.%d' % minor)
+    need(not mirrored or mirror is not None,
+         'flag bit 5 (mirror prediction) without a symmetry section (or beside a polygons section)')
+    if not normals:
+        seen('tex: %s' % ('mirror' if mirrored else 'no mirror'))
     need(not hints or minor >= 16, 'flag bit 7 (hints from the faces across) is format 3.16\'s, and the file says it is 3.%d' % minor)
     if not normals:
         seen('tex: %s' % ('hints' if hints else 'no hints'))
@@ -769,6 +778,13 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
         seen('tex: K=%d mode %s' % (K, 'float' if mode == 0 else 'dec%d' % (mode - 1) if mode <= 10
                                     else 'bin%d' % (mode - 16)))
     pos += K
+    signs = 0
+    if mirrored:   # "Mirror": one byte, bit c set = component c reflected
+        need(pos + 1 <= len(payload), 'mirror signs past the section')
+        signs = payload[pos]
+        need(signs >> K == 0, 'mirror sign bits 0x%02x beyond the %d components' % (signs, K))
+        seen('tex: mirror signs %d of K=%d' % (signs, K))
+        pos += 1
     rd = g.RangeDecoder(payload[pos:])
     T_ = {}
 
@@ -796,7 +812,7 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
     for f in faces:
         start.append(start[-1] + len(f))
     W = {}                         # "Hints": W(x, y), the first corner at x whose face's next corner is at y
-    if hints:
+    if hints or mirrored:
         for fi in range(len(faces)):
             d = len(faces[fi])
             for p in range(d):
@@ -1002,7 +1018,63 @@ def decode_texcoords(payload, positions, faces, has_order, normals=False, minor=
     else:
         T_range = range(T)
 
+    # "Mirror" (flag bit 5): corner c's mirror image, the corner after k = W(M(v(c')), M(v(c))) in its
+    # face (c' the corner after c in its face), which is at M(v(c)); None where any step gives none.
+    def mirror_image(c):
+        a, b = mirror[verts[c]], mirror[verts[nxt(c)]]
+        if a is None or b is None:
+            seen('tex: mirror: a vertex without an image')
+            return None
+        k = W.get((b, a))
+        if k is None:
+            seen('tex: mirror: no edge from M(v(c\')) to M(v(c))')
+            return None
+        return nxt(k)
+
+    sigma = [-1 if signs >> k & 1 else 1 for k in range(K)]
+    offset = [0] * K               # per component, what the last mirrored value left (0 before the first)
     for i in T_range:
+        if mirrored and i < T - U:    # "Mirror": predicted from the value j its creating corner's image names
+            mc = mirror_image(creator[i])
+            j = None if mc is None else name[mc]
+            if mc is not None and (j is None or j >= i):
+                seen('tex: mirror: the image names %s' % ('none' if j is None else 'value i' if j == i
+                                                            else 'a later value'))
+            if j is not None and j < i:
+                seen('tex: mirrored')
+                gb = 0
+                if hints:   # the bucket of the one value it reads
+                    gb = min(size[j].bit_length(), 3)
+                    seen('tex: mirror bucket %d' % gb)
+                    size.append(0)
+                val, vint = [], []
+                for k in range(K):
+                    mode = modes[k]
+                    Ij = ints[j][k] if mode else g.image(vals[j][k])
+                    p_ = sigma[k] * Ij + offset[k]
+                    P = g.clamp(p_, -LIM, LIM) if mode else g.clamp(p_, 0, (1 << 32) - 1)
+                    if P != p_:
+                        seen('tex: mirror prediction clamped')
+                    r = residual(4 * (K * 7 + k) + gb if hints else K * 7 + k)
+                    if hints:
+                        size[i] += min(abs(r), 1 << 20)
+                    if mode:
+                        q = P + r
+                        need(-LIM <= q <= LIM, 'texture coordinate integer %d outside (-2^40, 2^40)' % q)
+                        u = g.f32_of_rational(q, 1 << (mode - 16) if mode >= 17 else 10 ** (mode - 1))
+                        Ii = integer_of(u, mode)
+                        vint.append(Ii)
+                    else:
+                        Ii = P + r
+                        need(0 <= Ii < 1 << 32, 'texture coordinate image outside [0, 2^32)')
+                        u = g.unimage(Ii)
+                        need(u & 0x7F800000 != 0x7F800000, 'texture coordinate not finite')
+                        vint.append(None)
+                    val.append(u)
+                    offset[k] = Ii - sigma[k] * Ij
+                vals.append(val)
+                ints.append(vint)
+                continue
         if faces_bit and i < T - U:   # bit 5: the value the corner before its creating corner names
             fi_, p_c, _ = corners[creator[i]]
             j = name[creator[i] - 1] if p_c >= 1 else None
@@ -1294,24 +1366,31 @@ def output_numbering(V, I, groups):
     return first_of, out_index
 
 
-def canonical_mesh(data, secs):
-    """The output mesh before an order section: (positions as float bits, faces, quantized?)."""
+def canonical_mesh(data, secs, images=False):
+    """The output mesh before an order section: (positions as float bits, faces, quantized?), and
+    with images the mirror image of each output vertex (the symmetry section's map, None where it
+    gives none) or None (no symmetry section, or a polygons section: "Mirror" of the texture
+    coordinates section reads it only where the layout's vertices are the output's)."""
     V, F, C, U = g.counts(secs[1])
     n, quads = layout(secs[2], C, U)
     need(n == V and len(quads) == F, 'counts disagree with the topology')
     geo = secs[3]
     coding, st = lay.stencils(secs[2], C, U, bool(geo[0] & g.LAYOUT_ORDER))
-    mirror = qspmirror.file_mirror(data, secs, V, quads, coding)   # "Symmetry section" (3.17)
-    if mirror is not None:
+    vmap = qspmirror.file_map(data, secs, V, quads)   # "Symmetry section" (3.17)
+    mirror = None
+    if vmap is not None:
         seen('symmetry section')
+        mirror = qspmirror.mirror_sources(coding, *vmap)
     if 0x0c in secs:
-        return interior_mesh(data, secs, V, quads, coding, st, mirror)
+        out = interior_mesh(data, secs, V, quads, coding, st, mirror)
+        return out + (None,) if images else out
     fb, _ = g.decode_geometry(geo, V, st, mirror=mirror)
     pos = [None] * V
     for k in range(V):
         pos[coding[k]] = (fb[0][k], fb[1][k], fb[2][k])
     if 0x05 not in secs:
-        return pos, [list(q) for q in quads], geo[1] != 0
+        out = pos, [list(q) for q in quads], geo[1] != 0
+        return out + (vmap and vmap[0],) if images else out
     need(data[9] >= 1, 'a polygons section in a 3.0 file')
     I, groups, faces, rest = decode_polygons(secs[0x05], V, quads)
     first_of, out_index = output_numbering(V, I, groups)
@@ -1327,7 +1406,7 @@ def canonical_mesh(data, secs):
         o = [out_index[first_of.get(r, r)] for r in f]
         need(len(set(o)) == len(o), 'a face repeating an output vertex')
         out_faces.append(o)
-    return out_pos, out_faces, geo[1] != 0
+    return (out_pos, out_faces, geo[1] != 0) + ((None,) if images else ())
 
 
 def interior_mesh(data, secs, V, quads, coding, st, mirror=None):
@@ -1405,7 +1484,7 @@ def decode_file(data):
     secs = g.sections(data)
     for tag in secs:
         need(tag & 0x80 or tag in KNOWN_REQUIRED, 'section 0x%02x is required but unknown' % tag)
-    pos, faces, quantized = canonical_mesh(data, secs)
+    pos, faces, quantized, images = canonical_mesh(data, secs, images=True)
     exact = None   # "Exact positions section": binary64 values per output vertex, moved as positions are
     if 0x0a in secs:
         exact = qspexact.decode_exact(secs[0x0a], len(pos), [tuple(map(g.bits_f32, p)) for p in pos],
@@ -1427,7 +1506,8 @@ def decode_file(data):
     tex = None
     if 0x06 in secs:
         need(data[9] >= 2, 'a texture coordinates section in a %d.%d file' % (data[8], data[9]))
-        values, names, original, modes = decode_texcoords(secs[0x06], pos, faces, 0x04 in secs, minor=data[9])
+        values, names, original, modes = decode_texcoords(secs[0x06], pos, faces, 0x04 in secs, minor=data[9],
+                                                          mirror=images)
         if original is not None:
             out_values = [None] * len(values)
             for i, j in enumerate(original):
@@ -1583,13 +1663,13 @@ QUANTIZE_ROUND = round   # (the text does not say how --quantize-uv rounds a hal
 
 
 def tex_faces(pos, faces, values, names):
-    """The faces as corner cycles of (position, texture coordinate or ()), each from its smallest
-    corner, sorted: a mesh up to vertex and texture coordinate renumbering, face order and rotation."""
+    """The faces as corner cycles of (position, texture coordinate or ()), each its smallest rotation
+    (two corners may be equal: positions left out of a quantized mesh, a texture chart's degenerate
+    face), sorted: a mesh up to vertex and texture coordinate renumbering, face order and rotation."""
     out = []
     for f, nm in zip(faces, names):
         cyc = [(pos[v], () if x is None else tuple(values[x])) for v, x in zip(f, nm)]
-        k = cyc.index(min(cyc))
-        out.append(tuple(cyc[k:] + cyc[:k]))
+        out.append(min(tuple(cyc[k:] + cyc[:k]) for k in range(len(cyc))))
     return sorted(out)
 
 
