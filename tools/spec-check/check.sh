@@ -80,6 +80,12 @@
 # goes through qspgeo.py and qsppoly.py with the mirror sources the text gives, the mirrored fedora and
 # xord are recoded under all 64 tools bytes, and both decoders must refuse the symmetry section broken
 # each way the text names.
+# Texture coordinates from their mirror images (format 3.18: the texture coordinates section's flag bit
+# 5, from the text too): fresh --best encodes of the fedora (quantized, with and without --keep-order,
+# lossless, and float bits) and of blub, and the golden testdata/golden/mirror/hull_uv12, must be 3.18
+# files with flag bit 5 and are decoded whole by qsppoly.py against their mesh and what `qsp decompress`
+# writes; both decoders must refuse flag bit 5 broken each way the text names, and qsppoly.py the
+# must-fail files testdata/invalid/qsp_texcoords_mirror_*.
 # Usage: check.sh QSP DUMP_STENCILS [PYTHON3]   (ctest runs it: "spec_decoder")
 set -euo pipefail
 qsp=$1 dump=$2 python=${3:-python3}
@@ -91,6 +97,7 @@ files=("$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp "$ro
 declare -A obj_of=()  # the files qsppoly.py decodes whole, and the mesh each was made from
 for f in "$root"/testdata/golden/mirror/*.qsp; do  # mirror prediction (3.17), decoded whole too
   [[ -f $f ]] || continue
+  grep -q '^vt ' "${f%.qsp}.obj" && continue  # (with texture coordinates: below, whole, as tex_of's are)
   files+=("$f")
   obj_of[$f]=${f%.qsp}.obj
 done
@@ -109,6 +116,9 @@ declare -A tex_of=()  # the files with texture coordinates, and the mesh each wa
 for f in "$root"/testdata/golden/texcoords/*.qsp; do tex_of[$f]=${f%.qsp}.obj; done
 for f in "$root"/testdata/golden/v3.*/texcoords/*.qsp; do  # earlier versions, against today's mesh
   [[ -f $f ]] && tex_of[$f]=$root/testdata/golden/texcoords/$(basename "${f%.qsp}").obj
+done
+for f in "$root"/testdata/golden/mirror/*.qsp; do  # mirrored texture coordinates (3.18), whole against
+  [[ -f $f ]] && grep -q '^vt ' "${f%.qsp}.obj" && tex_of[$f]=${f%.qsp}.obj  # the mesh and qsp decompress
 done
 for f in "$root"/testdata/golden/*.qsp "$root"/testdata/golden/polygons/*.qsp; do obj_of[$f]=${f%.qsp}.obj; done
 declare -A lab_of=()  # the files with face labels, and the mesh each was made from
