@@ -30,7 +30,8 @@ bool breaks_line(char c) { return c == '\n' || c == '\r'; }
 // (hashed) and three (hashed), and either the byte the match model expects or, without one, order 0.
 class TextModel {
  public:
-  TextModel() : order1_(kTable), order2_(kTable), order3_(kTable) {
+  // For a text of `length` bytes.
+  explicit TextModel(std::size_t length) : order1_(8 * length), order2_(8 * length), order3_(8 * length) {
     for (MixWeights& w : weights_) w.w = {32768, 32768, 32768, 32768, 0};
   }
 
@@ -46,9 +47,9 @@ class TextModel {
     const unsigned byte = static_cast<std::uint8_t>(text[i]);  // the encoder's; a decoder's is 0 so far
     std::uint32_t node = 1;
     for (int b = 7; b >= 0; --b) {
-      BitModel* m1 = &order1_[(x1 << 8) | node];
-      BitModel* m2 = &order2_[slot((x2 << 8) | node)];
-      BitModel* m3 = &order3_[slot((x3 << 8) | node)];
+      BitModel* m1 = &order1_.at((x1 << 8) | node);
+      BitModel* m2 = &order2_.at(slot((x2 << 8) | node));
+      BitModel* m3 = &order3_.at(slot((x3 << 8) | node));
       // The match model speaks while the expected byte agrees with the bits coded so far.
       const bool hit = length_ > 0 && (expected | 256u) >> (b + 1) == node;
       BitModel* m0 = hit ? &match_[16 * ((expected >> b) & 1u) + length_] : &order0_[node];
@@ -66,6 +67,42 @@ class TextModel {
   static constexpr int kRate = 10;
   static constexpr std::size_t kTable = std::size_t{1} << 16;
   static constexpr std::uint32_t kMaxLength = 15;
+
+  // The models of a table's kTable slots, made as they are first used where the text uses few: a short
+  // text touches a few thousand slots, and making all three tables' 65,536 models each was a millisecond
+  // of compressing a small mesh with its licence lines (1.2 MB of fresh pages). `most`: the most slots
+  // the text can use (8 a byte); below a quarter of the table, open addressing at half load at most.
+  class Table {
+   public:
+    explicit Table(std::size_t most) {
+      if (most >= kTable / 4) {
+        dense_.resize(kTable);
+        return;
+      }
+      std::size_t capacity = 16;
+      while (capacity < 2 * most) capacity <<= 1;
+      keys_.assign(capacity, kFree);
+      models_.resize(capacity);
+    }
+    BitModel& at(std::uint32_t slot) {
+      if (!dense_.empty()) return dense_[slot];
+      const std::size_t mask = keys_.size() - 1;
+      std::size_t i = (slot * 0x9E3779B1u) & mask;
+      while (keys_[i] != slot) {
+        if (keys_[i] == kFree) {
+          keys_[i] = slot;
+          break;
+        }
+        i = (i + 1) & mask;
+      }
+      return models_[i];
+    }
+
+   private:
+    static constexpr std::uint32_t kFree = ~std::uint32_t{0};
+    std::vector<BitModel> dense_, models_;
+    std::vector<std::uint32_t> keys_;
+  };
 
   // A context's table index: the top 16 bits of its product with 0x9E3779B1, modulo 2^32.
   static std::size_t slot(std::uint32_t key) { return (key * 0x9E3779B1u) >> 16; }
@@ -95,7 +132,7 @@ class TextModel {
   }
 
   std::array<BitModel, 256> order0_{};
-  std::vector<BitModel> order1_, order2_, order3_;
+  Table order1_, order2_, order3_;
   std::array<BitModel, 32> match_{};                     // [expected bit][length]
   std::array<MixWeights, 8> weights_;                    // [2 * contexts seen before + hit]
   std::unordered_map<std::uint32_t, std::size_t> last_;  // 4 bytes -> the latest end of them
@@ -125,7 +162,7 @@ std::string encode_coded_comments_section(const std::vector<std::string>& lines)
   std::string payload;
   put_varint(payload, text.size());
   RangeEncoder rc(payload);
-  TextModel model;
+  TextModel model(text.size());
   for (std::size_t i = 0; i < text.size(); ++i) model.code_byte(rc, text, i);
   rc.finish();
   return payload;
@@ -146,7 +183,7 @@ std::vector<std::string> decode_coded_comments_section(std::string_view payload,
   const std::uint64_t at = in.offset();
   RangeDecoder rc(in.rest(), at, "coded comments section");
   std::string text(size, '\0');
-  TextModel model;
+  TextModel model(text.size());
   std::uint64_t breaks = 0;
   for (std::size_t i = 0; i < text.size(); ++i) {
     model.code_byte(rc, text, i);

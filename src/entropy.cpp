@@ -119,7 +119,9 @@ void RangeDecoder::finish() const {
 
 // The tail's models are made when a value first needs them: most models never code a value above 511,
 // and making 1024 models for each of them was most of the cost of starting a small section's coder.
-IntModel::IntModel() : tree_(std::size_t{2} << kTreeBits) {}
+// The tree is made at its first use: most of a coder's models (a context per component and bucket) code
+// few values or none, and making each tree up front was a tenth of compressing a small mesh's UVs.
+IntModel::IntModel() = default;
 
 void IntModel::encode(RangeEncoder& enc, std::uint32_t value) {
   std::uint32_t v = value + 1;  // >= 1; value <= 2^32 - 2 by contract
@@ -127,6 +129,7 @@ void IntModel::encode(RangeEncoder& enc, std::uint32_t value) {
   for (unsigned i = 0; i < n; ++i) enc.encode_bit(prefix_[i], 1);
   if (n < kMaxBits) enc.encode_bit(prefix_[n], 0);
   if (n <= kTreeBits) {
+    if (n > 0 && tree_.empty()) tree_.resize(std::size_t{2} << kTreeBits);
     std::uint32_t node = 1;
     for (unsigned i = n; i-- > 0;) {
       unsigned bit = (v >> i) & 1u;
@@ -144,6 +147,7 @@ std::uint32_t IntModel::decode(RangeDecoder& dec) {
   while (n < kMaxBits && dec.decode_bit(prefix_[n]) == 1) ++n;
   std::uint32_t v = 1;
   if (n <= kTreeBits) {
+    if (n > 0 && tree_.empty()) tree_.resize(std::size_t{2} << kTreeBits);
     std::uint32_t node = 1;
     for (unsigned i = 0; i < n; ++i) {
       unsigned bit = dec.decode_bit(tree_[(std::size_t{1} << n) + node - 1]);
