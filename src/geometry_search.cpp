@@ -16,6 +16,18 @@ namespace {
 
 constexpr std::uint8_t kCostlyTools = geometry_tool::kCellShapes | geometry_tool::kLogisticMixing;
 
+// f(i) for every i < n, every second one on another thread when `two` (and a thread is to be had): the
+// header trials are independent whole loops, so choosing between two headers takes the time of one.
+template <class F>
+void alternate(std::size_t n, bool two, F&& f) {
+  auto run = [&](std::size_t first) {
+    for (std::size_t i = first; i < n; i += 2) f(i);
+  };
+  auto odd = beside(two && n > 1, [&run] { run(1); });
+  run(0);
+  odd.get();
+}
+
 // Header h with normal chaining, if its axes are all integer axes (else there is nothing to chain) and
 // `cue`, from coding with h, says it may pay.
 std::optional<Header> chained(const Header& h, const ChainCue& cue) {
@@ -49,19 +61,15 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
     return bytes.size() + (h.has(geometry_tool::kMirror) ? o.mirror_bytes : 0);
   };
   if (o.header_sample == 0 || count <= o.header_sample) {
-    // Every header coded whole: every second one on another thread, as the estimates below (a small
-    // mesh's four headers were two thirds of its compress), each then without a coder thread of its own.
+    // Every header coded whole, on two threads as the estimates below (a small mesh's four headers were
+    // two thirds of its compress), each then without a coder thread of its own.
     std::vector<std::string> coded(options.size());
     std::vector<ChainCue> cues(options.size());
     const bool two = options.size() > 1 && coder_thread != false;
-    auto run = [&](std::size_t first) {
-      for (std::size_t i = first; i < options.size(); i += 2)
-        coded[i] = encode_with(pos, hoods, count, options[i], two ? std::optional<bool>(false) : coder_thread,
-                               &cues[i]);
-    };
-    auto odd = beside(two, [&run] { run(1); });
-    run(0);
-    odd.get();
+    alternate(options.size(), two, [&](std::size_t i) {
+      coded[i] = encode_with(pos, hoods, count, options[i], two ? std::optional<bool>(false) : coder_thread,
+                             &cues[i]);
+    });
     std::string best;
     ChainCue best_cue;
     for (std::size_t i = 0; i < options.size(); ++i) {
@@ -103,16 +111,11 @@ std::string encode_best(std::span<const float> pos, const Hoods& hoods, const st
   if (options.size() == 1 && !o.try_chaining) {
     best = &options[0];  // nothing to choose
   } else {
-    // The estimates are independent whole loops (the sample codes inline): every second one on another
-    // thread, so choosing between two headers takes the time of one.
+    // The estimates (the sample codes inline) on two threads.
     std::vector<double> sizes(options.size());
     std::vector<ChainCue> cues(options.size());
-    auto run = [&](std::size_t first) {
-      for (std::size_t i = first; i < options.size(); i += 2) sizes[i] = estimate(options[i], &cues[i]);
-    };
-    auto odd = beside(options.size() > 1 && coder_thread != false, [&run] { run(1); });
-    run(0);
-    odd.get();
+    alternate(options.size(), coder_thread != false,
+              [&](std::size_t i) { sizes[i] = estimate(options[i], &cues[i]); });
     for (std::size_t i = 0; i < options.size(); ++i) {
       double size = sizes[i];
       if (o.repeats_must_pay && options[i].has(geometry_tool::kValueRepeats))
