@@ -201,14 +201,6 @@ const Section* symmetry_section(const Parsed& p) {
   return symmetry;
 }
 
-// The mirror symmetry section `s` determines on the layout's `quads` of `faces` faces, refused where the
-// seeds are no mirror (Error(kFormat) naming the section's offset).
-Mirror decoded_mirror(const Section& s, std::span<const std::uint32_t> quads, const Adjacency& adj,
-                      std::uint32_t faces) {
-  return mirror_vertices(quads, adj, decode_symmetry(s.payload, s.payload_offset, faces),
-                         "symmetry section (at byte offset " + std::to_string(s.payload_offset) + ")");
-}
-
 // The layout of the decoded topology in the geometry section's coding order, its sizes checked.
 MeshLayout lay_out(Parsed& p) {
   decode_components(p);
@@ -224,7 +216,7 @@ MeshLayout lay_out(Parsed& p) {
   // Mirror prediction: each vertex's image under the symmetry section's mirror, as its stencil's source.
   if (const Section* symmetry = symmetry_section(p)) {
     p.adjacency = rebuilt_adjacency(layout.quads, nv, p.topology->payload_offset);
-    Mirror mirror = decoded_mirror(*symmetry, layout.quads, *p.adjacency, nf);
+    Mirror mirror = section_mirror(symmetry->payload, symmetry->payload_offset, layout.quads, *p.adjacency);
     set_mirror_sources(layout.stencil, layout.coding, mirror);
     p.mirror = std::move(mirror.image);
   }
@@ -646,7 +638,7 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       assemble(p.parts, static_cast<std::uint32_t>(p.counts.unreferenced), std::nullopt);
   const Adjacency adj = rebuilt_adjacency(layout.quads, layout.vertex_count, p.topology->payload_offset);
   if (symmetry)  // as the decoder refuses it
-    (void)decoded_mirror(*symmetry, layout.quads, adj, static_cast<std::uint32_t>(p.counts.faces));
+    (void)section_mirror(symmetry->payload, symmetry->payload_offset, layout.quads, adj);
   info.edges = adj.halfedge_count() / 2;
   info.extraordinary = extraordinary_vertices(adj).size();
   return info;

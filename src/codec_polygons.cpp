@@ -295,8 +295,7 @@ std::vector<std::uint32_t> input_mirror(const PolygonMesh& mesh, const FaceMap& 
   std::vector<std::uint32_t> quads(oc.vertices.size());
   for (std::size_t k = 0; k < quads.size(); ++k) quads[k] = map.vertex[oc.vertices[k]];
   const Mirror mirror =
-      mirror_vertices(quads, build_adjacency(quads, nv),
-                      decode_symmetry(symmetry->payload, symmetry->payload_offset, nf), "encode: mirror");
+      section_mirror(symmetry->payload, symmetry->payload_offset, quads, build_adjacency(quads, nv));
   const std::vector<std::uint32_t> input = inverse_permutation(map.vertex);
   std::vector<std::uint32_t> out(nv, kInvalid);
   for (std::uint32_t v = 0; v < nv; ++v)

@@ -110,6 +110,12 @@ Mirror mirror_vertices(std::span<const std::uint32_t> quads, const Adjacency& ad
   return m;
 }
 
+Mirror section_mirror(std::string_view payload, std::uint64_t offset, std::span<const std::uint32_t> quads,
+                      const Adjacency& adj) {
+  return mirror_vertices(quads, adj, decode_symmetry(payload, offset, adj.face_count),
+                         "symmetry section (at byte offset " + std::to_string(offset) + ")");
+}
+
 std::vector<MirrorSeed> find_mirror(std::span<const std::uint32_t> quads, const Adjacency& adj,
                                     std::span<const float> positions, Mirror* found) {
   const std::uint32_t nf = adj.face_count;

@@ -34,6 +34,12 @@ struct Mirror {
 Mirror mirror_vertices(std::span<const std::uint32_t> quads, const Adjacency& adj,
                        std::span<const MirrorSeed> seeds, const std::string& what);
 
+// The mirror a symmetry section's `payload` (at byte `offset` in the file) determines on `quads`:
+// decode_symmetry, then mirror_vertices, refused as they refuse it (Error(kFormat) naming the section's
+// offset). Safe on untrusted input.
+Mirror section_mirror(std::string_view payload, std::uint64_t offset, std::span<const std::uint32_t> quads,
+                      const Adjacency& adj);
+
 // The encoder's search: per component and axis, a mirror whose images lie near the vertices reflected
 // in the plane across the component's middle: the component's first face against the faces whose
 // centres lie nearest its reflected centre, in the four turns, nearest corners first, until one is an
