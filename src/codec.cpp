@@ -216,7 +216,8 @@ MeshLayout lay_out(Parsed& p) {
   // Mirror prediction: each vertex's image under the symmetry section's mirror, as its stencil's source.
   if (const Section* symmetry = symmetry_section(p)) {
     p.adjacency = rebuilt_adjacency(layout.quads, nv, p.topology->payload_offset);
-    Mirror mirror = section_mirror(symmetry->payload, symmetry->payload_offset, layout.quads, *p.adjacency);
+    MirrorMap mirror =
+        section_mirror(symmetry->payload, symmetry->payload_offset, layout.quads, *p.adjacency);
     set_mirror_sources(layout.stencil, layout.coding, mirror);
     p.mirror = std::move(mirror.image);
   }

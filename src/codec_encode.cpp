@@ -133,7 +133,7 @@ std::string encode_canonical(const QuadMesh& mesh, const CanonicalMesh& cm, cons
   // Mirror prediction (3.17): the layout's mirror symmetry, where its positions have one (quad meshes).
   const bool with_interior = interior && !interior->positions.empty();
   std::vector<MirrorSeed> seeds;
-  Mirror mirror;
+  MirrorMap mirror;
   if (effort.try_mirror && polygons.empty() && !with_interior) {
     std::vector<float> layout_positions(3 * std::size_t{nv});
     for (std::uint32_t v = 0; v < nv; ++v)

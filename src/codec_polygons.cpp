@@ -294,7 +294,7 @@ std::vector<std::uint32_t> input_mirror(const PolygonMesh& mesh, const FaceMap& 
     internal("a file with a symmetry section has faces other than quads");
   std::vector<std::uint32_t> quads(oc.vertices.size());
   for (std::size_t k = 0; k < quads.size(); ++k) quads[k] = map.vertex[oc.vertices[k]];
-  const Mirror mirror =
+  const MirrorMap mirror =
       section_mirror(symmetry->payload, symmetry->payload_offset, quads, build_adjacency(quads, nv));
   const std::vector<std::uint32_t> input = inverse_permutation(map.vertex);
   std::vector<std::uint32_t> out(nv, kInvalid);

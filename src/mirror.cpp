@@ -89,12 +89,12 @@ class Propagation {
 
 }  // namespace
 
-Mirror mirror_vertices(std::span<const std::uint32_t> quads, const Adjacency& adj,
-                       std::span<const MirrorSeed> seeds, const std::string& what) {
+MirrorMap mirror_vertices(std::span<const std::uint32_t> quads, const Adjacency& adj,
+                          std::span<const MirrorSeed> seeds, const std::string& what) {
   if (quads.size() != 4 * std::size_t{adj.face_count})
     throw Error(ErrorCode::kInternal, "mirror: quads and adjacency disagree");
   Propagation p(quads, adj);
-  Mirror m;
+  MirrorMap m;
   m.axis.assign(adj.vertex_count, 3);
   for (std::size_t i = 0; i < seeds.size(); ++i) {
     if (seeds[i].axis > 2)
@@ -110,14 +110,14 @@ Mirror mirror_vertices(std::span<const std::uint32_t> quads, const Adjacency& ad
   return m;
 }
 
-Mirror section_mirror(std::string_view payload, std::uint64_t offset, std::span<const std::uint32_t> quads,
-                      const Adjacency& adj) {
+MirrorMap section_mirror(std::string_view payload, std::uint64_t offset, std::span<const std::uint32_t> quads,
+                         const Adjacency& adj) {
   return mirror_vertices(quads, adj, decode_symmetry(payload, offset, adj.face_count),
                          "symmetry section (at byte offset " + std::to_string(offset) + ")");
 }
 
 std::vector<MirrorSeed> find_mirror(std::span<const std::uint32_t> quads, const Adjacency& adj,
-                                    std::span<const float> positions, Mirror* found) {
+                                    std::span<const float> positions, MirrorMap* found) {
   const std::uint32_t nf = adj.face_count;
   if (found) found->image.assign(adj.vertex_count, kInvalid), found->axis.assign(adj.vertex_count, 3);
   // The images of a component's vertices under a propagation (its faces' corners), or none.
@@ -229,7 +229,7 @@ std::vector<MirrorSeed> find_mirror(std::span<const std::uint32_t> quads, const 
 }
 
 void set_mirror_sources(std::vector<Stencil>& stencil, const std::vector<std::uint32_t>& coding,
-                        const Mirror& mirror) {
+                        const MirrorMap& mirror) {
   const auto n = static_cast<std::uint32_t>(mirror.image.size());
   std::vector<std::uint32_t> position(n);
   for (std::uint32_t k = 0; k < n; ++k) position[coding.empty() ? k : coding[k]] = k;

@@ -22,7 +22,7 @@ struct MirrorSeed {
   std::uint32_t face = 0, image = 0, turn = 0, axis = 0;
 };
 
-struct Mirror {
+struct MirrorMap {
   std::vector<std::uint32_t> image;  // per vertex: its mirror image, kInvalid where no seed reaches
   std::vector<std::uint8_t> axis;    // per vertex: its seed's axis (3 where none)
 };
@@ -31,14 +31,14 @@ struct Mirror {
 // edge it is reached by. Throws Error(kFormat) "`what`: ..." if a seed is out of range or the seeds determine
 // no orientation-reversing automorphism (a vertex or face with two images, a face with two preimages, an edge
 // inside mapped to a boundary edge or back). O(faces). Safe on untrusted seeds.
-Mirror mirror_vertices(std::span<const std::uint32_t> quads, const Adjacency& adj,
-                       std::span<const MirrorSeed> seeds, const std::string& what);
+MirrorMap mirror_vertices(std::span<const std::uint32_t> quads, const Adjacency& adj,
+                          std::span<const MirrorSeed> seeds, const std::string& what);
 
 // The mirror a symmetry section's `payload` (at byte `offset` in the file) determines on `quads`:
 // decode_symmetry, then mirror_vertices, refused as they refuse it (Error(kFormat) naming the section's
 // offset). Safe on untrusted input.
-Mirror section_mirror(std::string_view payload, std::uint64_t offset, std::span<const std::uint32_t> quads,
-                      const Adjacency& adj);
+MirrorMap section_mirror(std::string_view payload, std::uint64_t offset, std::span<const std::uint32_t> quads,
+                         const Adjacency& adj);
 
 // The encoder's search: per component and axis, a mirror whose images lie near the vertices reflected
 // in the plane across the component's middle: the component's first face against the faces whose
@@ -48,12 +48,12 @@ Mirror section_mirror(std::string_view payload, std::uint64_t offset, std::span<
 // canonicalized, finds the same. `found`, if given: mirror_vertices of the seeds, kept from the search's
 // own propagations rather than made again.
 std::vector<MirrorSeed> find_mirror(std::span<const std::uint32_t> quads, const Adjacency& adj,
-                                    std::span<const float> positions, Mirror* found = nullptr);
+                                    std::span<const float> positions, MirrorMap* found = nullptr);
 
 // Sets each stencil's mirror source: the coding position of its vertex's image, where that comes first,
 // and the axis. `coding`: the layout vertex at each coding position (empty: the identity).
 void set_mirror_sources(std::vector<Stencil>& stencil, const std::vector<std::uint32_t>& coding,
-                        const Mirror& mirror);
+                        const MirrorMap& mirror);
 
 // The symmetry section's payload (format-spec/qsp_format.md, "Symmetry section"): the seed count, then
 // per seed its face and image (varints) and a byte of its turn (bits 0-1) and axis (bits 2-3).

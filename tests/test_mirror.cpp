@@ -35,7 +35,7 @@ TEST(Mirror, TheHullsMirrorReflectsItAcrossX) {
   const std::vector<MirrorSeed> seeds = find_mirror(hull.quads, adj, hull.positions);
   ASSERT_EQ(seeds.size(), 1u);
   EXPECT_EQ(seeds[0].axis, 0u);
-  const Mirror m = mirror_vertices(hull.quads, adj, seeds, "test");
+  const MirrorMap m = mirror_vertices(hull.quads, adj, seeds, "test");
   for (std::uint32_t v = 0; v < hull.vertex_count(); ++v) {
     const std::uint32_t w = m.image[v];
     ASSERT_LT(w, hull.vertex_count()) << v;
@@ -120,9 +120,9 @@ TEST(Mirror, TheSearchsMirrorIsItsSeedsPropagated) {
     Adjacency adj;
     if (!testing::read_valid(path, mesh, &adj) || mesh.vertex_count() > 40000) continue;
     SCOPED_TRACE(path.string());
-    Mirror found;
+    MirrorMap found;
     const std::vector<MirrorSeed> seeds = find_mirror(mesh.quads, adj, mesh.positions, &found);
-    const Mirror m = mirror_vertices(mesh.quads, adj, seeds, "test");
+    const MirrorMap m = mirror_vertices(mesh.quads, adj, seeds, "test");
     EXPECT_EQ(found.image, m.image);
     EXPECT_EQ(found.axis, m.axis);
     mirrored += !seeds.empty();
