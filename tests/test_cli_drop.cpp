@@ -1,6 +1,6 @@
-// `--drop LIST` and `--positions-only` end to end (compress, reorder): a file carrying data .qsp does not
-// keep is refused, naming each kind not dropped with its counts and the --drop that drops everything the
-// file has; dropping exactly what it has succeeds with one note naming each kind, and the .qsp is the
+// `--drop LIST` and `--positions-only` end to end (compress, reorder, decompress): a file carrying data .qsp
+// does not keep is refused, naming each kind not dropped with its counts and the --drop that drops everything
+// the file has; dropping exactly what it has succeeds with one note naming each kind, and the .qsp is the
 // bare mesh's, byte for byte. A stray line of prose (MakeHuman files have them) is read, and is the
 // `extra` kind, named at its file:line.
 #include <gtest/gtest.h>
@@ -405,6 +405,111 @@ TEST_F(CliDrop, OneReaderAndTwoReadersGiveTheSameFileAndWords) {
     }
   }
   EXPECT_GE(tried, 10);
+}
+
+// decompress: an output format that cannot hold what the .qsp carries refuses it, naming each kind with
+// the --drop that drops it, and writes nothing; with those dropped it writes the mesh, saying what it
+// dropped. The positions and faces are the full decode's (read here as text, not through qsp's reader).
+TEST_F(CliDrop, DecompressDropsWhatTheOutputFormatCannotHold) {
+  spit(p("all.obj"),
+       "# licence line\nmtllib a.mtl\nsome prose\no thing\n" + kSquare +
+           "v 2 0 0\nv 2 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\ng left\nusemtl red\ns 1\n"
+           "f 1/1/1 2/2/1 3/3/1 4/4/1\ng right\nusemtl blue\ns off\nf 2/1/1 5/2/1 6/3/1 3/4/1\n"
+           "t crease 2/1/0 1 2 5.0\n");
+  ASSERT_EQ(run_qsp("compress -q " + quote(p("all.obj")) + " " + quote(p("all.qsp"))).exit_code, 0);
+  ASSERT_EQ(run_qsp("decompress -q " + quote(p("all.qsp")) + " -o " + quote(p("full.obj"))).exit_code, 0);
+  // Each line of a kind: "v x y z" and the faces' vertex indices alone.
+  const auto lines = [](const std::string& text, const std::string& kind) {
+    std::vector<std::string> out;
+    std::size_t at = 0;
+    while (at < text.size()) {
+      const std::size_t end = std::min(text.find('\n', at), text.size());
+      std::string line = text.substr(at, end - at);
+      at = end + 1;
+      if (line.rfind(kind + " ", 0) != 0) continue;
+      if (kind == "f") {
+        std::string bare = "f";
+        for (std::size_t i = 2; i < line.size();) {
+          const std::size_t next = std::min(line.find(' ', i), line.size());
+          const std::string word = line.substr(i, next - i);
+          bare.append(" ").append(word, 0, word.find('/'));
+          i = next + 1;
+        }
+        line = bare;
+      }
+      out.push_back(line);
+    }
+    return out;
+  };
+  const std::string full = slurp(p("full.obj"));
+  ASSERT_EQ(lines(full, "v").size(), 6u);
+  ASSERT_EQ(lines(full, "f").size(), 2u);
+
+  testing::CliResult r = run_qsp("decompress " + quote(p("all.qsp")) + " -o " + quote(p("out.off")));
+  EXPECT_EQ(r.exit_code, 1);
+  for (const char* said : {"OFF cannot hold", "(--drop uv)", "(--drop normal)", "(--drop group)",
+                           "(--drop material)", "(--drop smoothing)", "(--drop tag)", "(--drop extra)"})
+    EXPECT_NE(r.err.find(said), std::string::npos) << said << "\n" << r.err;
+  EXPECT_FALSE(fs::exists(p("out.off")));
+  // Dropping all but one kind is still refused, naming that one.
+  r = run_qsp("decompress --drop uv,normal,group,material,smoothing,extra " + quote(p("all.qsp")) + " -o " +
+              quote(p("out.off")));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("(--drop tag)"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("(--drop uv)"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(p("out.off")));
+
+  r = run_qsp("decompress --drop uv,normal,group,material,smoothing,tag,extra " + quote(p("all.qsp")) +
+              " -o " + quote(p("out.off")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("dropped its uv, normal, group, material, smoothing, tag, extra (--drop "),
+            std::string::npos)
+      << r.err;
+  const std::string off = slurp(p("out.off"));
+  EXPECT_NE(off.find("# licence line\n"), std::string::npos) << "the comment block is kept unless dropped";
+  // OFF: the counts line after the header and comments, then "x y z" and "4 a b c d" (0-based).
+  std::vector<std::string> rows;
+  for (std::size_t at = 0; at < off.size();) {
+    const std::size_t end = std::min(off.find('\n', at), off.size());
+    const std::string line = off.substr(at, end - at);
+    at = end + 1;
+    if (!line.empty() && line[0] != '#' && line != "OFF") rows.push_back(line);
+  }
+  ASSERT_EQ(rows.size(), 1u + 6u + 2u) << off;
+  EXPECT_EQ(rows[0], "6 2 0");
+  const std::vector<std::string> v = lines(full, "v"), f = lines(full, "f");
+  for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(rows[1 + i], v[i].substr(2));
+  for (std::size_t i = 0; i < 2; ++i) {
+    std::string one_based = "f";
+    std::size_t pos = 2;  // past "4 "
+    const std::string& row = rows[7 + i];
+    while (pos < row.size()) {
+      const std::size_t next = std::min(row.find(' ', pos), row.size());
+      one_based.append(" ").append(std::to_string(std::stoul(row.substr(pos, next - pos)) + 1));
+      pos = next + 1;
+    }
+    EXPECT_EQ(one_based, f[i]);
+  }
+
+  // --positions-only to OBJ: the bare mesh, the comment block dropped too, and said.
+  r = run_qsp("decompress --positions-only " + quote(p("all.qsp")) + " -o " + quote(p("bare.obj")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("dropped its uv, normal, group, material, smoothing, tag, comment, extra "
+                       "(--positions-only)"),
+            std::string::npos)
+      << r.err;
+  const std::string bare = slurp(p("bare.obj"));
+  EXPECT_EQ(lines(bare, "v"), v);
+  EXPECT_EQ(lines(bare, "f"), f);
+  for (const char* kind : {"vt ", "vn ", "g ", "o ", "usemtl ", "mtllib ", "s ", "t ", "#", "some"})
+    EXPECT_EQ(bare.find(kind), std::string::npos) << kind;
+  // -q says nothing; an unknown kind is a usage error.
+  r = run_qsp("decompress -q -f --positions-only " + quote(p("all.qsp")) + " -o " + quote(p("bare.obj")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  r = run_qsp("decompress --drop bogus " + quote(p("all.qsp")) + " -o " + quote(p("x.obj")));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("unknown category 'bogus'"), std::string::npos) << r.err;
 }
 
 }  // namespace

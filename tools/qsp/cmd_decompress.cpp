@@ -21,6 +21,7 @@ struct DecompressOptions {
   bool force = false;
   bool sync = false;
   Verbosity verbosity;
+  DropOptions drop;  // what the written mesh leaves out (an output format that cannot hold it refuses it)
   std::uint64_t max_vertices = DecodeLimits{}.max_vertices;
   std::uint64_t max_faces = DecodeLimits{}.max_faces;
 };
@@ -87,27 +88,21 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
   } catch (const Error& e) {
     throw Error(e.code(), job.input + ": " + e.what());
   }
-  if (format == MeshFormat::kOff &&
-      (mesh.texcoord_components || !mesh.corner_normals.empty() || mesh.has_labels() || !mesh.tags.empty()))
-    throw Error(ErrorCode::kUnsupported, job.input + ": holds " +
-                                             (mesh.texcoord_components ? "texture coordinates per corner"
-                                              : !mesh.corner_normals.empty() ? "normals per corner"
-                                              : mesh.has_labels() ? "groups, materials or smoothing groups"
-                                                                  : "subdivision tags") +
-                                             ", which OFF cannot hold; write OBJ (-o " +
-                                             job.output.substr(0, job.output.size() - 4) + ".obj)");
+  std::vector<std::string> comments = comments_named(bytes, job.input);
+  const std::string dropped = drop_polygon_data(mesh, job.input, o.drop, &comments);
   const std::size_t vertices = mesh.vertex_count(), faces = mesh.face_count();
   std::string text;
   try {
-    text = mesh_text(std::move(mesh), format, comments_named(bytes, job.input));
+    text = mesh_text(std::move(mesh), format, comments);
   } catch (const Error& e) {
-    // The writers' refusals name the kind and the --drop compress and reorder take; here the way out is
-    // another output format.
+    // The writers' refusals name each kind with the --drop that drops it (decompress takes it too),
+    // and another output format is the other way out.
     if (e.code() != ErrorCode::kUnsupported) throw;
     throw Error(e.code(), job.input + " -> " + job.output + ": " + e.what() +
-                              " (decompress: name an output whose format holds them, .obj, .off or .ply)");
+                              " (decompress writes .obj, .off and .ply)");
   }
   write_output(job.output, text, {o.force, o.verbosity.quiet, other_ways(job), o.sync});
+  if (!o.verbosity.quiet) std::fputs(dropped.c_str(), stderr);
   if (o.verbosity.verbose && !o.verbosity.quiet) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const FileInfo info = inspect(bytes, limits);
@@ -143,6 +138,10 @@ void register_decompress(CLI::App& app, int& rc) {
   sub->add_flag("-f,--force", opt->force, "Replace outputs that exist (never an input)");
   add_sync_flag(sub, opt->sync);
   add_verbosity_flags(sub, opt->verbosity);
+  add_drop_options(
+      sub, opt->drop, "the written mesh's ", kPolygonMeshCategories,
+      "an output format that cannot hold a kind the file has (OFF: texture coordinates, normals, "
+      "groups, materials, tags) is refused unless it is dropped");
   sub->add_option("--max-vertices", opt->max_vertices, "Refuse files declaring more vertices (default 2^26)");
   sub->add_option("--max-faces", opt->max_faces, "Refuse files declaring more faces (default 2^26)");
   sub->callback([opt, &rc]() { run(*opt, rc); });

@@ -581,14 +581,17 @@ unsigned DropOptions::categories() const {
   return (positions_only ? unsigned{kCategoryAll} : 0u) | (list.empty() ? 0u : parse_categories(list));
 }
 
-void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose, unsigned kept) {
+void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose, unsigned kept,
+                      const std::string& refused) {
   // What the subcommand keeps unless dropped is said first: it refuses only the rest.
   const std::string keeps = kept ? category_list(kept, ", ") + " and comment are kept unless dropped; " : "";
   cmd->add_option("--drop", drop.list,
-                  "Drop " + whose +
-                      "data of these kinds (comma-separated: " + category_list(kCategoryAll, ", ") + "); " +
-                      keeps + (kept ? "a file with any of the others" : "a file with any of them") +
-                      " is refused unless they are dropped. extra: lines qsp keeps only as text (vp, cstype, "
+                  "Drop " + whose + "data of these kinds (comma-separated: " +
+                      category_list(kCategoryAll, ", ") + "); " + keeps +
+                      (!refused.empty() ? refused
+                       : kept           ? "a file with any of the others is refused unless they are dropped"
+                                        : "a file with any of them is refused unless they are dropped") +
+                      ". extra: lines qsp keeps only as text (vp, cstype, "
                       "a stray line of prose), vertex weights (v x y z w), other PLY properties, PLY "
                       "obj_info lines" +
                       (kept ? std::string(" (kept unless dropped)") : std::string()) +
@@ -647,7 +650,8 @@ void refuse_rounding(const std::string& path, const ReadReport& report, const st
                  report.rounded_coordinates == 1 ? "coordinate" : "coordinates");
 }
 
-std::string drop_polygon_data(PolygonMesh& m, const std::string& path, const DropOptions& drop) {
+std::string drop_polygon_data(PolygonMesh& m, const std::string& path, const DropOptions& drop,
+                              std::vector<std::string>* comments) {
   const unsigned d = drop.categories();
   unsigned had = 0;
   const auto take = [&](unsigned category, bool has, auto&& clear) {
@@ -673,6 +677,7 @@ std::string drop_polygon_data(PolygonMesh& m, const std::string& path, const Dro
        [&] {
          m.kept_lines.clear(), m.vertex_properties.clear(), m.face_properties.clear(), m.ply_info.clear();
        });
+  if (comments) take(kCategoryComment, !comments->empty(), [&] { comments->clear(); });
   if (!had) return {};
   return "qsp: " + path + ": dropped its " + category_list(had, ", ") + " (" +
          (drop.positions_only ? "--positions-only" : "--drop " + drop.list) + ")\n";

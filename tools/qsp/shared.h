@@ -213,8 +213,8 @@ std::optional<MatchResult> match_as_quads(const PolygonMesh& a, const PolygonMes
 PolygonMatchInput prepare_polygon_located(PolygonMesh mesh, const std::string& path,
                                           const ReadReport& report);
 
-// --drop LIST and --positions-only (compress, reorder): the kinds of data (qsp/polymesh.h's categories)
-// a call drops instead of refusing a file that has them.
+// --drop LIST and --positions-only (compress, reorder, decompress): the kinds of data (qsp/polymesh.h's
+// categories) a call drops instead of refusing a file, or an output format, that cannot hold them.
 struct DropOptions {
   std::string list;  // --drop, as given ("uv,normal")
   bool positions_only = false;
@@ -222,9 +222,11 @@ struct DropOptions {
 };
 
 // Adds --drop LIST (checked: an unknown item is a usage error naming the valid ones) and
-// --positions-only to `cmd`; `whose` ("", "IN's ") and `kept` (the categories the subcommand keeps
-// unless dropped) for the help.
-void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose, unsigned kept = 0);
+// --positions-only to `cmd`; `whose` ("", "IN's "), `kept` (the categories the subcommand keeps
+// unless dropped) and `refused` (what is refused unless dropped; empty: a file with any of the kinds not
+// kept) for the help.
+void add_drop_options(CLI::App* cmd, DropOptions& drop, const std::string& whose, unsigned kept = 0,
+                      const std::string& refused = "");
 
 // Data a mesh file had beside positions and faces (texture coordinates, normals, groups, ...), which
 // `what` (".qsp", "reorder") cannot keep: refused (kUnsupported, naming each kind not dropped with its
@@ -250,9 +252,10 @@ std::vector<std::string> kept_comments(const ReadReport& report, const DropOptio
 void refuse_rounding(const std::string& path, const ReadReport& report, const std::string& what, bool float32,
                      bool quiet, const std::string& other_way = "");
 
-// Removes from `mesh` (a decoded .qsp's) the kinds `drop` names and returns the note saying which it had
-// ("" if none).
-std::string drop_polygon_data(PolygonMesh& mesh, const std::string& path, const DropOptions& drop);
+// Removes from `mesh` (a decoded .qsp's), and from its leading comment block `comments` when given, the
+// kinds `drop` names and returns the note saying which it had ("" if none).
+std::string drop_polygon_data(PolygonMesh& mesh, const std::string& path, const DropOptions& drop,
+                              std::vector<std::string>* comments = nullptr);
 
 // How compress and reorder keep IN's values beside positions and faces (check_kept_values).
 struct KeptRules {
