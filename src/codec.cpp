@@ -590,7 +590,7 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       info.geometry_bytes += size;  // the symmetry section says how the positions are predicted
     else if (s.tag == container::kTagInterior)
       info.geometry_bytes += size, info.interior_positions = interior_count(s);
-    else if (s.tag == container::kTagOrder)
+    else if (s.tag == container::kTagOrder || s.tag == container::kTagStatements)
       info.order_bytes += size;
     else if (s.tag == container::kTagPolygons)
       split_polygons_section(s, info);
@@ -610,6 +610,10 @@ FileInfo inspect(std::string_view bytes, const DecodeLimits& limits) {
       split_exact_values_section(s, info);
     else if (s.tag == container::kTagProperties)
       info.property_bytes += size;
+    else if (s.tag == container::kTagComments || s.tag == container::kTagCodedComments)
+      info.comment_bytes += size;
+    else if (s.tag == container::kTagKeptLines || s.tag == container::kTagPlyInfo)
+      info.kept_line_bytes += size;
     else
       info.other_bytes += size;
   }

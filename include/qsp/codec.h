@@ -248,17 +248,19 @@ struct FileInfo {
   // From 3.12: how many vertices no quad has the geometry section codes (the interior positions
   // section; their bytes are in geometry_bytes, with the layout's).
   std::uint64_t interior_positions = 0;
-  std::uint64_t order_bytes = 0;     // keep-order permutations (0 if absent)
-  std::uint64_t texcoord_bytes = 0;  // the texture coordinates section (3.2; 0 if absent)
-  std::uint64_t label_bytes = 0;     // the face labels section (3.3; 0 if absent)
-  std::uint64_t tag_bytes = 0;       // the subdivision tags section (3.4; 0 if absent)
-  std::uint64_t normal_bytes = 0;    // the normals section (3.5; 0 if absent)
-  std::uint64_t exact_bytes = 0;     // the exact positions section (3.6; 0 if absent)
-  std::uint64_t color_bytes = 0;     // the colours section (3.8; 0 if absent)
-  std::uint64_t property_bytes = 0;  // the properties section (3.14; 0 if absent)
-  std::uint64_t other_bytes = 0;     // optional sections this decoder skipped
-  std::uint8_t geometry_tools = 0;   // qsp/geometry.h's geometry_tool bits (geometry_tool_names() says them)
-  std::uint8_t quantize_bits = 0;    // 0: lossless positions; 1..30: quantized to that many bits
+  std::uint64_t order_bytes = 0;      // keep-order permutations, and the OBJ statement order (3.11)
+  std::uint64_t texcoord_bytes = 0;   // the texture coordinates section (3.2; 0 if absent)
+  std::uint64_t label_bytes = 0;      // the face labels section (3.3; 0 if absent)
+  std::uint64_t tag_bytes = 0;        // the subdivision tags section (3.4; 0 if absent)
+  std::uint64_t normal_bytes = 0;     // the normals section (3.5; 0 if absent)
+  std::uint64_t exact_bytes = 0;      // the exact positions section (3.6; 0 if absent)
+  std::uint64_t color_bytes = 0;      // the colours section (3.8; 0 if absent)
+  std::uint64_t property_bytes = 0;   // the properties section (3.14; 0 if absent)
+  std::uint64_t comment_bytes = 0;    // the leading comment block: comments (3.1) or coded comments (3.16)
+  std::uint64_t kept_line_bytes = 0;  // lines kept as text (3.7) and PLY obj_info lines (3.15)
+  std::uint64_t other_bytes = 0;      // optional sections this decoder skipped
+  std::uint8_t geometry_tools = 0;    // qsp/geometry.h's geometry_tool bits (geometry_tool_names() says them)
+  std::uint8_t quantize_bits = 0;     // 0: lossless positions; 1..30: quantized to that many bits
   CodingOrder geometry_order = CodingOrder::kLayout;  // the order the positions were coded in
   std::uint64_t vertices = 0, edges = 0, faces = 0, unreferenced = 0, extraordinary = 0;
   std::uint64_t schematic_vertices = 0, schematic_edges = 0, patches = 0;

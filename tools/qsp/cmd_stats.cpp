@@ -38,7 +38,7 @@ struct Row {
   bool has_bytes = false;  // a .qsp, or a mesh compressed in memory (--sizes)
   std::uint64_t total_bytes = 0, header_bytes = 0, connectivity_bytes = 0, geometry_bytes = 0,
                 order_bytes = 0, texcoord_bytes = 0, label_bytes = 0, tag_bytes = 0, normal_bytes = 0,
-                exact_bytes = 0, color_bytes = 0, property_bytes = 0,
+                exact_bytes = 0, color_bytes = 0, property_bytes = 0, comment_bytes = 0, kept_line_bytes = 0,
                 other_bytes = 0;  // the parts add up to the total
   bool keep_order = false;
   int quantize_bits = -1;  // 0 lossless, 1..30 quantized; -1 unknown
@@ -87,6 +87,8 @@ void add_sizes(Row& r, const FileInfo& info) {
   r.exact_bytes = info.exact_bytes;
   r.color_bytes = info.color_bytes;
   r.property_bytes = info.property_bytes;
+  r.comment_bytes = info.comment_bytes;
+  r.kept_line_bytes = info.kept_line_bytes;
   r.other_bytes = info.other_bytes;
   r.keep_order = info.keep_order;
   r.quantize_bits = info.quantize_bits;
@@ -227,7 +229,8 @@ void print_json(const std::vector<Row>& rows, bool verbose, bool lines) {
       std::printf(
           ", \"bytes\": {\"total\": %llu, \"header\": %llu, \"connectivity\": %llu, \"geometry\": %llu, "
           "\"order\": %llu, \"texcoords\": %llu, \"labels\": %llu, \"tags\": %llu, \"normals\": %llu, "
-          "\"exact_positions\": %llu, \"colors\": %llu, \"properties\": %llu, \"other\": %llu}, "
+          "\"exact_positions\": %llu, \"colors\": %llu, \"properties\": %llu, \"comments\": %llu, "
+          "\"kept_lines\": %llu, \"other\": %llu}, "
           "\"bits_per_vertex\": {\"total\": %.4f, \"connectivity\": %.4f, \"geometry\": %.4f}, "
           "\"format\": \"%d.%d\", \"level\": %d, \"geometry_coding\": {\"tools\": %s, \"order\": \"%s\"}, "
           "\"quantize_bits\": %d, \"keep_order\": %s",
@@ -237,6 +240,7 @@ void print_json(const std::vector<Row>& rows, bool verbose, bool lines) {
           (unsigned long long)r.label_bytes, (unsigned long long)r.tag_bytes,
           (unsigned long long)r.normal_bytes, (unsigned long long)r.exact_bytes,
           (unsigned long long)r.color_bytes, (unsigned long long)r.property_bytes,
+          (unsigned long long)r.comment_bytes, (unsigned long long)r.kept_line_bytes,
           (unsigned long long)r.other_bytes, 8.0 * r.total_bytes / v, 8.0 * r.connectivity_bytes / v,
           8.0 * r.geometry_bytes / v, r.version_major, r.version_minor, r.level,
           json_string(r.geometry_tools).c_str(), r.geometry_order, r.quantize_bits,
@@ -302,6 +306,8 @@ void print_table(const std::vector<Row>& rows, bool verbose) {
       if (r.exact_bytes) std::printf(" + %llu exact positions", (unsigned long long)r.exact_bytes);
       if (r.color_bytes) std::printf(" + %llu colours", (unsigned long long)r.color_bytes);
       if (r.property_bytes) std::printf(" + %llu properties", (unsigned long long)r.property_bytes);
+      if (r.comment_bytes) std::printf(" + %llu comments", (unsigned long long)r.comment_bytes);
+      if (r.kept_line_bytes) std::printf(" + %llu kept lines", (unsigned long long)r.kept_line_bytes);
       if (r.other_bytes) std::printf(" + %llu other", (unsigned long long)r.other_bytes);
       if (r.polygon) {
         std::printf(
