@@ -413,6 +413,40 @@ Extras drop(Mesh& m, unsigned c) {
   return dropped;
 }
 
+unsigned drop(PolygonMesh& m, unsigned c) {
+  unsigned had = 0;
+  const auto take = [&](unsigned category, bool has, std::initializer_list<ObjStatement> kinds,
+                        auto&& clear) {
+    if (!(c & category) || !has) return;
+    had |= category;
+    clear();
+    remove_statements(m.statements, kinds);
+  };
+  take(kCategoryUv, m.texcoord_components != 0, {ObjStatement::kTexcoord}, [&] {
+    m.texcoord_components = 0;
+    m.texcoords = {}, m.texcoords64 = {}, m.corner_texcoords = {};
+  });
+  take(kCategoryNormal, !m.corner_normals.empty(), {ObjStatement::kNormal},
+       [&] { m.normals = {}, m.normals64 = {}, m.corner_normals = {}; });
+  take(kCategoryColor, m.vertex_color_components || m.face_color_components, {}, [&] {
+    m.vertex_color_components = m.face_color_components = 0;
+    m.vertex_colors = {}, m.vertex_colors64 = {}, m.face_colors = {}, m.face_colors64 = {};
+  });
+  take(kCategoryGroup, !m.objects.empty() || !m.groups.empty(), {ObjStatement::kObject, ObjStatement::kGroup},
+       [&] { m.objects = {}, m.groups = {}; });
+  take(kCategoryMaterial, !m.materials.empty() || !m.material_libraries.empty(),
+       {ObjStatement::kMaterial, ObjStatement::kMaterialLibrary},
+       [&] { m.materials = {}, m.material_libraries = {}; });
+  take(kCategorySmoothing, !m.smoothing.empty(), {ObjStatement::kSmoothing}, [&] { m.smoothing = {}; });
+  take(kCategoryTag, !m.tags.empty(), {ObjStatement::kTag}, [&] { m.tags = {}; });
+  take(kCategoryExtra,
+       !m.kept_lines.empty() || !m.vertex_properties.empty() || !m.face_properties.empty() ||
+           !m.ply_info.empty(),
+       {ObjStatement::kVerbatim},
+       [&] { m.kept_lines = {}, m.vertex_properties = {}, m.face_properties = {}, m.ply_info = {}; });
+  return had;
+}
+
 namespace {
 
 // A property's values as the codec keeps them: each exactly (the nearest binary64 of a kDecimal list).

@@ -512,5 +512,33 @@ TEST_F(CliDrop, DecompressDropsWhatTheOutputFormatCannotHold) {
   EXPECT_NE(r.err.find("unknown category 'bogus'"), std::string::npos) << r.err;
 }
 
+// The same where the .qsp keeps the OBJ's statement order (Blender's interleaved objects) and float64
+// colours: what is dropped leaves no statement or exact copy behind, and the rest is written in order.
+TEST_F(CliDrop, DecompressDropsFromAKeptOrderAndExactValues) {
+  spit(p("o.obj"),
+       "o a\nv 0 0 0 0.123456789012 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 1 1 1\n"
+       "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n"
+       "o b\nv 2 0 0 1 0 0\nv 2 1 0 0 1 0\nvt 0.5 0.5\nf 2/1 5/2 6/5 3/3\n");
+  testing::CliResult r = run_qsp("compress -q --keep-order " + quote(p("o.obj")) + " " + quote(p("o.qsp")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* drop : {"uv", "group", "color", "uv,group", "uv,color,group"}) {
+    SCOPED_TRACE(drop);
+    r = run_qsp(std::string("decompress -f --drop ") + drop + " " + quote(p("o.qsp")) + " -o " +
+                quote(p("d.obj")));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find(std::string("(--drop ") + drop + ")"), std::string::npos) << r.err;
+    const std::string text = slurp(p("d.obj"));
+    const std::string d = drop;
+    EXPECT_EQ(text.find("vt ") == std::string::npos, d.find("uv") != std::string::npos) << text;
+    EXPECT_EQ(text.find("o ") == std::string::npos, d.find("group") != std::string::npos) << text;
+    EXPECT_EQ(text.find("0.123456789012") == std::string::npos, d.find("color") != std::string::npos) << text;
+    // The kept order: the second object's vertices after the first's face.
+    EXPECT_LT(text.find("f "), text.find("v 2 0 0")) << text;
+  }
+  r = run_qsp("decompress -f --positions-only " + quote(p("o.qsp")) + " -o " + quote(p("d.off")));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(slurp(p("d.off")).substr(0, 4), "OFF\n");
+}
+
 }  // namespace
 }  // namespace qsp

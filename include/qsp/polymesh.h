@@ -227,6 +227,10 @@ Extras extras(const Mesh& mesh, unsigned categories = kCategoryAll);
 // Removes `categories` from `mesh` (their arrays, their statements and PLY fields) and returns what
 // was removed. Positions and faces are never dropped. Never throws for a mesh check_mesh accepts.
 Extras drop(Mesh& mesh, unsigned categories);
+// The same for a polygon mesh (a decoded .qsp's): its arrays, their exact float64 copies and their OBJ
+// statements; returns the categories among `categories` it had. Its leading comment block is not part
+// of it (decode_polygons leaves that in the file). Never throws.
+unsigned drop(PolygonMesh& mesh, unsigned categories);
 
 // The mesh's quads as a QuadMesh with the float32 mirror of the positions; attributes are ignored.
 // Throws kNotQuad when a face is not a quad (naming the first ones, counting all), kBadNumber when a

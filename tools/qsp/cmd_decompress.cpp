@@ -95,11 +95,14 @@ void decompress_one(const Job& job, const DecompressOptions& o) {
   try {
     text = mesh_text(std::move(mesh), format, comments);
   } catch (const Error& e) {
-    // The writers' refusals name each kind with the --drop that drops it (decompress takes it too),
-    // and another output format is the other way out.
-    if (e.code() != ErrorCode::kUnsupported) throw;
+    // The writers' refusals name each kind with the --drop that drops it (decompress takes it too);
+    // the other way out is the format that holds most: OBJ (per-corner values, labels, tags, kept
+    // lines), or for an OBJ's refusal PLY (properties, face colours).
+    const std::string base = job.output.substr(0, job.output.rfind('.'));
+    const std::string other =
+        format == MeshFormat::kObj ? "PLY: -o " + base + ".ply" : "OBJ: -o " + base + ".obj";
     throw Error(e.code(), job.input + " -> " + job.output + ": " + e.what() +
-                              " (decompress writes .obj, .off and .ply)");
+                              (e.code() == ErrorCode::kUnsupported ? " (try " + other + ")" : ""));
   }
   write_output(job.output, text, {o.force, o.verbosity.quiet, other_ways(job), o.sync});
   if (!o.verbosity.quiet) std::fputs(dropped.c_str(), stderr);
@@ -140,8 +143,9 @@ void register_decompress(CLI::App& app, int& rc) {
   add_verbosity_flags(sub, opt->verbosity);
   add_drop_options(
       sub, opt->drop, "the written mesh's ", kPolygonMeshCategories,
-      "an output format that cannot hold a kind the file has (OFF: texture coordinates, normals, "
-      "groups, materials, tags) is refused unless it is dropped");
+      "an output format that cannot hold a kind the file has (OFF: texture coordinates and normals per "
+      "corner, groups, materials, smoothing, tags, extra; PLY: most of those too) is refused unless it "
+      "is dropped");
   sub->add_option("--max-vertices", opt->max_vertices, "Refuse files declaring more vertices (default 2^26)");
   sub->add_option("--max-faces", opt->max_faces, "Refuse files declaring more faces (default 2^26)");
   sub->callback([opt, &rc]() { run(*opt, rc); });

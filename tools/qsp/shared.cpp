@@ -653,31 +653,8 @@ void refuse_rounding(const std::string& path, const ReadReport& report, const st
 std::string drop_polygon_data(PolygonMesh& m, const std::string& path, const DropOptions& drop,
                               std::vector<std::string>* comments) {
   const unsigned d = drop.categories();
-  unsigned had = 0;
-  const auto take = [&](unsigned category, bool has, auto&& clear) {
-    if (!(d & category) || !has) return;
-    had |= category;
-    clear();
-  };
-  take(kCategoryUv, m.texcoord_components != 0,
-       [&] { m.texcoord_components = 0, m.texcoords.clear(), m.corner_texcoords.clear(); });
-  take(kCategoryNormal, !m.corner_normals.empty(), [&] { m.normals.clear(), m.corner_normals.clear(); });
-  take(kCategoryColor, m.vertex_color_components || m.face_color_components, [&] {
-    m.vertex_color_components = m.face_color_components = 0;
-    m.vertex_colors.clear(), m.face_colors.clear();
-  });
-  take(kCategoryGroup, !m.objects.empty() || !m.groups.empty(), [&] { m.objects = {}, m.groups = {}; });
-  take(kCategoryMaterial, !m.materials.empty() || !m.material_libraries.empty(),
-       [&] { m.materials = {}, m.material_libraries.clear(); });
-  take(kCategorySmoothing, !m.smoothing.empty(), [&] { m.smoothing = {}; });
-  take(kCategoryTag, !m.tags.empty(), [&] { m.tags.clear(); });
-  take(kCategoryExtra,
-       !m.kept_lines.empty() || !m.vertex_properties.empty() || !m.face_properties.empty() ||
-           !m.ply_info.empty(),
-       [&] {
-         m.kept_lines.clear(), m.vertex_properties.clear(), m.face_properties.clear(), m.ply_info.clear();
-       });
-  if (comments) take(kCategoryComment, !comments->empty(), [&] { comments->clear(); });
+  unsigned had = qsp::drop(m, d);
+  if (comments && (d & kCategoryComment) && !comments->empty()) had |= kCategoryComment, comments->clear();
   if (!had) return {};
   return "qsp: " + path + ": dropped its " + category_list(had, ", ") + " (" +
          (drop.positions_only ? "--positions-only" : "--drop " + drop.list) + ")\n";
