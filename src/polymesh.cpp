@@ -106,6 +106,19 @@ void remove_statements(std::vector<Statement>& st, std::initializer_list<ObjStat
   st = std::move(out);
 }
 
+// Removes the statements of the data kinds in `categories` (the OBJ statements each kind writes).
+void remove_category_statements(std::vector<Statement>& st, unsigned categories) {
+  if (categories & kCategoryUv) remove_statements(st, {ObjStatement::kTexcoord});
+  if (categories & kCategoryNormal) remove_statements(st, {ObjStatement::kNormal});
+  if (categories & kCategoryGroup) remove_statements(st, {ObjStatement::kObject, ObjStatement::kGroup});
+  if (categories & kCategoryMaterial)
+    remove_statements(st, {ObjStatement::kMaterial, ObjStatement::kMaterialLibrary});
+  if (categories & kCategorySmoothing) remove_statements(st, {ObjStatement::kSmoothing});
+  if (categories & kCategoryTag) remove_statements(st, {ObjStatement::kTag});
+  if (categories & kCategoryComment) remove_statements(st, {ObjStatement::kComment});
+  if (categories & kCategoryExtra) remove_statements(st, {ObjStatement::kVerbatim});
+}
+
 void remove_fields(std::vector<PlyField>& fields, PlyRole role) {
   std::erase_if(fields, [role](const PlyField& f) { return f.role == role; });
 }
@@ -361,13 +374,11 @@ Extras drop(Mesh& m, unsigned c) {
     m.texcoords = {};
     m.texcoord_components = 2;
     m.corner_texcoords = {};
-    remove_statements(m.statements, {ObjStatement::kTexcoord});
     remove_fields(m.ply.vertex, PlyRole::kTexcoord);
   }
   if (c & kCategoryNormal) {
     m.normals = {};
     m.corner_normals = {};
-    remove_statements(m.statements, {ObjStatement::kNormal});
     remove_fields(m.ply.vertex, PlyRole::kNormal);
   }
   if (c & kCategoryColor) {
@@ -381,24 +392,19 @@ Extras drop(Mesh& m, unsigned c) {
   if (c & kCategoryGroup) {
     m.objects = {};
     m.groups = {};
-    remove_statements(m.statements, {ObjStatement::kObject, ObjStatement::kGroup});
   }
   if (c & kCategoryMaterial) {
     m.materials = {};
     m.material_libraries = {};
-    remove_statements(m.statements, {ObjStatement::kMaterial, ObjStatement::kMaterialLibrary});
   }
   if (c & kCategorySmoothing) {
     m.smoothing = {};
-    remove_statements(m.statements, {ObjStatement::kSmoothing});
   }
   if (c & kCategoryTag) {
     m.tags = {};
-    remove_statements(m.statements, {ObjStatement::kTag});
   }
   if (c & kCategoryComment) {
     m.comments = {};
-    remove_statements(m.statements, {ObjStatement::kComment});
   }
   if (c & kCategoryExtra) {
     m.verbatim = {};
@@ -406,44 +412,40 @@ Extras drop(Mesh& m, unsigned c) {
     m.face_properties = {};
     m.vertex_weights = {};
     m.ply.obj_info = {};
-    remove_statements(m.statements, {ObjStatement::kVerbatim});
     remove_fields(m.ply.vertex, PlyRole::kProperty);
     remove_fields(m.ply.face, PlyRole::kProperty);
   }
+  remove_category_statements(m.statements, c);
   return dropped;
 }
 
 unsigned drop(PolygonMesh& m, unsigned c) {
   unsigned had = 0;
-  const auto take = [&](unsigned category, bool has, std::initializer_list<ObjStatement> kinds,
-                        auto&& clear) {
+  const auto take = [&](unsigned category, bool has, auto&& clear) {
     if (!(c & category) || !has) return;
     had |= category;
     clear();
-    remove_statements(m.statements, kinds);
   };
-  take(kCategoryUv, m.texcoord_components != 0, {ObjStatement::kTexcoord}, [&] {
+  take(kCategoryUv, m.texcoord_components != 0, [&] {
     m.texcoord_components = 0;
     m.texcoords = {}, m.texcoords64 = {}, m.corner_texcoords = {};
   });
-  take(kCategoryNormal, !m.corner_normals.empty(), {ObjStatement::kNormal},
+  take(kCategoryNormal, !m.corner_normals.empty(),
        [&] { m.normals = {}, m.normals64 = {}, m.corner_normals = {}; });
-  take(kCategoryColor, m.vertex_color_components || m.face_color_components, {}, [&] {
+  take(kCategoryColor, m.vertex_color_components || m.face_color_components, [&] {
     m.vertex_color_components = m.face_color_components = 0;
     m.vertex_colors = {}, m.vertex_colors64 = {}, m.face_colors = {}, m.face_colors64 = {};
   });
-  take(kCategoryGroup, !m.objects.empty() || !m.groups.empty(), {ObjStatement::kObject, ObjStatement::kGroup},
-       [&] { m.objects = {}, m.groups = {}; });
+  take(kCategoryGroup, !m.objects.empty() || !m.groups.empty(), [&] { m.objects = {}, m.groups = {}; });
   take(kCategoryMaterial, !m.materials.empty() || !m.material_libraries.empty(),
-       {ObjStatement::kMaterial, ObjStatement::kMaterialLibrary},
        [&] { m.materials = {}, m.material_libraries = {}; });
-  take(kCategorySmoothing, !m.smoothing.empty(), {ObjStatement::kSmoothing}, [&] { m.smoothing = {}; });
-  take(kCategoryTag, !m.tags.empty(), {ObjStatement::kTag}, [&] { m.tags = {}; });
+  take(kCategorySmoothing, !m.smoothing.empty(), [&] { m.smoothing = {}; });
+  take(kCategoryTag, !m.tags.empty(), [&] { m.tags = {}; });
   take(kCategoryExtra,
        !m.kept_lines.empty() || !m.vertex_properties.empty() || !m.face_properties.empty() ||
            !m.ply_info.empty(),
-       {ObjStatement::kVerbatim},
        [&] { m.kept_lines = {}, m.vertex_properties = {}, m.face_properties = {}, m.ply_info = {}; });
+  remove_category_statements(m.statements, c);
   return had;
 }
 
